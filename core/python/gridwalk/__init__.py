@@ -1,0 +1,10 @@
+"""Gridwalk: a grid-accelerated (Amanatides & Woo) Whitted and distribution
+ray tracer. The native core is private (gridwalk._core); this package is the API.
+"""
+from .model import Camera, Light, Material
+from .render import RenderJob, TileResult, render
+from .scene import Hits, Scene
+from .settings import RenderSettings
+
+__all__ = ["Camera", "Light", "Material", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render"]
+__version__ = "0.1.0"

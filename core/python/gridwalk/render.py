@@ -1,0 +1,116 @@
+"""Rendering: the asynchronous RenderJob and the blocking render()."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _core
+from .scene import Scene
+from .settings import RenderSettings
+
+
+@dataclass
+class TileResult:
+    x: int
+    y: int            # row of the tile's top edge (row 0 is the top of the image)
+    width: int
+    height: int
+    rgba: np.ndarray  # (height, width, 4) float32 copy of the finished pixels
+
+
+class RenderJob:
+    """A render running in native worker threads (the GIL is released).
+
+    job = RenderJob(scene, settings); job.start()
+    while not job.finished: tiles = job.poll(); ...; job.cancel() to stop
+    """
+
+    def __init__(self, scene: Scene, settings: RenderSettings | None = None):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a gridwalk.Scene, got {type(scene).__name__}")
+        self.settings = settings or RenderSettings()
+        core = self.settings.to_core()
+        self.scene = scene
+        self.accel = scene.accel(self.settings)   # builds (or reuses) the grid before the clock starts
+        self._job = _core.RenderJob(self.accel, core)
+
+    def start(self) -> "RenderJob":
+        self._job.start()
+        return self
+
+    def poll(self) -> list[TileResult]:
+        """Tiles finished since the previous poll, with copies of their pixels."""
+        img = self._job.rgba
+        return [TileResult(x, y, w, h, img[y:y + h, x:x + w].copy()) for x, y, w, h in self._job.poll()]
+
+    def cancel(self) -> None:
+        """Stop the workers; returns when no worker thread is left running."""
+        self._job.cancel()
+
+    def wait(self) -> np.ndarray:
+        self._job.wait()
+        return self.image
+
+    @property
+    def finished(self) -> bool:
+        return self._job.finished
+
+    @property
+    def cancelled(self) -> bool:
+        return self._job.cancelled
+
+    @property
+    def progress(self) -> float:
+        return self._job.tiles_done / max(1, self._job.tiles_total)
+
+    @property
+    def tiles_done(self) -> int:
+        return self._job.tiles_done
+
+    @property
+    def tiles_total(self) -> int:
+        return self._job.tiles_total
+
+    @property
+    def image(self) -> np.ndarray:
+        """(H, W, 4) float32 linear RGBA; alpha is the fraction of samples that hit."""
+        return self._job.rgba.copy()
+
+    @property
+    def depth(self) -> np.ndarray:
+        """(H, W) distance along the view axis to the first hit (inf on a miss)."""
+        return self._job.depth.copy()
+
+    @property
+    def normal(self) -> np.ndarray:
+        """(H, W, 3) world-space shading normal at the first hit (0 on a miss)."""
+        return self._job.normal.copy()
+
+    @property
+    def stats(self) -> dict:
+        """Ray counts by kind, tests and cells per ray, time, and the grid's figures."""
+        s = dict(self._job.stats)
+        rays = max(1, s["rays"])
+        s["tests_per_ray"] = s["prim_tests"] / rays
+        s["cells_per_ray"] = s["cells"] / rays
+        s["seconds"] = self._job.elapsed
+        s["mrays_per_second"] = s["rays"] / max(s["seconds"], 1e-9) / 1e6
+        s["grid"] = dict(self.accel.grid) if self.settings.accel == "grid" else None
+        return s
+
+
+def render(scene: Scene, settings: RenderSettings | None = None, progress=None) -> np.ndarray:
+    """Render to a (H, W, 4) float32 array. progress(fraction) is called as tiles finish."""
+    job = RenderJob(scene, settings).start()
+    try:
+        if progress is not None:
+            while not job.finished:
+                time.sleep(0.05)
+                job.poll()
+                progress(job.progress)
+        return job.wait()
+    except BaseException:
+        job.cancel()
+        raise

@@ -1,0 +1,165 @@
+"""gridwalk.Scene: validated numpy arrays in, a native scene out.
+
+Shapes and dtypes are checked here (with the array's name); values (NaN/Inf,
+index ranges, negative radii, empty scenes) are checked by the core, which
+raises ValueError naming the array and the first bad index.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _core
+from .model import LIGHT_WIDTH, Camera, Light, Material
+from .settings import RenderSettings
+
+
+def _array(value, name, dtype, width):
+    """Convert to a C-contiguous array of `dtype` with shape (N, width) or (N,)."""
+    if value is None:
+        return np.zeros((0, width) if width else (0,), dtype=dtype)
+    a = np.asarray(value)
+    if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
+        raise ValueError(f"{name} must be a numeric array, got dtype {a.dtype}")
+    if np.issubdtype(dtype, np.integer) and not np.issubdtype(a.dtype, np.integer):
+        if a.size:   # refuse to silently truncate float indices
+            raise ValueError(f"{name} must be an integer array, got dtype {a.dtype}")
+        a = a.astype(dtype)
+    if np.issubdtype(a.dtype, np.complexfloating):
+        raise ValueError(f"{name} must be real, got dtype {a.dtype}")
+    if a.size == 0:
+        a = a.reshape((0, width) if width else (0,))
+    expected = f"(N, {width})" if width else "(N,)"
+    if width and (a.ndim != 2 or a.shape[1] != width):
+        raise ValueError(f"{name} must have shape {expected}, got {a.shape}")
+    if not width and a.ndim != 1:
+        raise ValueError(f"{name} must have shape {expected}, got {a.shape}")
+    if np.issubdtype(dtype, np.integer) and a.size:
+        info = np.iinfo(np.int32)
+        lo, hi = int(a.min()), int(a.max())
+        if lo < info.min or hi > info.max:
+            bad = int(np.argmax((a < info.min) | (a > info.max)) // max(1, (width or 1)))
+            raise ValueError(f"{name}[{bad}] does not fit in int32")
+    with np.errstate(over="ignore", invalid="ignore"):
+        return np.ascontiguousarray(a, dtype=dtype)
+
+
+@dataclass
+class Hits:
+    """Result of Scene.intersect: one entry per ray."""
+    t: np.ndarray        # float32, inf on a miss
+    prim: np.ndarray     # int32 index within its kind, -1 on a miss
+    kind: np.ndarray     # int32: 0 miss, 1 triangle, 2 sphere, 3 cylinder/cone
+    u: np.ndarray        # barycentric of vertex 1 (triangles), else 0
+    v: np.ndarray        # barycentric of vertex 2 (triangles), else 0
+    normal: np.ndarray   # (N, 3) unit geometric normal (triangle winding / outward)
+    stats: dict
+
+
+KIND_MISS, KIND_TRIANGLE, KIND_SPHERE, KIND_CYLINDER = 0, 1, 2, 3
+
+
+class Scene:
+    """Geometry, materials, lights and camera, copied into the native core."""
+
+    def __init__(self, vertices=None, triangles=None, normals=None, triangle_materials=None,
+                 sphere_centers=None, sphere_radii=None, sphere_materials=None,
+                 cylinder_base=None, cylinder_apex=None, cylinder_base_radius=None,
+                 cylinder_apex_radius=None, cylinder_materials=None,
+                 materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0)):
+        f32, i32 = np.float32, np.int32
+        self.materials = list(materials) if materials else [Material()]
+        self.lights = list(lights) if lights else []
+        self.camera = camera if camera is not None else Camera()
+        for i, m in enumerate(self.materials):
+            if not isinstance(m, Material):
+                raise ValueError(f"materials[{i}] must be a gridwalk.Material, got {type(m).__name__}")
+        for i, l in enumerate(self.lights):
+            if not isinstance(l, Light):
+                raise ValueError(f"lights[{i}] must be a gridwalk.Light, got {type(l).__name__}")
+        if not isinstance(self.camera, Camera):
+            raise ValueError(f"camera must be a gridwalk.Camera, got {type(self.camera).__name__}")
+        bg = np.asarray(background, dtype=np.float64).reshape(-1)
+        if bg.shape != (3,) or not np.all(np.isfinite(bg)):
+            raise ValueError(f"background must be 3 finite numbers, got {background!r}")
+        self.background = tuple(float(x) for x in bg)
+        mats = np.stack([m.packed() for m in self.materials])
+        lts = (np.stack([l.packed() for l in self.lights]) if self.lights
+               else np.zeros((0, LIGHT_WIDTH), np.float32))
+        self._native = _core.Scene(
+            _array(vertices, "vertices", f32, 3), _array(triangles, "triangles", i32, 3),
+            _array(normals, "normals", f32, 3), _array(triangle_materials, "triangle_materials", i32, 0),
+            _array(sphere_centers, "sphere_centers", f32, 3), _array(sphere_radii, "sphere_radii", f32, 0),
+            _array(sphere_materials, "sphere_materials", i32, 0),
+            _array(cylinder_base, "cylinder_base", f32, 3), _array(cylinder_apex, "cylinder_apex", f32, 3),
+            _array(cylinder_base_radius, "cylinder_base_radius", f32, 0),
+            _array(cylinder_apex_radius, "cylinder_apex_radius", f32, 0),
+            _array(cylinder_materials, "cylinder_materials", i32, 0),
+            mats.reshape(-1), lts.reshape(-1), self.camera.packed(), self.background)
+        self._accels = {}
+
+    # -- counts ---------------------------------------------------------------
+    @property
+    def num_triangles(self) -> int:
+        return self._native.num_triangles
+
+    @property
+    def num_spheres(self) -> int:
+        return self._native.num_spheres
+
+    @property
+    def num_cylinders(self) -> int:
+        return self._native.num_cylinders
+
+    @property
+    def num_primitives(self) -> int:
+        return self.num_triangles + self.num_spheres + self.num_cylinders
+
+    @property
+    def bounds(self):
+        lo, hi = self._native.bounds
+        return np.array(lo), np.array(hi)
+
+    # -- acceleration ---------------------------------------------------------
+    def accel(self, settings: RenderSettings | None = None):
+        """The acceleration structure for these settings (built once, cached)."""
+        s = settings or RenderSettings()
+        core = s.to_core()
+        key = (s.accel, float(s.grid_density), int(s.max_cells))
+        if key not in self._accels:
+            self._accels[key] = _core.build_accel(self._native, core)
+        return self._accels[key]
+
+    def grid_info(self, settings: RenderSettings | None = None) -> dict:
+        """Resolution, cells, references, memory and build time of the grid."""
+        s = (settings or RenderSettings()).replace(accel="grid")
+        return dict(self.accel(s).grid)
+
+    # -- ray queries ----------------------------------------------------------
+    def _rays(self, origins, directions, tmin, tmax):
+        o = _array(origins, "origins", np.float32, 3)
+        d = _array(directions, "directions", np.float32, 3)
+        if d.shape != o.shape:
+            raise ValueError(f"directions must have the shape of origins {o.shape}, got {d.shape}")
+        n = o.shape[0]
+        lo = np.ascontiguousarray(np.broadcast_to(np.asarray(tmin, np.float32), (n,)))
+        hi = np.ascontiguousarray(np.broadcast_to(np.asarray(tmax, np.float32), (n,)))
+        return o, d, lo, hi
+
+    def intersect(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
+                  mailboxes=True, threads=0) -> Hits:
+        """Closest hits of a batch of rays (multithreaded, GIL released)."""
+        s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
+        o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
+        t, prim, kind, u, v, n, stats = _core.intersect(self.accel(s), o, d, lo, hi, int(threads),
+                                                        bool(mailboxes and accel == "grid"))
+        return Hits(t, prim, kind, u, v, n, stats)
+
+    def occluded(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
+                 mailboxes=True, threads=0) -> np.ndarray:
+        """True where anything is hit in (tmin, tmax): shadow-ray queries."""
+        s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
+        o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
+        hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, int(threads), bool(mailboxes and accel == "grid"))
+        return hit.astype(bool)

@@ -1,0 +1,77 @@
+// Batched ray queries. See batch.h.
+#include "batch.h"
+
+#include <mutex>
+#include <thread>
+
+#include "render_job.h"
+
+namespace gw {
+namespace {
+
+template <class F>
+Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, F&& body) {
+    const int nt = int(std::min<size_t>(size_t(resolve_threads(threads)), std::max<size_t>(1, n / 4096 + 1)));
+    Stats total;
+    std::mutex mu;
+    auto run = [&](int k) {
+        TraceContext ctx;
+        if (mailboxes) ctx.mailbox.resize(accel.scene().num_prims());
+        const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
+        for (size_t i = lo; i < hi; ++i) body(i, ctx);
+        std::lock_guard<std::mutex> lock(mu);
+        total.add(ctx.stats);
+    };
+    std::vector<std::thread> pool;
+    for (int k = 1; k < nt; ++k) pool.emplace_back(run, k);
+    run(0);
+    for (auto& t : pool) t.join();
+    return total;
+}
+
+Ray make_ray(const float* o, const float* d, const float* tmin, const float* tmax, size_t i) {
+    Ray r;
+    r.o = {o[3 * i], o[3 * i + 1], o[3 * i + 2]};
+    r.d = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
+    r.tmin = tmin[i];
+    r.tmax = tmax[i];
+    return r;
+}
+
+}  // namespace
+
+Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
+                      size_t n, int threads, bool mailboxes, const BatchOut& out) {
+    const Scene& sc = accel.scene();
+    return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
+        const RayPre r(make_ray(o, d, tmin, tmax, i));
+        ++ctx.stats.rays[int(RayType::Primary)];
+        Hit hit;
+        hit.t = r.ray.tmax;
+        if (accel.closest(r, hit, ctx)) {
+            const Vec3 n = sc.geometric_normal(r, hit);
+            out.t[i] = hit.t;
+            out.prim[i] = int32_t(sc.local_index(size_t(hit.prim)));
+            out.kind[i] = int32_t(sc.kind_of(size_t(hit.prim)));
+            out.u[i] = hit.u;
+            out.v[i] = hit.v;
+            out.normal[3 * i] = n.x; out.normal[3 * i + 1] = n.y; out.normal[3 * i + 2] = n.z;
+        } else {
+            out.t[i] = kInf;
+            out.prim[i] = -1;
+            out.kind[i] = 0;
+            out.u[i] = out.v[i] = 0;
+            out.normal[3 * i] = out.normal[3 * i + 1] = out.normal[3 * i + 2] = 0;
+        }
+    });
+}
+
+Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
+                     size_t n, int threads, bool mailboxes, uint8_t* out) {
+    return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
+        ++ctx.stats.rays[int(RayType::Shadow)];
+        out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i)), ctx) ? 1 : 0;
+    });
+}
+
+}  // namespace gw

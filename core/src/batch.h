@@ -1,0 +1,19 @@
+// Batched ray queries for Python (scene.intersect / scene.occluded),
+// split over threads in fixed chunks.
+#pragma once
+#include "accel.h"
+
+namespace gw {
+
+struct BatchOut {
+    float* t; int32_t* prim; int32_t* kind; float* u; float* v; float* normal;   // normal: (N, 3)
+};
+
+// Closest hits. prim is the index within its kind (-1 on a miss), t = inf on a miss.
+Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
+                      size_t n, int threads, bool mailboxes, const BatchOut& out);
+// Any hit in (tmin, tmax).
+Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
+                     size_t n, int threads, bool mailboxes, uint8_t* out);
+
+}  // namespace gw

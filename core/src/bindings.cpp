@@ -1,0 +1,194 @@
+// The private native module gridwalk._core. The public API is the Python
+// package gridwalk (core/python/gridwalk), which validates shapes and dtypes
+// before calling in here; this layer checks again and never trusts sizes.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/shared_ptr.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include "batch.h"
+#include "render_job.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+using namespace gw;
+
+namespace {
+
+template <class T>
+using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
+
+template <class T>
+std::vector<T> vec(const In<T>& a) { return std::vector<T>(a.data(), a.data() + a.size()); }
+
+nb::dict stats_dict(const Stats& s) {
+    nb::dict d;
+    d["primary_rays"] = s.rays[0];
+    d["shadow_rays"] = s.rays[1];
+    d["secondary_rays"] = s.rays[2];
+    d["rays"] = s.total_rays();
+    d["prim_tests"] = s.prim_tests;
+    d["mailbox_skips"] = s.mailbox_skips;
+    d["cells"] = s.cells;
+    return d;
+}
+
+nb::dict grid_dict(const GridInfo& g) {
+    nb::dict d;
+    d["resolution"] = nb::make_tuple(g.n[0], g.n[1], g.n[2]);
+    d["cells"] = g.cells;
+    d["refs"] = g.refs;
+    d["bytes"] = g.bytes;
+    d["build_seconds"] = g.build_seconds;
+    d["density_requested"] = g.density_requested;
+    d["density_used"] = g.density_used;
+    d["reduced"] = g.reduced;
+    d["note"] = g.note;
+    return d;
+}
+
+template <class T, size_t N>
+nb::ndarray<nb::numpy, T> owned(std::vector<size_t> shape) {
+    size_t n = 1;
+    for (size_t s : shape) n *= s;
+    T* p = new T[n > 0 ? n : 1];
+    nb::capsule owner(p, [](void* q) noexcept { delete[] static_cast<T*>(q); });
+    return nb::ndarray<nb::numpy, T>(p, shape.size(), shape.data(), owner);
+}
+
+void check_rays(const In<float>& o, const In<float>& d, const In<float>& tmin, const In<float>& tmax) {
+    if (o.ndim() != 2 || o.shape(1) != 3) throw std::invalid_argument("origins must have shape (N, 3)");
+    if (d.ndim() != 2 || d.shape(1) != 3 || d.shape(0) != o.shape(0))
+        throw std::invalid_argument("directions must have shape (N, 3) matching origins");
+    if (tmin.size() != o.shape(0) || tmax.size() != o.shape(0))
+        throw std::invalid_argument("tmin and tmax must have one value per ray");
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+    m.doc() = "Gridwalk native core (private: use the gridwalk package)";
+
+    nb::enum_<AAMode>(m, "AAMode")
+        .value("center", AAMode::Center).value("jittered", AAMode::Jittered).value("random", AAMode::Random)
+        .value("adaptive", AAMode::Adaptive).value("sobol", AAMode::Sobol);
+    nb::enum_<ShadowMode>(m, "ShadowMode")
+        .value("hard", ShadowMode::Hard).value("random", ShadowMode::Random).value("area", ShadowMode::Area);
+    nb::enum_<PixelFilter>(m, "PixelFilter").value("box", PixelFilter::Box).value("gaussian", PixelFilter::Gaussian);
+
+    nb::class_<RenderSettings>(m, "RenderSettings")
+        .def(nb::init<>())
+        .def_rw("accel", &RenderSettings::accel)
+        .def_rw("grid_density", &RenderSettings::grid_density)
+        .def_rw("max_cells", &RenderSettings::max_cells)
+        .def_rw("mailboxes", &RenderSettings::mailboxes)
+        .def_rw("threads", &RenderSettings::threads)
+        .def_rw("tile_size", &RenderSettings::tile_size)
+        .def_rw("max_depth", &RenderSettings::max_depth)
+        .def_rw("seed", &RenderSettings::seed)
+        .def_rw("aa", &RenderSettings::aa)
+        .def_rw("aa_samples", &RenderSettings::aa_samples)
+        .def_rw("adaptive_threshold", &RenderSettings::adaptive_threshold)
+        .def_rw("adaptive_depth", &RenderSettings::adaptive_depth)
+        .def_rw("filter", &RenderSettings::filter)
+        .def_rw("filter_width", &RenderSettings::filter_width)
+        .def_rw("shadow", &RenderSettings::shadow)
+        .def_rw("shadow_samples", &RenderSettings::shadow_samples)
+        .def_rw("dof_samples", &RenderSettings::dof_samples)
+        .def_rw("glossy_samples", &RenderSettings::glossy_samples)
+        .def_rw("min_weight", &RenderSettings::min_weight)
+        .def("validate", &validate_settings);
+
+    nb::class_<Scene>(m, "Scene")
+        .def("__init__",
+             [](Scene* self, In<float> vertices, In<int32_t> triangles, In<float> normals, In<int32_t> tri_mat,
+                In<float> centers, In<float> radii, In<int32_t> sph_mat, In<float> cb, In<float> ca, In<float> cbr,
+                In<float> car, In<int32_t> cmat, In<float> materials, In<float> lights, In<float> camera,
+                std::tuple<float, float, float> bg) {
+                 new (self) Scene(vec(vertices), vec(triangles), vec(normals), vec(tri_mat), vec(centers), vec(radii),
+                                  vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), vec(materials),
+                                  vec(lights), vec(camera), Vec3(std::get<0>(bg), std::get<1>(bg), std::get<2>(bg)));
+             })
+        .def_prop_ro("num_triangles", &Scene::num_triangles)
+        .def_prop_ro("num_spheres", &Scene::num_spheres)
+        .def_prop_ro("num_cylinders", &Scene::num_cones)
+        .def_prop_ro("num_lights", [](const Scene& s) { return s.lights().size(); })
+        .def_prop_ro("memory_bytes", &Scene::memory_bytes)
+        .def_prop_ro("bounds", [](const Scene& s) {
+            const Bounds& b = s.bounds();
+            return nb::make_tuple(nb::make_tuple(b.lo.x, b.lo.y, b.lo.z), nb::make_tuple(b.hi.x, b.hi.y, b.hi.z));
+        });
+
+    nb::class_<Accel>(m, "Accel")
+        .def_prop_ro("grid", [](const Accel& a) { return grid_dict(a.info()); });
+
+    m.def("build_accel",
+          [](std::shared_ptr<Scene> scene, const RenderSettings& s) {
+              nb::gil_scoped_release release;
+              return build_accel(std::move(scene), s);
+          },
+          "scene"_a, "settings"_a);
+
+    m.def("intersect",
+          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
+             bool mailboxes) {
+              check_rays(o, d, tmin, tmax);
+              const size_t n = o.shape(0);
+              auto t = owned<float, 1>({n});
+              auto prim = owned<int32_t, 1>({n});
+              auto kind = owned<int32_t, 1>({n});
+              auto u = owned<float, 1>({n});
+              auto v = owned<float, 1>({n});
+              auto nrm = owned<float, 2>({n, 3});
+              const BatchOut out{t.data(), prim.data(), kind.data(), u.data(), v.data(), nrm.data()};
+              Stats st;
+              {
+                  nb::gil_scoped_release release;
+                  st = intersect_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes, out);
+              }
+              return nb::make_tuple(t, prim, kind, u, v, nrm, stats_dict(st));
+          });
+
+    m.def("occluded",
+          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
+             bool mailboxes) {
+              check_rays(o, d, tmin, tmax);
+              const size_t n = o.shape(0);
+              auto hit = owned<uint8_t, 1>({n});
+              Stats st;
+              {
+                  nb::gil_scoped_release release;
+                  st = occluded_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes,
+                                      hit.data());
+              }
+              return nb::make_tuple(hit, stats_dict(st));
+          });
+
+    nb::class_<RenderJob>(m, "RenderJob")
+        .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&>())
+        .def("start", &RenderJob::start)
+        .def("poll", [](RenderJob& j) {
+            std::vector<std::tuple<int, int, int, int>> out;
+            for (const Tile& t : j.poll()) out.emplace_back(t.x, t.y, t.w, t.h);
+            return out;
+        })
+        .def("cancel", &RenderJob::cancel, nb::call_guard<nb::gil_scoped_release>())
+        .def("wait", &RenderJob::wait, nb::call_guard<nb::gil_scoped_release>())
+        .def_prop_ro("finished", &RenderJob::finished)
+        .def_prop_ro("cancelled", &RenderJob::cancelled)
+        .def_prop_ro("tiles_done", &RenderJob::tiles_done)
+        .def_prop_ro("tiles_total", &RenderJob::tiles_total)
+        .def_prop_ro("elapsed", &RenderJob::elapsed)
+        .def_prop_ro("stats", [](const RenderJob& j) { return stats_dict(j.stats()); })
+        .def_prop_ro("rgba", [](RenderJob& j) {
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.rgba.data(), {size_t(j.height), size_t(j.width), 4});
+        }, nb::rv_policy::reference_internal)
+        .def_prop_ro("depth", [](RenderJob& j) {
+            return nb::ndarray<nb::numpy, float, nb::ndim<2>>(j.depth.data(), {size_t(j.height), size_t(j.width)});
+        }, nb::rv_policy::reference_internal)
+        .def_prop_ro("normal", [](RenderJob& j) {
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.normal.data(), {size_t(j.height), size_t(j.width), 3});
+        }, nb::rv_policy::reference_internal);
+}

@@ -1,0 +1,187 @@
+// Uniform grid: build (the seed's resolution formula, compact CSR storage)
+// and Amanatides & Woo 3D-DDA traversal with optional per-thread mailboxes.
+#include <chrono>
+#include <stdexcept>
+
+#include "accel.h"
+
+namespace gw {
+
+Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
+    const auto t_start = std::chrono::steady_clock::now();
+    if (!(p.density > 0) || !std::isfinite(p.density)) throw std::invalid_argument("grid_density must be > 0");
+    const Scene& sc = *scene_;
+    const size_t np = sc.num_prims();
+    const Bounds b = sc.bounds();
+    const Vec3 ext = b.hi - b.lo;
+    float maxext = std::max(ext.x, std::max(ext.y, ext.z));
+    if (!(maxext > 0)) maxext = std::max(1.0f, std::abs(b.lo.x) + std::abs(b.lo.y) + std::abs(b.lo.z));
+    // Pad the box a little on every side; give flat axes a thickness so the DDA
+    // has a non-empty slab. An axis is flat when its extent is below 1e-4 of
+    // the largest: it gets one cell and is left out of the cell-size formula.
+    bool flat[3];
+    for (int a = 0; a < 3; ++a) {
+        flat[a] = !(ext[a] > 1e-4f * maxext);
+        const float pad = flat[a] ? 1e-3f * maxext : 1e-5f * maxext;
+        lo_[a] = b.lo[a] - pad - std::abs(b.lo[a]) * 1e-6f;
+        hi_[a] = b.hi[a] + pad + std::abs(b.hi[a]) * 1e-6f;
+    }
+    // N_ax = floor(M * dim_ax / cbrt(V / N)) + 1, generalised to k non-flat axes.
+    int k = 0;
+    double vol = 1;
+    for (int a = 0; a < 3; ++a)
+        if (!flat[a]) { ++k; vol *= double(hi_[a] - lo_[a]); }
+    const double side = k ? std::pow(vol / double(np), 1.0 / k) : 1.0;
+    const uint64_t max_cells = std::min<uint64_t>(std::max<uint64_t>(p.max_cells, 1), 1ull << 31);
+    const uint64_t max_refs = std::min<uint64_t>(std::max<uint64_t>(p.max_refs, np), 0xFFFFFFF0ull);
+    double m = p.density;
+    info_.density_requested = p.density;
+    std::vector<uint32_t> counts;
+    for (int attempt = 0;; ++attempt) {
+        uint64_t cells = 1;
+        for (int a = 0; a < 3; ++a) {
+            const double na = flat[a] ? 1.0 : std::floor(m * double(hi_[a] - lo_[a]) / side) + 1.0;
+            n_[a] = int(std::min(na, double(1 << 20)));
+            cells *= uint64_t(n_[a]);
+        }
+        if (cells > max_cells) {   // shrink M towards the cap and try again
+            m *= std::pow(double(max_cells) / double(cells), 1.0 / std::max(k, 1)) * 0.999;
+            info_.reduced = true;
+            continue;
+        }
+        for (int a = 0; a < 3; ++a) {
+            cell_[a] = (hi_[a] - lo_[a]) / float(n_[a]);
+            inv_cell_[a] = float(n_[a]) / (hi_[a] - lo_[a]);
+        }
+        // Pass 1: count references per cell.
+        counts.assign(cells, 0);
+        uint64_t refs = 0;
+        for (size_t i = 0; i < np && refs <= max_refs; ++i) {
+            int c0[3], c1[3];
+            cell_range(sc.prim_bounds(i), c0, c1);
+            for (int z = c0[2]; z <= c1[2]; ++z)
+                for (int y = c0[1]; y <= c1[1]; ++y)
+                    for (int x = c0[0]; x <= c1[0]; ++x) ++counts[(uint64_t(z) * n_[1] + y) * n_[0] + x];
+            refs += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+        }
+        if (refs > max_refs && cells > 1) {
+            m *= 0.7;
+            info_.reduced = true;
+            continue;
+        }
+        if (refs > max_refs) throw std::invalid_argument("scene has too many primitive references for the grid");
+        info_.cells = cells;
+        info_.refs = refs;
+        break;
+    }
+    info_.density_used = m;
+    // Prefix sums, then pass 2: fill.
+    offsets_.assign(info_.cells + 1, 0);
+    for (uint64_t c = 0; c < info_.cells; ++c) offsets_[c + 1] = offsets_[c] + counts[c];
+    prims_.resize(info_.refs);
+    for (uint64_t c = 0; c < info_.cells; ++c) counts[c] = offsets_[c];
+    for (size_t i = 0; i < np; ++i) {
+        int c0[3], c1[3];
+        cell_range(sc.prim_bounds(i), c0, c1);
+        for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x) prims_[counts[(uint64_t(z) * n_[1] + y) * n_[0] + x]++] = uint32_t(i);
+    }
+    for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
+    info_.bytes = offsets_.size() * 4 + prims_.size() * 4;
+    info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    if (info_.reduced)
+        info_.note = "grid density reduced from " + std::to_string(p.density) + " to " + std::to_string(m) +
+                     " to respect the cap of " + std::to_string(max_cells) + " cells / " +
+                     std::to_string(max_refs) + " references";
+}
+
+// Cells overlapped by a box. The box is inflated by 1/1000 of a cell so that a
+// primitive touching a cell face within rounding error is listed on both sides.
+void Grid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
+    for (int a = 0; a < 3; ++a) {
+        const float top = float(n_[a] - 1);
+        float x0 = (b.lo[a] - lo_[a]) * inv_cell_[a] - 1e-3f;
+        float x1 = (b.hi[a] - lo_[a]) * inv_cell_[a] + 1e-3f;
+        x0 = std::min(std::max(x0, 0.0f), top);
+        x1 = std::min(std::max(x1, 0.0f), top);
+        c0[a] = int(x0);
+        c1[a] = int(x1);
+    }
+}
+
+template <bool AnyHit>
+bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    if (!r.valid) return false;
+    const Ray& ray = r.ray;
+    // Clip the ray to the grid box. Zero direction components give +-inf
+    // reciprocals; 0 * inf = NaN is ignored by the ordered comparisons, which
+    // treats a ray lying in a boundary plane as inside (pbrt's slab test).
+    float t0 = ray.tmin, t1 = hit.t;
+    Vec3 inv;
+    for (int a = 0; a < 3; ++a) {
+        inv[a] = 1.0f / ray.d[a];
+        float tn = (lo_[a] - ray.o[a]) * inv[a];
+        float tf = (hi_[a] - ray.o[a]) * inv[a];
+        if (tn > tf) std::swap(tn, tf);
+        tf *= 1.0f + 2.0f * gamma_bound(3);
+        t0 = tn > t0 ? tn : t0;
+        t1 = tf < t1 ? tf : t1;
+        if (t0 > t1) return false;
+    }
+    const bool mailboxes = ctx.mailbox.enabled();
+    if (mailboxes) ctx.mailbox.next_ray();
+    int cell[3], step[3], out[3];
+    float tnext[3];
+    for (int a = 0; a < 3; ++a) {
+        const float p = ray.o[a] + ray.d[a] * t0;
+        float x = (p - lo_[a]) * inv_cell_[a];
+        x = std::min(std::max(x, 0.0f), float(n_[a] - 1));
+        cell[a] = int(x);
+        if (ray.d[a] > 0) {
+            step[a] = 1; out[a] = n_[a];
+            tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
+        } else if (ray.d[a] < 0) {
+            step[a] = -1; out[a] = -1;
+            tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+        } else {
+            step[a] = 0; out[a] = -1;
+            tnext[a] = kInf;
+        }
+    }
+    bool found = false;
+    const Scene& sc = *scene_;
+    for (;;) {
+        ++ctx.stats.cells;
+        const uint64_t c = (uint64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
+        for (uint32_t k = offsets_[c], e = offsets_[c + 1]; k < e; ++k) {
+            const uint32_t prim = prims_[k];
+            if (mailboxes && ctx.mailbox.seen(prim)) { ++ctx.stats.mailbox_skips; continue; }
+            ++ctx.stats.prim_tests;
+            if (sc.intersect(prim, r, hit)) {
+                if (AnyHit) return true;
+                found = true;
+            }
+        }
+        // Accept the nearest hit once it lies inside this cell: a hit beyond the
+        // cell's exit may hide a nearer one in a later cell, so keep walking,
+        // but keep the candidate (it may belong to no later cell at all).
+        const int axis = tnext[0] < tnext[1] ? (tnext[0] < tnext[2] ? 0 : 2) : (tnext[1] < tnext[2] ? 1 : 2);
+        if (hit.t <= tnext[axis]) break;
+        cell[axis] += step[axis];
+        if (cell[axis] == out[axis]) break;
+        const int face = step[axis] > 0 ? cell[axis] + 1 : cell[axis];
+        tnext[axis] = (lo_[axis] + float(face) * cell_[axis] - ray.o[axis]) * inv[axis];
+    }
+    return found;
+}
+
+bool Grid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const { return traverse<false>(r, hit, ctx); }
+
+bool Grid::occluded(const RayPre& r, TraceContext& ctx) const {
+    Hit hit;
+    hit.t = r.ray.tmax;
+    return traverse<true>(r, hit, ctx);
+}
+
+}  // namespace gw

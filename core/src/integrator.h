@@ -1,0 +1,75 @@
+// Whitted shading (Blinn-Phong, shadows, mirror reflection, refraction with
+// Schlick Fresnel and total internal reflection) plus the distribution-ray
+// effects: soft shadows from area lights and glossy reflection.
+#pragma once
+#include "accel.h"
+#include "sampler.h"
+#include "settings.h"
+
+namespace gw {
+
+// What one camera sample needs to know to draw its random numbers: its own
+// stream, plus the pixel-level layout used by the shuffled area-light grid.
+struct SampleState {
+    Rng rng;
+    uint32_t seed, pixel;
+    uint32_t sample;    // index of this pixel sample
+    uint32_t samples;   // pixel samples in the pixel
+};
+
+// First-hit data for the Depth and Normal passes.
+struct FirstHit {
+    bool hit = false;
+    float depth = kInf;   // distance along the camera's view axis
+    Vec3 normal;          // world-space shading normal (outward)
+};
+
+class Integrator {
+public:
+    Integrator(const Accel& accel, const RenderSettings& s) : accel_(accel), scene_(accel.scene()), s_(s) {}
+    Vec3 camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx, FirstHit* fh) const;
+
+private:
+    Vec3 trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,
+               TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
+    Vec3 direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
+                int depth, SampleState& st, TraceContext& ctx) const;
+    Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
+                        float weight, bool split, SampleState& st, TraceContext& ctx) const;
+    bool visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
+                 TraceContext& ctx) const;
+
+    const Accel& accel_;
+    const Scene& scene_;
+    const RenderSettings& s_;
+};
+
+// A bijection of [0, n) chosen by seed (cycle-walking an invertible mixer on
+// the next power of two): shuffles the area-light grid per pixel.
+inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
+    uint32_t mask = n - 1;
+    mask |= mask >> 1; mask |= mask >> 2; mask |= mask >> 4; mask |= mask >> 8; mask |= mask >> 16;
+    do {
+        i ^= seed & mask;
+        i = (i * 0x2c1b3c6dU + (seed >> 7)) & mask;
+        i ^= (i >> 3) & mask;
+        i = (i * 0x297a2d39U) & mask;
+        i ^= i >> 5;
+        i &= mask;
+    } while (i >= n);
+    return i;
+}
+
+// Radical inverse in base 2, as a float in [0, 1).
+inline float radical_inverse(uint32_t i) { return float(reverse_bits(i) >> 8) * (1.0f / 16777216.0f); }
+
+// Stratified 2D point j of a set of n (jittered on the first axis, Hammersley
+// on the second, rotated by the set's own offset).
+inline void strat2(uint32_t j, uint32_t n, float xi1, float rot, float& u1, float& u2) {
+    u1 = (float(j) + xi1) / float(n);
+    u2 = radical_inverse(j) + rot;
+    if (u2 >= 1.0f) u2 -= 1.0f;
+    u1 = std::min(u1, 0.99999994f);
+}
+
+}  // namespace gw

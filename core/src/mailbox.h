@@ -1,0 +1,34 @@
+// Mailboxes (Amanatides & Woo 1987): a primitive remembers the id of the last
+// ray that tested it, so a primitive spanning several cells is tested once per
+// ray. The seed had to switch them off in parallel because one global ray id
+// is not thread-safe; here every worker thread owns its own stamp array and
+// ray counter, so stamps are never shared between threads.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace gw {
+
+class Mailbox {
+public:
+    void resize(size_t prims) {
+        if (stamp_.size() != prims) { stamp_.assign(prims, 0); ray_ = 0; }
+    }
+    // Start a new ray. On wrap-around (after 2^32 rays) the stamps are cleared.
+    void next_ray() {
+        if (++ray_ == 0) { std::fill(stamp_.begin(), stamp_.end(), 0u); ray_ = 1; }
+    }
+    // True if prim was already tested by the current ray; otherwise marks it.
+    bool seen(uint32_t prim) {
+        if (stamp_[prim] == ray_) return true;
+        stamp_[prim] = ray_;
+        return false;
+    }
+    bool enabled() const { return !stamp_.empty(); }
+
+private:
+    std::vector<uint32_t> stamp_;
+    uint32_t ray_ = 0;
+};
+
+}  // namespace gw

@@ -1,0 +1,174 @@
+// Pixel estimation. See pixel.h.
+#include "pixel.h"
+
+namespace gw {
+namespace {
+
+// Burley (2020) hash-based Owen scrambling, applied in reversed bit order.
+uint32_t lk_permutation(uint32_t x, uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cU;
+    x ^= x * 0xb82f1e52U;
+    x ^= x * 0xc7afe638U;
+    x ^= x * 0x8d22f6e6U;
+    return x;
+}
+uint32_t owen_scramble(uint32_t x, uint32_t seed) { return reverse_bits(lk_permutation(reverse_bits(x), seed)); }
+// Second Sobol dimension (generator matrix of the polynomial x + 1).
+uint32_t sobol_dim1(uint32_t i) {
+    uint32_t r = 0;
+    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
+        if (i & 1) r ^= v;
+    return r;
+}
+
+}  // namespace
+
+PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s)
+    : scene_(accel.scene()), s_(s), integrator_(accel, s), camera_(accel.scene().camera()) {}
+
+void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
+                                  TraceContext& ctx, float out[4], FirstHit* fh) const {
+    const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
+    const bool lens = scene_.camera().aperture > 0;
+    Rng lens_rng(s_.seed ^ 0x1e35a7bdU, pixel_key, sample);
+    const float rot = lens_rng.next();
+    Vec3 sum;
+    float hits = 0;
+    for (uint32_t j = 0; j < nd; ++j) {
+        float lu = 0.5f, lv = 0.5f;
+        if (lens) strat2(j, nd, lens_rng.next(), rot, lu, lv);
+        const Ray ray = camera_.generate(px, py, lu, lv);
+        SampleState st{Rng(s_.seed, pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
+        FirstHit local;
+        sum += integrator_.camera_ray(ray, camera_.forward(), st, ctx, &local);
+        if (local.hit) hits += 1;
+        if (fh && j == 0) *fh = local;
+    }
+    const float inv = 1.0f / float(nd);
+    out[0] = sum.x * inv; out[1] = sum.y * inv; out[2] = sum.z * inv; out[3] = hits * inv;
+}
+
+PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& sc) const {
+    if (s_.aa == AAMode::Adaptive) return adaptive(x, y, ctx, sc);
+    const uint32_t key = uint32_t(y) * uint32_t(camera_.width()) + uint32_t(x);
+    const uint32_t n = uint32_t(std::max(1, s_.aa_samples));
+    const uint32_t count = s_.aa == AAMode::Center ? 1 : n * n;
+    Rng prng(s_.seed ^ 0x68e31da4U, key, 0);
+    const uint32_t shuffle = prng.next_u32(), sx = prng.next_u32(), sy = prng.next_u32();
+    PixelValue pv;
+    float acc[4] = {0, 0, 0, 0}, wsum = 0;
+    for (uint32_t s = 0; s < count; ++s) {
+        float u = 0.5f, v = 0.5f;
+        switch (s_.aa) {
+        case AAMode::Jittered: u = (float(s % n) + prng.next()) / float(n); v = (float(s / n) + prng.next()) / float(n); break;
+        case AAMode::Random: u = prng.next(); v = prng.next(); break;
+        case AAMode::Sobol: {
+            const uint32_t i = owen_scramble(s, shuffle);
+            u = to_unit(owen_scramble(reverse_bits(i), sx));
+            v = to_unit(owen_scramble(sobol_dim1(i), sy));
+            break;
+        }
+        default: break;
+        }
+        float ox = u - 0.5f, oy = v - 0.5f;
+        if (s_.filter == PixelFilter::Gaussian && count > 1) {
+            // Filter importance sampling: Box-Muller turns the (stratified)
+            // uniform pair into a Gaussian offset, so every sample has weight 1.
+            const float r = s_.filter_width * std::sqrt(-2.0f * std::log(std::max(1.0f - u, 1e-7f)));
+            const float phi = float(2 * kPi) * v;
+            ox = std::min(std::max(r * std::cos(phi), -2 * s_.filter_width), 2 * s_.filter_width);
+            oy = std::min(std::max(r * std::sin(phi), -2 * s_.filter_width), 2 * s_.filter_width);
+        }
+        float out[4];
+        sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr);
+        for (int c = 0; c < 4; ++c) acc[c] += out[c];
+        wsum += 1;
+    }
+    pv.rgb = Vec3(acc[0], acc[1], acc[2]) * (1.0f / wsum);
+    pv.alpha = acc[3] / wsum;
+    return pv;
+}
+
+// Whitted's adaptive supersampling on a lattice of 2^D x 2^D squares per
+// pixel. Lattice points are addressed globally and seeded by their global
+// address, so a point shared by two pixels (or two tiles) gets the same
+// jittered position and value wherever it is computed. Pixel corners are
+// traced once per tile; inner points once per pixel.
+void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4],
+                                   FirstHit* fh) const {
+    // Level of the point: the coarsest lattice it belongs to; it is jittered
+    // within that lattice's spacing.
+    int level = D;
+    while (level > 0 && ((gx | gy) & ((1u << (D - level + 1)) - 1)) == 0) --level;
+    const float spacing = 1.0f / float(1 << level);
+    const uint32_t key = hash4(gx, gy, uint32_t(D), 0xADu);
+    Rng jr(s_.seed ^ 0x2545f491U, key, 0);
+    const float px = float(gx) / float(1 << D) + (jr.next() - 0.5f) * spacing;
+    const float py = float(gy) / float(1 << D) + (jr.next() - 0.5f) * spacing;
+    sample_point(px, py, key, 0, 1, ctx, out, fh);
+}
+
+void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx, PixelScratch& sc) const {
+    if (s_.aa != AAMode::Adaptive) return;
+    const int D = s_.adaptive_depth;
+    sc.x0 = x0; sc.y0 = y0; sc.w = w;
+    sc.corners.assign(size_t(w + 1) * (h + 1) * 4, 0.0f);
+    sc.corner_hits.assign(size_t(w + 1) * (h + 1), FirstHit());
+    for (int j = 0; j <= h; ++j)
+        for (int i = 0; i <= w; ++i) {
+            const size_t k = size_t(j) * (w + 1) + i;
+            lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[4 * k], &sc.corner_hits[k]);
+        }
+}
+
+PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const {
+    const int D = s_.adaptive_depth;
+    const int side = (1 << D) + 1;
+    sc.lattice.assign(size_t(side) * side * 5, 0.0f);   // rgba + "computed" flag
+    PixelValue pv;
+    const int ci = x - sc.x0, cj = y - sc.y0;
+    pv.first = sc.corner_hits[size_t(cj) * (sc.w + 1) + ci];
+    auto point = [&](int i, int j) -> const float* {
+        if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1))
+            return &sc.corners[4 * (size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0))];
+        float* e = &sc.lattice[(size_t(j) * side + i) * 5];
+        if (e[4] == 0) {
+            lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e, nullptr);
+            e[4] = 1;
+        }
+        return e;
+    };
+    const float thr = s_.adaptive_threshold;
+    // Subdivision with an explicit stack of squares (i, j, size, weight).
+    struct Sq { int i, j, size; float w; };
+    Sq stack[64];
+    int top = 0;
+    stack[top++] = {0, 0, 1 << D, 1.0f};
+    float acc[4] = {0, 0, 0, 0};
+    while (top > 0) {
+        const Sq q = stack[--top];
+        const float* c[4] = {point(q.i, q.j), point(q.i + q.size, q.j), point(q.i, q.j + q.size),
+                             point(q.i + q.size, q.j + q.size)};
+        float diff = 0;
+        for (int ch = 0; ch < 3; ++ch) {
+            const float lo = std::min(std::min(c[0][ch], c[1][ch]), std::min(c[2][ch], c[3][ch]));
+            const float hi = std::max(std::max(c[0][ch], c[1][ch]), std::max(c[2][ch], c[3][ch]));
+            diff = std::max(diff, hi - lo);
+        }
+        if (q.size > 1 && diff > thr) {
+            const int h = q.size / 2;
+            stack[top++] = {q.i, q.j, h, q.w * 0.25f};
+            stack[top++] = {q.i + h, q.j, h, q.w * 0.25f};
+            stack[top++] = {q.i, q.j + h, h, q.w * 0.25f};
+            stack[top++] = {q.i + h, q.j + h, h, q.w * 0.25f};
+        } else {
+            for (int ch = 0; ch < 4; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
+        }
+    }
+    pv.rgb = Vec3(acc[0], acc[1], acc[2]);
+    pv.alpha = acc[3];
+    return pv;
+}
+
+}  // namespace gw

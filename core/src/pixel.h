@@ -1,0 +1,47 @@
+// Pixel estimation: where the camera samples of one pixel go (centre,
+// jittered, random, Owen-scrambled Sobol, or Whitted's adaptive
+// subdivision), the lens samples for depth of field, and the pixel filter.
+#pragma once
+#include <vector>
+
+#include "camera.h"
+#include "integrator.h"
+
+namespace gw {
+
+struct PixelValue {
+    Vec3 rgb;
+    float alpha = 0;   // fraction of camera samples that hit geometry
+    FirstHit first;
+};
+
+// Per-thread scratch for adaptive sampling: one pixel's lattice, and the
+// pixel corners of the current tile (traced once, shared by the tile's pixels).
+struct PixelScratch {
+    std::vector<float> lattice;
+    std::vector<float> corners;       // rgba per corner, (w + 1) x (h + 1)
+    std::vector<FirstHit> corner_hits;
+    int x0 = 0, y0 = 0, w = 0;
+};
+
+class PixelEstimator {
+public:
+    PixelEstimator(const Accel& accel, const RenderSettings& s);
+    // Call before the pixels of a tile (traces the shared corners in adaptive mode).
+    void begin_tile(int x0, int y0, int w, int h, TraceContext& ctx, PixelScratch& sc) const;
+    PixelValue pixel(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
+
+private:
+    // One lattice point / camera position: dof_samples lens rays averaged. rgba out.
+    void sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
+                      TraceContext& ctx, float out[4], FirstHit* fh) const;
+    PixelValue adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
+    void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh) const;
+
+    const Scene& scene_;
+    const RenderSettings& s_;
+    Integrator integrator_;
+    Camera camera_;
+};
+
+}  // namespace gw

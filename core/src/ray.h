@@ -1,0 +1,48 @@
+// Rays, hit records and the per-ray data precomputed once before traversal.
+#pragma once
+#include "math.h"
+
+namespace gw {
+
+enum class PrimKind : int32_t { Miss = 0, Triangle = 1, Sphere = 2, Cone = 3 };
+
+struct Ray {
+    Vec3 o, d;
+    float tmin = 0.0f, tmax = kInf;
+};
+
+// Closest-hit record. prim is the global primitive index (triangles, then
+// spheres, then cones); t == tmax until something is hit.
+struct Hit {
+    float t = kInf;
+    int32_t prim = -1;
+    float u = 0, v = 0;
+};
+
+// Everything a primitive test needs that depends only on the ray.
+struct RayPre {
+    Ray ray;
+    // Watertight triangle test (Woop, Benthin, Wald 2013): axis permutation and shear.
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0, sy = 0, sz = 1;
+    // Double-precision copies for the analytic (quadric) primitives.
+    Vec3d od, dd;
+    bool valid = false;   // false for NaN/Inf/zero directions: such a ray hits nothing
+
+    explicit RayPre(const Ray& r) : ray(r) {
+        valid = finite3(r.o) && finite3(r.d) && (r.d.x != 0 || r.d.y != 0 || r.d.z != 0) &&
+                !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
+        if (!valid) return;
+        kz = max_axis(vabs(r.d));
+        kx = kz == 2 ? 0 : kz + 1;
+        ky = kx == 2 ? 0 : kx + 1;
+        if (r.d[kz] < 0) std::swap(kx, ky);   // keep the winding so the edge tests keep their sign
+        sx = r.d[kx] / r.d[kz];
+        sy = r.d[ky] / r.d[kz];
+        sz = 1.0f / r.d[kz];
+        od = Vec3d(r.o);
+        dd = Vec3d(r.d);
+    }
+};
+
+}  // namespace gw

@@ -1,0 +1,165 @@
+// Tile scheduling, polling and cancellation. See render_job.h.
+#include "render_job.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "pixel.h"
+
+namespace gw {
+
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+int resolve_threads(int requested) {
+    if (requested > 0) return requested;
+    const unsigned hc = std::thread::hardware_concurrency();
+    return hc ? int(hc) : 1;
+}
+
+void validate_settings(const RenderSettings& s) {
+    auto need = [](bool ok, const char* msg) { if (!ok) throw std::invalid_argument(msg); };
+    need(s.accel == 0 || s.accel == 1, "accel must be 'none' or 'grid'");
+    need(s.grid_density > 0 && std::isfinite(s.grid_density), "grid_density must be > 0");
+    need(s.threads >= 0 && s.threads <= 1024, "threads must be in [0, 1024] (0 = all cores)");
+    need(s.tile_size >= 1 && s.tile_size <= 4096, "tile_size must be in [1, 4096]");
+    need(s.max_depth >= 1 && s.max_depth <= 64, "max_depth must be in [1, 64]");
+    need(s.aa_samples >= 1 && s.aa_samples <= 64, "aa_samples must be in [1, 64]");
+    need(s.adaptive_depth >= 0 && s.adaptive_depth <= 6, "adaptive_depth must be in [0, 6]");
+    need(s.adaptive_threshold >= 0, "adaptive_threshold must be >= 0");
+    need(s.filter_width > 0 && s.filter_width <= 4, "filter_width must be in (0, 4]");
+    need(s.shadow_samples >= 1 && s.shadow_samples <= 64, "shadow_samples must be in [1, 64]");
+    need(s.dof_samples >= 1 && s.dof_samples <= 4096, "dof_samples must be in [1, 4096]");
+    need(s.glossy_samples >= 1 && s.glossy_samples <= 4096, "glossy_samples must be in [1, 4096]");
+    need(s.min_weight >= 0, "min_weight must be >= 0");
+}
+
+std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s) {
+    validate_settings(s);
+    if (s.accel == 0) return std::make_shared<BruteForce>(std::move(scene));
+    GridParams p;
+    p.density = s.grid_density;
+    p.max_cells = s.max_cells;
+    return std::make_shared<Grid>(std::move(scene), p);
+}
+
+RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s)
+    : accel_(std::move(accel)), s_(s) {
+    validate_settings(s_);
+    const CameraDesc& cam = accel_->scene().camera();
+    width = cam.width;
+    height = cam.height;
+    const size_t n = size_t(width) * size_t(height);
+    rgba.assign(n * 4, 0.0f);
+    depth.assign(n, kInf);
+    normal.assign(n * 3, 0.0f);
+    for (int y = 0; y < height; y += s_.tile_size)
+        for (int x = 0; x < width; x += s_.tile_size)
+            tiles_.push_back({x, y, std::min(s_.tile_size, width - x), std::min(s_.tile_size, height - y)});
+}
+
+RenderJob::~RenderJob() {
+    cancel_.store(true);
+    join_all();
+}
+
+void RenderJob::start() {
+    if (started_) throw std::runtime_error("render job already started");
+    started_ = true;
+    t_start_ = now_seconds();
+    nthreads_ = std::min(resolve_threads(s_.threads), std::max(1, int(tiles_.size())));
+    threads_.reserve(size_t(nthreads_));
+    try {
+        for (int i = 0; i < nthreads_; ++i) threads_.emplace_back([this] { worker(); });
+    } catch (...) {   // could not start every thread: stop the ones that did
+        cancel_.store(true);
+        join_all();
+        throw;
+    }
+}
+
+void RenderJob::worker() {
+    try {
+        PixelEstimator est(*accel_, s_);
+        TraceContext ctx;
+        if (s_.mailboxes && s_.accel == 1) ctx.mailbox.resize(accel_->scene().num_prims());
+        PixelScratch scratch;
+        for (;;) {
+            if (cancel_.load(std::memory_order_relaxed)) break;
+            const int t = next_tile_.fetch_add(1);
+            if (t >= int(tiles_.size())) break;
+            const Tile tile = tiles_[size_t(t)];
+            est.begin_tile(tile.x, tile.y, tile.w, tile.h, ctx, scratch);
+            bool complete = true;
+            for (int y = tile.y; y < tile.y + tile.h && complete; ++y) {
+                for (int x = tile.x; x < tile.x + tile.w; ++x) {
+                    if (cancel_.load(std::memory_order_relaxed)) { complete = false; break; }
+                    const PixelValue pv = est.pixel(x, y, ctx, scratch);
+                    const size_t k = size_t(y) * size_t(width) + size_t(x);
+                    rgba[4 * k + 0] = pv.rgb.x;
+                    rgba[4 * k + 1] = pv.rgb.y;
+                    rgba[4 * k + 2] = pv.rgb.z;
+                    rgba[4 * k + 3] = pv.alpha;
+                    depth[k] = pv.first.hit ? pv.first.depth : kInf;
+                    normal[3 * k + 0] = pv.first.normal.x;
+                    normal[3 * k + 1] = pv.first.normal.y;
+                    normal[3 * k + 2] = pv.first.normal.z;
+                }
+            }
+            std::lock_guard<std::mutex> lock(mu_);
+            stats_.add(ctx.stats);
+            ctx.stats = Stats();
+            if (complete) {
+                ready_.push_back(tile);
+                tiles_done_.fetch_add(1);
+            }
+        }
+    } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (error_.empty()) error_ = e.what();
+        cancel_.store(true);
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (error_.empty()) error_ = "unknown error in render worker";
+        cancel_.store(true);
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    if (finished_workers_.fetch_add(1) + 1 == nthreads_) t_end_ = now_seconds();
+}
+
+std::vector<Tile> RenderJob::poll() {
+    std::lock_guard<std::mutex> lock(mu_);
+    std::vector<Tile> out;
+    out.swap(ready_);
+    return out;
+}
+
+void RenderJob::join_all() {
+    for (auto& t : threads_)
+        if (t.joinable()) t.join();
+}
+
+void RenderJob::cancel() {
+    cancel_.store(true);
+    join_all();
+}
+
+void RenderJob::wait() {
+    join_all();
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!error_.empty()) throw std::runtime_error("render failed: " + error_);
+}
+
+double RenderJob::elapsed() const {
+    if (!started_) return 0.0;
+    std::lock_guard<std::mutex> lock(mu_);
+    return (t_end_ >= 0 ? t_end_ : now_seconds()) - t_start_;
+}
+
+Stats RenderJob::stats() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return stats_;
+}
+
+}  // namespace gw

@@ -1,0 +1,65 @@
+// An asynchronous render: worker threads take tiles from a shared counter and
+// publish finished tiles; the caller polls them, reads progress and can
+// cancel at any time. Pixels are pure functions of (seed, pixel, sample), so
+// the image is bit-identical for any thread count, tile size or tile order.
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "accel.h"
+#include "settings.h"
+
+namespace gw {
+
+struct Tile { int x, y, w, h; };
+
+class RenderJob {
+public:
+    RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s);
+    ~RenderJob();
+    RenderJob(const RenderJob&) = delete;
+    RenderJob& operator=(const RenderJob&) = delete;
+
+    void start();
+    std::vector<Tile> poll();            // tiles finished since the last poll
+    void cancel();                       // returns once every worker has stopped
+    void wait();                         // joins; rethrows a worker's error
+    bool finished() const { return started_ && finished_workers_.load() == nthreads_; }
+    bool cancelled() const { return cancel_.load(); }
+    int tiles_done() const { return tiles_done_.load(); }
+    int tiles_total() const { return int(tiles_.size()); }
+    double elapsed() const;
+    Stats stats() const;
+
+    int width, height;
+    std::vector<float> rgba, depth, normal;   // (H, W, 4), (H, W), (H, W, 3); row 0 is the top
+
+private:
+    void worker();
+    void join_all();
+
+    std::shared_ptr<const Accel> accel_;
+    RenderSettings s_;
+    std::vector<Tile> tiles_;
+    std::vector<std::thread> threads_;
+    std::atomic<int> next_tile_{0}, tiles_done_{0}, finished_workers_{0};
+    std::atomic<bool> cancel_{false};
+    bool started_ = false;
+    int nthreads_ = 0;
+    mutable std::mutex mu_;
+    std::vector<Tile> ready_;
+    Stats stats_;
+    std::string error_;
+    double t_start_ = 0, t_end_ = -1;
+};
+
+std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s);
+void validate_settings(const RenderSettings& s);
+int resolve_threads(int requested);
+double now_seconds();
+
+}  // namespace gw

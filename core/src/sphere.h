@@ -1,0 +1,36 @@
+// Ray/sphere intersection, numerically careful (Haines et al., Ray Tracing
+// Gems ch. 7): the discriminant is formed as r^2 - |f - (f.d/d.d) d|^2, which
+// keeps its precision when the ray passes far from the centre relative to r,
+// and the near root comes from c/q to avoid cancellation. Evaluated in double,
+// so a 1e-3 sphere seen from 1e4 away is still resolved.
+#pragma once
+#include "ray.h"
+
+namespace gw {
+
+inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, float tmax, float& t_out) {
+    const Vec3d c(center);
+    const double R = radius;
+    const Vec3d f = r.od - c;
+    const double a = dot(r.dd, r.dd);
+    const double b = dot(f, r.dd);                     // half the usual b
+    const Vec3d l = f - r.dd * (b / a);                // closest-approach offset
+    const double disc = a * (R * R - dot(l, l));       // = b^2 - a c, computed stably
+    if (disc < 0) return false;
+    const double cc = dot(f, f) - R * R;
+    const double q = -(b + std::copysign(std::sqrt(disc), b));
+    double t0 = q != 0 ? cc / q : 0.0, t1 = q / a;
+    if (t0 > t1) std::swap(t0, t1);
+    const double lo = r.ray.tmin, hi = tmax;
+    double t = t0;
+    if (!(t > lo && t < hi)) {
+        t = t1;
+        if (!(t > lo && t < hi)) return false;
+    }
+    const float tf = float(t);
+    if (!(tf > r.ray.tmin && tf < tmax)) return false;
+    t_out = tf;
+    return true;
+}
+
+}  // namespace gw

@@ -1,0 +1,55 @@
+// Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013).
+// Shared edges are evaluated with bit-identical edge functions in both
+// triangles, so a ray through an edge or vertex of a closed mesh cannot slip
+// through. When an edge function is exactly zero it is recomputed in double,
+// as the paper recommends, so the tie is decided consistently.
+#pragma once
+#include "ray.h"
+
+namespace gw {
+
+// Returns true and sets t, b1, b2 (barycentrics of v1, v2) for a hit with
+// tmin < t < tmax. Triangles are two-sided.
+inline bool intersect_triangle(const RayPre& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
+                               float tmax, float& t_out, float& b1, float& b2) {
+    const Vec3 A = v0 - r.ray.o, B = v1 - r.ray.o, C = v2 - r.ray.o;
+    const float Ax = A[r.kx] - r.sx * A[r.kz], Ay = A[r.ky] - r.sy * A[r.kz];
+    const float Bx = B[r.kx] - r.sx * B[r.kz], By = B[r.ky] - r.sy * B[r.kz];
+    const float Cx = C[r.kx] - r.sx * C[r.kz], Cy = C[r.ky] - r.sy * C[r.kz];
+    float U = Cx * By - Cy * Bx;
+    float V = Ax * Cy - Ay * Cx;
+    float W = Bx * Ay - By * Ax;
+    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+        U = float(double(Cx) * double(By) - double(Cy) * double(Bx));
+        V = float(double(Ax) * double(Cy) - double(Ay) * double(Cx));
+        W = float(double(Bx) * double(Ay) - double(By) * double(Ax));
+    }
+    if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
+    float det = U + V + W;
+    if (det == 0.0f) return false;
+    const float Az = r.sz * A[r.kz], Bz = r.sz * B[r.kz], Cz = r.sz * C[r.kz];
+    float T = U * Az + V * Bz + W * Cz;
+    if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
+    if (!(T > r.ray.tmin * det) || !(T < tmax * det)) return false;
+    const float inv = 1.0f / det;
+    const float t = T * inv;
+    // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): a hit
+    // closer than the bound may be the ray's own origin surface, so it is
+    // rejected. This is what keeps a ray spawned exactly on a triangle (zero
+    // position error, e.g. an axis-aligned floor) from re-hitting it.
+    const float max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
+    const float max_xt = std::max(std::abs(Ax), std::max(std::abs(Bx), std::abs(Cx)));
+    const float max_yt = std::max(std::abs(Ay), std::max(std::abs(By), std::abs(Cy)));
+    const float dz = gamma_bound(3) * max_zt;
+    const float dx = gamma_bound(5) * (max_xt + max_zt), dy = gamma_bound(5) * (max_yt + max_zt);
+    const float de = 2.0f * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
+    const float max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
+    const float dt = 3.0f * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) * inv;
+    if (!(t > dt)) return false;
+    t_out = t;
+    b1 = V * inv;
+    b2 = W * inv;
+    return t_out > r.ray.tmin && t_out < tmax;
+}
+
+}  // namespace gw

@@ -1,0 +1,66 @@
+"""Small mesh generators shared by the tests (closed meshes, soups)."""
+import numpy as np
+
+
+def icosphere(subdivisions=2, radius=1.0, center=(0.0, 0.0, 0.0)):
+    """A closed, consistently wound icosphere: (vertices float32, triangles int32)."""
+    t = (1.0 + 5 ** 0.5) / 2.0
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    for _ in range(subdivisions):
+        cache, nf = {}, []
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in cache:
+                m = verts[a] + verts[b]
+                verts.append(m / np.linalg.norm(m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        f = nf
+    V = np.array(verts) * radius + np.asarray(center, float)
+    return V.astype(np.float32), np.array(f, np.int32)
+
+
+def triangle_soup(n, seed=0, extent=10.0, size=1.0):
+    """n random triangles in a cube of side `extent`."""
+    rng = np.random.default_rng(seed)
+    centers = rng.uniform(0, extent, (n, 1, 3))
+    V = (centers + rng.normal(0, size, (n, 3, 3))).reshape(-1, 3).astype(np.float32)
+    return V, np.arange(3 * n, dtype=np.int32).reshape(n, 3)
+
+
+def random_rays(n, lo, hi, seed=0):
+    """Origins uniform in the box [lo, hi] (slightly enlarged), unit directions uniform on the sphere."""
+    rng = np.random.default_rng(seed)
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    pad = 0.1 * (hi - lo)
+    o = rng.uniform(lo - pad, hi + pad, (n, 3))
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return o.astype(np.float32), d.astype(np.float32)
+
+
+def camera_rays(eye, target, n_side, fov_deg=40.0):
+    """A coherent n_side x n_side pinhole bundle from eye towards target."""
+    eye, target = np.asarray(eye, float), np.asarray(target, float)
+    fwd = (target - eye) / np.linalg.norm(target - eye)
+    up = np.array([0.0, 0.0, 1.0]) if abs(fwd[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    right = np.cross(fwd, up); right /= np.linalg.norm(right)
+    up = np.cross(right, fwd)
+    h = np.tan(np.radians(fov_deg) / 2)
+    s = np.linspace(-h, h, n_side)
+    x, y = np.meshgrid(s, s)
+    d = fwd + x[..., None] * right + y[..., None] * up
+    d = d.reshape(-1, 3)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    o = np.broadcast_to(eye, d.shape)
+    return np.ascontiguousarray(o, np.float32), d.astype(np.float32)

@@ -1,0 +1,94 @@
+"""Bad input raises ValueError naming the array and the first bad index; it never crashes."""
+import numpy as np
+import pytest
+
+import gridwalk as gw
+
+V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], np.float32)
+F = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+
+
+def make(**kw):
+    base = dict(vertices=V, triangles=F)
+    base.update(kw)
+    return gw.Scene(**base)
+
+
+@pytest.mark.parametrize("kw, pattern", [
+    (dict(vertices=V[:, :2]), r"vertices must have shape \(N, 3\)"),
+    (dict(triangles=F.reshape(-1)), r"triangles must have shape \(N, 3\)"),
+    (dict(triangles=F.astype(np.float32)), "triangles must be an integer array"),
+    (dict(vertices=np.array(["a", "b", "c"])), "vertices must be a numeric array"),
+    (dict(sphere_centers=np.zeros((2, 3)), sphere_radii=np.ones(3)), "sphere_centers"),
+    (dict(normals=np.zeros((3, 3), np.float32)), "normals must have the same shape as vertices"),
+    (dict(triangle_materials=[0]), "triangle_materials must have one entry per triangle"),
+])
+def test_wrong_shapes_and_dtypes(kw, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        make(**kw)
+
+
+def test_out_of_range_index_names_first_bad_triangle():
+    bad = F.copy(); bad[1, 2] = 4
+    with pytest.raises(ValueError, match=r"triangles\[1\] = 4 is out of range"):
+        make(triangles=bad)
+    bad[0, 0] = -1
+    with pytest.raises(ValueError, match=r"triangles\[0\] = -1"):
+        make(triangles=bad)
+
+
+def test_material_index_out_of_range():
+    with pytest.raises(ValueError, match=r"triangle_materials\[1\] = 3"):
+        make(triangle_materials=[0, 3])
+
+
+@pytest.mark.parametrize("value", [np.nan, np.inf, -np.inf])
+def test_non_finite_coordinates(value):
+    bad = V.copy(); bad[2, 1] = value
+    with pytest.raises(ValueError, match=r"vertices\[2\] has a non-finite value"):
+        make(vertices=bad)
+    with pytest.raises(ValueError, match=r"sphere_centers\[1\]"):
+        gw.Scene(sphere_centers=[[0, 0, 0], [0, value, 0]], sphere_radii=[1, 1])
+
+
+def test_float64_overflow_becomes_inf_and_is_rejected():
+    bad = V.astype(np.float64); bad[3, 0] = 1e300
+    with pytest.raises(ValueError, match=r"vertices\[3\]"):
+        make(vertices=bad)
+
+
+def test_negative_radius():
+    with pytest.raises(ValueError, match=r"sphere_radii\[1\] is negative"):
+        gw.Scene(sphere_centers=np.zeros((2, 3)), sphere_radii=[1.0, -0.5])
+
+
+def test_empty_scene():
+    with pytest.raises(ValueError, match="empty"):
+        gw.Scene()
+    with pytest.raises(ValueError, match="empty"):
+        gw.Scene(vertices=V, triangles=np.zeros((0, 3), np.int32))
+
+
+def test_bad_records():
+    with pytest.raises(ValueError, match="Camera.eye and Camera.target coincide"):
+        make(camera=gw.Camera(eye=(0, 0, 0), target=(0, 0, 0)))
+    with pytest.raises(ValueError, match="Camera.up is parallel"):
+        make(camera=gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 0, 1)))
+    with pytest.raises(ValueError, match="Light.kind"):
+        make(lights=[gw.Light(kind="laser")])
+    with pytest.raises(ValueError, match="Material.ior"):
+        make(materials=[gw.Material(ior=0.0)])
+    with pytest.raises(ValueError, match=r"lights\[0\] must be a gridwalk.Light"):
+        make(lights=[(1, 2, 3)])
+
+
+def test_degenerate_cylinder_is_rejected():
+    with pytest.raises(ValueError, match=r"cylinder_apex\[0\] coincides"):
+        gw.Scene(cylinder_base=[[0, 0, 0]], cylinder_apex=[[0, 0, 0]], cylinder_base_radius=[1],
+                 cylinder_apex_radius=[1])
+
+
+def test_bad_rays_are_rejected_not_crashing():
+    sc = make()
+    with pytest.raises(ValueError, match="directions must have the shape of origins"):
+        sc.intersect(np.zeros((3, 3)), np.zeros((2, 3)))

@@ -1,0 +1,97 @@
+"""The uniform grid: the seed's resolution formula, the cell cap, mailboxes,
+and traversal that finds exactly what brute force finds."""
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from gridwalk.scenes import balls
+from meshes import icosphere, random_rays, triangle_soup
+
+
+def same_hits(sc, o, d, **kw):
+    g = sc.intersect(o, d, accel="grid", **kw)
+    n = sc.intersect(o, d, accel="none")
+    assert np.array_equal(np.isfinite(g.t), np.isfinite(n.t))
+    hit = np.isfinite(n.t)
+    assert np.array_equal(g.t[hit], n.t[hit])
+    assert np.array_equal(g.prim[hit], n.prim[hit]) and np.array_equal(g.kind[hit], n.kind[hit])
+    return g
+
+
+def test_resolution_follows_the_seed_formula():
+    V, F = triangle_soup(5000, seed=3, extent=20.0, size=0.3)
+    sc = gw.Scene(vertices=V, triangles=F)
+    for m in (1.0, 2.0, 3.5):
+        info = sc.grid_info(gw.RenderSettings(grid_density=m))
+        lo, hi = sc.bounds
+        dim = hi - lo
+        side = np.cbrt(np.prod(dim) / len(F))
+        expected = np.floor(m * dim / side).astype(int) + 1
+        assert np.all(np.abs(np.array(info["resolution"]) - expected) <= 1), (info["resolution"], expected)
+        assert info["cells"] == np.prod(info["resolution"])
+        assert info["bytes"] == 4 * (info["cells"] + 1) + 4 * info["refs"]   # compact: offsets + one index list
+        assert not info["reduced"]
+
+
+def test_cell_cap_reduces_density_and_says_so():
+    V, F = triangle_soup(20000, seed=4)
+    sc = gw.Scene(vertices=V, triangles=F)
+    s = gw.RenderSettings(grid_density=8.0, max_cells=50_000)
+    info = sc.grid_info(s)
+    assert info["cells"] <= 50_000
+    assert info["reduced"] and info["density_used"] < 8.0
+    assert "reduced" in info["note"]
+    o, d = random_rays(20000, V.min(0), V.max(0), seed=5)
+    g = sc.intersect(o, d, grid_density=8.0)  # default cap: a different, finer grid
+    n = sc.intersect(o, d, accel="none")
+    assert np.array_equal(g.t, n.t)
+
+
+@pytest.mark.parametrize("density", [0.25, 1.0, 2.0, 5.0])
+def test_grid_equals_brute_force_on_spheres_and_triangles(density):
+    sc = gw.Scene(**balls(2))
+    lo, hi = sc.bounds
+    o, d = random_rays(30000, lo, hi, seed=7)
+    same_hits(sc, o, d, grid_density=density)
+
+
+def test_flat_scene_with_zero_extent_axis():
+    rng = np.random.default_rng(8)
+    V = rng.uniform(-5, 5, (3000, 3)).astype(np.float32)
+    V[:, 2] = 0.0
+    F = np.arange(3000, dtype=np.int32).reshape(-1, 3)
+    sc = gw.Scene(vertices=V, triangles=F)
+    assert sc.grid_info()["resolution"][2] == 1
+    o, d = random_rays(20000, [-5, -5, -1], [5, 5, 1], seed=9)
+    g = same_hits(sc, o, d)
+    assert np.isfinite(g.t).sum() > 1000
+
+
+def test_mailboxes_skip_repeat_tests_without_changing_hits():
+    V, F = icosphere(3, radius=4.0)
+    sc = gw.Scene(vertices=V, triangles=F, sphere_centers=[[0, 0, 0], [6, 0, 0]], sphere_radii=[2.5, 3.0])
+    o, d = random_rays(20000, V.min(0), V.max(0), seed=10)
+    on = sc.intersect(o, d, mailboxes=True, grid_density=4.0)
+    off = sc.intersect(o, d, mailboxes=False, grid_density=4.0)
+    assert np.array_equal(on.t, off.t) and np.array_equal(on.prim, off.prim)
+    assert on.stats["mailbox_skips"] > 0 and off.stats["mailbox_skips"] == 0
+    assert on.stats["prim_tests"] + on.stats["mailbox_skips"] == off.stats["prim_tests"]
+
+
+def test_grid_tests_fewer_primitives_than_brute_force():
+    sc = gw.Scene(**balls(3))
+    lo, hi = sc.bounds
+    o, d = random_rays(5000, lo, hi, seed=11)
+    g = sc.intersect(o, d, accel="grid").stats
+    n = sc.intersect(o, d, accel="none").stats
+    assert n["prim_tests"] == 5000 * sc.num_primitives
+    assert g["prim_tests"] < n["prim_tests"] / 20
+
+
+def test_mailboxes_are_correct_with_many_threads():
+    sc = gw.Scene(**balls(3))
+    lo, hi = sc.bounds
+    o, d = random_rays(40000, lo, hi, seed=12)
+    one = sc.intersect(o, d, threads=1)
+    many = sc.intersect(o, d, threads=8)
+    assert np.array_equal(one.t, many.t) and np.array_equal(one.prim, many.prim)

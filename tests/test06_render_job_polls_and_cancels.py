@@ -1,0 +1,93 @@
+"""The asynchronous render: tiles stream out exactly once, progress reaches 1,
+cancel returns within 100 ms and leaves no worker thread behind, statistics
+report Havran & Sixta's measures."""
+import os
+import time
+
+import numpy as np
+
+import gridwalk as gw
+from gridwalk.scenes import balls
+
+
+def thread_count():
+    return len(os.listdir("/proc/self/task"))
+
+
+def scene(size=2, res=128):
+    kw = balls(size)
+    kw["camera"].width = kw["camera"].height = res
+    return gw.Scene(**kw)
+
+
+def test_polled_tiles_cover_the_image_exactly_once():
+    sc = scene()
+    job = gw.RenderJob(sc, gw.RenderSettings(tile_size=16, threads=2)).start()
+    seen = np.zeros((128, 128), int)
+    canvas = np.zeros((128, 128, 4), np.float32)
+    while True:
+        done = job.finished
+        for t in job.poll():
+            seen[t.y:t.y + t.height, t.x:t.x + t.width] += 1
+            canvas[t.y:t.y + t.height, t.x:t.x + t.width] = t.rgba
+        if done:
+            break
+        time.sleep(0.005)
+    final = job.wait()
+    for t in job.poll():
+        seen[t.y:t.y + t.height, t.x:t.x + t.width] += 1
+        canvas[t.y:t.y + t.height, t.x:t.x + t.width] = t.rgba
+    assert np.all(seen == 1)
+    assert job.progress == 1.0 and job.tiles_done == job.tiles_total == 64
+    assert np.array_equal(canvas, final)
+
+
+def test_cancel_returns_within_100ms_and_stops_all_workers():
+    sc = scene(size=3, res=512)
+    before = thread_count()
+    slow = gw.RenderSettings(aa="jittered", aa_samples=6, shadow="random", shadow_samples=4, threads=4)
+    job = gw.RenderJob(sc, slow).start()
+    time.sleep(0.3)
+    assert thread_count() > before
+    t0 = time.perf_counter()
+    job.cancel()
+    elapsed = time.perf_counter() - t0
+    assert elapsed < 0.1, f"cancel took {elapsed * 1000:.1f} ms"
+    assert job.cancelled and thread_count() == before
+    assert 0 < job.tiles_done < job.tiles_total
+    # A new render after a cancel works and is complete.
+    img = gw.render(scene(size=1, res=32))
+    assert img.shape == (32, 32, 4) and np.all(np.isfinite(img))
+
+
+def test_dropping_a_running_job_stops_its_threads():
+    before = thread_count()
+    job = gw.RenderJob(scene(size=3, res=256), gw.RenderSettings(aa="jittered", aa_samples=4)).start()
+    time.sleep(0.05)
+    del job
+    assert thread_count() == before
+
+
+def test_statistics_report_rays_tests_and_cells():
+    sc = scene(size=3, res=64)
+    job = gw.RenderJob(sc, gw.RenderSettings(threads=2)).start()
+    job.wait()
+    s = job.stats
+    assert s["primary_rays"] == 64 * 64
+    assert s["shadow_rays"] > 0 and s["secondary_rays"] > 0
+    assert s["rays"] == s["primary_rays"] + s["shadow_rays"] + s["secondary_rays"]
+    assert 0 < s["tests_per_ray"] < 200 and s["cells_per_ray"] > 1
+    g = s["grid"]
+    assert g["cells"] == np.prod(g["resolution"]) and g["refs"] >= sc.num_primitives
+    assert g["build_seconds"] >= 0 and g["bytes"] > 0
+    assert s["seconds"] > 0 and s["mrays_per_second"] > 0
+
+
+def test_depth_and_normal_passes():
+    sc = scene(size=1, res=48)
+    job = gw.RenderJob(sc).start()
+    job.wait()
+    depth, normal, alpha = job.depth, job.normal, job.image[..., 3]
+    hit = alpha > 0
+    assert np.all(np.isfinite(depth[hit])) and np.all(np.isinf(depth[~hit]))
+    assert np.allclose(np.linalg.norm(normal[hit], axis=-1), 1.0, atol=1e-4)

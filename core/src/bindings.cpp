@@ -99,6 +99,12 @@ NB_MODULE(_core, m) {
         .def_rw("dof_samples", &RenderSettings::dof_samples)
         .def_rw("glossy_samples", &RenderSettings::glossy_samples)
         .def_rw("min_weight", &RenderSettings::min_weight)
+        .def_prop_rw("region",
+            [](const RenderSettings& s) { return std::make_tuple(s.region[0], s.region[1], s.region[2], s.region[3]); },
+            [](RenderSettings& s, std::tuple<int, int, int, int> r) {
+                s.region[0] = std::get<0>(r); s.region[1] = std::get<1>(r);
+                s.region[2] = std::get<2>(r); s.region[3] = std::get<3>(r);
+            })
         .def("validate", &validate_settings);
 
     nb::class_<Scene>(m, "Scene")

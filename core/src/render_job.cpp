@@ -33,6 +33,8 @@ void validate_settings(const RenderSettings& s) {
     need(s.dof_samples >= 1 && s.dof_samples <= 4096, "dof_samples must be in [1, 4096]");
     need(s.glossy_samples >= 1 && s.glossy_samples <= 4096, "glossy_samples must be in [1, 4096]");
     need(s.min_weight >= 0, "min_weight must be >= 0");
+    need(s.region[0] >= 0 && s.region[1] >= 0 && s.region[2] >= 0 && s.region[3] >= 0,
+         "region must be (x, y, w, h) with non-negative values");
 }
 
 std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s) {
@@ -54,9 +56,17 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     rgba.assign(n * 4, 0.0f);
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
-    for (int y = 0; y < height; y += s_.tile_size)
-        for (int x = 0; x < width; x += s_.tile_size)
-            tiles_.push_back({x, y, std::min(s_.tile_size, width - x), std::min(s_.tile_size, height - y)});
+    int x0 = 0, y0 = 0, x1 = width, y1 = height;
+    if (s_.region[2] > 0) {   // render only a region (border render, sparse timing)
+        x0 = std::max(0, s_.region[0]);
+        y0 = std::max(0, s_.region[1]);
+        x1 = std::min(width, s_.region[0] + s_.region[2]);
+        y1 = std::min(height, s_.region[1] + std::max(1, s_.region[3]));
+        if (x0 >= x1 || y0 >= y1) throw std::invalid_argument("region lies outside the image");
+    }
+    for (int y = y0; y < y1; y += s_.tile_size)
+        for (int x = x0; x < x1; x += s_.tile_size)
+            tiles_.push_back({x, y, std::min(s_.tile_size, x1 - x), std::min(s_.tile_size, y1 - y)});
 }
 
 RenderJob::~RenderJob() {

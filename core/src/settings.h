@@ -28,6 +28,7 @@ struct RenderSettings {
     int dof_samples = 1;               // lens samples per pixel sample
     int glossy_samples = 1;            // rays at the first glossy bounce
     float min_weight = 1e-3f;          // skip secondary rays whose path weight is below this
+    int region[4] = {0, 0, 0, 0};      // x, y, w, h of the part to render; w = 0: whole image
 };
 
 }  // namespace gw

@@ -34,6 +34,8 @@ class RenderSettings:
     dof_samples: lens samples per pixel sample (used when the camera has an aperture).
     glossy_samples: rays at the first glossy bounce.
     min_weight: secondary rays whose path weight falls below this are skipped.
+    region: (x, y, w, h) in pixels (row 0 at the top) to render only part of
+        the image; None renders all of it. Pixels outside stay 0.
     """
     accel: str = "grid"
     grid_density: float = 2.0
@@ -54,6 +56,7 @@ class RenderSettings:
     dof_samples: int = 1
     glossy_samples: int = 1
     min_weight: float = 1e-3
+    region: tuple | None = None
 
     def replace(self, **changes) -> "RenderSettings":
         unknown = set(changes) - {f.name for f in fields(self)}
@@ -91,5 +94,10 @@ class RenderSettings:
         c.dof_samples = int(self.dof_samples)
         c.glossy_samples = int(self.glossy_samples)
         c.min_weight = float(self.min_weight)
+        if self.region is not None:
+            r = tuple(int(v) for v in self.region)
+            if len(r) != 4 or min(r) < 0 or r[2] < 1 or r[3] < 1:
+                raise ValueError(f"RenderSettings.region must be (x, y, w, h) with w, h >= 1, got {self.region!r}")
+            c.region = r
         c.validate()
         return c

@@ -1,0 +1,203 @@
+"""PLY reader: the three encodings, polygons, normals, colours, the default view and
+one test per kind of malformed input."""
+import math
+
+import numpy as np
+import plyfile
+import pytest
+
+from gridwalk.io import SceneFileError, default_view, load_ply, load_ply_mesh, load_scene
+
+VERTEX_DTYPE = [("x", "f4"), ("y", "f4"), ("z", "f4"), ("nx", "f4"), ("ny", "f4"), ("nz", "f4"),
+                ("red", "u1"), ("green", "u1"), ("blue", "u1")]
+# A unit square (quad) and a triangle above it.
+VERTICES = [(0, 0, 0, 0, 0, 2, 255, 0, 0), (1, 0, 0, 0, 0, 1, 0, 255, 0),
+            (1, 1, 0, 0, 0, 1, 0, 0, 255), (0, 1, 0, 0, 0, 1, 51, 102, 153),
+            (0, 0, 1, 3, 0, 4, 0, 0, 0), (1, 0, 1, 0, 1, 0, 0, 0, 0), (0, 1, 1, 0, 0, 1, 0, 0, 0)]
+FACES = [[0, 1, 2, 3], [4, 5, 6]]
+ENCODINGS = {"ascii": (True, "="), "binary_little_endian": (False, "<"),
+             "binary_big_endian": (False, ">")}
+HEADER = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n")
+BODY = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+
+
+def write_ply(path, vertices=VERTICES, faces=FACES, dtype=VERTEX_DTYPE, encoding="ascii",
+              index_name="vertex_indices"):
+    text, byte_order = ENCODINGS[encoding]
+    vertex = np.array([tuple(v) for v in vertices], dtype=dtype)
+    face = np.empty(len(faces), dtype=[(index_name, "O")])
+    face[index_name] = [np.array(f, dtype=np.int32) for f in faces]
+    elements = [plyfile.PlyElement.describe(vertex, "vertex"),
+                plyfile.PlyElement.describe(face, "face")]
+    plyfile.PlyData(elements, text=text, byte_order=byte_order).write(str(path))
+    return path
+
+
+def write_text(tmp_path, text, name="mesh.ply"):
+    path = tmp_path / name
+    path.write_bytes(text.encode() if isinstance(text, str) else text)
+    return path
+
+
+@pytest.mark.parametrize("encoding", sorted(ENCODINGS))
+def test_every_encoding_gives_the_same_triangulated_mesh(tmp_path, encoding):
+    mesh = load_ply_mesh(write_ply(tmp_path / "mesh.ply", encoding=encoding))
+    assert mesh.vertices.dtype == np.float32 and mesh.triangles.dtype == np.int32
+    assert mesh.vertices.tolist() == [list(map(float, v[:3])) for v in VERTICES]
+    assert mesh.triangles.tolist() == [[0, 1, 2], [0, 2, 3], [4, 5, 6]]
+
+
+def test_vertex_normals_are_read_and_normalised(tmp_path):
+    mesh = load_ply_mesh(write_ply(tmp_path / "mesh.ply", encoding="binary_little_endian"))
+    assert mesh.normals.dtype == np.float32
+    np.testing.assert_allclose(mesh.normals[[0, 4, 5]], [[0, 0, 1], [0.6, 0, 0.8], [0, 1, 0]],
+                               rtol=1e-6)
+
+
+def test_byte_colours_are_scaled_to_unit_range(tmp_path):
+    mesh = load_ply_mesh(write_ply(tmp_path / "mesh.ply"))
+    np.testing.assert_allclose(mesh.colors[:4], [[1, 0, 0], [0, 1, 0], [0, 0, 1], [0.2, 0.4, 0.6]],
+                               rtol=1e-6)
+
+
+def test_float_colours_are_kept_and_missing_normals_and_colours_are_none(tmp_path):
+    dtype = [("x", "f8"), ("y", "f8"), ("z", "f8"), ("red", "f4"), ("green", "f4"), ("blue", "f4")]
+    vertices = [(0, 0, 0, 0.5, 0.25, 1), (1, 0, 0, 0, 0, 0), (0, 1, 0, 0, 0, 0)]
+    mesh = load_ply_mesh(write_ply(tmp_path / "c.ply", vertices, [[0, 1, 2]], dtype))
+    assert mesh.colors[0].tolist() == [0.5, 0.25, 1]
+    mesh = load_ply_mesh(write_ply(tmp_path / "plain.ply", [v[:3] for v in vertices], [[0, 1, 2]],
+                                   dtype[:3]))
+    assert mesh.normals is None and mesh.colors is None
+
+
+def test_vertex_index_property_name_variant_is_accepted(tmp_path):
+    mesh = load_ply_mesh(write_ply(tmp_path / "mesh.ply", index_name="vertex_index"))
+    assert len(mesh.triangles) == 3
+
+
+def test_load_ply_gives_scene_keywords_with_one_grey_material(tmp_path):
+    scene = load_scene(write_ply(tmp_path / "MESH.PLY"))
+    assert scene["triangles"].tolist() == [[0, 1, 2], [0, 2, 3], [4, 5, 6]]
+    assert scene["triangle_materials"].dtype == np.int32 and not scene["triangle_materials"].any()
+    assert scene["sphere_radii"].shape == (0,) and scene["cylinder_base"].shape == (0, 3)
+    assert scene["normals"].shape == (7, 3)
+    (material,) = scene["materials"]
+    assert (material.kd, material.ks, material.shininess) == (0.8, 0.2, 40.0)
+    assert "colors" not in scene and "vertex_colors" not in scene
+    assert len(scene["lights"]) == 2
+
+
+def test_default_view_sees_every_vertex_within_its_field_of_view():
+    rng = np.random.default_rng(1)
+    vertices = rng.normal(size=(500, 3)) * (5, 1, 0.2) + (100, -40, 7)
+    camera, lights = default_view(vertices)
+    assert (camera.fov, camera.width, camera.height) == (40.0, 512, 512)
+    eye, target = np.array(camera.eye), np.array(camera.target)
+    np.testing.assert_allclose(target, (vertices.min(0) + vertices.max(0)) / 2)
+    axis = (target - eye) / np.linalg.norm(target - eye)
+    to_vertex = vertices - eye
+    cos_angle = to_vertex @ axis / np.linalg.norm(to_vertex, axis=1)
+    assert np.degrees(np.arccos(cos_angle)).max() < camera.fov / 2
+    assert eye[2] > target[2]                           # looking down at the mesh
+    assert lights[0].color == (0.8, 0.8, 0.8) and lights[0].kind == "point"
+    assert np.linalg.norm(np.array(lights[0].position) - eye) < np.linalg.norm(target - eye)
+
+
+def test_default_view_of_a_single_point_is_still_a_valid_camera():
+    camera, _ = default_view(np.ones((3, 3)))
+    camera.packed()                                     # raises if eye == target
+
+
+def test_huge_declared_count_is_rejected_before_plyfile_reads(tmp_path, monkeypatch):
+    def must_not_read(*args, **kwargs):
+        raise AssertionError("plyfile was asked to read the body")
+    monkeypatch.setattr(plyfile.PlyData, "read", must_not_read)
+    path = write_text(tmp_path, HEADER.replace("vertex 3", "vertex 4000000000") + BODY)
+    with pytest.raises(SceneFileError, match="4000000000 vertex"):
+        load_ply(path)
+
+
+def test_truncated_binary_body_is_rejected(tmp_path):
+    path = write_ply(tmp_path / "mesh.ply", encoding="binary_big_endian")
+    path.write_bytes(path.read_bytes()[:-5])
+    with pytest.raises(SceneFileError, match=str(path)):
+        load_ply(path)
+
+
+def test_declared_face_count_larger_than_ascii_body_is_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER.replace("face 1", "face 3") + BODY + "3 0 1 2\n")
+    with pytest.raises(SceneFileError, match="early end-of-file"):
+        load_ply(path)
+
+
+@pytest.mark.parametrize("index", [3, -1])
+def test_out_of_range_and_negative_indices_are_rejected(tmp_path, index):
+    path = write_text(tmp_path, HEADER + BODY.replace("3 0 1 2", f"3 0 {index} 2"))
+    with pytest.raises(SceneFileError, match=f"face 0 uses vertex index {index}, but there are 3"):
+        load_ply(path)
+
+
+def test_non_numeric_token_is_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER + BODY.replace("1 0 0", "1 zero 0"))
+    with pytest.raises(SceneFileError, match="malformed input"):
+        load_ply(path)
+
+
+def test_float_list_count_type_is_rejected_with_its_header_line(tmp_path):
+    path = write_text(tmp_path, HEADER.replace("list uchar int", "list float int") + BODY)
+    with pytest.raises(SceneFileError, match=r"mesh\.ply:8: list count type must be an integer"):
+        load_ply(path)
+
+
+def test_float_vertex_indices_are_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER.replace("list uchar int", "list uchar float") + BODY)
+    with pytest.raises(SceneFileError, match="integer 'vertex_indices'"):
+        load_ply(path)
+
+
+def test_missing_vertex_element_is_rejected(tmp_path):
+    header = HEADER.replace("element vertex 3", "element point 3")
+    with pytest.raises(SceneFileError, match="no 'vertex' element"):
+        load_ply(write_text(tmp_path, header + BODY))
+
+
+def test_missing_face_element_is_rejected(tmp_path):
+    header = HEADER.split("element face")[0] + "end_header\n"
+    with pytest.raises(SceneFileError, match="no 'face' element"):
+        load_ply(write_text(tmp_path, header + "0 0 0\n1 0 0\n0 1 0\n"))
+
+
+def test_face_with_two_corners_is_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER + BODY.replace("3 0 1 2", "2 0 1"))
+    with pytest.raises(SceneFileError, match="face 0 has 2 corners"):
+        load_ply(path)
+
+
+def test_nan_coordinate_is_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER + BODY.replace("1 0 0", "1 nan 0"))
+    with pytest.raises(SceneFileError, match="vertex 1 has a NaN, infinite or out-of-float32"):
+        load_ply(path)
+
+
+@pytest.mark.parametrize("data", [b"", b"solid ascii stl\n",
+                                  HEADER.split("end_header")[0].encode()])
+def test_non_ply_or_truncated_header_is_rejected(tmp_path, data):
+    with pytest.raises(SceneFileError, match="not a PLY file"):
+        load_ply(write_text(tmp_path, data))
+
+
+def test_unknown_format_is_rejected(tmp_path):
+    path = write_text(tmp_path, HEADER.replace("ascii 1.0", "binary_middle_endian 1.0") + BODY)
+    with pytest.raises(SceneFileError, match=r"mesh\.ply:2: unsupported format"):
+        load_ply(path)
+
+
+def test_fan_triangulation_covers_a_convex_hexagon_area(tmp_path):
+    angles = np.arange(6) * math.pi / 3
+    vertices = [(math.cos(a), math.sin(a), 0.0) for a in angles]
+    mesh = load_ply_mesh(write_ply(tmp_path / "hex.ply", vertices, [list(range(6))],
+                                   VERTEX_DTYPE[:3]))
+    v = mesh.vertices.astype(np.float64)[mesh.triangles]
+    area = np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum() / 2
+    assert len(mesh.triangles) == 4 and area == pytest.approx(3 * math.sqrt(3) / 2, rel=1e-6)

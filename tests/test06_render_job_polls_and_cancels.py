@@ -91,3 +91,18 @@ def test_depth_and_normal_passes():
     hit = alpha > 0
     assert np.all(np.isfinite(depth[hit])) and np.all(np.isinf(depth[~hit]))
     assert np.allclose(np.linalg.norm(normal[hit], axis=-1), 1.0, atol=1e-4)
+
+
+def test_region_renders_only_that_part():
+    sc = scene(size=1, res=64)
+    full = gw.render(sc)
+    part = gw.render(sc, gw.RenderSettings(region=(10, 20, 17, 5)))
+    assert np.array_equal(part[20:25, 10:27], full[20:25, 10:27])
+    mask = np.ones((64, 64), bool); mask[20:25, 10:27] = False
+    assert np.all(part[mask] == 0)
+    for bad in [(0, 0, 0, 5), (70, 0, 5, 5), (-1, 0, 5, 5)]:
+        try:
+            gw.render(sc, gw.RenderSettings(region=bad))
+        except ValueError:
+            continue
+        raise AssertionError(f"region {bad} accepted")

@@ -4,6 +4,7 @@
 #include <mutex>
 #include <thread>
 
+#include "offset.h"
 #include "render_job.h"
 
 namespace gw {
@@ -72,6 +73,28 @@ Stats occluded_batch(const Accel& accel, const float* o, const float* d, const f
         ++ctx.stats.rays[int(RayType::Shadow)];
         out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i)), ctx) ? 1 : 0;
     });
+}
+
+void spawn_batch(const Accel& accel, const float* o, const float* d, const float* t, const int32_t* prim,
+                 const float* u, const float* v, const float* new_d, size_t n, float* out) {
+    const Scene& sc = accel.scene();
+    for (size_t i = 0; i < n; ++i) {
+        Ray ray;
+        ray.o = {o[3 * i], o[3 * i + 1], o[3 * i + 2]};
+        ray.d = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
+        const Vec3 w{new_d[3 * i], new_d[3 * i + 1], new_d[3 * i + 2]};
+        Vec3 p = ray.o;
+        if (prim[i] >= 0 && size_t(prim[i]) < sc.num_prims() && std::isfinite(t[i])) {
+            Hit h;
+            h.t = t[i];
+            h.prim = prim[i];
+            h.u = u[i];
+            h.v = v[i];
+            const SurfacePoint sp = sc.surface(RayPre(ray), h);
+            p = offset_origin(sp.p, sp.p_err, sp.ng, w);
+        }
+        out[3 * i] = p.x; out[3 * i + 1] = p.y; out[3 * i + 2] = p.z;
+    }
 }
 
 }  // namespace gw

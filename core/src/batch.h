@@ -16,4 +16,9 @@ Stats intersect_batch(const Accel& accel, const float* o, const float* d, const 
 Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
                      size_t n, int threads, bool mailboxes, uint8_t* out);
 
+// Origins for secondary rays leaving the given hits in new_d, offset exactly
+// as the integrator offsets them (offset.h). prim is the global index.
+void spawn_batch(const Accel& accel, const float* o, const float* d, const float* t, const int32_t* prim,
+                 const float* u, const float* v, const float* new_d, size_t n, float* out);
+
 }  // namespace gw

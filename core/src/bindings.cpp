@@ -172,6 +172,22 @@ NB_MODULE(_core, m) {
               return nb::make_tuple(hit, stats_dict(st));
           });
 
+    m.def("spawn_origins",
+          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> t, In<int32_t> prim, In<float> u,
+             In<float> v, In<float> new_d) {
+              const size_t n = o.shape(0);
+              if (d.size() != 3 * n || t.size() != n || prim.size() != n || u.size() != n || v.size() != n ||
+                  new_d.size() != 3 * n)
+                  throw std::invalid_argument("spawn_origins: arrays must describe the same N rays");
+              auto out = owned<float, 2>({n, 3});
+              {
+                  nb::gil_scoped_release release;
+                  spawn_batch(*accel, o.data(), d.data(), t.data(), prim.data(), u.data(), v.data(), new_d.data(), n,
+                              out.data());
+              }
+              return out;
+          });
+
     nb::class_<RenderJob>(m, "RenderJob")
         .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&>())
         .def("start", &RenderJob::start)

@@ -206,15 +206,24 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
         const Vec3d n(sp.ng);
         const Vec3d p = c + n * double(radii_[s]);   // re-projected onto the surface
         sp.p = Vec3(p);
-        sp.p_err = vabs(sp.p) * gamma_bound(5);
+        // p is exact to double precision, then rounded once to float.
+        sp.p_err = vabs(sp.p) * gamma_bound(3);
         sp.ns = sp.ng;
         sp.material = sphere_mat_[s];
         break;
     }
     default: {
+        // Re-project onto the surface in double (as for spheres): o + t d
+        // carries t's rounding error along d, which no per-axis bound on |p| covers.
         const size_t k = local_index(prim);
-        sp.p = Vec3(r.od + r.dd * double(hit.t));
-        sp.p_err = vabs(sp.p) * gamma_bound(5);
+        const ConeData& c = cones_[k];
+        const Vec3d w = r.od + r.dd * double(hit.t) - c.base;
+        const double s = std::min(std::max(dot(w, c.axis), 0.0), c.height);
+        Vec3d radial = w - c.axis * dot(w, c.axis);
+        const double len = length(radial);
+        radial = len > 0 ? radial / len : radial;
+        sp.p = Vec3(c.base + c.axis * s + radial * (c.r0 + c.k * s));
+        sp.p_err = vabs(sp.p) * gamma_bound(3);
         sp.ns = sp.ng;
         sp.material = cone_mat_[k];
     }

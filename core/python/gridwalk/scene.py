@@ -163,3 +163,18 @@ class Scene:
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
         hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, int(threads), bool(mailboxes and accel == "grid"))
         return hit.astype(bool)
+
+    def spawn_origins(self, origins, directions, hits: Hits, new_directions) -> np.ndarray:
+        """Origins for rays leaving `hits` along `new_directions`, offset off the
+        surface exactly as the renderer offsets its secondary rays (misses keep
+        their origin). Used to test self-intersection."""
+        o, d, _, _ = self._rays(origins, directions, 0.0, 0.0)
+        w = _array(new_directions, "new_directions", np.float32, 3)
+        if w.shape != o.shape:
+            raise ValueError(f"new_directions must have shape {o.shape}, got {w.shape}")
+        base = np.array([0, 0, self.num_triangles, self.num_triangles + self.num_spheres], np.int64)
+        glob = np.where(hits.kind > 0, hits.prim + base[hits.kind], -1).astype(np.int32)
+        return _core.spawn_origins(self.accel(), o, d, np.ascontiguousarray(hits.t, np.float32), glob,
+                                   np.ascontiguousarray(hits.u, np.float32),
+                                   np.ascontiguousarray(hits.v, np.float32), w)
+

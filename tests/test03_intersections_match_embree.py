@@ -134,3 +134,18 @@ def test_spheres_match_double_precision_reference(accel):
     assert rel.max() <= 1e-5
     assert np.all((ours.prim[both] == i_ref[both]) | (rel <= 1e-5))
     assert np.all(ours.kind[both] == gw.scene.KIND_SPHERE)
+
+
+def test_hits_a_hair_from_the_ray_origin_are_found_like_embree():
+    """Rays from arbitrary points keep hits closer than the triangle test's
+    error bound (only rays spawned from a surface reject those)."""
+    V = np.float32([[12, 12, -0.5], [-12, 12, -0.5], [-12, -12, -0.5]])
+    F = np.int32([[0, 1, 2]])
+    d = np.array([[0.9, 0.3, -0.3]]); d = (d / np.linalg.norm(d)).astype(np.float32)
+    sc = gw.Scene(vertices=V, triangles=F)
+    for h in (1e-3, 1e-4, 3e-5):
+        o = np.float32([[-6, 5, -0.5 + h]])
+        ours = sc.intersect(o, d, accel="none")
+        t_e, _ = embree_hits(V, F, o, d)
+        assert np.isfinite(ours.t[0]) and np.isfinite(t_e[0])
+        assert abs(ours.t[0] - t_e[0]) <= 1e-5 * t_e[0] + 2 ** -23 * 12

@@ -30,8 +30,9 @@ Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, F
     return total;
 }
 
-Ray make_ray(const float* o, const float* d, const float* tmin, const float* tmax, size_t i) {
+Ray make_ray(const float* o, const float* d, const float* tmin, const float* tmax, size_t i, bool spawned) {
     Ray r;
+    r.spawned = spawned;
     r.o = {o[3 * i], o[3 * i + 1], o[3 * i + 2]};
     r.d = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
     r.tmin = tmin[i];
@@ -42,10 +43,10 @@ Ray make_ray(const float* o, const float* d, const float* tmin, const float* tma
 }  // namespace
 
 Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                      size_t n, int threads, bool mailboxes, const BatchOut& out) {
+                      size_t n, int threads, bool mailboxes, bool spawned, const BatchOut& out) {
     const Scene& sc = accel.scene();
     return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
-        const RayPre r(make_ray(o, d, tmin, tmax, i));
+        const RayPre r(make_ray(o, d, tmin, tmax, i, spawned));
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
         hit.t = r.ray.tmax;
@@ -68,10 +69,10 @@ Stats intersect_batch(const Accel& accel, const float* o, const float* d, const 
 }
 
 Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                     size_t n, int threads, bool mailboxes, uint8_t* out) {
+                     size_t n, int threads, bool mailboxes, bool spawned, uint8_t* out) {
     return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
-        out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i)), ctx) ? 1 : 0;
+        out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i, spawned)), ctx) ? 1 : 0;
     });
 }
 

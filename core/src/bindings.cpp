@@ -139,7 +139,7 @@ NB_MODULE(_core, m) {
 
     m.def("intersect",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes) {
+             bool mailboxes, bool spawned) {
               check_rays(o, d, tmin, tmax);
               const size_t n = o.shape(0);
               auto t = owned<float, 1>({n});
@@ -152,14 +152,15 @@ NB_MODULE(_core, m) {
               Stats st;
               {
                   nb::gil_scoped_release release;
-                  st = intersect_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes, out);
+                  st = intersect_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes, spawned,
+                                      out);
               }
               return nb::make_tuple(t, prim, kind, u, v, nrm, stats_dict(st));
           });
 
     m.def("occluded",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes) {
+             bool mailboxes, bool spawned) {
               check_rays(o, d, tmin, tmax);
               const size_t n = o.shape(0);
               auto hit = owned<uint8_t, 1>({n});
@@ -167,7 +168,7 @@ NB_MODULE(_core, m) {
               {
                   nb::gil_scoped_release release;
                   st = occluded_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes,
-                                      hit.data());
+                                      spawned, hit.data());
               }
               return nb::make_tuple(hit, stats_dict(st));
           });

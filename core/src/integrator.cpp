@@ -18,6 +18,7 @@ bool Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
     r.d = wi;
     // Stop just short of the light's sampled point (relative, so scale-free).
     r.tmax = std::isinf(dist) ? kInf : dist * (1.0f - 1e-5f);
+    r.spawned = true;
     ++ctx.stats.rays[int(RayType::Shadow)];
     return !accel_.occluded(RayPre(r), ctx);
 }
@@ -81,6 +82,7 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
                                 int depth, float weight, bool split, SampleState& st, TraceContext& ctx) const {
     Ray r;
     r.d = dir;
+    r.spawned = true;
     if (m.roughness <= 0) {   // exact mirror
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, dir);
         return trace(r, depth + 1, weight, split, RayType::Secondary, st, ctx, nullptr, Vec3());
@@ -159,6 +161,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
         Ray tr;
         tr.d = tdir;
+        tr.spawned = true;
         tr.o = offset_origin(sp.p, sp.p_err, sp.ng, tdir);
         color += trace(tr, depth + 1, weight * trans, split, RayType::Secondary, st, ctx, nullptr, Vec3()) * trans;
     }

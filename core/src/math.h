@@ -18,8 +18,11 @@ struct V3 {
     V3(T a, T b, T c) : x(a), y(b), z(c) {}
     template <class U>
     explicit V3(const V3<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}
-    T operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-    T& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+    // Components are contiguous (standard layout, checked below), so a runtime
+    // axis index is a plain load; the watertight triangle test indexes by the
+    // ray's permuted axes in its inner loop.
+    T operator[](int i) const { return (&x)[i]; }
+    T& operator[](int i) { return (&x)[i]; }
     V3 operator+(const V3& o) const { return {x + o.x, y + o.y, z + o.z}; }
     V3 operator-(const V3& o) const { return {x - o.x, y - o.y, z - o.z}; }
     V3 operator*(const V3& o) const { return {x * o.x, y * o.y, z * o.z}; }
@@ -31,6 +34,7 @@ struct V3 {
 };
 using Vec3 = V3<float>;
 using Vec3d = V3<double>;
+static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Vec3d) == 3 * sizeof(double), "V3 must be packed");
 
 template <class T> inline T dot(const V3<T>& a, const V3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class T> inline V3<T> cross(const V3<T>& a, const V3<T>& b) {

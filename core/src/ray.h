@@ -9,6 +9,11 @@ enum class PrimKind : int32_t { Miss = 0, Triangle = 1, Sphere = 2, Cone = 3 };
 struct Ray {
     Vec3 o, d;
     float tmin = 0.0f, tmax = kInf;
+    // True for rays leaving a surface (secondary and shadow rays): hits closer
+    // than the intersection test's own error bound are then taken to be the
+    // surface the ray leaves and rejected (see triangle.h). Rays from arbitrary
+    // points (camera, batch queries) keep every hit, like Embree.
+    bool spawned = false;
 };
 
 // Closest-hit record. prim is the global primitive index (triangles, then

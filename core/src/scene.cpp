@@ -75,6 +75,8 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     for (size_t i = 0; i < ns; ++i)
         if (radii_[i] < 0) bad("sphere_radii[" + std::to_string(i) + "] is negative");
 
+    tri_verts_.resize(3 * nt);
+    for (size_t i = 0; i < 3 * nt; ++i) tri_verts_[i] = vert(tris_[i]);
     centers_.resize(ns);
     for (size_t i = 0; i < ns; ++i) centers_[i] = v3(&sphere_centers[3 * i]);
     cones_.resize(nc);
@@ -233,7 +235,7 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 }
 
 size_t Scene::memory_bytes() const {
-    return verts_.size() * 4 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
+    return verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
            cone_mat_.size() * 4;
 }

@@ -98,6 +98,7 @@ private:
     Vec3 vert(int32_t i) const { return {verts_[3 * i], verts_[3 * i + 1], verts_[3 * i + 2]}; }
 
     std::vector<float> verts_, normals_;
+    std::vector<Vec3> tri_verts_;   // 3 per triangle: the hot loop reads one contiguous record
     std::vector<int32_t> tris_, tri_mat_;
     std::vector<Vec3> centers_;
     std::vector<float> radii_;
@@ -115,8 +116,8 @@ inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
     float t, u = 0, v = 0;
     const size_t nt = num_triangles();
     if (prim < nt) {
-        const int32_t* f = &tris_[3 * prim];
-        if (!intersect_triangle(r, vert(f[0]), vert(f[1]), vert(f[2]), hit.t, t, u, v)) return false;
+        const Vec3* tv = &tri_verts_[3 * prim];
+        if (!intersect_triangle(r, tv[0], tv[1], tv[2], hit.t, t, u, v)) return false;
     } else if (prim < nt + num_spheres()) {
         const size_t s = prim - nt;
         if (!intersect_sphere(r, centers_[s], radii_[s], hit.t, t)) return false;

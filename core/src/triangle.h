@@ -33,10 +33,11 @@ inline bool intersect_triangle(const RayPre& r, const Vec3& v0, const Vec3& v1, 
     if (!(T > r.ray.tmin * det) || !(T < tmax * det)) return false;
     const float inv = 1.0f / det;
     const float t = T * inv;
-    // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): a hit
-    // closer than the bound may be the ray's own origin surface, so it is
-    // rejected. This is what keeps a ray spawned exactly on a triangle (zero
-    // position error, e.g. an axis-aligned floor) from re-hitting it.
+    // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): for a
+    // ray leaving a surface, a hit closer than the bound may be that surface,
+    // so it is rejected. This is what keeps a ray spawned exactly on a
+    // triangle (zero position error, e.g. an axis-aligned floor) from
+    // re-hitting it.
     const float max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
     const float max_xt = std::max(std::abs(Ax), std::max(std::abs(Bx), std::abs(Cx)));
     const float max_yt = std::max(std::abs(Ay), std::max(std::abs(By), std::abs(Cy)));
@@ -45,7 +46,7 @@ inline bool intersect_triangle(const RayPre& r, const Vec3& v0, const Vec3& v1, 
     const float de = 2.0f * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
     const float max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
     const float dt = 3.0f * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) * inv;
-    if (!(t > dt)) return false;
+    if (r.ray.spawned && !(t > dt)) return false;
     t_out = t;
     b1 = V * inv;
     b2 = W * inv;

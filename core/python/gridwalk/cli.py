@@ -1,0 +1,315 @@
+"""Command line: python -m gridwalk {demo, render, validate, info} ...
+
+    python -m gridwalk demo -o demo.png                 the built-in balls scene, distribution effects on
+    python -m gridwalk render SCENE.nff -o out.png      any NFF / PLY file, every RenderSettings field an option
+    python -m gridwalk validate SCENE                   cross-check the triangles against Embree
+    python -m gridwalk info SCENE                       counts, bounds, camera and the grid
+
+Errors in the input (a missing or malformed file, bad settings) print one line,
+`gridwalk: error: ...`, and exit with status 2; Ctrl-C cancels a render (130).
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import io, scenes, settings
+from .render import RenderJob
+from .scene import Scene
+from .settings import RenderSettings
+
+OUTPUT_TYPES = (".png", ".npy")
+CHOICES = {"accel": tuple(settings.ACCELS), "aa": settings.AA_MODES,
+           "shadow": settings.SHADOW_MODES, "filter": settings.FILTERS}
+
+
+class CliError(Exception):
+    """A user error found by the CLI itself (reported like ValueError)."""
+
+
+# -- the demo scene -----------------------------------------------------------
+def demo_scene(size: int = 3, resolution: int = 512) -> dict:
+    """SPD balls with the distribution effects: the three lights become sphere
+    lights (soft shadows), the floor a glossy mirror, and the lens is focused
+    on the front of the big ball (depth of field)."""
+    kwargs = scenes.balls(size)
+    floor, ball = kwargs["materials"]
+    kwargs["materials"] = [dataclasses.replace(floor, mirror=0.3, roughness=0.2), ball]
+    kwargs["lights"] = [dataclasses.replace(l, kind="sphere", radius=0.5) for l in kwargs["lights"]]
+    cam = kwargs["camera"]
+    focus = float(np.linalg.norm(np.subtract(cam.eye, cam.target))) - 0.5   # the big ball's front
+    kwargs["camera"] = dataclasses.replace(cam, width=resolution, height=resolution,
+                                           aperture=0.05, focus_distance=focus)
+    return kwargs
+
+
+def demo_settings(quick: bool, threads: int) -> RenderSettings:
+    n = 2 if quick else 3
+    return RenderSettings(aa="jittered", aa_samples=n, shadow="area", shadow_samples=n,
+                          glossy_samples=1, threads=threads)
+
+
+# -- output -------------------------------------------------------------------
+def check_output(path) -> Path:
+    """Refuse an unusable output path before rendering, not after."""
+    path = Path(path)
+    if path.suffix.lower() not in OUTPUT_TYPES:
+        raise CliError(f"{path}: output must end in {' or '.join(OUTPUT_TYPES)}")
+    if not path.parent.is_dir():
+        raise CliError(f"{path}: the folder {str(path.parent)!r} does not exist")
+    return path
+
+
+def to_srgb8(linear: np.ndarray) -> np.ndarray:
+    """Linear values in [0, 1] (clipped; NaN -> 0) to 8-bit sRGB."""
+    x = np.clip(np.nan_to_num(linear.astype(np.float64), nan=0.0), 0.0, 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+    return (srgb * 255.0 + 0.5).astype(np.uint8)
+
+
+def write_image(path: Path, rgba: np.ndarray, alpha: bool = False) -> None:
+    """.npy: the float32 linear RGBA array; .png: 8-bit sRGB (RGBA with alpha =
+    coverage when `alpha`, else RGB)."""
+    if path.suffix.lower() == ".npy":
+        np.save(path, np.asarray(rgba, np.float32))
+        return
+    from PIL import Image
+
+    rgb = to_srgb8(rgba[..., :3])
+    if alpha:
+        a = (np.clip(np.nan_to_num(rgba[..., 3]), 0, 1) * 255 + 0.5).astype(np.uint8)
+        Image.fromarray(np.dstack([rgb, a]), "RGBA").save(path)
+    else:
+        Image.fromarray(rgb, "RGB").save(path)
+
+
+# -- rendering with progress --------------------------------------------------
+def run_job(job: RenderJob, quiet: bool = False) -> np.ndarray:
+    """Start `job`, draw a progress bar on stderr until it finishes, return the
+    image. Ctrl-C cancels the job (the workers stop) and re-raises."""
+    start, shown = time.perf_counter(), None
+    job.start()
+    try:
+        while not job.finished:
+            time.sleep(0.05)
+            percent = int(100 * job.progress)
+            if not quiet and percent != shown:
+                shown = percent
+                bar = "#" * (percent * 30 // 100)
+                sys.stderr.write(f"\rrendering [{bar:<30}] {percent:3d}%  {time.perf_counter() - start:6.1f} s")
+                sys.stderr.flush()
+        image = job.wait()
+    except KeyboardInterrupt:
+        job.cancel()
+        raise
+    finally:
+        if not quiet and shown is not None:
+            sys.stderr.write("\n")
+    return image
+
+
+def _si(n: float) -> str:
+    for div, unit in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
+        if abs(n) >= div:
+            return f"{n / div:.3g}{unit}"
+    return f"{n:.3g}"
+
+
+def grid_line(grid: dict) -> str:
+    nx, ny, nz = grid["resolution"]
+    line = (f"{nx}x{ny}x{nz} = {grid['cells']} cells, {grid['refs']} refs, "
+            f"{grid['bytes'] / 1024:.1f} KiB, built in {grid['build_seconds'] * 1e3:.2f} ms "
+            f"(density {grid['density_used']:g})")
+    return line + (f"\n  note      {grid['note']}" if grid.get("note") else "")
+
+
+def stats_summary(stats: dict) -> str:
+    lines = [f"  rays      {_si(stats['rays'])}: primary {_si(stats['primary_rays'])}, "
+             f"shadow {_si(stats['shadow_rays'])}, secondary {_si(stats['secondary_rays'])}; "
+             f"{stats['mrays_per_second']:.2f} Mrays/s",
+             f"  per ray   {stats['tests_per_ray']:.2f} intersection tests, {stats['cells_per_ray']:.2f} cells "
+             f"(mailboxes skipped {_si(stats['mailbox_skips'])} tests)"]
+    if stats.get("grid"):
+        lines.append("  grid      " + grid_line(stats["grid"]))
+    return "\n".join(lines)
+
+
+# -- subcommands --------------------------------------------------------------
+def cmd_demo(args) -> int:
+    out = check_output(args.output)
+    resolution = args.resolution or (256 if args.quick else 512)
+    scene = Scene(**demo_scene(args.size, resolution))
+    s = demo_settings(args.quick, args.threads)
+    job = RenderJob(scene, s)
+    image = run_job(job, args.quiet)
+    write_image(out, image)
+    st = job.stats
+    print(f"gridwalk demo: balls size {args.size} ({scene.num_spheres} spheres), {resolution}x{resolution}, "
+          f"{s.aa_samples}x{s.aa_samples} jittered AA, {s.shadow_samples}x{s.shadow_samples} area lights, "
+          f"glossy floor, depth of field: {st['seconds']:.2f} s, {_si(st['rays'])} rays, "
+          f"{st['mrays_per_second']:.2f} Mrays/s -> {out}")
+    return 0
+
+
+def load(path) -> dict:
+    path = Path(path)
+    if not path.is_file():
+        raise CliError(f"{path}: no such file")
+    return io.load_scene(path)
+
+
+def cmd_render(args) -> int:
+    out = check_output(args.output)
+    npy = check_output(args.npy) if args.npy else None
+    kwargs = load(args.scene)
+    cam = kwargs["camera"]
+    kwargs["camera"] = dataclasses.replace(cam, width=cam.width if args.width is None else args.width,
+                                           height=cam.height if args.height is None else args.height)
+    changes = {f.name: getattr(args, f.name) for f in dataclasses.fields(RenderSettings)
+               if getattr(args, f.name) is not None}
+    s = RenderSettings().replace(**changes)
+    s.to_core()                                   # bad settings fail here, before the scene is built
+    job = RenderJob(Scene(**kwargs), s)
+    image = run_job(job, args.quiet)
+    write_image(out, image, args.alpha)
+    if npy:
+        write_image(npy, image)
+    c = kwargs["camera"]
+    print(f"gridwalk: rendered {args.scene} ({c.width}x{c.height}) in {job.stats['seconds']:.2f} s -> "
+          f"{out}{' and ' + str(npy) if npy else ''}")
+    print(stats_summary(job.stats))
+    return 0
+
+
+def _vec(v) -> str:
+    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+
+
+def cmd_info(args) -> int:
+    kwargs = load(args.scene)
+    scene = Scene(**kwargs)
+    lo, hi = scene.bounds
+    c = scene.camera
+    smooth = ", smooth normals" if kwargs.get("normals") is not None else ""
+    print(f"scene      {args.scene}")
+    print(f"primitives {scene.num_triangles} triangles{smooth}, {scene.num_spheres} spheres, "
+          f"{scene.num_cylinders} cylinders; {len(scene.lights)} lights, {len(scene.materials)} materials")
+    print(f"bounds     {_vec(lo)} .. {_vec(hi)}")
+    print(f"camera     eye {_vec(c.eye)}, target {_vec(c.target)}, up {_vec(c.up)}, "
+          f"fov {c.fov:.4g} deg, {c.width}x{c.height}, aperture {c.aperture:g}")
+    print(f"grid       {grid_line(scene.grid_info(RenderSettings(grid_density=args.grid_density)))}")
+    return 0
+
+
+def cmd_validate(args) -> int:
+    from . import validate
+
+    if args.rays < 1:
+        raise CliError(f"--rays must be >= 1, got {args.rays}")
+    kwargs = load(args.scene)
+    left_out = {k: len(kwargs[a]) for k, a in (("spheres", "sphere_radii"), ("cylinders", "cylinder_base_radius"))}
+    results = validate.cross_check(kwargs, args.rays, args.seed, args.threads)
+    dropped = ", ".join(f"{n} {k}" for k, n in left_out.items() if n) or "none"
+    print(f"Embree cross-check of {args.scene}: {len(kwargs['triangles'])} triangles only "
+          f"(spheres and cylinders are not in Embree; left out: {dropped})")
+    print(f"seed {args.seed}; gridwalk grid on {args.threads or 'all'} thread(s), embreex (robust) on 1; tmin = 0")
+    print(validate.format_table(results))
+    passed = all(r["passed"] for r in results.values())
+    return 0 if passed else 1
+
+
+# -- argument parsing ---------------------------------------------------------
+def _field_help(name: str) -> str:
+    """The field's sentence from the RenderSettings docstring, if it has one."""
+    doc = re.sub(r"\s+", " ", RenderSettings.__doc__ or "")
+    m = re.search(rf"(?:^|[ .,]){name}(?:, \w+)*: (.*?)(?:\.(?= \w+(?:, \w+)*: )|\.$|$)", doc)
+    return (m.group(1).strip() if m else "").replace("%", "%%")
+
+
+def add_settings_options(parser: argparse.ArgumentParser) -> None:
+    """One option per RenderSettings field, so no setting can be forgotten."""
+    group = parser.add_argument_group("render settings (gridwalk.RenderSettings)")
+    for f in dataclasses.fields(RenderSettings):
+        flag, default = "--" + f.name.replace("_", "-"), f.default
+        help_text = f"{_field_help(f.name)} (default: {default})".lstrip()
+        if isinstance(default, bool):
+            group.add_argument(flag, dest=f.name, action=argparse.BooleanOptionalAction, default=None,
+                               help=help_text)
+        elif isinstance(default, (int, float, str)):
+            group.add_argument(flag, dest=f.name, type=type(default), default=None,
+                               choices=CHOICES.get(f.name), help=help_text)
+        elif "tuple" in str(f.type):               # e.g. region: tuple | None
+            group.add_argument(flag, dest=f.name, type=_numbers, default=None, metavar="N,N,...",
+                               help=help_text)
+        else:
+            raise TypeError(f"RenderSettings.{f.name}: no command-line option type for {f.type}")
+
+
+def _numbers(text: str) -> tuple:
+    """'0,0,64,32' -> (0, 0, 64, 32); floats where a number is not whole."""
+    try:
+        values = [float(x) for x in text.replace(" ", "").split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
+    return tuple(int(v) if v.is_integer() else v for v in values)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="gridwalk", description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("demo", help="render the built-in balls scene with the distribution effects")
+    p.add_argument("-o", "--output", default="demo.png", help="output .png or .npy (default: demo.png)")
+    p.add_argument("--size", type=int, default=3, choices=range(1, 5), help="sphereflake size factor (default: 3)")
+    p.add_argument("--resolution", type=int, default=None, help="image width and height (default: 512)")
+    p.add_argument("--quick", action="store_true", help="256x256 and 2x2 samples: a fast preview")
+    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("render", help="render an NFF or PLY scene")
+    p.add_argument("scene", help="scene file (.nff or .ply)")
+    p.add_argument("-o", "--output", required=True, help="output image: .png (8-bit sRGB) or .npy (float32 linear)")
+    p.add_argument("--npy", default=None, help="also write the float32 linear RGBA array to this .npy file")
+    p.add_argument("--alpha", action="store_true", help="PNG with an alpha channel (pixel coverage)")
+    p.add_argument("--width", type=int, default=None, help="image width (default: the scene's)")
+    p.add_argument("--height", type=int, default=None, help="image height (default: the scene's)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_settings_options(p)
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("validate", help="cross-check the scene's triangle intersections against Embree")
+    p.add_argument("scene", help="scene file (.nff or .ply)")
+    p.add_argument("--rays", type=int, default=100_000, help="rays per set (default: 100000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    p.add_argument("--threads", type=int, default=1, help="gridwalk threads, 0 = all (default: 1, like embreex)")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("info", help="primitive counts, bounds, camera and the grid that would be built")
+    p.add_argument("scene", help="scene file (.nff or .ply)")
+    p.add_argument("--grid-density", type=float, default=RenderSettings.grid_density,
+                   help=f"grid density M (default: {RenderSettings.grid_density})")
+    p.set_defaults(func=cmd_info)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except KeyboardInterrupt:
+        print("\ngridwalk: cancelled", file=sys.stderr)
+        return 130
+    except (CliError, ValueError) as err:            # SceneFileError is a ValueError
+        print("gridwalk: error: " + " ".join(str(err).split()), file=sys.stderr)   # one line
+        return 2
+    except OSError as err:
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"gridwalk: error: {where}{err.strerror or err}", file=sys.stderr)
+        return 2

@@ -1,0 +1,202 @@
+"""The command line: python -m gridwalk {demo, render, validate, info}, run in subprocesses."""
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from gridwalk import RenderSettings
+from gridwalk.validate import compare
+
+SPD_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "scenes" / "spd"
+needs_spd = pytest.mark.skipif(not SPD_DIR.is_dir(), reason=f"SPD scenes not found in {SPD_DIR}")
+
+
+def gridwalk(*args, timeout=60):
+    return subprocess.run([sys.executable, "-m", "gridwalk", *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def assert_non_trivial_png(path, size):
+    image = np.asarray(Image.open(path).convert("RGB"))
+    assert image.shape == (size[1], size[0], 3)
+    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 50, "the image is (nearly) one colour"
+
+
+def write_ply(path, n=6):
+    """An ASCII PLY of a bumpy n x n height field (2 (n-1)^2 triangles)."""
+    x, y = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n))
+    z = 0.3 * np.sin(3 * x) * np.cos(2 * y)
+    quads = [(r * n + c, r * n + c + 1, (r + 1) * n + c + 1, (r + 1) * n + c)
+             for r in range(n - 1) for c in range(n - 1)]
+    lines = ["ply", "format ascii 1.0", f"element vertex {n * n}", "property float x", "property float y",
+             "property float z", f"element face {len(quads)}", "property list uchar int vertex_indices",
+             "end_header"]
+    lines += [f"{a} {b} {c}" for a, b, c in zip(x.ravel(), y.ravel(), z.ravel())]
+    lines += ["4 " + " ".join(map(str, q)) for q in quads]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_demo_quick_writes_a_png_and_a_one_line_summary(tmp_path):
+    out = tmp_path / "demo.png"
+    run = gridwalk("demo", "-o", out, "--quick")
+    assert run.returncode == 0, run.stderr
+    assert_non_trivial_png(out, (256, 256))
+    summary = run.stdout.strip().splitlines()
+    assert len(summary) == 1 and "Mrays/s" in summary[0] and " s," in summary[0]
+    assert "%" in run.stderr                      # the progress bar
+
+
+@needs_spd
+def test_render_nff_writes_png_npy_and_the_statistics_summary(tmp_path):
+    png, npy = tmp_path / "balls.png", tmp_path / "balls.npy"
+    run = gridwalk("render", SPD_DIR / "balls_s2.nff", "-o", png, "--npy", npy, "--width", 96, "--height", 64)
+    assert run.returncode == 0, run.stderr
+    assert_non_trivial_png(png, (96, 64))
+    rgba = np.load(npy)
+    assert rgba.shape == (64, 96, 4) and rgba.dtype == np.float32
+    for expected in ("primary 6.14 k", "shadow", "secondary", "Mrays/s", "intersection tests", "cells",
+                     "grid", "refs", "KiB", "built in"):
+        assert expected in run.stdout, expected
+    assert "100%" in run.stderr
+
+
+def test_render_has_an_option_for_every_render_setting():
+    run = gridwalk("render", "--help")
+    assert run.returncode == 0
+    for field in dataclasses.fields(RenderSettings):
+        assert "--" + field.name.replace("_", "-") in run.stdout, field.name
+    assert "{center,jittered,random,adaptive,sobol}" in run.stdout
+
+
+@needs_spd
+def test_render_settings_options_reach_the_renderer(tmp_path):
+    out = tmp_path / "a.png"
+    run = gridwalk("render", SPD_DIR / "balls_s1.nff", "-o", out, "--width", 20, "--height", 10,
+                   "--aa", "jittered", "--aa-samples", 3, "--no-mailboxes", "--accel", "none", "--alpha")
+    assert run.returncode == 0, run.stderr
+    assert "primary 1.8 k" in run.stdout          # 3 x 3 samples for each of 200 pixels
+    assert "grid " not in run.stdout               # accel none: no grid was built
+    assert Image.open(out).mode == "RGBA"
+
+
+def test_render_ply_frames_the_mesh(tmp_path):
+    out = tmp_path / "mesh.png"
+    run = gridwalk("render", write_ply(tmp_path / "mesh.ply"), "-o", out, "--width", 64, "--height", 64)
+    assert run.returncode == 0, run.stderr
+    rgb = np.asarray(Image.open(out).convert("RGB")).reshape(-1, 3)
+    background = np.all(rgb == rgb[0], axis=1)     # the corner pixel is sky
+    assert 0.1 < 1 - background.mean() < 0.95      # the mesh covers part of the view
+
+
+def test_render_nff_with_a_cylinder(tmp_path):
+    scene = tmp_path / "cyl.nff"
+    scene.write_text("v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.01\nresolution 32 32\n"
+                     "b 0 0 0\nl 2 -4 3\nf 1 0.2 0.2 0.8 0 10 0 1\nc\n0 0 -1 0.4\n0 0 1 0.4\n")
+    out = tmp_path / "cyl.npy"
+    assert gridwalk("render", scene, "-o", out, "--quiet").returncode == 0
+    alpha = np.load(out)[..., 3]
+    assert alpha[16, 16] == 1 and alpha[16, 2] == 0 and alpha[16, 29] == 0
+
+
+@pytest.mark.parametrize("case, content, message", [
+    ("missing", None, "no such file"),
+    ("malformed", "s 0 0\n", "scene.nff:1: 's' expects 4 numbers"),
+    ("unknown type", "solid\n", "expected .nff or .ply"),
+])
+def test_bad_scene_files_give_a_one_line_error_and_exit_2(tmp_path, case, content, message):
+    path = tmp_path / ("scene.stl" if case == "unknown type" else "scene.nff")
+    if content is not None:
+        path.write_text(content)
+    for command in (["render", path, "-o", tmp_path / "x.png"], ["info", path], ["validate", path]):
+        run = gridwalk(*command)
+        assert run.returncode == 2, (command, run.stderr)
+        assert run.stderr.startswith("gridwalk: error: ") and message in run.stderr, run.stderr
+        assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1
+
+
+@needs_spd
+@pytest.mark.parametrize("options, message", [
+    (["--aa-samples", "0"], "aa_samples"),
+    (["--grid-density", "-1"], "grid_density"),
+    (["--width", "0"], "resolution"),
+    (["-o", "out.jpg"], "must end in .png or .npy"),
+])
+def test_bad_settings_give_a_one_line_error_and_exit_2(tmp_path, options, message):
+    run = gridwalk("render", SPD_DIR / "balls_s1.nff", "-o", tmp_path / "x.png", *options)
+    assert run.returncode == 2 and run.stderr.startswith("gridwalk: error: "), run.stderr
+    assert message in run.stderr and "Traceback" not in run.stderr
+
+
+@needs_spd
+def test_render_says_when_the_grid_density_was_reduced(tmp_path):
+    run = gridwalk("render", SPD_DIR / "mount_s4.nff", "-o", tmp_path / "m.png", "--max-cells", 100,
+                   "--width", 16, "--height", 16)
+    assert run.returncode == 0, run.stderr
+    assert "4x4x4 = 64 cells" in run.stdout and "note" in run.stdout and "density reduced" in run.stdout
+
+
+@needs_spd
+def test_ctrl_c_cancels_the_render_and_exits_130(tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "gridwalk", "render", SPD_DIR / "balls_s4.nff",
+                             "-o", tmp_path / "x.png", "--aa", "jittered", "--aa-samples", "8"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    seen, deadline = b"", time.monotonic() + 30
+    while b"rendering" not in seen and time.monotonic() < deadline:   # wait for the progress bar
+        seen += os.read(proc.stderr.fileno(), 64)
+    proc.send_signal(signal.SIGINT)
+    start = time.monotonic()
+    _, err = proc.communicate(timeout=20)
+    assert proc.returncode == 130, err
+    assert time.monotonic() - start < 5 and b"cancelled" in err
+    assert not (tmp_path / "x.png").exists()
+
+
+@needs_spd
+def test_info_reports_counts_bounds_camera_and_grid():
+    run = gridwalk("info", SPD_DIR / "mount_s4.nff")
+    assert run.returncode == 0, run.stderr
+    assert "512 triangles" in run.stdout and "4 spheres" in run.stdout and "0 cylinders" in run.stdout
+    assert "1 lights" in run.stdout
+    assert "bounds" in run.stdout and "eye (-1.6, 1.6, 1.7)" in run.stdout
+    assert "17x17x16 = 4624 cells" in run.stdout
+
+
+@needs_spd
+def test_validate_agrees_with_embree_on_mount():
+    run = gridwalk("validate", SPD_DIR / "mount_s4.nff", "--rays", 20000)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "512 triangles only" in run.stdout and "4 spheres" in run.stdout
+    for kind in ("primary", "shadow", "random"):
+        row = next(line for line in run.stdout.splitlines() if line.startswith(kind)).split()
+        assert float(row[2]) == 100.0 and int(row[5]) == 0, row   # hit/miss %, mismatches
+    assert "PASS" in run.stdout
+
+
+def _hits(t, prim):
+    t = np.asarray(t, np.float32)
+    return type("Hits", (), {"t": t, "prim": np.asarray(prim, np.int32)})
+
+
+def test_compare_fails_on_a_primitive_mismatch_but_not_on_a_tie():
+    embree = {"tfar": np.array([1.0, 2.0, 3.0, np.inf]), "primID": np.array([0, 1, 2, -1])}
+    tie = compare(_hits([1.0, 2.0, 3.0 * (1 + 1e-7), np.inf], [0, 1, 7, -1]), embree)
+    assert tie["passed"] and tie["ties"] == 1 and tie["mismatches"] == 0
+    wrong = compare(_hits([1.0, 2.0, 2.5, np.inf], [0, 1, 7, -1]), embree)
+    assert not wrong["passed"] and wrong["mismatches"] == 1 and wrong["examples"][0][0] == 2
+
+
+def test_compare_fails_below_99_999_percent_hit_miss_agreement():
+    n = 50_000
+    embree = {"tfar": np.ones(n), "primID": np.zeros(n, np.int64)}
+    t = np.ones(n)
+    t[0] = np.inf                                   # one miss in 50000: 99.998%
+    result = compare(_hits(t, np.where(np.isfinite(t), 0, -1)), embree)
+    assert result["hit_miss_disagreements"] == 1 and not result["passed"]

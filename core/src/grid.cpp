@@ -132,7 +132,7 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     const bool mailboxes = ctx.mailbox.enabled();
     if (mailboxes) ctx.mailbox.next_ray();
     int cell[3], step[3], out[3];
-    float tnext[3];
+    float tnext[3], tdelta[3];
     for (int a = 0; a < 3; ++a) {
         const float p = ray.o[a] + ray.d[a] * t0;
         float x = (p - lo_[a]) * inv_cell_[a];
@@ -141,19 +141,25 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
         if (ray.d[a] > 0) {
             step[a] = 1; out[a] = n_[a];
             tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
+            tdelta[a] = cell_[a] * inv[a];
         } else if (ray.d[a] < 0) {
             step[a] = -1; out[a] = -1;
             tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+            tdelta[a] = -cell_[a] * inv[a];
         } else {
             step[a] = 0; out[a] = -1;
-            tnext[a] = kInf;
+            tnext[a] = tdelta[a] = kInf;
         }
     }
+    // Linear cell index, stepped incrementally. tnext advances by tdelta: the
+    // accumulated rounding only decides when a hit is accepted (a hit is kept
+    // until the walk passes it), never which cells are visited.
+    const int64_t stride[3] = {1, n_[0], int64_t(n_[0]) * n_[1]};
+    int64_t c = (int64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
     bool found = false;
     const Scene& sc = *scene_;
     for (;;) {
         ++ctx.stats.cells;
-        const uint64_t c = (uint64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
         for (uint32_t k = offsets_[c], e = offsets_[c + 1]; k < e; ++k) {
             const uint32_t prim = prims_[k];
             if (mailboxes && ctx.mailbox.seen(prim)) { ++ctx.stats.mailbox_skips; continue; }
@@ -170,8 +176,8 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
         if (hit.t <= tnext[axis]) break;
         cell[axis] += step[axis];
         if (cell[axis] == out[axis]) break;
-        const int face = step[axis] > 0 ? cell[axis] + 1 : cell[axis];
-        tnext[axis] = (lo_[axis] + float(face) * cell_[axis] - ray.o[axis]) * inv[axis];
+        c += step[axis] * stride[axis];
+        tnext[axis] += tdelta[axis];
     }
     return found;
 }

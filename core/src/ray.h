@@ -30,6 +30,7 @@ struct RayPre {
     // Watertight triangle test (Woop, Benthin, Wald 2013): axis permutation and shear.
     int kx = 0, ky = 1, kz = 2;
     float sx = 0, sy = 0, sz = 1;
+    float ox = 0, oy = 0, oz = 0;   // the origin in the permuted axes
     // Double-precision copies for the analytic (quadric) primitives.
     Vec3d od, dd;
     bool valid = false;   // false for NaN/Inf/zero directions: such a ray hits nothing
@@ -45,6 +46,9 @@ struct RayPre {
         sx = r.d[kx] / r.d[kz];
         sy = r.d[ky] / r.d[kz];
         sz = 1.0f / r.d[kz];
+        ox = r.o[kx];
+        oy = r.o[ky];
+        oz = r.o[kz];
         od = Vec3d(r.o);
         dd = Vec3d(r.d);
     }

@@ -122,6 +122,20 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     for (size_t i = 0; i < num_prims(); ++i) bounds_.grow(prim_bounds(i));
 }
 
+bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const {
+    float t;
+    const size_t s = prim - num_triangles();
+    if (s < num_spheres()) {
+        if (!intersect_sphere(r, centers_[s], radii_[s], hit.t, t)) return false;
+    } else if (!intersect_cone(r, cones_[s - num_spheres()], hit.t, t)) {
+        return false;
+    }
+    hit.t = t;
+    hit.prim = int32_t(prim);
+    hit.u = hit.v = 0;
+    return true;
+}
+
 Bounds Scene::prim_bounds(size_t prim) const {
     Bounds b;
     switch (kind_of(prim)) {

@@ -84,7 +84,9 @@ public:
     const Bounds& bounds() const { return bounds_; }
 
     // Tests one primitive; on a hit nearer than hit.t, updates hit and returns true.
+    // Triangles are tested inline (the hot path); quadrics out of line.
     inline bool intersect(size_t prim, const RayPre& r, Hit& hit) const;
+    bool intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const;
     SurfacePoint surface(const RayPre& r, const Hit& hit) const;
     Vec3 geometric_normal(const RayPre& r, const Hit& hit) const;
 
@@ -112,18 +114,10 @@ private:
     Bounds bounds_;
 };
 
-inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
-    float t, u = 0, v = 0;
-    const size_t nt = num_triangles();
-    if (prim < nt) {
-        const Vec3* tv = &tri_verts_[3 * prim];
-        if (!intersect_triangle(r, tv[0], tv[1], tv[2], hit.t, t, u, v)) return false;
-    } else if (prim < nt + num_spheres()) {
-        const size_t s = prim - nt;
-        if (!intersect_sphere(r, centers_[s], radii_[s], hit.t, t)) return false;
-    } else {
-        if (!intersect_cone(r, cones_[prim - nt - num_spheres()], hit.t, t)) return false;
-    }
+__attribute__((always_inline)) inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
+    if (prim >= num_triangles()) return intersect_quadric(prim, r, hit);
+    float t, u, v;
+    if (!intersect_triangle(r, &tri_verts_[3 * prim].x, hit.t, t, u, v)) return false;
     hit.t = t;
     hit.prim = int32_t(prim);
     hit.u = u;

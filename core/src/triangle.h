@@ -10,24 +10,27 @@ namespace gw {
 
 // Returns true and sets t, b1, b2 (barycentrics of v1, v2) for a hit with
 // tmin < t < tmax. Triangles are two-sided.
-inline bool intersect_triangle(const RayPre& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
-                               float tmax, float& t_out, float& b1, float& b2) {
-    const Vec3 A = v0 - r.ray.o, B = v1 - r.ray.o, C = v2 - r.ray.o;
-    const float Ax = A[r.kx] - r.sx * A[r.kz], Ay = A[r.ky] - r.sy * A[r.kz];
-    const float Bx = B[r.kx] - r.sx * B[r.kz], By = B[r.ky] - r.sy * B[r.kz];
-    const float Cx = C[r.kx] - r.sx * C[r.kz], Cy = C[r.ky] - r.sy * C[r.kz];
+// v points at the triangle's 9 coordinates (v0, v1, v2), read in the ray's
+// permuted axis order straight from memory.
+inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, float& t_out, float& b1, float& b2) {
+    const float Akz = v[r.kz] - r.oz, Bkz = v[3 + r.kz] - r.oz, Ckz = v[6 + r.kz] - r.oz;
+    const float Ax = (v[r.kx] - r.ox) - r.sx * Akz, Ay = (v[r.ky] - r.oy) - r.sy * Akz;
+    const float Bx = (v[3 + r.kx] - r.ox) - r.sx * Bkz, By = (v[3 + r.ky] - r.oy) - r.sy * Bkz;
+    const float Cx = (v[6 + r.kx] - r.ox) - r.sx * Ckz, Cy = (v[6 + r.ky] - r.oy) - r.sy * Ckz;
     float U = Cx * By - Cy * Bx;
     float V = Ax * Cy - Ay * Cx;
     float W = Bx * Ay - By * Ax;
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+    // Exactly zero (or a product that underflows, which only costs the
+    // recompute): decide the edge in double.
+    if (U * V * W == 0.0f) {
         U = float(double(Cx) * double(By) - double(Cy) * double(Bx));
         V = float(double(Ax) * double(Cy) - double(Ay) * double(Cx));
         W = float(double(Bx) * double(Ay) - double(By) * double(Ax));
     }
-    if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
+    if (std::min(U, std::min(V, W)) < 0 && std::max(U, std::max(V, W)) > 0) return false;
     float det = U + V + W;
     if (det == 0.0f) return false;
-    const float Az = r.sz * A[r.kz], Bz = r.sz * B[r.kz], Cz = r.sz * C[r.kz];
+    const float Az = r.sz * Akz, Bz = r.sz * Bkz, Cz = r.sz * Ckz;
     float T = U * Az + V * Bz + W * Cz;
     if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
     if (!(T > r.ray.tmin * det) || !(T < tmax * det)) return false;

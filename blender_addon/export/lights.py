@@ -1,0 +1,107 @@
+"""Blender lights -> gridwalk.model.Light.
+
+Units. Blender gives point/spot/area lights a power P in watts and sun lights an
+irradiance S in W/m^2. Our core shades a diffuse surface as
+    kd * color * light.color * cos(theta) / d^2     (local lights)
+    kd * color * light.color * cos(theta)           (sun)
+with no 1/pi in the BRDF. Cycles' diffuse BRDF is albedo/pi, so matching Cycles
+means folding 1/pi into the light colour:
+    point, sphere, spot : I = P / (4 pi)    [W/sr]   -> light.color = rgb * P / (4 pi^2)
+    area (rect, disk)   : I = P / pi on its axis     -> light.color = rgb * P / pi^2
+    sun                 : E = S             [W/m^2]  -> light.color = rgb * S / pi
+where rgb is the light colour (times the blackbody colour when "use temperature"
+is on) and P or S is multiplied by 2^exposure (Blender 4.0+). With "normalize"
+off (Blender 4.0+), an area or sphere light's power scales with its area, so
+P is multiplied by that area. Area lights are one-sided Lambertian emitters in
+both renderers (the core multiplies by the cosine at the emitter), so rect and
+disk lights match Cycles in every direction, not only on their axis.
+
+Geometry. Lights point along their local -Z axis. A point light with radius
+r > 0 becomes a "sphere" light. Sun "angle" is its angular diameter. Area
+lights: SQUARE (size x size), RECTANGLE (size x size_y), DISK (diameter size),
+ELLIPSE (a disk of equal area); area sizes are scaled by the object's scale,
+point/spot radii are not (as in Blender).
+axis_u = local X, axis_v = -local Y, so u x v = -Z, the emitting side.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from gridwalk.model import Light
+
+from ._matrix import axis, to_numpy, unit
+
+POINT_FACTOR = 1.0 / (4.0 * math.pi ** 2)
+AREA_FACTOR = 1.0 / math.pi ** 2
+SUN_FACTOR = 1.0 / math.pi
+
+
+def _rgb(light) -> np.ndarray:
+    rgb = np.array(tuple(light.color)[:3], dtype=np.float64)
+    if getattr(light, "use_temperature", False):
+        rgb *= np.array(tuple(light.temperature_color)[:3], dtype=np.float64)
+    return rgb
+
+
+def _power(light, area: float) -> float:
+    power = float(light.energy) * 2.0 ** float(getattr(light, "exposure", 0.0))
+    if not getattr(light, "normalize", True) and area > 0:
+        power *= area
+    return power
+
+
+def _area_shape(light, sx: float, sy: float):
+    """(kind, size, radius, area) of an area light, scaled by the object's scale."""
+    shape = light.shape
+    w = light.size * sx
+    h = (light.size_y if shape in ("RECTANGLE", "ELLIPSE") else light.size) * sy
+    if shape in ("SQUARE", "RECTANGLE"):
+        return "rect", (w, h), 0.0, w * h
+    area = math.pi * w * h / 4.0
+    return "disk", (w, h), math.sqrt(w * h) / 2.0, area
+
+
+def convert_light(light, matrix) -> Light:
+    """One Blender light datablock at world transform `matrix` (mathutils or numpy 4x4)."""
+    m = matrix if isinstance(matrix, np.ndarray) else to_numpy(matrix)
+    position = tuple(m[:3, 3])
+    x, y, z = (axis(m, i) for i in range(3))
+    sx, sy = float(np.linalg.norm(x)), float(np.linalg.norm(y))
+    direction = tuple(unit(-z))
+    rgb = _rgb(light)
+    kind = light.type
+    if kind == "SUN":
+        color = rgb * float(light.energy) * 2.0 ** float(getattr(light, "exposure", 0.0)) * SUN_FACTOR
+        return Light(position=position, color=tuple(color), kind="sun",
+                     direction=direction, angle=float(light.angle))
+    if kind == "AREA":
+        shape, size, radius, area = _area_shape(light, sx, sy)
+        color = rgb * _power(light, area) * AREA_FACTOR
+        return Light(position=position, color=tuple(color), kind=shape, size=size,
+                     radius=radius, axis_u=tuple(unit(x)), axis_v=tuple(unit(-y)),
+                     direction=direction, inverse_square=True)
+    radius = float(light.shadow_soft_size)   # Blender does not scale it with the object
+    color = rgb * _power(light, 4.0 * math.pi * radius * radius) * POINT_FACTOR
+    if kind == "SPOT":
+        return Light(position=position, color=tuple(color), kind="spot", radius=radius,
+                     direction=direction, spot_size=float(light.spot_size),
+                     spot_blend=float(light.spot_blend), inverse_square=True)
+    if kind == "POINT":
+        return Light(position=position, color=tuple(color),
+                     kind="sphere" if radius > 0 else "point", radius=radius,
+                     inverse_square=True)
+    raise ValueError(f"unsupported light type {kind!r}")
+
+
+def light_from_instance(inst, warnings: list):
+    """The Light for one depsgraph object instance of a light object, or None."""
+    obj = inst.object
+    if obj.original.hide_render:
+        return None
+    try:
+        return convert_light(obj.data, inst.matrix_world)
+    except ValueError as exc:
+        warnings.append(f"light {obj.name}: {exc}")
+        return None

@@ -1,0 +1,60 @@
+"""A screenshot of Blender's GUI with GRIDWALK, under Xvfb (Debian's blender 3.4).
+
+    python tests/blender/gui.py docs/images/blender_gridwalk.png
+
+Starts Xvfb on a free display, a user profile with the add-on installed and the
+splash screen off, runs scripts/gui_screenshot.py in the GUI and waits for it.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from runner import BLENDER34_SITE, ROOT, SCRIPTS, _pythonpath, run  # noqa: E402
+
+SIZE = (1600, 900)
+
+
+def start_xvfb():
+    """(process, display) of a new Xvfb on a free display number."""
+    read, write = os.pipe()
+    proc = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", f"{SIZE[0]}x{SIZE[1]}x24",
+                             "-nolisten", "tcp"], pass_fds=(write,), stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as f:
+        display = f.readline().strip()
+    return proc, f":{display}"
+
+
+def user_profile(home: Path) -> dict:
+    (home / "scripts" / "addons").mkdir(parents=True)
+    (home / "config").mkdir()
+    os.symlink(ROOT / "blender_addon", home / "scripts" / "addons" / "gridwalk_blender")
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(home / "scripts"), BLENDER_USER_CONFIG=str(home / "config"),
+               PYTHONPATH=_pythonpath(BLENDER34_SITE))
+    prefs = ("import bpy; bpy.ops.preferences.addon_enable(module='gridwalk_blender'); "
+             "bpy.context.preferences.view.show_splash = False; bpy.ops.wm.save_userpref()")
+    run(["blender", "-b", "--python-expr", prefs], env, timeout=120)
+    return env
+
+
+def screenshot(out: Path, timeout: float = 300) -> Path:
+    out = Path(out).resolve()
+    xvfb, display = start_xvfb()
+    try:
+        with tempfile.TemporaryDirectory() as home:
+            env = dict(user_profile(Path(home)), DISPLAY=display, SHOT=str(out))
+            run(["blender", "--window-geometry", "0", "0", str(SIZE[0]), str(SIZE[1]), "-noaudio",
+                 "--python", str(SCRIPTS / "gui_screenshot.py")], env, timeout=timeout)
+    finally:
+        xvfb.terminate()
+        xvfb.wait(timeout=10)
+    return out
+
+
+if __name__ == "__main__":
+    print(screenshot(Path(sys.argv[1] if len(sys.argv) > 1 else "blender_gridwalk.png")))

@@ -1,0 +1,76 @@
+"""Run Python scripts inside Blender in a subprocess, with a timeout.
+
+Three kinds of Blender: the `bpy` module from PyPI in its own virtualenv
+(.venv-bpy45: Blender 4.5 LTS, .venv-bpy50: Blender 5.0), and Debian's
+`blender` binary (3.4.1, system Python 3.11) whose packages (numpy, gridwalk)
+live in .venv-blender34 and reach it through PYTHONPATH. Scripts end with
+`sys.stdout.flush(); os._exit(code)` because bpy can hang at interpreter exit
+after image I/O; the timeout catches any other hang.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPTS = Path(__file__).resolve().parent / "scripts"
+BPY_VENVS = {"bpy45": ROOT / ".venv-bpy45", "bpy50": ROOT / ".venv-bpy50"}
+BLENDER34_SITE = ROOT / ".venv-blender34" / "lib" / "python3.11" / "site-packages"
+ALL_BLENDERS = (*BPY_VENVS, "blender34")
+
+
+def _pythonpath(*extra) -> str:
+    parts = [str(p) for p in extra] + [str(ROOT)]
+    if os.environ.get("PYTHONPATH"):
+        parts.append(os.environ["PYTHONPATH"])
+    return os.pathsep.join(parts)
+
+
+def missing_reason(kind: str) -> str | None:
+    """Why `kind` cannot run here (None when it can)."""
+    if kind in BPY_VENVS:
+        python = BPY_VENVS[kind] / "bin" / "python"
+        if not python.exists():
+            return f"{python} is missing: run .ci/setup_blender.sh"
+        return None
+    if shutil.which("blender") is None:
+        return "the `blender` binary is missing: run .ci/setup_blender.sh (apt-get install blender)"
+    if not BLENDER34_SITE.exists():
+        return f"{BLENDER34_SITE} is missing: run .ci/setup_blender.sh"
+    return None
+
+
+def command(kind: str, script: Path, args=(), blend: Path | None = None) -> tuple[list, dict]:
+    """(argv, env) running `script` with `args` in Blender `kind`."""
+    env = dict(os.environ)
+    if kind in BPY_VENVS:
+        argv = [str(BPY_VENVS[kind] / "bin" / "python"), str(script), *map(str, args)]
+        env["PYTHONPATH"] = _pythonpath()
+    else:
+        argv = ["blender", "-b", "--factory-startup", "-noaudio"]
+        argv += [str(blend)] if blend else []
+        argv += ["--python", str(script), "--", *map(str, args)]
+        env["PYTHONPATH"] = _pythonpath(BLENDER34_SITE)
+    return argv, env
+
+
+def run_script(kind: str, name: str, *args, timeout: float = 180, blend=None, cwd=None):
+    """Run tests/blender/scripts/<name> in Blender `kind`; fail with its output on error."""
+    argv, env = command(kind, SCRIPTS / name, args, blend)
+    return run(argv, env, timeout, cwd)
+
+
+def run(argv, env=None, timeout: float = 180, cwd=None) -> subprocess.CompletedProcess:
+    try:
+        proc = subprocess.run(argv, env=env, cwd=cwd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired as exc:
+        raise AssertionError(f"timed out after {timeout} s: {' '.join(argv)}\n"
+                             f"{(exc.stdout or '')[-3000:]}\n{(exc.stderr or '')[-3000:]}") from None
+    if proc.returncode != 0:
+        raise AssertionError(f"exit code {proc.returncode}: {' '.join(argv)}\n"
+                             f"--- stdout\n{proc.stdout[-4000:]}\n--- stderr\n{proc.stderr[-4000:]}")
+    return proc
+
+

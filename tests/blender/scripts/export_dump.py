@@ -1,0 +1,59 @@
+"""Build a test scene, export it, and write the result for the test to check.
+
+usage: <python with bpy> export_dump.py SCENE OUT_DIR [key=value ...]
+   or: blender -b --factory-startup --python export_dump.py -- SCENE OUT_DIR ...
+Writes OUT_DIR/arrays.npz (the numpy arrays) and OUT_DIR/export.json (records,
+warnings, the scene's expected values, or the ExportError message).
+"""
+import dataclasses
+import json
+import os
+import sys
+import traceback
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+
+def main(argv):
+    import bpy  # noqa: F401  (the bpy module, or Blender's own)
+    import numpy as np
+
+    import blender_addon
+    import scenes
+    from blender_addon.export import ExportError, export_scene
+
+    name, out_dir, *options = argv
+    kwargs = dict(option.split("=", 1) for option in options)
+    kwargs = {k: json.loads(v) for k, v in kwargs.items()}
+    blender_addon.register()
+    expected = scenes.BUILDERS[name](**kwargs)
+    result = {"expected": expected, "blender": list(bpy.app.version)}
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    try:
+        scene_kwargs, warnings = export_scene(depsgraph)
+    except ExportError as exc:
+        result["error"] = str(exc)
+    else:
+        arrays = {k: v for k, v in scene_kwargs.items() if isinstance(v, np.ndarray)}
+        np.savez(os.path.join(out_dir, "arrays.npz"), **arrays)
+        result["has_normals"] = scene_kwargs["normals"] is not None
+        result["materials"] = [dataclasses.asdict(m) for m in scene_kwargs["materials"]]
+        result["lights"] = [dataclasses.asdict(light) for light in scene_kwargs["lights"]]
+        result["camera"] = dataclasses.asdict(scene_kwargs["camera"])
+        result["background"] = list(scene_kwargs["background"])
+        result["warnings"] = warnings
+    with open(os.path.join(out_dir, "export.json"), "w") as f:
+        json.dump(result, f, indent=1)
+
+
+if __name__ == "__main__":
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    code = 0
+    try:
+        main(argv)
+    except BaseException:
+        traceback.print_exc()
+        code = 1
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)

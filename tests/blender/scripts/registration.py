@@ -1,0 +1,59 @@
+"""Register the add-on, record what it added, unregister, record what is left.
+
+usage: <python with bpy> registration.py OUT_DIR   (writes OUT_DIR/registration.json)
+"""
+import json
+import os
+import sys
+import traceback
+
+
+def panels_with(bpy, engine):
+    return sorted(name for name in dir(bpy.types)
+                  if isinstance(getattr(getattr(bpy.types, name, None), "COMPAT_ENGINES", None), set)
+                  and engine in getattr(bpy.types, name).COMPAT_ENGINES)
+
+
+def main(out_dir):
+    import bpy
+
+    import blender_addon
+    import gridwalk
+    from blender_addon.settings import render_settings
+
+    blender_addon.register()
+    scene = bpy.context.scene
+    scene.render.engine = "GRIDWALK"
+    settings = render_settings(gridwalk, scene.gridwalk)
+    settings.to_core()                        # validates every value
+    info = {
+        "engine": scene.render.engine,
+        "panels": panels_with(bpy, "GRIDWALK"),
+        "settings": {k: v for k, v in vars(settings).items()},
+        "object_option": hasattr(bpy.types.Object, "gridwalk")
+        and "render_as_sphere" in bpy.types.Object.gridwalk.keywords["type"].bl_rna.properties,
+    }
+    scene.render.engine = "CYCLES"
+    blender_addon.unregister()
+    info["panels_after"] = panels_with(bpy, "GRIDWALK")
+    try:
+        scene.render.engine = "GRIDWALK"
+        info["engine_after"] = True
+    except TypeError:                         # no longer a valid engine
+        info["engine_after"] = False
+    info["scene_property_after"] = hasattr(bpy.types.Scene, "gridwalk")
+    with open(os.path.join(out_dir, "registration.json"), "w") as f:
+        json.dump(info, f, indent=1)
+
+
+if __name__ == "__main__":
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    code = 0
+    try:
+        main(*argv)
+    except BaseException:
+        traceback.print_exc()
+        code = 1
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)

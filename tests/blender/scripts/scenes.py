@@ -1,0 +1,264 @@
+"""Test scenes built with bpy (run inside Blender / the bpy module).
+
+Each builder starts from an empty factory scene, adds a camera unless told
+not to, and returns a dict of expected values computed with mathutils (an
+independent path from the exporter's numpy code).
+"""
+import math
+
+import bpy
+from mathutils import Euler, Vector
+
+
+def reset(camera=True, resolution=(64, 48)):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = resolution
+    scene.render.resolution_percentage = 100
+    if camera:
+        cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        scene.collection.objects.link(cam)
+        cam.location = (0.0, -10.0, 0.0)
+        cam.rotation_euler = (math.pi / 2, 0.0, 0.0)
+        scene.camera = cam
+    return scene
+
+
+def link(obj, collection=None):
+    (collection or bpy.context.scene.collection).objects.link(obj)
+    return obj
+
+
+def cube_object(name="Cube", size=2.0):
+    mesh = bpy.data.meshes.new(name)
+    h = size / 2
+    verts = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    return bpy.data.objects.new(name, mesh)
+
+
+def principled(name, color, **inputs):
+    """A node material whose Principled BSDF has `color` and the given inputs."""
+    mat = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
+    for key, value in inputs.items():
+        bsdf.inputs[key].default_value = value
+    return mat
+
+
+def world_corners(obj, matrix=None):
+    m = matrix if matrix is not None else obj.matrix_world
+    return [list(m @ v.co) for v in obj.data.vertices]
+
+
+def cube_scene():
+    reset()
+    cube = link(cube_object())
+    cube.location = (1.0, 2.0, 3.0)
+    cube.rotation_euler = Euler((0.3, 0.2, 0.1))
+    cube.scale = (1.0, 2.0, 0.5)
+    hidden = link(cube_object("HiddenCube"))
+    hidden.hide_render = True
+    bpy.context.view_layer.update()
+    return {"triangles": 12, "corners": world_corners(cube)}
+
+
+def suzanne_scene(levels=2):
+    reset()
+    bpy.ops.mesh.primitive_monkey_add(location=(0.5, 0.0, 0.0))
+    obj = bpy.context.object
+    obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
+    obj.data.update()
+    mod = obj.modifiers.new("Subdivision", "SUBSURF")
+    mod.levels = mod.render_levels = levels
+    quads = sum(len(p.vertices) for p in obj.data.polygons)   # level 1: n quads per n-gon
+    bpy.context.view_layer.update()
+    return {"triangles": 2 * quads * 4 ** (levels - 1), "base_faces": len(obj.data.polygons),
+            "center": list(obj.location)}
+
+
+def instances_scene():
+    reset()
+    assets = bpy.data.collections.new("Assets")
+    bpy.context.scene.collection.children.link(assets)
+    cube = link(cube_object("AssetCube", size=1.0), assets)
+    cube.location = (0.0, 0.0, 0.5)
+    bpy.context.view_layer.layer_collection.children["Assets"].exclude = True
+    expected = []
+    for i, loc in enumerate([(-3.0, 0.0, 0.0), (3.0, 1.0, 0.0)]):
+        empty = link(bpy.data.objects.new(f"Instance{i}", None))
+        empty.instance_type = "COLLECTION"
+        empty.instance_collection = assets
+        empty.location = loc
+        empty.rotation_euler = (0.0, 0.0, 0.4 * i)
+        bpy.context.view_layer.update()
+        expected.append(world_corners(cube, empty.matrix_world @ cube.matrix_world))
+    return {"triangles": 24, "instances": expected}
+
+
+def add_light(name, kind, location=(0, 0, 5), rotation=(0, 0, 0), **props):
+    data = bpy.data.lights.new(name, kind)
+    for key, value in props.items():
+        setattr(data, key, value)
+    obj = link(bpy.data.objects.new(name, data))
+    obj.location, obj.rotation_euler = location, rotation
+    return obj
+
+
+def lights_scene():
+    reset()
+    link(cube_object())
+    add_light("Point", "POINT", (1, 2, 3), energy=100.0, shadow_soft_size=0.0, color=(1, 0.5, 0.25))
+    add_light("Sphere", "POINT", (0, 0, 4), energy=50.0, shadow_soft_size=0.5)
+    add_light("Sun", "SUN", (0, 0, 9), (0.5, 0, 0), energy=3.0, angle=math.radians(10))
+    add_light("Spot", "SPOT", (2, 0, 5), (0, 0.3, 0), energy=200.0, spot_size=math.radians(60),
+              spot_blend=0.25, shadow_soft_size=0.1)
+    add_light("Square", "AREA", (0, 3, 5), (0.2, 0, 0), energy=80.0, shape="SQUARE", size=2.0)
+    rect = add_light("Rect", "AREA", (0, -3, 5), energy=60.0, shape="RECTANGLE", size=2.0, size_y=0.5)
+    rect.scale = (1.5, 2.0, 1.0)
+    add_light("Disk", "AREA", (3, 3, 5), energy=40.0, shape="DISK", size=1.0)
+    add_light("Ellipse", "AREA", (-3, 3, 5), energy=40.0, shape="ELLIPSE", size=2.0, size_y=0.5)
+    bpy.context.view_layer.update()
+    out = {}
+    for obj in bpy.data.objects:
+        if obj.type == "LIGHT":
+            m = obj.matrix_world
+            out[obj.name] = {"position": list(m.translation),
+                             "down": list((m.to_3x3() @ Vector((0, 0, -1))).normalized()),
+                             "x": list((m.to_3x3() @ Vector((1, 0, 0))).normalized())}
+    return {"lights": out}
+
+
+def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False):
+    scene = reset(resolution=resolution)
+    link(cube_object())
+    cam = scene.camera
+    cam.data.lens = 50.0
+    cam.data.sensor_width, cam.data.sensor_height = 36.0, 24.0
+    cam.data.sensor_fit = fit
+    cam.data.shift_x, cam.data.shift_y = 0.1, -0.05
+    cam.data.dof.use_dof = dof
+    cam.data.dof.aperture_fstop = 2.8
+    cam.data.dof.focus_distance = 7.5
+    if focus_object:
+        target = link(bpy.data.objects.new("Focus", None))
+        target.location = (2.0, 4.0, 1.0)     # 14 units in front of the camera along +y
+        cam.data.dof.focus_object = target
+    bpy.context.view_layer.update()
+    return {"eye": list(cam.matrix_world.translation)}
+
+
+def no_camera_scene():
+    reset(camera=False)
+    link(cube_object())
+    return {}
+
+
+def materials_scene():
+    reset()
+    obj = link(cube_object())
+    red = bpy.data.materials.new("Red")
+    red.use_nodes = True
+    bsdf = red.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.1, 0.1, 1.0)
+    bsdf.inputs["Metallic"].default_value = 0.25
+    bsdf.inputs["Roughness"].default_value = 0.3
+    bsdf.inputs["IOR"].default_value = 1.5
+    glass = bpy.data.materials.new("Glass")
+    glass.use_nodes = True
+    gb = glass.node_tree.nodes["Principled BSDF"]
+    gb.inputs["Transmission Weight" if "Transmission Weight" in gb.inputs else "Transmission"].default_value = 1.0
+    gb.inputs["IOR"].default_value = 1.33
+    toon = bpy.data.materials.new("Toon")
+    toon.use_nodes = True
+    nodes = toon.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    shader = nodes.new("ShaderNodeBsdfTranslucent")
+    toon.node_tree.links.new(shader.outputs[0], nodes["Material Output"].inputs["Surface"])
+    toon.diffuse_color = (0.1, 0.7, 0.2, 1.0)
+    holdout = bpy.data.materials.new("Holdout")
+    holdout.use_nodes = True
+    nodes = holdout.node_tree.nodes
+    shader = nodes.new("ShaderNodeHoldout")
+    holdout.node_tree.links.new(shader.outputs[0], nodes["Material Output"].inputs["Surface"])
+    for mat in (red, glass, toon, holdout):
+        obj.data.materials.append(mat)
+    # faces 0-1 red, 2-3 glass, 4 toon, 5 holdout
+    obj.data.polygons.foreach_set("material_index", [0, 0, 1, 1, 2, 3])
+    obj.data.update()
+    world = bpy.data.worlds.new("World")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)
+    bg.inputs["Strength"].default_value = 0.5
+    bpy.context.scene.world = world
+    bpy.context.view_layer.update()
+    return {"face_slots": [0, 0, 1, 1, 2, 3]}
+
+
+def sphere_scene():
+    reset()
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(1.0, 2.0, 3.0))
+    ball = bpy.context.object
+    ball.scale = (2.0, 2.0, 2.0)
+    ball.gridwalk.render_as_sphere = True
+    link(cube_object())
+    bpy.context.view_layer.update()
+    return {"center": [1.0, 2.0, 3.0], "radius": 2.0}
+
+
+
+
+def showcase_scene(resolution=(96, 72), fresh=True):
+    """Meshes with a modifier, a collection instanced twice, an analytic sphere,
+    three kinds of light: the scene the render tests compare with Cycles.
+    fresh=False builds into the current scene (already reset())."""
+    if fresh:
+        reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_monkey_add(location=(-1.2, 0.0, 0.3), rotation=(0.0, 0.0, 0.5))
+    monkey = bpy.context.object
+    mod = monkey.modifiers.new("Subdivision", "SUBSURF")
+    mod.levels = mod.render_levels = 1
+    assets = bpy.data.collections.new("Assets")
+    bpy.context.scene.collection.children.link(assets)
+    link(cube_object("AssetCube", size=0.8), assets)
+    bpy.context.view_layer.layer_collection.children["Assets"].exclude = True
+    for i, loc in enumerate([(1.3, 0.0, 1.0), (1.6, 1.0, -1.2)]):
+        empty = link(bpy.data.objects.new(f"Instance{i}", None))
+        empty.instance_type, empty.instance_collection = "COLLECTION", assets
+        empty.location, empty.rotation_euler = loc, (0.3, 0.2 * i, 0.5)
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0.3, 1.5, -1.0), segments=64, ring_count=32)
+    bpy.context.object.gridwalk.render_as_sphere = True
+    monkey.data.materials.append(principled("Red", (0.8, 0.15, 0.1), Roughness=0.4))
+    add_light("Key", "POINT", (-3, -6, 5), energy=600.0, shadow_soft_size=0.0)
+    add_light("Sun", "SUN", (0, 0, 9), (0.6, 0.2, 0), energy=1.0)
+    add_light("Fill", "AREA", (4, -4, 2), (1.2, 0, 0.8), energy=150.0, shape="SQUARE", size=1.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def empty_scene():
+    """A camera and a light, nothing to see."""
+    reset()
+    add_light("Key", "POINT", (0, -5, 5), energy=100.0)
+    return {}
+
+
+def nan_scene():
+    """A cube with one vertex at NaN (corrupt geometry)."""
+    reset()
+    cube = link(cube_object())
+    co = [c for v in cube.data.vertices for c in v.co]
+    co[0] = float("nan")
+    cube.data.vertices.foreach_set("co", co)
+    cube.data.update()
+    add_light("Key", "POINT", (0, -5, 5), energy=100.0)
+    return {}
+
+
+BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

@@ -1,0 +1,99 @@
+"""Lights (every type, watts converted) and the camera (fov, shift, depth of field)."""
+import math
+
+import numpy as np
+import pytest
+
+POINT = 1 / (4 * math.pi ** 2)
+AREA = 1 / math.pi ** 2
+SUN = 1 / math.pi
+
+
+def _by_position(out):
+    return {tuple(np.round(light["position"], 3)): light for light in out.lights}
+
+
+def test_every_light_type_is_exported(export):
+    out = export("lights")
+    lights = _by_position(out)
+    exp = out.expected["lights"]
+
+    def get(name):
+        return lights[tuple(np.round(exp[name]["position"], 3))]
+
+    point = get("Point")
+    assert point["kind"] == "point"
+    np.testing.assert_allclose(point["color"], np.array([1, 0.5, 0.25]) * 100 * POINT, rtol=1e-5)
+    sphere = get("Sphere")
+    assert sphere["kind"] == "sphere" and sphere["radius"] == pytest.approx(0.5)
+    np.testing.assert_allclose(sphere["color"], [50 * POINT] * 3, rtol=1e-5)
+    sun = get("Sun")
+    assert sun["kind"] == "sun" and sun["angle"] == pytest.approx(math.radians(10))
+    np.testing.assert_allclose(sun["direction"], exp["Sun"]["down"], atol=1e-6)
+    np.testing.assert_allclose(sun["color"], [3 * SUN] * 3, rtol=1e-5)
+    spot = get("Spot")
+    assert spot["kind"] == "spot"
+    assert spot["spot_size"] == pytest.approx(math.radians(60))
+    assert spot["spot_blend"] == pytest.approx(0.25)
+    np.testing.assert_allclose(spot["direction"], exp["Spot"]["down"], atol=1e-6)
+    np.testing.assert_allclose(spot["color"], [200 * POINT] * 3, rtol=1e-5)
+    square = get("Square")
+    assert square["kind"] == "rect"
+    np.testing.assert_allclose(square["size"], [2.0, 2.0], rtol=1e-5)
+    np.testing.assert_allclose(square["color"], [80 * AREA] * 3, rtol=1e-5)
+    np.testing.assert_allclose(np.cross(square["axis_u"], square["axis_v"]), exp["Square"]["down"], atol=1e-6)
+    np.testing.assert_allclose(square["direction"], exp["Square"]["down"], atol=1e-6)
+    rect = get("Rect")
+    assert rect["kind"] == "rect"
+    np.testing.assert_allclose(rect["size"], [3.0, 1.0], rtol=1e-5)   # object scale (1.5, 2)
+    disk = get("Disk")
+    assert disk["kind"] == "disk" and disk["radius"] == pytest.approx(0.5)
+    ellipse = get("Ellipse")
+    assert ellipse["kind"] == "disk" and ellipse["radius"] == pytest.approx(0.5)   # equal area
+    assert len(out.lights) == 8
+
+
+def test_lights_fall_off_with_distance_squared(export):
+    out = export("lights")
+    local = [light for light in out.lights if light["kind"] != "sun"]
+    assert all(light.get("inverse_square") for light in local), \
+        "Blender lights need inverse-square falloff (gridwalk.model.Light.inverse_square)"
+
+
+@pytest.mark.parametrize("fit, resolution", [("AUTO", (640, 480)), ("AUTO", (480, 640)),
+                                              ("HORIZONTAL", (480, 640)), ("VERTICAL", (640, 480))])
+def test_camera_vertical_fov_follows_sensor_fit(export, fit, resolution):
+    out = export("camera", fit=fit, resolution=list(resolution), dof=False)
+    w, h = resolution
+    if fit == "VERTICAL":
+        expected = 2 * math.atan(24 / (2 * 50))
+    elif fit == "HORIZONTAL" or w >= h:
+        expected = 2 * math.atan(36 / (2 * 50) * h / w)
+    else:
+        expected = 2 * math.atan(36 / (2 * 50))
+    cam = out.camera
+    assert cam["fov"] == pytest.approx(math.degrees(expected), rel=1e-6)
+    assert (cam["width"], cam["height"]) == (w, h)
+    np.testing.assert_allclose(cam["eye"], [0, -10, 0], atol=1e-6)
+    forward = np.subtract(cam["target"], cam["eye"])
+    np.testing.assert_allclose(forward / np.linalg.norm(forward), [0, 1, 0], atol=1e-6)
+    np.testing.assert_allclose(cam["up"], [0, 0, 1], atol=1e-6)
+    assert cam["aperture"] == 0.0
+
+
+def test_camera_shift_is_in_units_of_the_larger_side(export):
+    out = export("camera", fit="VERTICAL", resolution=[640, 480], dof=False)
+    np.testing.assert_allclose(out.camera["shift"], [0.1 * 480 / 640, -0.05 * 480 / 640], rtol=1e-6)
+
+
+def test_camera_depth_of_field(export):
+    out = export("camera", dof=True)
+    assert out.camera["aperture"] == pytest.approx(0.050 / (2 * 2.8), rel=1e-6)
+    assert out.camera["focus_distance"] == pytest.approx(7.5, rel=1e-6)
+    out = export("camera", dof=True, focus_object=True)
+    assert out.camera["focus_distance"] == pytest.approx(14.0, rel=1e-5)
+
+
+def test_no_camera_is_a_clear_error(export):
+    out = export("no_camera")
+    assert "no active camera" in out.error

@@ -29,7 +29,8 @@ def test_resolution_follows_the_seed_formula():
         expected = np.floor(m * dim / side).astype(int) + 1
         assert np.all(np.abs(np.array(info["resolution"]) - expected) <= 1), (info["resolution"], expected)
         assert info["cells"] == np.prod(info["resolution"])
-        assert info["bytes"] == 4 * (info["cells"] + 1) + 4 * info["refs"]   # compact: offsets + one index list
+        # compact: offsets + one index list, plus one byte per cell for empty-space skipping
+        assert info["bytes"] == 4 * (info["cells"] + 1) + 4 * info["refs"] + info["cells"]
         assert not info["reduced"]
 
 
@@ -95,3 +96,22 @@ def test_mailboxes_are_correct_with_many_threads():
     one = sc.intersect(o, d, threads=1)
     many = sc.intersect(o, d, threads=8)
     assert np.array_equal(one.t, many.t) and np.array_equal(one.prim, many.prim)
+
+
+def test_empty_space_skipping_changes_nothing_but_the_cell_count():
+    from gridwalk.io import load_nff
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1].parent / "shared" / "scenes" / "spd" / "mount_s4.nff"
+    kw = load_nff(path) if path.exists() else balls(3)
+    sc = gw.Scene(**kw)
+    lo, hi = sc.bounds
+    o, d = random_rays(40000, lo, hi, seed=13)
+    d[::5, 0] = 0.0        # some axis-parallel components too
+    for density in (1.0, 3.0):
+        skip = sc.intersect(o, d, grid_density=density, skip_empty=True)
+        walk = sc.intersect(o, d, grid_density=density, skip_empty=False)
+        assert np.array_equal(skip.t, walk.t) and np.array_equal(skip.prim, walk.prim)
+        assert skip.stats["cells"] < walk.stats["cells"]
+        occ_skip = sc.occluded(o, d, tmax=2.0, grid_density=density, skip_empty=True)
+        occ_walk = sc.occluded(o, d, tmax=2.0, grid_density=density, skip_empty=False)
+        assert np.array_equal(occ_skip, occ_walk)

@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "empty_space.h"
 #include "mailbox.h"
 #include "scene.h"
 #include "stats.h"
@@ -15,6 +16,7 @@ namespace gw {
 struct TraceContext {
     Mailbox mailbox;
     Stats stats;
+    bool skip_empty = true;   // grid: jump across blocks of empty cells (empty_space.h)
 };
 
 struct GridInfo {
@@ -87,6 +89,7 @@ private:
     int n_[3] = {1, 1, 1};
     std::vector<uint32_t> offsets_;   // per cell: start in prims_ (size cells + 1)
     std::vector<uint32_t> prims_;     // flat primitive index list
+    std::vector<uint8_t> empty_;      // per cell: Chebyshev distance to the nearest non-empty cell
     GridInfo info_;
 };
 

@@ -11,13 +11,14 @@ namespace gw {
 namespace {
 
 template <class F>
-Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, F&& body) {
+Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, bool skip_empty, F&& body) {
     const int nt = int(std::min<size_t>(size_t(resolve_threads(threads)), std::max<size_t>(1, n / 4096 + 1)));
     Stats total;
     std::mutex mu;
     auto run = [&](int k) {
         TraceContext ctx;
         if (mailboxes) ctx.mailbox.resize(accel.scene().num_prims());
+        ctx.skip_empty = skip_empty;
         const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
         for (size_t i = lo; i < hi; ++i) body(i, ctx);
         std::lock_guard<std::mutex> lock(mu);
@@ -43,9 +44,9 @@ Ray make_ray(const float* o, const float* d, const float* tmin, const float* tma
 }  // namespace
 
 Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                      size_t n, int threads, bool mailboxes, bool spawned, const BatchOut& out) {
+                      size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, const BatchOut& out) {
     const Scene& sc = accel.scene();
-    return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
+    return parallel_rays(accel, n, threads, mailboxes, skip_empty, [&](size_t i, TraceContext& ctx) {
         const RayPre r(make_ray(o, d, tmin, tmax, i, spawned));
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
@@ -69,8 +70,8 @@ Stats intersect_batch(const Accel& accel, const float* o, const float* d, const 
 }
 
 Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                     size_t n, int threads, bool mailboxes, bool spawned, uint8_t* out) {
-    return parallel_rays(accel, n, threads, mailboxes, [&](size_t i, TraceContext& ctx) {
+                     size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, uint8_t* out) {
+    return parallel_rays(accel, n, threads, mailboxes, skip_empty, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
         out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i, spawned)), ctx) ? 1 : 0;
     });

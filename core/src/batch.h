@@ -11,10 +11,10 @@ struct BatchOut {
 
 // Closest hits. prim is the index within its kind (-1 on a miss), t = inf on a miss.
 Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                      size_t n, int threads, bool mailboxes, bool spawned, const BatchOut& out);
+                      size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, const BatchOut& out);
 // Any hit in (tmin, tmax).
 Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                     size_t n, int threads, bool mailboxes, bool spawned, uint8_t* out);
+                     size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, uint8_t* out);
 
 // Origins for secondary rays leaving the given hits in new_d, offset exactly
 // as the integrator offsets them (offset.h). prim is the global index.

@@ -84,6 +84,7 @@ NB_MODULE(_core, m) {
         .def_rw("grid_density", &RenderSettings::grid_density)
         .def_rw("max_cells", &RenderSettings::max_cells)
         .def_rw("mailboxes", &RenderSettings::mailboxes)
+        .def_rw("skip_empty", &RenderSettings::skip_empty)
         .def_rw("threads", &RenderSettings::threads)
         .def_rw("tile_size", &RenderSettings::tile_size)
         .def_rw("max_depth", &RenderSettings::max_depth)
@@ -139,7 +140,7 @@ NB_MODULE(_core, m) {
 
     m.def("intersect",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes, bool spawned) {
+             bool mailboxes, bool spawned, bool skip_empty) {
               check_rays(o, d, tmin, tmax);
               const size_t n = o.shape(0);
               auto t = owned<float, 1>({n});
@@ -153,14 +154,14 @@ NB_MODULE(_core, m) {
               {
                   nb::gil_scoped_release release;
                   st = intersect_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes, spawned,
-                                      out);
+                                      skip_empty, out);
               }
               return nb::make_tuple(t, prim, kind, u, v, nrm, stats_dict(st));
           });
 
     m.def("occluded",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes, bool spawned) {
+             bool mailboxes, bool spawned, bool skip_empty) {
               check_rays(o, d, tmin, tmax);
               const size_t n = o.shape(0);
               auto hit = owned<uint8_t, 1>({n});
@@ -168,7 +169,7 @@ NB_MODULE(_core, m) {
               {
                   nb::gil_scoped_release release;
                   st = occluded_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes,
-                                      spawned, hit.data());
+                                      spawned, skip_empty, hit.data());
               }
               return nb::make_tuple(hit, stats_dict(st));
           });

@@ -7,6 +7,9 @@
 
 namespace gw {
 
+// Largest empty-block radius stored per cell (jumps cross up to 2 * cap - 1 cells).
+constexpr int kEmptyCap = 16;
+
 Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
     const auto t_start = std::chrono::steady_clock::now();
     if (!(p.density > 0) || !std::isfinite(p.density)) throw std::invalid_argument("grid_density must be > 0");
@@ -88,7 +91,8 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
                 for (int x = c0[0]; x <= c1[0]; ++x) prims_[counts[(uint64_t(z) * n_[1] + y) * n_[0] + x]++] = uint32_t(i);
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
-    info_.bytes = offsets_.size() * 4 + prims_.size() * 4;
+    empty_ = empty_distance(offsets_, n_, kEmptyCap);
+    info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     if (info_.reduced)
         info_.note = "grid density reduced from " + std::to_string(p.density) + " to " + std::to_string(m) +
@@ -117,7 +121,7 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     // Clip the ray to the grid box. Zero direction components give +-inf
     // reciprocals; 0 * inf = NaN is ignored by the ordered comparisons, which
     // treats a ray lying in a boundary plane as inside (pbrt's slab test).
-    float t0 = ray.tmin, t1 = hit.t;
+    float t0 = ray.tmin, t1 = hit.t;   // t1: where the ray leaves the grid (or its tmax)
     Vec3 inv;
     for (int a = 0; a < 3; ++a) {
         inv[a] = 1.0f / ray.d[a];
@@ -158,8 +162,32 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     int64_t c = (int64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
     bool found = false;
     const Scene& sc = *scene_;
+    float t_jump = t0;   // entry t of the last jump: every jump must move beyond it
     for (;;) {
         ++ctx.stats.cells;
+        const int k = ctx.skip_empty ? empty_[c] : 0;
+        if (k >= 2) {
+            // Cells within k - 1 of this one are all empty: leave that block in one jump.
+            float t_exit = kInf;
+            for (int a = 0; a < 3; ++a) {
+                if (step[a] == 0) continue;
+                const int face = step[a] > 0 ? cell[a] + k : cell[a] - (k - 1);
+                t_exit = std::min(t_exit, (lo_[a] + float(face) * cell_[a] - ray.o[a]) * inv[a]);
+            }
+            if (hit.t <= t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
+            if (t_exit > t_jump) {
+                t_jump = t_exit;
+                for (int a = 0; a < 3; ++a) {
+                    const float x = (ray.o[a] + ray.d[a] * t_exit - lo_[a]) * inv_cell_[a];
+                    cell[a] = int(std::min(std::max(x, 0.0f), float(n_[a] - 1)));
+                    if (step[a] > 0) tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
+                    else if (step[a] < 0) tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+                }
+                c = (int64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
+                continue;
+            }
+            // Rounding left us where the last jump started: take a normal DDA step.
+        }
         for (uint32_t k = offsets_[c], e = offsets_[c + 1]; k < e; ++k) {
             const uint32_t prim = prims_[k];
             if (mailboxes && ctx.mailbox.seen(prim)) { ++ctx.stats.mailbox_skips; continue; }

@@ -13,6 +13,7 @@ struct RenderSettings {
     double grid_density = 2.0;         // the seed's M
     uint64_t max_cells = 1ull << 24;   // grid cell cap (M is reduced past it)
     bool mailboxes = true;
+    bool skip_empty = true;            // grid: jump across blocks of empty cells
     int threads = 0;                   // 0 = all cores
     int tile_size = 32;
     int max_depth = 5;                 // ray generations: primary = 1

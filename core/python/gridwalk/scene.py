@@ -148,26 +148,28 @@ class Scene:
         return o, d, lo, hi
 
     def intersect(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
-                  mailboxes=True, threads=0, spawned=False) -> Hits:
+                  mailboxes=True, threads=0, spawned=False, skip_empty=True) -> Hits:
         """Closest hits of a batch of rays (multithreaded, GIL released).
 
         spawned=True treats the rays as leaving a surface (as the renderer's
         secondary rays do, e.g. from spawn_origins): hits closer than the
         triangle test's own error bound are then rejected as self-hits.
+        skip_empty=False walks every grid cell (no empty-space jumps).
         """
         s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
         t, prim, kind, u, v, n, stats = _core.intersect(self.accel(s), o, d, lo, hi, int(threads),
-                                                        bool(mailboxes and accel == "grid"), bool(spawned))
+                                                        bool(mailboxes and accel == "grid"), bool(spawned),
+                                                        bool(skip_empty))
         return Hits(t, prim, kind, u, v, n, stats)
 
     def occluded(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
-                 mailboxes=True, threads=0, spawned=False) -> np.ndarray:
+                 mailboxes=True, threads=0, spawned=False, skip_empty=True) -> np.ndarray:
         """True where anything is hit in (tmin, tmax): shadow-ray queries."""
         s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
         hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, int(threads), bool(mailboxes and accel == "grid"),
-                                bool(spawned))
+                                bool(spawned), bool(skip_empty))
         return hit.astype(bool)
 
     def spawn_origins(self, origins, directions, hits: Hits, new_directions) -> np.ndarray:

@@ -19,6 +19,8 @@ class RenderSettings:
     grid_density: the seed's M in N_ax = floor(M * dim_ax / cbrt(V / N)) + 1.
     max_cells: cap on grid cells; past it M is reduced (reported in stats).
     mailboxes: skip primitives already tested by the same ray (per-thread stamps).
+    skip_empty: jump across blocks of empty grid cells (proximity clouds); off
+        walks every cell, as in Havran & Sixta's cell counts.
     threads: worker threads, 0 = all cores. tile_size: tile edge in pixels.
     max_depth: ray generations (primary rays are generation 1).
     seed: random seed; the image is a pure function of the seed.
@@ -41,6 +43,7 @@ class RenderSettings:
     grid_density: float = 2.0
     max_cells: int = 1 << 24
     mailboxes: bool = True
+    skip_empty: bool = True
     threads: int = 0
     tile_size: int = 32
     max_depth: int = 5
@@ -77,6 +80,7 @@ class RenderSettings:
             raise ValueError("RenderSettings.max_cells must be >= 1")
         c.max_cells = int(self.max_cells)
         c.mailboxes = bool(self.mailboxes)
+        c.skip_empty = bool(self.skip_empty)
         c.threads = int(self.threads)
         c.tile_size = int(self.tile_size)
         c.max_depth = int(self.max_depth)

@@ -35,6 +35,12 @@ class GridwalkRenderSettings(bpy.types.PropertyGroup):
                                 description="Cells per axis factor M of the uniform grid")
     mailboxes: BoolProperty(name="Mailboxes", default=True,
                             description="Skip primitives already tested by the same ray")
+    skip_empty: BoolProperty(name="Skip Empty Space", default=True,
+                             description="Jump across blocks of empty grid cells")
+    max_cells: IntProperty(name="Max Cells", default=1 << 24, min=1, max=2**31 - 1,
+                           description="Cap on grid cells; past it the density M is reduced")
+    min_weight: FloatProperty(name="Min Path Weight", default=1e-3, min=0.0, max=1.0, precision=4,
+                              description="Secondary rays whose path weight falls below this are skipped")
     threads: IntProperty(name="Threads", default=0, min=0, max=1024,
                          description="Worker threads (0 = all cores)")
     tile_size: IntProperty(name="Tile Size", default=32, min=4, max=1024)

@@ -6,7 +6,8 @@ are the field's string values in upper case ("JITTERED" -> "jittered").
 from __future__ import annotations
 
 ENUM_FIELDS = ("accel", "aa", "shadow", "filter")
-PLAIN_FIELDS = ("grid_density", "mailboxes", "threads", "tile_size", "max_depth", "seed",
+PLAIN_FIELDS = ("grid_density", "mailboxes", "skip_empty", "max_cells", "min_weight", "threads", "tile_size",
+                "max_depth", "seed",
                 "aa_samples", "adaptive_threshold", "adaptive_depth", "filter_width",
                 "shadow_samples", "dof_samples", "glossy_samples")
 

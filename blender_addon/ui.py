@@ -53,6 +53,7 @@ class GRIDWALK_RENDER_PT_sampling(GridwalkPanel, bpy.types.Panel):
         col.prop(props, "dof_samples", text="DoF Samples")
         col.prop(props, "glossy_samples", text="Glossy Rays")
         col.prop(props, "max_depth")
+        col.prop(props, "min_weight")
 
 
 class GRIDWALK_RENDER_PT_acceleration(GridwalkPanel, bpy.types.Panel):
@@ -68,6 +69,8 @@ class GRIDWALK_RENDER_PT_acceleration(GridwalkPanel, bpy.types.Panel):
         sub = col.column()
         sub.active = props.accel == "GRID"
         sub.prop(props, "grid_density", text="Density M")
+        sub.prop(props, "max_cells")
+        sub.prop(props, "skip_empty")
         col.prop(props, "mailboxes")
 
 

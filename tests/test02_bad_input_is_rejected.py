@@ -92,3 +92,10 @@ def test_bad_rays_are_rejected_not_crashing():
     sc = make()
     with pytest.raises(ValueError, match="directions must have the shape of origins"):
         sc.intersect(np.zeros((3, 3)), np.zeros((2, 3)))
+
+
+def test_coordinates_beyond_1e30_are_refused():
+    with pytest.raises(ValueError, match=r"sphere_radii\[1\]: the primitive extends beyond \+-1e30"):
+        gw.Scene(sphere_centers=np.zeros((2, 3)), sphere_radii=[1.0, 3e38])
+    with pytest.raises(ValueError, match=r"triangles\[0\]"):
+        gw.Scene(vertices=[[-2e30, 0, 0], [0, 1, 0], [0, 0, 1]], triangles=[[0, 1, 2]])

@@ -16,18 +16,25 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
     const Scene& sc = *scene_;
     const size_t np = sc.num_prims();
     const Bounds b = sc.bounds();
-    const Vec3 ext = b.hi - b.lo;
-    float maxext = std::max(ext.x, std::max(ext.y, ext.z));
-    if (!(maxext > 0)) maxext = std::max(1.0f, std::abs(b.lo.x) + std::abs(b.lo.y) + std::abs(b.lo.z));
+    // Box arithmetic in double: a scene may be a single point, a subnormal
+    // speck, or (up to the scene's +-1e30 limit) huge.
+    double ext[3], maxext = 0, mag = 0;
+    for (int a = 0; a < 3; ++a) {
+        ext[a] = double(b.hi[a]) - double(b.lo[a]);
+        maxext = std::max(maxext, ext[a]);
+        mag = std::max(mag, std::max(std::abs(double(b.lo[a])), std::abs(double(b.hi[a]))));
+    }
+    // The box needs a size the DDA can divide by, even for a point scene.
+    const double scale = std::max(std::max(maxext, mag * 1e-6), 1e-12);
     // Pad the box a little on every side; give flat axes a thickness so the DDA
     // has a non-empty slab. An axis is flat when its extent is below 1e-4 of
-    // the largest: it gets one cell and is left out of the cell-size formula.
+    // the scale: it gets one cell and is left out of the cell-size formula.
     bool flat[3];
     for (int a = 0; a < 3; ++a) {
-        flat[a] = !(ext[a] > 1e-4f * maxext);
-        const float pad = flat[a] ? 1e-3f * maxext : 1e-5f * maxext;
-        lo_[a] = b.lo[a] - pad - std::abs(b.lo[a]) * 1e-6f;
-        hi_[a] = b.hi[a] + pad + std::abs(b.hi[a]) * 1e-6f;
+        flat[a] = !(ext[a] > 1e-4 * scale);
+        const double pad = (flat[a] ? 1e-3 : 1e-5) * scale;
+        lo_[a] = next_down(float(double(b.lo[a]) - pad - std::abs(double(b.lo[a])) * 1e-6));
+        hi_[a] = next_up(float(double(b.hi[a]) + pad + std::abs(double(b.hi[a])) * 1e-6));
     }
     // N_ax = floor(M * dim_ax / cbrt(V / N)) + 1, generalised to k non-flat axes.
     int k = 0;

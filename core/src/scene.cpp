@@ -119,7 +119,21 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     camera_ = CameraDesc{v3(c), v3(c + 3), v3(c + 6), c[9], int(c[10]), int(c[11]), c[12], c[13], c[14], c[15], c[16]};
     if (camera_.width < 1 || camera_.height < 1) bad("camera resolution must be at least 1x1");
 
-    for (size_t i = 0; i < num_prims(); ++i) bounds_.grow(prim_bounds(i));
+    // Coordinates (and extents) within +-1e30 keep every box, distance and
+    // grid cell computation finite in float.
+    constexpr float kLimit = 1e30f;
+    for (size_t i = 0; i < num_prims(); ++i) {
+        const Bounds pb = prim_bounds(i);
+        if (!(std::max(std::abs(pb.lo.x), std::max(std::abs(pb.lo.y), std::abs(pb.lo.z))) <= kLimit &&
+              std::max(std::abs(pb.hi.x), std::max(std::abs(pb.hi.y), std::abs(pb.hi.z))) <= kLimit)) {
+            const char* what = kind_of(i) == PrimKind::Triangle ? "triangles"
+                             : kind_of(i) == PrimKind::Sphere   ? "sphere_radii"
+                                                                 : "cylinder_base_radius";
+            bad(std::string(what) + "[" + std::to_string(local_index(i)) +
+                "]: the primitive extends beyond +-1e30, which the core cannot represent");
+        }
+        bounds_.grow(pb);
+    }
 }
 
 bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const {

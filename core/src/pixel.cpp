@@ -97,11 +97,10 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
 // traced once per tile; inner points once per pixel.
 void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4],
                                    FirstHit* fh) const {
-    // Level of the point: the coarsest lattice it belongs to; it is jittered
-    // within that lattice's spacing.
-    int level = D;
-    while (level > 0 && ((gx | gy) & ((1u << (D - level + 1)) - 1)) == 0) --level;
-    const float spacing = 1.0f / float(1 << level);
+    // Every point is jittered within the finest cell around it. (Jittering a
+    // pixel corner by up to half a pixel lets all four corners fall on the same
+    // side of an edge that crosses the pixel, which then never subdivides.)
+    const float spacing = 1.0f / float(1 << D);
     const uint32_t key = hash4(gx, gy, uint32_t(D), 0xADu);
     Rng jr(s_.seed ^ 0x2545f491U, key, 0);
     const float px = float(gx) / float(1 << D) + (jr.next() - 0.5f) * spacing;
@@ -125,17 +124,28 @@ void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx,
 PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const {
     const int D = s_.adaptive_depth;
     const int side = (1 << D) + 1;
-    sc.lattice.assign(size_t(side) * side * 5, 0.0f);   // rgba + "computed" flag
+    // Entries are reused across pixels; a stamp per entry marks the ones this
+    // pixel computed, so a pixel that never subdivides costs O(1), not O(4^D).
+    if (sc.stamp.size() != size_t(side) * side) {
+        sc.lattice.assign(size_t(side) * side * 4, 0.0f);
+        sc.stamp.assign(size_t(side) * side, 0);
+        sc.generation = 0;
+    }
+    if (++sc.generation == 0) {
+        std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
+        sc.generation = 1;
+    }
     PixelValue pv;
     const int ci = x - sc.x0, cj = y - sc.y0;
     pv.first = sc.corner_hits[size_t(cj) * (sc.w + 1) + ci];
     auto point = [&](int i, int j) -> const float* {
         if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1))
             return &sc.corners[4 * (size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0))];
-        float* e = &sc.lattice[(size_t(j) * side + i) * 5];
-        if (e[4] == 0) {
+        const size_t k = size_t(j) * side + i;
+        float* e = &sc.lattice[4 * k];
+        if (sc.stamp[k] != sc.generation) {
             lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e, nullptr);
-            e[4] = 1;
+            sc.stamp[k] = sc.generation;
         }
         return e;
     };

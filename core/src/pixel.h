@@ -18,7 +18,9 @@ struct PixelValue {
 // Per-thread scratch for adaptive sampling: one pixel's lattice, and the
 // pixel corners of the current tile (traced once, shared by the tile's pixels).
 struct PixelScratch {
-    std::vector<float> lattice;
+    std::vector<float> lattice;       // rgba per lattice point of the current pixel
+    std::vector<uint32_t> stamp;      // == generation: the point is computed for this pixel
+    uint32_t generation = 0;
     std::vector<float> corners;       // rgba per corner, (w + 1) x (h + 1)
     std::vector<FirstHit> corner_hits;
     int x0 = 0, y0 = 0, w = 0;

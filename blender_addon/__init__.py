@@ -16,15 +16,17 @@ bl_info = {
 
 
 def register():
-    from . import dependencies, engine, properties, ui
+    from . import dependencies, engine, nff_import, properties, ui
     dependencies.add_bundled_wheels()
     properties.register()
     ui.register()
     engine.register()
+    nff_import.register()
 
 
 def unregister():
-    from . import engine, properties, ui
+    from . import engine, nff_import, properties, ui
+    nff_import.unregister()
     engine.unregister()
     ui.unregister()
     properties.unregister()

@@ -23,7 +23,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import plyfile
 
 from ..model import Camera, Light, Material
 from .common import SceneFileError, fan_triangulate, scene_kwargs
@@ -66,6 +65,10 @@ def load_ply(path) -> dict:
 
 def load_ply_mesh(path) -> PlyMesh:
     """Read a PLY file's triangle mesh; malformed files raise SceneFileError."""
+    # Imported here, not at the top: gridwalk.io (the NFF reader) must import
+    # where plyfile is absent, e.g. in Blender, whose add-on bundles only gridwalk.
+    import plyfile
+
     path = Path(path)
     _check_header(path)
     try:

@@ -2,15 +2,67 @@
 
 render() never touches bpy.context: the scene, view layer and objects all come
 from the depsgraph Blender passes in. Every failure (no camera, empty scene,
-invalid geometry, a core error) becomes a message in Blender's report and
-error_set; nothing propagates into Blender.
+invalid geometry, a scene too large for memory, a core error) becomes a
+message in Blender's report and error_set; nothing propagates into Blender.
+
+Before anything large is built, the triangles are counted from the evaluated
+meshes and gridwalk.memory estimates the render's memory; past the limit
+(memory_limit() below) the render is refused with the estimate and the limit.
+Blender's render border becomes RenderSettings.region. A cancel (test_break)
+is honoured between the stages and, through streaming.run, while rendering.
 """
+import os
 import time
 
 import bpy
 
 from . import dependencies, streaming
 from .settings import render_settings
+
+MEMORY_LIMIT_ENV = "GRIDWALK_MEMORY_LIMIT_MB"
+AROUND = [(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if (x, y, z) != (0, 0, 0)]
+
+
+def camera_enclosed(gw_scene, camera, settings) -> bool:
+    """Whether the camera sits inside a closed object: rays from the eye in 26
+    directions (to the faces, edges and corners of a cube) all meet the back
+    of a surface. Uses the render's own grid; skipped (False) when the grid
+    settings differ from the ones Scene.intersect builds with."""
+    import numpy as np
+
+    if int(settings.max_cells) != type(settings)().max_cells:
+        return False
+    directions = np.array(AROUND, dtype=np.float32)
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    origins = np.tile(np.asarray(camera.eye, dtype=np.float32), (len(directions), 1))
+    hits = gw_scene.intersect(origins, directions, tmin=float(camera.hither), accel=settings.accel,
+                              grid_density=settings.grid_density, mailboxes=False, threads=1)
+    facing = np.sum(hits.normal * directions, axis=1)
+    return bool(np.all(np.isfinite(hits.t)) and np.all(facing > 0))
+
+
+def memory_limit(props, memory) -> tuple[int | None, str]:
+    """(limit in bytes or None, where it comes from).
+
+    The scene's Memory Limit (MiB, 0 = automatic) and the environment variable
+    GRIDWALK_MEMORY_LIMIT_MB each set a limit; when both are set the lower
+    wins. Otherwise the limit is memory.DEFAULT_FRACTION of physical memory.
+    """
+    limits = []
+    if getattr(props, "memory_limit", 0) > 0:
+        limits.append((int(props.memory_limit) << 20, "Render Properties > Performance > Memory Limit"))
+    env = os.environ.get(MEMORY_LIMIT_ENV, "").strip()
+    if env:
+        try:
+            value = float(env)
+        except ValueError:
+            raise ValueError(f"{MEMORY_LIMIT_ENV}={env!r} is not a number of MiB") from None
+        if value > 0:
+            limits.append((int(value * (1 << 20)), f"set by {MEMORY_LIMIT_ENV}"))
+    if limits:
+        return min(limits)
+    limit = memory.default_limit()
+    return limit, f"{memory.DEFAULT_FRACTION:.0%} of physical memory"
 
 
 class GridwalkRenderEngine(bpy.types.RenderEngine):
@@ -22,6 +74,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)   # required since Blender 4.4
+        self.writer = None                  # the current render's ResultWriter
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
@@ -33,30 +86,85 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
     def render(self, depsgraph):
         try:
             self._render(depsgraph)
+        except KeyboardInterrupt:   # Ctrl-C in a script using the bpy module: a cancel
+            if self.writer is not None:
+                self.writer.ensure_written()
+            print("Gridwalk: cancelled (KeyboardInterrupt); no worker thread is left")
+            self.report({"WARNING"}, "Gridwalk: render interrupted (Ctrl-C)")
         except Exception as exc:   # report, never raise into Blender
+            for warning in getattr(exc, "warnings", ()):
+                self._warn(warning)
             message = f"Gridwalk: {exc}"
             print(message)
             self.report({"ERROR"}, message)
             if hasattr(self, "error_set"):
                 self.error_set(message)
+        finally:
+            self.writer = None
+
+    def _warn(self, warning: str):
+        print("Gridwalk warning:", warning)
+        self.report({"WARNING"}, f"Gridwalk: {warning}")
+
+    def _cancelled(self, stage: str, writer) -> bool:
+        """Honour a cancel between stages; the (empty) result is still written
+        (see ResultWriter.ensure_written)."""
+        if not streaming.break_requested(self):
+            return False
+        writer.ensure_written()
+        print(f"Gridwalk: cancelled {stage}")
+        return True
+
+    def _check_memory(self, gridwalk, depsgraph, settings):
+        """Refuse (gridwalk.memory.SceneTooLarge) a scene whose estimate exceeds the limit."""
+        from gridwalk import memory
+
+        from .export import count_geometry, resolution
+        scene = depsgraph.scene
+        counts = count_geometry(depsgraph)
+        width, height = resolution(scene.render)
+        estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"],
+                                   width=width, height=height, settings=settings, normals=counts["normals"])
+        limit, source = memory_limit(scene.gridwalk, memory)
+        print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
+              f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")
+        what = (f"This scene ({counts['triangles']:,} triangles, {counts['spheres']:,} spheres, "
+                f"{width} x {height} pixels)")
+        memory.check(estimate, limit, what, source)
 
     def _render(self, depsgraph):
         gridwalk = dependencies.import_gridwalk()
-        from .export import export_scene
+        from .export import export_scene, render_region, resolution
 
         scene = depsgraph.scene
-        self.update_stats("", "Gridwalk: exporting scene")
+        settings = render_settings(gridwalk, scene.gridwalk)
+        region = render_region(scene.render)
+        if region is not None:
+            settings = settings.replace(region=region)
+        writer = self.writer = streaming.ResultWriter(self, *resolution(scene.render), depsgraph.view_layer.name,
+                                                      opaque=not scene.render.film_transparent, region=region)
+        self.update_stats("", "Gridwalk: estimating memory")
         t0 = time.perf_counter()
+        self._check_memory(gridwalk, depsgraph, settings)
+        if self._cancelled("before the export", writer):
+            return
+        self.update_stats("", "Gridwalk: exporting scene")
         kwargs, warnings = export_scene(depsgraph)
         for warning in warnings:
-            print("Gridwalk warning:", warning)
-            self.report({"WARNING"}, warning)
+            self._warn(warning)
         t1 = time.perf_counter()
+        if self._cancelled("after the export", writer):
+            return
         self.update_stats("", "Gridwalk: building the grid")
+        camera = kwargs["camera"]
         gw_scene = gridwalk.Scene(**kwargs)
-        job = gridwalk.RenderJob(gw_scene, render_settings(gridwalk, scene.gridwalk))
-        writer = streaming.ResultWriter(self, kwargs["camera"].height, depsgraph.view_layer.name,
-                                        opaque=not scene.render.film_transparent)
+        kwargs = None                      # the core holds its own copies
+        job = gridwalk.RenderJob(gw_scene, settings)
+        if camera_enclosed(gw_scene, camera, settings):
+            self._warn("The camera is inside a closed object (every direction from it meets the back "
+                       "of a surface): the image shows that object's inside")
+        if self._cancelled("after building the grid", writer):
+            return
         completed = streaming.run(self, job, writer)
         print(f"Gridwalk: {'finished' if completed else 'cancelled'}; export {t1 - t0:.3f} s, "
               f"render {job.stats['seconds']:.3f} s, {streaming.stats_text(job)}")

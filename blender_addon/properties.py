@@ -44,6 +44,10 @@ class GridwalkRenderSettings(bpy.types.PropertyGroup):
     threads: IntProperty(name="Threads", default=0, min=0, max=1024,
                          description="Worker threads (0 = all cores)")
     tile_size: IntProperty(name="Tile Size", default=32, min=4, max=1024)
+    memory_limit: IntProperty(name="Memory Limit (MiB)", default=0, min=0, max=2**31 - 1,
+                              description="Refuse to render when the estimated memory exceeds this "
+                                          "(0 = 75% of physical memory; GRIDWALK_MEMORY_LIMIT_MB "
+                                          "also sets a limit, the lower wins)")
     max_depth: IntProperty(name="Max Depth", default=5, min=1, max=64,
                            description="Ray generations (1 = primary rays only)")
     seed: IntProperty(name="Seed", default=0, min=0)

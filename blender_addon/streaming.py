@@ -6,6 +6,9 @@ finished tiles every POLL_SECONDS and writes each into the render result
 reports progress and statistics, and cancels the job as soon as Blender asks
 to stop (test_break): cancel() returns only when no worker thread is left.
 The Depth and Normal passes are written once, for the whole frame, at the end.
+
+A border render (RenderSettings.region) gets a render result the size of the
+border from Blender, so tiles are written relative to the region's corner.
 """
 from __future__ import annotations
 
@@ -26,23 +29,63 @@ def set_pass(render_pass, values: np.ndarray):
         render_pass.rect = flat.reshape(-1, values.shape[2])
 
 
+def break_requested(engine) -> bool:
+    """Whether Blender asks the render to stop (Esc; Ctrl-C in `blender -b`).
+
+    Every cancel check of the engine goes through here. Tests replace this
+    function to cancel at chosen moments: RenderEngine.test_break itself cannot
+    be overridden from Python (Blender's RNA function shadows a subclass
+    attribute), and in the bpy module nothing else can raise Blender's break flag.
+    """
+    return engine.test_break()
+
+
 def stats_text(job) -> str:
     stats = job.stats
     return f"Tiles {job.tiles_done}/{job.tiles_total} | {stats['mrays_per_second']:.1f} Mrays/s"
 
 
 class ResultWriter:
-    """Writes rectangles of the image (row 0 = top, as the core stores it) into Blender."""
+    """Writes rectangles of the image (row 0 = top, as the core stores it) into Blender.
 
-    def __init__(self, engine, height: int, layer_name: str, opaque: bool):
-        self.engine, self.height, self.layer_name, self.opaque = engine, height, layer_name, opaque
+    region = (x, y, w, h) of a border render (row 0 = top) or None: Blender's
+    render result then covers only the region, with its rows bottom-up.
+    """
+
+    def __init__(self, engine, width: int, height: int, layer_name: str, opaque: bool, region=None):
+        self.engine, self.layer_name, self.opaque = engine, layer_name, opaque
+        self.region = tuple(region) if region is not None else (0, 0, width, height)
+        self.written = False
+
+    def write_frame(self, rgba, depth, normal):
+        """Write the whole frame (the region only, for a border render) with its passes."""
+        x, y, w, h = self.region
+        crop = (slice(y, y + h), slice(x, x + w))
+        self.write(x, y, rgba[crop], depth[crop], normal[crop])
+
+    def ensure_written(self):
+        """After a cancel: if no tile was written, write the (empty) result for the
+        whole frame. Blender 4.5 crashes saving a multilayer EXR of a render
+        result that the engine never wrote (seen with write_still)."""
+        if self.written:
+            return
+        _, _, w, h = self.region
+        result = self.engine.begin_result(0, 0, w, h, layer=self.layer_name)
+        if result is not None:
+            self.engine.end_result(result)
+        self.written = True
 
     def write(self, x, y, rgba, depth=None, normal=None):
+        """Write the rectangle whose top-left pixel is (x, y) in the full image."""
         h, w = rgba.shape[:2]
+        rx, ry, _, rh = self.region
         rgba = np.array(rgba, dtype=np.float32)
         if self.opaque:
             rgba[..., 3] = 1.0
-        result = self.engine.begin_result(x, self.height - y - h, w, h, layer=self.layer_name)
+        result = self.engine.begin_result(x - rx, ry + rh - y - h, w, h, layer=self.layer_name)
+        if result is None:
+            raise RuntimeError(f"Blender refused the result rectangle {x - rx}, {ry + rh - y - h}, {w} x {h}")
+        self.written = True
         try:
             passes = result.layers[0].passes
             set_pass(passes["Combined"], rgba)
@@ -70,16 +113,23 @@ def run(engine, job, writer: ResultWriter) -> bool:
                 last_stats = now
             if finished:
                 break
-            if engine.test_break():
+            if break_requested(engine):
                 t_break = time.perf_counter()
                 job.cancel()
                 print(f"Gridwalk: cancel stopped all workers in "
                       f"{(time.perf_counter() - t_break) * 1e3:.1f} ms")
+                for tile in job.poll():         # tiles finished before the workers stopped
+                    writer.write(tile.x, tile.y, tile.rgba)
+                writer.ensure_written()
                 return False
             time.sleep(POLL_SECONDS)
         image = job.wait()          # rethrows a worker's error
-        writer.write(0, 0, image, np.nan_to_num(job.depth, posinf=1e10), job.normal)
+        writer.write_frame(image, np.nan_to_num(job.depth, posinf=1e10), job.normal)
         return True
     except BaseException:
         job.cancel()
+        try:
+            writer.ensure_written()
+        except Exception:           # keep the original error
+            pass
         raise

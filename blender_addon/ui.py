@@ -87,6 +87,7 @@ class GRIDWALK_RENDER_PT_performance(GridwalkPanel, bpy.types.Panel):
         col.prop(props, "threads")
         col.prop(props, "tile_size")
         col.prop(props, "seed")
+        col.prop(props, "memory_limit")
 
 
 class GRIDWALK_OBJECT_PT_settings(GridwalkPanel, bpy.types.Panel):

@@ -33,8 +33,33 @@ class CameraError(ValueError):
 
 
 def resolution(render) -> tuple[int, int]:
-    scale = render.resolution_percentage / 100.0
-    return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+    """Image size in pixels, computed as Blender does (BKE_render_resolution, integers)."""
+    pct = render.resolution_percentage
+    return max(1, render.resolution_x * pct // 100), max(1, render.resolution_y * pct // 100)
+
+
+def render_region(render) -> tuple[int, int, int, int] | None:
+    """Blender's render border as (x, y, w, h) pixels, row 0 at the top, or None.
+
+    Blender truncates border * size in float32 (render_init_from_main), so do
+    we: the region is exactly the rectangle of the render result Blender
+    allocates for a border render. None when the border is off or covers the
+    whole frame.
+    """
+    if not render.use_border:
+        return None
+    width, height = resolution(render)
+    f32 = np.float32
+    x0, x1 = (int(f32(v) * f32(width)) for v in (render.border_min_x, render.border_max_x))
+    y0, y1 = (int(f32(v) * f32(height)) for v in (render.border_min_y, render.border_max_y))
+    x0, x1 = max(0, min(x0, width)), max(0, min(x1, width))
+    y0, y1 = max(0, min(y0, height)), max(0, min(y1, height))
+    if (x0, y0, x1, y1) == (0, 0, width, height):
+        return None
+    if x1 <= x0 or y1 <= y0:
+        raise CameraError(f"The render region is empty ({x1 - x0} x {y1 - y0} pixels): "
+                          "draw a larger border or turn Render Region off")
+    return x0, height - y1, x1 - x0, y1 - y0
 
 
 def vertical_fov_and_side(cam, width: int, height: int) -> tuple[float, float]:
@@ -75,6 +100,8 @@ def convert_camera(cam_obj, render, unit_scale: float = 1.0) -> Camera:
                           "Gridwalk supports perspective cameras only")
     width, height = resolution(render)
     m = to_numpy(cam_obj.matrix_world)
+    if not np.isfinite(m).all():
+        raise CameraError(f"Camera {cam_obj.name!r} has a non-finite transform (NaN or Inf)")
     eye = m[:3, 3].copy()
     forward = unit(-axis(m, 2))
     up = unit(axis(m, 1))

@@ -100,8 +100,12 @@ def light_from_instance(inst, warnings: list):
     obj = inst.object
     if obj.original.hide_render:
         return None
+    matrix = to_numpy(inst.matrix_world)
+    if not np.isfinite(matrix).all():
+        warnings.append(f"Skipped light '{obj.name}': its transform is not finite (NaN or Inf)")
+        return None
     try:
-        return convert_light(obj.data, inst.matrix_world)
+        return convert_light(obj.data, matrix)
     except ValueError as exc:
         warnings.append(f"light {obj.name}: {exc}")
         return None

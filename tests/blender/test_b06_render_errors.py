@@ -8,7 +8,7 @@ from runner import run_script
 
 @pytest.mark.parametrize("scene, message", [
     ("empty", "Gridwalk: Nothing to render"),
-    ("nan", "Gridwalk: vertices"),
+    ("nan", "skipped as invalid: 'Cube'"),    # a NaN vertex: the object is skipped and named
     ("no_camera", "no camera"),      # Blender itself stops before the engine runs
 ])
 def test_bad_scene_reports_a_clear_error(any_blender, tmp_path, scene, message):

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import dataclasses
+
 import bpy
 from bpy.props import IntProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
@@ -44,6 +46,9 @@ def make_material(name, material):
                 socket.default_value = value
                 break
     mat.diffuse_color = (*material.color, 1.0)        # the viewport's solid colour
+    fields = dataclasses.asdict(material)
+    fields["color"] = [float(c) for c in material.color]
+    mat["gridwalk_material"] = fields                   # exported exactly (export/materials.py)
     mat.metallic, mat.roughness = min(max(material.mirror, 0.0), 1.0), 0.0
     return mat
 

@@ -67,6 +67,11 @@ def convert_light(light, matrix) -> Light:
     """One Blender light datablock at world transform `matrix` (mathutils or numpy 4x4)."""
     m = matrix if isinstance(matrix, np.ndarray) else to_numpy(matrix)
     position = tuple(m[:3, 3])
+    nff = light.get("nff_intensity") if hasattr(light, "get") else None
+    if nff is not None and light.type == "POINT":
+        # Imported from NFF (blender_addon/nff_import.py): NFF's light has this
+        # intensity and no distance falloff; Blender's power is only a preview.
+        return Light(position=position, color=tuple(float(c) for c in nff), kind="point")
     x, y, z = (axis(m, i) for i in range(3))
     sx, sy = float(np.linalg.norm(x)), float(np.linalg.norm(y))
     direction = tuple(unit(-z))

@@ -23,6 +23,10 @@ from __future__ import annotations
 
 from gridwalk.model import Material
 
+# Custom property of a material holding gridwalk.Material fields; when present
+# it is exported as is (NFF's Phong highlight has no Principled equivalent).
+GRIDWALK_MATERIAL = "gridwalk_material"
+
 SHININESS_CAP = 1000.0
 DEFAULT_MATERIAL = Material(color=(0.8, 0.8, 0.8), kd=1.0, ks=0.0, shininess=32.0)
 
@@ -119,6 +123,11 @@ def viewport_material(mat) -> Material:
 
 def convert_material(mat):
     """(Material, problem) for one Blender material; problem is None or a short reason."""
+    stored = mat.get(GRIDWALK_MATERIAL) if hasattr(mat, "get") else None
+    if stored is not None:   # set by the NFF importer: the exact Whitted material
+        fields = stored.to_dict() if hasattr(stored, "to_dict") else dict(stored)
+        fields["color"] = tuple(float(c) for c in fields["color"])
+        return Material(**fields), None
     tree = getattr(mat, "node_tree", None)
     use_nodes = getattr(mat, "use_nodes", True)
     if tree is None or not use_nodes:

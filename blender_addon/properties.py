@@ -57,7 +57,7 @@ class GridwalkRenderSettings(bpy.types.PropertyGroup):
     adaptive_threshold: FloatProperty(name="Adaptive Threshold", default=0.05, min=0.0, max=1.0)
     adaptive_depth: IntProperty(name="Adaptive Depth", default=3, min=0, max=6)
     filter: EnumProperty(name="Pixel Filter", items=FILTER_ITEMS, default="BOX")
-    filter_width: FloatProperty(name="Filter Width", default=1.0, min=0.01, max=4.0,
+    filter_width: FloatProperty(name="Filter Width", default=0.5, min=0.01, max=4.0,
                                 description="Gaussian standard deviation in pixels")
     shadow: EnumProperty(name="Soft Shadows", items=SHADOW_ITEMS, default="HARD")
     shadow_samples: IntProperty(name="Shadow Samples", default=1, min=1, max=64,

@@ -99,3 +99,24 @@ def test_coordinates_beyond_1e30_are_refused():
         gw.Scene(sphere_centers=np.zeros((2, 3)), sphere_radii=[1.0, 3e38])
     with pytest.raises(ValueError, match=r"triangles\[0\]"):
         gw.Scene(vertices=[[-2e30, 0, 0], [0, 1, 0], [0, 0, 1]], triangles=[[0, 1, 2]])
+
+
+def test_rect_and_disk_lights_need_a_direction():
+    for kind in ("rect", "disk"):
+        with pytest.raises(ValueError, match="direction must be non-zero"):
+            make(lights=[gw.Light(kind=kind, direction=(0, 0, 0), radius=1.0)])
+
+
+def test_the_private_module_checks_shapes_and_threads_itself():
+    """A caller that skips the Python layer gets errors, not a crash."""
+    sc = make()
+    acc = sc.accel()
+    one = np.zeros(1, np.float32)
+    o = np.zeros((1, 3), np.float32)
+    d = np.array([[0, 0, 1]], np.float32)
+    with pytest.raises(ValueError, match="origins must have shape"):
+        gw._core.spawn_origins(acc, np.zeros((3, 1), np.float32), d, one, np.zeros(1, np.int32), one, one, d)
+    with pytest.raises(ValueError, match="threads"):
+        gw._core.intersect(acc, o, d, one, one, 5000, True, False, True)
+    with pytest.raises(ValueError, match="threads"):
+        gw._core.occluded(acc, o, d, one, one, -1, True, False, True)

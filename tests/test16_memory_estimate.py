@@ -29,8 +29,9 @@ def test_estimate_adds_up_and_scales_with_the_counts():
 def test_grid_is_capped_by_max_cells_and_the_reference_cap():
     s = gw.RenderSettings(threads=1, mailboxes=False)
     capped = memory.estimate(10**9, settings=s.replace(max_cells=1000))
-    refs = memory.MAX_REFS
+    refs = max(memory.MAX_REFS, 10**9)   # as in the core: every primitive keeps at least one reference
     assert capped.grid == 1000 * memory.CELL_BYTES + 4 + refs * memory.REF_BYTES
+    assert memory.grid_refs(10**6, 50.0) == memory.MAX_REFS
     assert memory.grid_cells(10**6, 2.0, 1 << 24) == (2 * 100 + 1) ** 3
     assert memory.grid_refs(100, 2.0) == 500
 

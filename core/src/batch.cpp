@@ -1,6 +1,7 @@
 // Batched ray queries. See batch.h.
 #include "batch.h"
 
+#include <exception>
 #include <mutex>
 #include <thread>
 
@@ -10,24 +11,40 @@
 namespace gw {
 namespace {
 
+// Runs body(i, ctx) for i in [0, n) on fixed chunks, one per thread. An
+// exception in any chunk (e.g. bad_alloc for the mailbox) is caught in its
+// thread and rethrown here after every thread has been joined, so it reaches
+// Python as an exception instead of terminating the process.
 template <class F>
 Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, bool skip_empty, F&& body) {
     const int nt = int(std::min<size_t>(size_t(resolve_threads(threads)), std::max<size_t>(1, n / 4096 + 1)));
     Stats total;
     std::mutex mu;
+    std::exception_ptr error;
     auto run = [&](int k) {
-        TraceContext ctx;
-        if (mailboxes) ctx.mailbox.resize(accel.scene().num_prims());
-        ctx.skip_empty = skip_empty;
-        const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
-        for (size_t i = lo; i < hi; ++i) body(i, ctx);
-        std::lock_guard<std::mutex> lock(mu);
-        total.add(ctx.stats);
+        try {
+            TraceContext ctx;
+            if (mailboxes) ctx.mailbox.resize(accel.scene().num_prims());
+            ctx.skip_empty = skip_empty;
+            const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
+            for (size_t i = lo; i < hi; ++i) body(i, ctx);
+            std::lock_guard<std::mutex> lock(mu);
+            total.add(ctx.stats);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mu);
+            if (!error) error = std::current_exception();
+        }
     };
     std::vector<std::thread> pool;
-    for (int k = 1; k < nt; ++k) pool.emplace_back(run, k);
-    run(0);
+    try {
+        for (int k = 1; k < nt; ++k) pool.emplace_back(run, k);
+    } catch (...) {   // could not start a thread: the chunks it would have run are run here
+        std::lock_guard<std::mutex> lock(mu);
+        if (!error) error = std::current_exception();
+    }
+    if (!error) run(0);
     for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
     return total;
 }
 
@@ -62,7 +79,7 @@ Stats intersect_batch(const Accel& accel, const float* o, const float* d, const 
         } else {
             out.t[i] = kInf;
             out.prim[i] = -1;
-            out.kind[i] = 0;
+            out.kind[i] = int32_t(PrimKind::Miss);
             out.u[i] = out.v[i] = 0;
             out.normal[3 * i] = out.normal[3 * i + 1] = out.normal[3 * i + 2] = 0;
         }

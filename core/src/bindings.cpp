@@ -49,13 +49,17 @@ nb::dict grid_dict(const GridInfo& g) {
     return d;
 }
 
-template <class T, size_t N>
+template <class T>
 nb::ndarray<nb::numpy, T> owned(std::vector<size_t> shape) {
     size_t n = 1;
     for (size_t s : shape) n *= s;
     T* p = new T[n > 0 ? n : 1];
     nb::capsule owner(p, [](void* q) noexcept { delete[] static_cast<T*>(q); });
     return nb::ndarray<nb::numpy, T>(p, shape.size(), shape.data(), owner);
+}
+
+void check_threads(int threads) {
+    if (threads < 0 || threads > 1024) throw std::invalid_argument("threads must be in [0, 1024] (0 = all cores)");
 }
 
 void check_rays(const In<float>& o, const In<float>& d, const In<float>& tmin, const In<float>& tmax) {
@@ -142,13 +146,14 @@ NB_MODULE(_core, m) {
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
              bool mailboxes, bool spawned, bool skip_empty) {
               check_rays(o, d, tmin, tmax);
+              check_threads(threads);
               const size_t n = o.shape(0);
-              auto t = owned<float, 1>({n});
-              auto prim = owned<int32_t, 1>({n});
-              auto kind = owned<int32_t, 1>({n});
-              auto u = owned<float, 1>({n});
-              auto v = owned<float, 1>({n});
-              auto nrm = owned<float, 2>({n, 3});
+              auto t = owned<float>({n});
+              auto prim = owned<int32_t>({n});
+              auto kind = owned<int32_t>({n});
+              auto u = owned<float>({n});
+              auto v = owned<float>({n});
+              auto nrm = owned<float>({n, 3});
               const BatchOut out{t.data(), prim.data(), kind.data(), u.data(), v.data(), nrm.data()};
               Stats st;
               {
@@ -163,8 +168,9 @@ NB_MODULE(_core, m) {
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
              bool mailboxes, bool spawned, bool skip_empty) {
               check_rays(o, d, tmin, tmax);
+              check_threads(threads);
               const size_t n = o.shape(0);
-              auto hit = owned<uint8_t, 1>({n});
+              auto hit = owned<uint8_t>({n});
               Stats st;
               {
                   nb::gil_scoped_release release;
@@ -177,11 +183,12 @@ NB_MODULE(_core, m) {
     m.def("spawn_origins",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> t, In<int32_t> prim, In<float> u,
              In<float> v, In<float> new_d) {
+              if (o.ndim() != 2 || o.shape(1) != 3) throw std::invalid_argument("origins must have shape (N, 3)");
               const size_t n = o.shape(0);
               if (d.size() != 3 * n || t.size() != n || prim.size() != n || u.size() != n || v.size() != n ||
                   new_d.size() != 3 * n)
                   throw std::invalid_argument("spawn_origins: arrays must describe the same N rays");
-              auto out = owned<float, 2>({n, 3});
+              auto out = owned<float>({n, 3});
               {
                   nb::gil_scoped_release release;
                   spawn_batch(*accel, o.data(), d.data(), t.data(), prim.data(), u.data(), v.data(), new_d.data(), n,

@@ -7,7 +7,8 @@
 
 namespace gw {
 
-// Largest empty-block radius stored per cell (jumps cross up to 2 * cap - 1 cells).
+// Largest exact empty-block radius stored per cell; farther cells store cap + 1
+// (a jump then crosses up to 2 * cap + 1 cells).
 constexpr int kEmptyCap = 16;
 
 Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
@@ -98,6 +99,7 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
                 for (int x = c0[0]; x <= c1[0]; ++x) prims_[counts[(uint64_t(z) * n_[1] + y) * n_[0] + x]++] = uint32_t(i);
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
+    std::vector<uint32_t>().swap(counts);   // free before the distance field's scratch
     empty_ = empty_distance(offsets_, n_, kEmptyCap);
     info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -107,18 +109,27 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
                      std::to_string(max_refs) + " references";
 }
 
-// Cells overlapped by a box. The box is inflated by 1/1000 of a cell so that a
-// primitive touching a cell face within rounding error is listed on both sides.
+// Cells overlapped by a box (in double: the difference of two floats is
+// exact). The box is inflated by 1/1000 of a cell plus the float rounding of
+// a cell coordinate at this resolution, so that a primitive touching a cell
+// face within rounding error is listed on both sides.
 void Grid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
     for (int a = 0; a < 3; ++a) {
-        const float top = float(n_[a] - 1);
-        float x0 = (b.lo[a] - lo_[a]) * inv_cell_[a] - 1e-3f;
-        float x1 = (b.hi[a] - lo_[a]) * inv_cell_[a] + 1e-3f;
-        x0 = std::min(std::max(x0, 0.0f), top);
-        x1 = std::min(std::max(x1, 0.0f), top);
+        const double top = double(n_[a] - 1), pad = 1e-3 + 4e-7 * double(n_[a]);
+        double x0 = (double(b.lo[a]) - double(lo_[a])) * double(inv_cell_[a]) - pad;
+        double x1 = (double(b.hi[a]) - double(lo_[a])) * double(inv_cell_[a]) + pad;
+        x0 = std::min(std::max(x0, 0.0), top);
+        x1 = std::min(std::max(x1, 0.0), top);
         c0[a] = int(x0);
         c1[a] = int(x1);
     }
+}
+
+// The cell holding the point at parameter t, located in double so a far-away
+// origin does not shift it by a cell.
+int Grid::cell_at(const Ray& ray, float t, int a) const {
+    const double x = (double(ray.o[a]) - double(lo_[a]) + double(ray.d[a]) * double(t)) * double(inv_cell_[a]);
+    return int(std::min(std::max(x, 0.0), double(n_[a] - 1)));
 }
 
 template <bool AnyHit>
@@ -145,10 +156,7 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     int cell[3], step[3], out[3];
     float tnext[3], tdelta[3];
     for (int a = 0; a < 3; ++a) {
-        const float p = ray.o[a] + ray.d[a] * t0;
-        float x = (p - lo_[a]) * inv_cell_[a];
-        x = std::min(std::max(x, 0.0f), float(n_[a] - 1));
-        cell[a] = int(x);
+        cell[a] = cell_at(ray, t0, a);
         if (ray.d[a] > 0) {
             step[a] = 1; out[a] = n_[a];
             tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
@@ -185,8 +193,7 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
             if (t_exit > t_jump) {
                 t_jump = t_exit;
                 for (int a = 0; a < 3; ++a) {
-                    const float x = (ray.o[a] + ray.d[a] * t_exit - lo_[a]) * inv_cell_[a];
-                    cell[a] = int(std::min(std::max(x, 0.0f), float(n_[a] - 1)));
+                    cell[a] = cell_at(ray, t_exit, a);
                     if (step[a] > 0) tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
                     else if (step[a] < 0) tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
                 }

@@ -60,8 +60,8 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     if (s_.region[2] > 0) {   // render only a region (border render, sparse timing)
         x0 = std::max(0, s_.region[0]);
         y0 = std::max(0, s_.region[1]);
-        x1 = std::min(width, s_.region[0] + s_.region[2]);
-        y1 = std::min(height, s_.region[1] + std::max(1, s_.region[3]));
+        x1 = int(std::min<int64_t>(width, int64_t(s_.region[0]) + s_.region[2]));
+        y1 = int(std::min<int64_t>(height, int64_t(s_.region[1]) + std::max(1, s_.region[3])));
         if (x0 >= x1 || y0 >= y1) throw std::invalid_argument("region lies outside the image");
     }
     for (int y = y0; y < y1; y += s_.tile_size)
@@ -75,14 +75,15 @@ RenderJob::~RenderJob() {
 }
 
 void RenderJob::start() {
-    if (started_) throw std::runtime_error("render job already started");
-    started_ = true;
+    if (started_.exchange(true)) throw std::runtime_error("render job already started");
     t_start_ = now_seconds();
-    nthreads_ = std::min(resolve_threads(s_.threads), std::max(1, int(tiles_.size())));
-    threads_.reserve(size_t(nthreads_));
+    const int wanted = std::min(resolve_threads(s_.threads), std::max(1, int(tiles_.size())));
+    nthreads_.store(wanted);
+    threads_.reserve(size_t(wanted));
     try {
-        for (int i = 0; i < nthreads_; ++i) threads_.emplace_back([this] { worker(); });
+        for (int i = 0; i < wanted; ++i) threads_.emplace_back([this] { worker(); });
     } catch (...) {   // could not start every thread: stop the ones that did
+        nthreads_.store(int(threads_.size()));
         cancel_.store(true);
         join_all();
         throw;
@@ -136,7 +137,7 @@ void RenderJob::worker() {
         cancel_.store(true);
     }
     std::lock_guard<std::mutex> lock(mu_);
-    if (finished_workers_.fetch_add(1) + 1 == nthreads_) t_end_ = now_seconds();
+    if (finished_workers_.fetch_add(1) + 1 == nthreads_.load()) t_end_ = now_seconds();
 }
 
 std::vector<Tile> RenderJob::poll() {
@@ -147,6 +148,7 @@ std::vector<Tile> RenderJob::poll() {
 }
 
 void RenderJob::join_all() {
+    std::lock_guard<std::mutex> lock(join_mu_);
     for (auto& t : threads_)
         if (t.joinable()) t.join();
 }
@@ -163,7 +165,7 @@ void RenderJob::wait() {
 }
 
 double RenderJob::elapsed() const {
-    if (!started_) return 0.0;
+    if (!started_.load()) return 0.0;
     std::lock_guard<std::mutex> lock(mu_);
     return (t_end_ >= 0 ? t_end_ : now_seconds()) - t_start_;
 }

@@ -28,7 +28,7 @@ public:
     std::vector<Tile> poll();            // tiles finished since the last poll
     void cancel();                       // returns once every worker has stopped
     void wait();                         // joins; rethrows a worker's error
-    bool finished() const { return started_ && finished_workers_.load() == nthreads_; }
+    bool finished() const { return started_.load() && finished_workers_.load() == nthreads_.load(); }
     bool cancelled() const { return cancel_.load(); }
     int tiles_done() const { return tiles_done_.load(); }
     int tiles_total() const { return int(tiles_.size()); }
@@ -36,7 +36,9 @@ public:
     Stats stats() const;
 
     int width, height;
-    std::vector<float> rgba, depth, normal;   // (H, W, 4), (H, W), (H, W, 3); row 0 is the top
+    // (H, W, 4), (H, W), (H, W, 3); row 0 is the top. Complete after wait();
+    // before that, only tiles returned by poll() are final.
+    std::vector<float> rgba, depth, normal;
 
 private:
     void worker();
@@ -48,8 +50,9 @@ private:
     std::vector<std::thread> threads_;
     std::atomic<int> next_tile_{0}, tiles_done_{0}, finished_workers_{0};
     std::atomic<bool> cancel_{false};
-    bool started_ = false;
-    int nthreads_ = 0;
+    std::atomic<bool> started_{false};
+    std::atomic<int> nthreads_{0};
+    std::mutex join_mu_;   // wait() and cancel() may be called from two Python threads at once
     mutable std::mutex mu_;
     std::vector<Tile> ready_;
     Stats stats_;

@@ -96,8 +96,9 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     for (size_t i = 0; i < lights.size() / kLightWidth; ++i) {
         const float* l = &lights[i * kLightWidth];
         Light L;
+        if (!(l[0] >= 0 && l[0] <= 5) || float(int(l[0])) != l[0])
+            bad("lights[" + std::to_string(i) + "] has an unknown kind");
         const int k = int(l[0]);
-        if (k < 0 || k > 5 || float(k) != l[0]) bad("lights[" + std::to_string(i) + "] has an unknown kind");
         L.kind = LightKind(k);
         L.position = v3(l + 1);
         L.color = v3(l + 4);
@@ -111,11 +112,14 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
         L.spot_cos = l[20];
         L.spot_blend = l[21];
         L.inverse_square = l[22] != 0;
-        if ((L.kind == LightKind::Sun || L.kind == LightKind::Spot) && length(v3(l + 13)) == 0)
+        if ((L.kind == LightKind::Sun || L.kind == LightKind::Spot || L.kind == LightKind::Rect ||
+             L.kind == LightKind::Disk) && length(v3(l + 13)) == 0)
             bad("lights[" + std::to_string(i) + "] needs a non-zero direction");
         lights_.push_back(L);
     }
     const float* c = camera.data();
+    if (!(c[10] >= 1 && c[11] >= 1 && c[10] * c[11] <= float(1 << 28)))
+        bad("camera resolution must be at least 1x1 and at most 2^28 pixels");
     camera_ = CameraDesc{v3(c), v3(c + 3), v3(c + 6), c[9], int(c[10]), int(c[11]), c[12], c[13], c[14], c[15], c[16]};
     if (camera_.width < 1 || camera_.height < 1) bad("camera resolution must be at least 1x1");
 
@@ -220,7 +224,10 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
         sp.material = tri_mat_[prim];
         sp.ns = sp.ng;
         if (!normals_.empty()) {
-            auto nrm = [&](int32_t i) { return Vec3{normals_[3 * i], normals_[3 * i + 1], normals_[3 * i + 2]}; };
+            auto nrm = [&](int32_t i) {
+                const size_t k = 3 * size_t(i);
+                return Vec3{normals_[k], normals_[k + 1], normals_[k + 2]};
+            };
             const Vec3 n = nrm(f[0]) * b0 + nrm(f[1]) * hit.u + nrm(f[2]) * hit.v;
             const float len = length(n);
             if (len > 0 && std::isfinite(len)) {

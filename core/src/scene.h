@@ -97,7 +97,10 @@ public:
     size_t memory_bytes() const;
 
 private:
-    Vec3 vert(int32_t i) const { return {verts_[3 * i], verts_[3 * i + 1], verts_[3 * i + 2]}; }
+    Vec3 vert(int32_t i) const {
+        const size_t k = 3 * size_t(i);
+        return {verts_[k], verts_[k + 1], verts_[k + 2]};
+    }
 
     std::vector<float> verts_, normals_;
     std::vector<Vec3> tri_verts_;   // 3 per triangle: the hot loop reads one contiguous record

@@ -23,7 +23,7 @@ struct RenderSettings {
     float adaptive_threshold = 0.05f;  // colour difference that triggers subdivision
     int adaptive_depth = 3;            // maximum subdivision levels
     PixelFilter filter = PixelFilter::Box;
-    float filter_width = 1.0f;         // Gaussian standard deviation in pixels (radius 2 sigma)
+    float filter_width = 0.5f;         // Gaussian standard deviation in pixels (clipped at 2 sigma)
     ShadowMode shadow = ShadowMode::Hard;
     int shadow_samples = 1;            // random: rays per light; area: n for the n x n light grid
     int dof_samples = 1;               // lens samples per pixel sample

@@ -41,15 +41,17 @@ inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, floa
     // so it is rejected. This is what keeps a ray spawned exactly on a
     // triangle (zero position error, e.g. an axis-aligned floor) from
     // re-hitting it.
-    const float max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
-    const float max_xt = std::max(std::abs(Ax), std::max(std::abs(Bx), std::abs(Cx)));
-    const float max_yt = std::max(std::abs(Ay), std::max(std::abs(By), std::abs(Cy)));
-    const float dz = gamma_bound(3) * max_zt;
-    const float dx = gamma_bound(5) * (max_xt + max_zt), dy = gamma_bound(5) * (max_yt + max_zt);
-    const float de = 2.0f * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
-    const float max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
-    const float dt = 3.0f * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) * inv;
-    if (r.ray.spawned && !(t > dt)) return false;
+    if (r.ray.spawned) {
+        const float max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
+        const float max_xt = std::max(std::abs(Ax), std::max(std::abs(Bx), std::abs(Cx)));
+        const float max_yt = std::max(std::abs(Ay), std::max(std::abs(By), std::abs(Cy)));
+        const float dz = gamma_bound(3) * max_zt;
+        const float dx = gamma_bound(5) * (max_xt + max_zt), dy = gamma_bound(5) * (max_yt + max_zt);
+        const float de = 2.0f * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
+        const float max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
+        const float dt = 3.0f * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) * inv;
+        if (!(t > dt)) return false;
+    }
     t_out = t;
     b1 = V * inv;
     b2 = W * inv;

@@ -90,10 +90,11 @@ def grid_cells(primitives: int, density: float, max_cells: int) -> int:
 
 
 def grid_refs(primitives: int, density: float) -> int:
-    """Primitive references stored in the grid (estimate), capped at MAX_REFS."""
+    """Primitive references stored in the grid (estimate). The core caps them at
+    max(MAX_REFS, primitives): every primitive keeps at least one reference."""
     if primitives <= 0:
         return 0
-    return min(MAX_REFS, max(primitives, math.ceil(primitives * (1.0 + density * density))))
+    return max(primitives, min(MAX_REFS, math.ceil(primitives * (1.0 + density * density))))
 
 
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,

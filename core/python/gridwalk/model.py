@@ -11,9 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-# Column layout of the packed material table (float32, one row per material).
-MATERIAL_COLUMNS = ("r", "g", "b", "kd", "ks", "shininess", "transmittance",
-                    "ior", "mirror", "roughness", "emission", "pad")
+# Packed material table: float32 rows of (r, g, b, kd, ks, shininess,
+# transmittance, ior, mirror, roughness, emission, pad); see Material.packed.
 # Light kinds, as stored in column 0 of the packed light table.
 LIGHT_KINDS = {"point": 0, "sphere": 1, "rect": 2, "disk": 3, "sun": 4, "spot": 5}
 LIGHT_WIDTH = 24
@@ -92,8 +91,8 @@ class Light:
         u = _vec3(self.axis_u, "Light.axis_u")
         v = _vec3(self.axis_v, "Light.axis_v")
         d = _vec3(self.direction, "Light.direction")
-        if self.kind in ("sun", "spot") and np.linalg.norm(d) == 0:
-            raise ValueError("Light.direction must be non-zero for sun and spot lights")
+        if self.kind in ("sun", "spot", "rect", "disk") and np.linalg.norm(d) == 0:
+            raise ValueError("Light.direction must be non-zero for sun, spot, rect and disk lights")
         if self.radius < 0 or self.angle < 0:
             raise ValueError("Light.radius and Light.angle must be >= 0")
         w, h = float(self.size[0]), float(self.size[1])

@@ -27,7 +27,8 @@ import numpy as np
 import gridwalk as gw
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.ticker import NullFormatter  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import sve_scenes  # noqa: E402
@@ -126,6 +127,7 @@ def plot(name, title, rows, info, out, xlabel):
         ax.set_xlabel(xl)
         ax.set_ylabel("RMSE")
         ax.grid(True, which="both", alpha=0.3)
+        ax.xaxis.set_minor_formatter(NullFormatter())   # minor labels overlap on short log ranges
     a1.legend(fontsize=7)
     fig.suptitle(title)
     fig.tight_layout()

@@ -11,9 +11,14 @@
 
 namespace gw {
 
+class Accel;
+
 // Per-thread state for traversal: the mailbox (enabled when sized to the
 // primitive count) and the statistics counters.
 struct TraceContext {
+    TraceContext() = default;
+    // Mailboxes are sized only where the acceleration structure uses them.
+    TraceContext(const Accel& accel, bool mailboxes, bool skip_empty);
     Mailbox mailbox;
     Stats stats;
     bool skip_empty = true;   // grid: jump across blocks of empty cells (empty_space.h)
@@ -35,6 +40,7 @@ public:
     // True if anything is hit in (ray.tmin, ray.tmax).
     virtual bool occluded(const RayPre& r, TraceContext& ctx) const = 0;
     virtual GridInfo info() const { return {}; }
+    virtual bool uses_mailboxes() const { return false; }
     const Scene& scene() const { return *scene_; }
 
 protected:
@@ -79,8 +85,15 @@ public:
     bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override;
     bool occluded(const RayPre& r, TraceContext& ctx) const override;
     GridInfo info() const override { return info_; }
+    bool uses_mailboxes() const override { return true; }
 
 private:
+    template <class F>
+    void for_cells(const int c0[3], const int c1[3], F&& f) const {   // f(linear cell index)
+        for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x) f((uint64_t(z) * n_[1] + y) * n_[0] + x);
+    }
     template <bool AnyHit>
     bool traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const;
     void cell_range(const Bounds& b, int lo[3], int hi[3]) const;
@@ -93,5 +106,10 @@ private:
     std::vector<uint8_t> empty_;      // per cell: Chebyshev distance to the nearest non-empty cell
     GridInfo info_;
 };
+
+inline TraceContext::TraceContext(const Accel& accel, bool mailboxes, bool skip)
+    : skip_empty(skip) {
+    if (mailboxes && accel.uses_mailboxes()) mailbox.resize(accel.scene().num_prims());
+}
 
 }  // namespace gw

@@ -23,9 +23,7 @@ Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, b
     std::exception_ptr error;
     auto run = [&](int k) {
         try {
-            TraceContext ctx;
-            if (mailboxes) ctx.mailbox.resize(accel.scene().num_prims());
-            ctx.skip_empty = skip_empty;
+            TraceContext ctx(accel, mailboxes, skip_empty);
             const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
             for (size_t i = lo; i < hi; ++i) body(i, ctx);
             std::lock_guard<std::mutex> lock(mu);

@@ -70,9 +70,7 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
         for (size_t i = 0; i < np && refs <= max_refs; ++i) {
             int c0[3], c1[3];
             cell_range(sc.prim_bounds(i), c0, c1);
-            for (int z = c0[2]; z <= c1[2]; ++z)
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x) ++counts[(uint64_t(z) * n_[1] + y) * n_[0] + x];
+            for_cells(c0, c1, [&](uint64_t c) { ++counts[c]; });
             refs += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
         }
         if (refs > max_refs && cells > 1) {
@@ -94,9 +92,7 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
     for (size_t i = 0; i < np; ++i) {
         int c0[3], c1[3];
         cell_range(sc.prim_bounds(i), c0, c1);
-        for (int z = c0[2]; z <= c1[2]; ++z)
-            for (int y = c0[1]; y <= c1[1]; ++y)
-                for (int x = c0[0]; x <= c1[0]; ++x) prims_[counts[(uint64_t(z) * n_[1] + y) * n_[0] + x]++] = uint32_t(i);
+        for_cells(c0, c1, [&](uint64_t c) { prims_[counts[c]++] = uint32_t(i); });
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
     std::vector<uint32_t>().swap(counts);   // free before the distance field's scratch
@@ -155,15 +151,19 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     if (mailboxes) ctx.mailbox.next_ray();
     int cell[3], step[3], out[3];
     float tnext[3], tdelta[3];
+    // t where the ray leaves cell[a] along axis a (the face in the step direction).
+    auto exit_t = [&](int a) {
+        return (lo_[a] + float(step[a] > 0 ? cell[a] + 1 : cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+    };
     for (int a = 0; a < 3; ++a) {
         cell[a] = cell_at(ray, t0, a);
         if (ray.d[a] > 0) {
             step[a] = 1; out[a] = n_[a];
-            tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
+            tnext[a] = exit_t(a);
             tdelta[a] = cell_[a] * inv[a];
         } else if (ray.d[a] < 0) {
             step[a] = -1; out[a] = -1;
-            tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+            tnext[a] = exit_t(a);
             tdelta[a] = -cell_[a] * inv[a];
         } else {
             step[a] = 0; out[a] = -1;
@@ -194,8 +194,7 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
                 t_jump = t_exit;
                 for (int a = 0; a < 3; ++a) {
                     cell[a] = cell_at(ray, t_exit, a);
-                    if (step[a] > 0) tnext[a] = (lo_[a] + float(cell[a] + 1) * cell_[a] - ray.o[a]) * inv[a];
-                    else if (step[a] < 0) tnext[a] = (lo_[a] + float(cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+                    if (step[a] != 0) tnext[a] = exit_t(a);
                 }
                 c = (int64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
                 continue;

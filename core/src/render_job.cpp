@@ -93,9 +93,7 @@ void RenderJob::start() {
 void RenderJob::worker() {
     try {
         PixelEstimator est(*accel_, s_);
-        TraceContext ctx;
-        if (s_.mailboxes && s_.accel == 1) ctx.mailbox.resize(accel_->scene().num_prims());
-        ctx.skip_empty = s_.skip_empty;
+        TraceContext ctx(*accel_, s_.mailboxes, s_.skip_empty);
         PixelScratch scratch;
         for (;;) {
             if (cancel_.load(std::memory_order_relaxed)) break;

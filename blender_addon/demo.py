@@ -15,6 +15,10 @@ import math
 import os
 import sys
 
+if __package__ in (None, ""):    # run as a script: the repository root holds the blender_addon package
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from blender_addon.scripting import principled_material, run_main  # noqa: E402
+
 
 def _register_addon():
     import bpy
@@ -24,21 +28,7 @@ def _register_addon():
     except TypeError:
         pass
     here = os.path.dirname(os.path.abspath(__file__))
-    sys.path.insert(0, os.path.dirname(here))
     importlib.import_module(os.path.basename(here)).register()
-
-
-def _material(bpy, name, color, **inputs):
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    transmission = "Transmission Weight" if "Transmission Weight" in bsdf.inputs else "Transmission"
-    for key, value in inputs.items():
-        bsdf.inputs[transmission if key == "Transmission" else key].default_value = value
-    mat.diffuse_color = (*color, 1.0)
-    return mat
 
 
 def _add(bpy, op, material=None, sphere=False, **kwargs):
@@ -75,20 +65,20 @@ def build_demo_scene(width=640, height=360, fresh=True):
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
     mesh = bpy.ops.mesh
-    _add(bpy, mesh.primitive_plane_add, _material(bpy, "Floor", (0.55, 0.55, 0.5), Roughness=0.8), size=30)
-    monkey = _add(bpy, mesh.primitive_monkey_add, _material(bpy, "Red", (0.8, 0.12, 0.08), Roughness=0.35),
+    _add(bpy, mesh.primitive_plane_add, principled_material("Floor", (0.55, 0.55, 0.5), Roughness=0.8), size=30)
+    monkey = _add(bpy, mesh.primitive_monkey_add, principled_material("Red", (0.8, 0.12, 0.08), Roughness=0.35),
                   location=(0, 0, 1.0), rotation=(0.35, 0, 0.4))
     monkey.modifiers.new("Subdivision", "SUBSURF").render_levels = 2
     monkey.modifiers["Subdivision"].levels = 2
     for poly in monkey.data.polygons:
         poly.use_smooth = True
-    _add(bpy, mesh.primitive_uv_sphere_add, _material(bpy, "Glass", (1, 1, 1), Transmission=1.0, IOR=1.5,
+    _add(bpy, mesh.primitive_uv_sphere_add, principled_material("Glass", (1, 1, 1), Transmission=1.0, IOR=1.5,
                                                        Roughness=0.0), sphere=True, radius=0.8, location=(2.2, -1.2, 0.8))
-    _add(bpy, mesh.primitive_uv_sphere_add, _material(bpy, "Mirror", (0.9, 0.9, 0.9), Metallic=1.0, Roughness=0.0),
+    _add(bpy, mesh.primitive_uv_sphere_add, principled_material("Mirror", (0.9, 0.9, 0.9), Metallic=1.0, Roughness=0.0),
          sphere=True, radius=1.0, location=(-2.6, 1.0, 1.0))
     cubes = bpy.data.collections.new("Cubes")
     scene.collection.children.link(cubes)
-    blue = _material(bpy, "Blue", (0.1, 0.25, 0.8), Roughness=0.5)
+    blue = principled_material("Blue", (0.1, 0.25, 0.8), Roughness=0.5)
     for i in range(3):
         cube = _add(bpy, mesh.primitive_cube_add, blue, size=0.5, location=(0.7 * i, 0, 0.25))
         for coll in cube.users_collection:
@@ -131,12 +121,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    code = 0
-    try:
-        main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
-    except BaseException:
-        import traceback
-        traceback.print_exc()
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
+    run_main(main)

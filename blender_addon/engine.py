@@ -16,7 +16,7 @@ import time
 
 import bpy
 
-from . import dependencies, streaming
+from . import dependencies, passes, streaming
 from .settings import render_settings
 
 MEMORY_LIMIT_ENV = "GRIDWALK_MEMORY_LIMIT_MB"
@@ -26,17 +26,13 @@ AROUND = [(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) 
 def camera_enclosed(gw_scene, camera, settings) -> bool:
     """Whether the camera sits inside a closed object: rays from the eye in 26
     directions (to the faces, edges and corners of a cube) all meet the back
-    of a surface. Uses the render's own grid; skipped (False) when the grid
-    settings differ from the ones Scene.intersect builds with."""
+    of a surface. Traced through the render's own acceleration structure."""
     import numpy as np
 
-    if int(settings.max_cells) != type(settings)().max_cells:
-        return False
     directions = np.array(AROUND, dtype=np.float32)
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
     origins = np.tile(np.asarray(camera.eye, dtype=np.float32), (len(directions), 1))
-    hits = gw_scene.intersect(origins, directions, tmin=float(camera.hither), accel=settings.accel,
-                              grid_density=settings.grid_density, mailboxes=False, threads=1)
+    hits = gw_scene.intersect(origins, directions, tmin=float(camera.hither), settings=settings.replace(threads=1))
     facing = np.sum(hits.normal * directions, axis=1)
     return bool(np.all(np.isfinite(hits.t)) and np.all(facing > 0))
 
@@ -77,11 +73,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         self.writer = None                  # the current render's ResultWriter
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
-        if renderlayer.use_pass_z:
-            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
-        if renderlayer.use_pass_normal:
-            self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+        for p in passes.enabled(renderlayer):
+            self.register_pass(scene, renderlayer, p.name, p.channels, p.chanid, p.kind)
 
     def render(self, depsgraph):
         try:

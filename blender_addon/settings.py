@@ -1,24 +1,23 @@
 """Scene.gridwalk (properties.py) -> gridwalk.RenderSettings.
 
-Every property has a RenderSettings field of the same name; enum identifiers
-are the field's string values in upper case ("JITTERED" -> "jittered").
+Every render property is a row of the core's settings table of the same
+name; enum identifiers are the choices' ids in upper case ("JITTERED" ->
+"jittered").
 """
 from __future__ import annotations
 
-ENUM_FIELDS = ("accel", "aa", "shadow", "filter")
-PLAIN_FIELDS = ("grid_density", "mailboxes", "skip_empty", "max_cells", "min_weight", "threads", "tile_size",
-                "max_depth", "seed",
-                "aa_samples", "adaptive_threshold", "adaptive_depth", "filter_width",
-                "shadow_samples", "dof_samples", "glossy_samples")
+from .properties import blender_settings
 
 
-def settings_dict(props) -> dict:
+def settings_dict(props, schema) -> dict:
     """The property group as RenderSettings keyword arguments."""
-    values = {name: getattr(props, name) for name in PLAIN_FIELDS}
-    values.update({name: getattr(props, name).lower() for name in ENUM_FIELDS})
+    values = {}
+    for setting in blender_settings(schema):
+        value = getattr(props, setting.name)
+        values[setting.name] = value.lower() if setting.kind == "enum" else value
     return values
 
 
 def render_settings(gridwalk, props):
     """A gridwalk.RenderSettings from the scene's properties."""
-    return gridwalk.RenderSettings(**settings_dict(props))
+    return gridwalk.RenderSettings(**settings_dict(props, gridwalk.settings.SCHEMA))

@@ -16,6 +16,8 @@ import time
 
 import numpy as np
 
+from .passes import PASSES
+
 POLL_SECONDS = 0.02
 STATS_SECONDS = 0.25
 
@@ -57,11 +59,12 @@ class ResultWriter:
         self.region = tuple(region) if region is not None else (0, 0, width, height)
         self.written = False
 
-    def write_frame(self, rgba, depth, normal):
-        """Write the whole frame (the region only, for a border render) with its passes."""
+    def write_frame(self, arrays: dict):
+        """Write the whole frame (the region only, for a border render): every
+        pass of passes.PASSES whose source array is in `arrays` (full-image
+        arrays keyed by source, row 0 at the top)."""
         x, y, w, h = self.region
-        crop = (slice(y, y + h), slice(x, x + w))
-        self.write(x, y, rgba[crop], depth[crop], normal[crop])
+        self.write(x, y, {k: v[y:y + h, x:x + w] for k, v in arrays.items()})
 
     def ensure_written(self):
         """After a cancel: if no tile was written, write the (empty) result for the
@@ -75,24 +78,23 @@ class ResultWriter:
             self.engine.end_result(result)
         self.written = True
 
-    def write(self, x, y, rgba, depth=None, normal=None):
-        """Write the rectangle whose top-left pixel is (x, y) in the full image."""
-        h, w = rgba.shape[:2]
+    def write(self, x, y, arrays: dict):
+        """Write the rectangle whose top-left pixel is (x, y) in the full image;
+        `arrays` maps a pass source ("rgba", "depth", ...) to its pixels."""
+        h, w = arrays["rgba"].shape[:2]
         rx, ry, _, rh = self.region
-        rgba = np.array(rgba, dtype=np.float32)
         if self.opaque:
-            rgba[..., 3] = 1.0
+            arrays = dict(arrays, rgba=np.array(arrays["rgba"], dtype=np.float32))
+            arrays["rgba"][..., 3] = 1.0
         result = self.engine.begin_result(x - rx, ry + rh - y - h, w, h, layer=self.layer_name)
         if result is None:
             raise RuntimeError(f"Blender refused the result rectangle {x - rx}, {ry + rh - y - h}, {w} x {h}")
         self.written = True
         try:
-            passes = result.layers[0].passes
-            set_pass(passes["Combined"], rgba)
-            if depth is not None and "Depth" in passes:
-                set_pass(passes["Depth"], depth[..., None])
-            if normal is not None and "Normal" in passes:
-                set_pass(passes["Normal"], normal)
+            layer_passes = result.layers[0].passes
+            for p in PASSES:
+                if p.source in arrays and p.name in layer_passes:
+                    set_pass(layer_passes[p.name], p.values(arrays))
         finally:
             self.engine.end_result(result)
 
@@ -105,7 +107,7 @@ def run(engine, job, writer: ResultWriter) -> bool:
         while True:
             finished = job.finished
             for tile in job.poll():
-                writer.write(tile.x, tile.y, tile.rgba)
+                writer.write(tile.x, tile.y, {"rgba": tile.rgba})
             engine.update_progress(job.progress)
             now = time.monotonic()
             if finished or now - last_stats > STATS_SECONDS:
@@ -119,12 +121,12 @@ def run(engine, job, writer: ResultWriter) -> bool:
                 print(f"Gridwalk: cancel stopped all workers in "
                       f"{(time.perf_counter() - t_break) * 1e3:.1f} ms")
                 for tile in job.poll():         # tiles finished before the workers stopped
-                    writer.write(tile.x, tile.y, tile.rgba)
+                    writer.write(tile.x, tile.y, {"rgba": tile.rgba})
                 writer.ensure_written()
                 return False
             time.sleep(POLL_SECONDS)
         image = job.wait()          # rethrows a worker's error
-        writer.write_frame(image, np.nan_to_num(job.depth, posinf=1e10), job.normal)
+        writer.write_frame({"rgba": image, "depth": job.depth, "normal": job.normal})
         return True
     except BaseException:
         job.cancel()

@@ -28,66 +28,54 @@ class GridwalkPanel:
         return context.engine in cls.COMPAT_ENGINES
 
 
-class GRIDWALK_RENDER_PT_sampling(GridwalkPanel, bpy.types.Panel):
+def draw_settings(layout, props, groups):
+    """Every setting of the table's `groups`, in table order; a setting that
+    does not matter for the others' values (Setting.when) is greyed out."""
+    from gridwalk.settings import SCHEMA
+
+    from .properties import blender_settings
+    layout.use_property_split = True
+    col = layout.column()
+    values = {s.name: getattr(props, s.name) for s in blender_settings(SCHEMA)}
+    values = {k: v.lower() if isinstance(v, str) else v for k, v in values.items()}
+    for setting in blender_settings(SCHEMA):
+        if setting.group in groups:
+            row = col.row()
+            row.active = setting.relevant(values)
+            row.prop(props, setting.name)
+    return col
+
+
+class SettingsPanel(GridwalkPanel):
+    """A render-properties panel showing the settings table's `groups`."""
+    bl_context = "render"
+    groups = ()
+
+    def draw(self, context):
+        draw_settings(self.layout, context.scene.gridwalk, self.groups)
+
+
+class GRIDWALK_RENDER_PT_sampling(SettingsPanel, bpy.types.Panel):
     bl_label = "Sampling"
-    bl_context = "render"
-
-    def draw(self, context):
-        props = context.scene.gridwalk
-        layout = self.layout
-        layout.use_property_split = True
-        col = layout.column()
-        col.prop(props, "aa")
-        col.prop(props, "aa_samples", text="Samples")
-        if props.aa == "ADAPTIVE":
-            col.prop(props, "adaptive_threshold", text="Threshold")
-            col.prop(props, "adaptive_depth", text="Depth")
-        col.prop(props, "filter", text="Filter")
-        if props.filter == "GAUSSIAN":
-            col.prop(props, "filter_width", text="Width")
-        col.separator()
-        col.prop(props, "shadow", text="Shadows")
-        sub = col.column()
-        sub.active = props.shadow != "HARD"
-        sub.prop(props, "shadow_samples", text="Samples")
-        col.prop(props, "dof_samples", text="DoF Samples")
-        col.prop(props, "glossy_samples", text="Glossy Rays")
-        col.prop(props, "max_depth")
-        col.prop(props, "min_weight")
+    groups = ("sampling", "lights", "lens")
 
 
-class GRIDWALK_RENDER_PT_acceleration(GridwalkPanel, bpy.types.Panel):
+class GRIDWALK_RENDER_PT_acceleration(SettingsPanel, bpy.types.Panel):
     bl_label = "Acceleration"
-    bl_context = "render"
-
-    def draw(self, context):
-        props = context.scene.gridwalk
-        layout = self.layout
-        layout.use_property_split = True
-        col = layout.column()
-        col.prop(props, "accel", text="Method")
-        sub = col.column()
-        sub.active = props.accel == "GRID"
-        sub.prop(props, "grid_density", text="Density M")
-        sub.prop(props, "max_cells")
-        sub.prop(props, "skip_empty")
-        col.prop(props, "mailboxes")
+    groups = ("acceleration",)
 
 
-class GRIDWALK_RENDER_PT_performance(GridwalkPanel, bpy.types.Panel):
+class GRIDWALK_RENDER_PT_performance(SettingsPanel, bpy.types.Panel):
     bl_label = "Performance"
-    bl_context = "render"
     bl_options = {"DEFAULT_CLOSED"}
+    groups = ("performance",)
 
     def draw(self, context):
-        props = context.scene.gridwalk
-        layout = self.layout
-        layout.use_property_split = True
-        col = layout.column()
-        col.prop(props, "threads")
-        col.prop(props, "tile_size")
-        col.prop(props, "seed")
-        col.prop(props, "memory_limit")
+        super().draw(context)
+        self.layout.prop(context.scene.gridwalk, "memory_limit")
+
+
+SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_acceleration, GRIDWALK_RENDER_PT_performance)
 
 
 class GRIDWALK_OBJECT_PT_settings(GridwalkPanel, bpy.types.Panel):
@@ -137,8 +125,7 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
                 col.prop(light, "size_y", text="Y")
 
 
-classes = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_acceleration,
-           GRIDWALK_RENDER_PT_performance, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
+classes = (*SETTINGS_PANELS, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
 
 
 def builtin_panels():

@@ -1,33 +1,7 @@
 """Small mesh generators shared by the tests (closed meshes, soups)."""
 import numpy as np
 
-
-def icosphere(subdivisions=2, radius=1.0, center=(0.0, 0.0, 0.0)):
-    """A closed, consistently wound icosphere: (vertices float32, triangles int32)."""
-    t = (1.0 + 5 ** 0.5) / 2.0
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
-         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
-         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
-         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
-    for _ in range(subdivisions):
-        cache, nf = {}, []
-
-        def mid(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in cache:
-                m = verts[a] + verts[b]
-                verts.append(m / np.linalg.norm(m))
-                cache[key] = len(verts) - 1
-            return cache[key]
-
-        for a, b, c in f:
-            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
-            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = nf
-    V = np.array(verts) * radius + np.asarray(center, float)
-    return V.astype(np.float32), np.array(f, np.int32)
+from gridwalk.scenes import icosphere  # noqa: F401  (re-exported for the tests)
 
 
 def triangle_soup(n, seed=0, extent=10.0, size=1.0):

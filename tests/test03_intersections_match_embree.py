@@ -37,7 +37,7 @@ def embree_hits(V, F, o, d):
 
 def check_agreement(V, F, o, d, accel):
     sc = gw.Scene(vertices=V, triangles=F)
-    ours = sc.intersect(o, d, accel=accel)
+    ours = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel))
     t_e, p_e = embree_hits(V, F, o, d)
     hit_o, hit_e = np.isfinite(ours.t), np.isfinite(t_e)
     agree = np.mean(hit_o == hit_e)
@@ -124,7 +124,7 @@ def test_spheres_match_double_precision_reference(accel):
     R = rng.uniform(0.05, 3.0, 200).astype(np.float32)
     o, d = random_rays(N_RAYS, C.min(0), C.max(0), seed=6)
     sc = gw.Scene(sphere_centers=C, sphere_radii=R)
-    ours = sc.intersect(o, d, accel=accel)
+    ours = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel))
     t_ref, i_ref = sphere_reference(C, R, o, d)
     hit_o, hit_r = np.isfinite(ours.t), np.isfinite(t_ref)
     assert np.mean(hit_o == hit_r) >= 0.99999
@@ -145,7 +145,7 @@ def test_hits_a_hair_from_the_ray_origin_are_found_like_embree():
     sc = gw.Scene(vertices=V, triangles=F)
     for h in (1e-3, 1e-4, 3e-5):
         o = np.float32([[-6, 5, -0.5 + h]])
-        ours = sc.intersect(o, d, accel="none")
+        ours = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
         t_e, _ = embree_hits(V, F, o, d)
         assert np.isfinite(ours.t[0]) and np.isfinite(t_e[0])
         assert abs(ours.t[0] - t_e[0]) <= 1e-5 * t_e[0] + 2 ** -23 * 12

@@ -9,8 +9,8 @@ from meshes import icosphere, random_rays, triangle_soup
 
 
 def same_hits(sc, o, d, **kw):
-    g = sc.intersect(o, d, accel="grid", **kw)
-    n = sc.intersect(o, d, accel="none")
+    g = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", **kw))
+    n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     assert np.array_equal(np.isfinite(g.t), np.isfinite(n.t))
     hit = np.isfinite(n.t)
     assert np.array_equal(g.t[hit], n.t[hit])
@@ -43,8 +43,8 @@ def test_cell_cap_reduces_density_and_says_so():
     assert info["reduced"] and info["density_used"] < 8.0
     assert "reduced" in info["note"]
     o, d = random_rays(20000, V.min(0), V.max(0), seed=5)
-    g = sc.intersect(o, d, grid_density=8.0)  # default cap: a different, finer grid
-    n = sc.intersect(o, d, accel="none")
+    g = sc.intersect(o, d, settings=gw.RenderSettings(grid_density=8.0))  # default cap: a different, finer grid
+    n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     assert np.array_equal(g.t, n.t)
 
 
@@ -72,8 +72,8 @@ def test_mailboxes_skip_repeat_tests_without_changing_hits():
     V, F = icosphere(3, radius=4.0)
     sc = gw.Scene(vertices=V, triangles=F, sphere_centers=[[0, 0, 0], [6, 0, 0]], sphere_radii=[2.5, 3.0])
     o, d = random_rays(20000, V.min(0), V.max(0), seed=10)
-    on = sc.intersect(o, d, mailboxes=True, grid_density=4.0)
-    off = sc.intersect(o, d, mailboxes=False, grid_density=4.0)
+    on = sc.intersect(o, d, settings=gw.RenderSettings(mailboxes=True, grid_density=4.0))
+    off = sc.intersect(o, d, settings=gw.RenderSettings(mailboxes=False, grid_density=4.0))
     assert np.array_equal(on.t, off.t) and np.array_equal(on.prim, off.prim)
     assert on.stats["mailbox_skips"] > 0 and off.stats["mailbox_skips"] == 0
     assert on.stats["prim_tests"] + on.stats["mailbox_skips"] == off.stats["prim_tests"]
@@ -83,8 +83,8 @@ def test_grid_tests_fewer_primitives_than_brute_force():
     sc = gw.Scene(**balls(3))
     lo, hi = sc.bounds
     o, d = random_rays(5000, lo, hi, seed=11)
-    g = sc.intersect(o, d, accel="grid").stats
-    n = sc.intersect(o, d, accel="none").stats
+    g = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid")).stats
+    n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none")).stats
     assert n["prim_tests"] == 5000 * sc.num_primitives
     assert g["prim_tests"] < n["prim_tests"] / 20
 
@@ -93,8 +93,8 @@ def test_mailboxes_are_correct_with_many_threads():
     sc = gw.Scene(**balls(3))
     lo, hi = sc.bounds
     o, d = random_rays(40000, lo, hi, seed=12)
-    one = sc.intersect(o, d, threads=1)
-    many = sc.intersect(o, d, threads=8)
+    one = sc.intersect(o, d, settings=gw.RenderSettings(threads=1))
+    many = sc.intersect(o, d, settings=gw.RenderSettings(threads=8))
     assert np.array_equal(one.t, many.t) and np.array_equal(one.prim, many.prim)
 
 
@@ -108,10 +108,10 @@ def test_empty_space_skipping_changes_nothing_but_the_cell_count():
     o, d = random_rays(40000, lo, hi, seed=13)
     d[::5, 0] = 0.0        # some axis-parallel components too
     for density in (1.0, 3.0):
-        skip = sc.intersect(o, d, grid_density=density, skip_empty=True)
-        walk = sc.intersect(o, d, grid_density=density, skip_empty=False)
+        skip = sc.intersect(o, d, settings=gw.RenderSettings(grid_density=density, skip_empty=True))
+        walk = sc.intersect(o, d, settings=gw.RenderSettings(grid_density=density, skip_empty=False))
         assert np.array_equal(skip.t, walk.t) and np.array_equal(skip.prim, walk.prim)
         assert skip.stats["cells"] < walk.stats["cells"]
-        occ_skip = sc.occluded(o, d, tmax=2.0, grid_density=density, skip_empty=True)
-        occ_walk = sc.occluded(o, d, tmax=2.0, grid_density=density, skip_empty=False)
+        occ_skip = sc.occluded(o, d, tmax=2.0, settings=gw.RenderSettings(grid_density=density, skip_empty=True))
+        occ_walk = sc.occluded(o, d, tmax=2.0, settings=gw.RenderSettings(grid_density=density, skip_empty=False))
         assert np.array_equal(occ_skip, occ_walk)

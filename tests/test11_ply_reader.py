@@ -106,7 +106,7 @@ def test_default_view_sees_every_vertex_within_its_field_of_view():
 
 def test_default_view_of_a_single_point_is_still_a_valid_camera():
     camera, _ = default_view(np.ones((3, 3)))
-    camera.packed()                                     # raises if eye == target
+    camera.validate()                                     # raises if eye == target
 
 
 def test_huge_declared_count_is_rejected_before_plyfile_reads(tmp_path, monkeypatch):

@@ -126,7 +126,7 @@ def test_bad_scene_files_give_a_one_line_error_and_exit_2(tmp_path, case, conten
 @pytest.mark.parametrize("options, message", [
     (["--aa-samples", "0"], "aa_samples"),
     (["--grid-density", "-1"], "grid_density"),
-    (["--width", "0"], "resolution"),
+    (["--width", "0"], "Camera.width"),
     (["-o", "out.jpg"], "must end in .png or .npy"),
 ])
 def test_bad_settings_give_a_one_line_error_and_exit_2(tmp_path, options, message):

@@ -86,7 +86,7 @@ def test_cone_hits_match_an_extended_precision_reference(cylinders_only):
     worst = 0.0
     for i in range(len(base)):
         o, d = rays_at(rng, base[i], apex[i], r_base[i], r_apex[i], 2000)
-        hits = one_cone_scene(base[i], apex[i], r_base[i], r_apex[i]).intersect(o, d, accel="none")
+        hits = one_cone_scene(base[i], apex[i], r_base[i], r_apex[i]).intersect(o, d, settings=gw.RenderSettings(accel="none"))
         t_ref = reference_t(o, d, base[i], apex[i], r_base[i], r_apex[i])
         hit = np.isfinite(hits.t)
         assert np.all(hits.kind[hit] == KIND_CYLINDER) and np.all(hits.kind[~hit] == KIND_MISS)
@@ -127,7 +127,7 @@ def _hard_rays(case, rng, n, apex_radius):
 def test_numerically_hard_rays_match_the_reference(case, apex_radius):
     base, apex = np.float32([0, 0, 0]), np.float32([0, 0, 10])
     o, d = (a.astype(np.float32) for a in _hard_rays(case, np.random.default_rng(3), 5000, apex_radius))
-    hits = one_cone_scene(base, apex, 1.0, apex_radius).intersect(o, d, accel="none")
+    hits = one_cone_scene(base, apex, 1.0, apex_radius).intersect(o, d, settings=gw.RenderSettings(accel="none"))
     t_ref = reference_t(o, d, base, apex, 1.0, apex_radius)
     hit, ref_hit = np.isfinite(hits.t), np.isfinite(t_ref)
     assert hit.sum() > 500 and np.sum(hit != ref_hit) == 0
@@ -139,7 +139,7 @@ def test_rays_along_the_axis_of_a_cylinder_miss_its_open_tube():
     scene = one_cone_scene(np.float32([0, 0, 0]), np.float32([0, 0, 2]), 1.0, 1.0)
     o = np.float32([[0, 0, -1], [0.5, 0, -1], [0, 0, 1], [0, 0, 1]])
     d = np.float32([[0, 0, 1], [0, 0, 1], [1, 0, 0], [0, 0, -1]])
-    hits = scene.intersect(o, d, accel="none")
+    hits = scene.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     np.testing.assert_array_equal(hits.kind, [KIND_MISS, KIND_MISS, KIND_CYLINDER, KIND_MISS])
     assert hits.t[2] == pytest.approx(1.0, rel=1e-6)
     np.testing.assert_allclose(hits.normal[2], [1, 0, 0], atol=1e-6)
@@ -159,10 +159,10 @@ def test_grid_finds_the_same_hits_as_brute_force_among_many_cylinders():
     d = rng.normal(size=(20000, 3)).astype(np.float32)
     d[:6000] = np.repeat(np.eye(3, dtype=np.float32), 2000, axis=0)   # axis-parallel: DDA edge cases
     o[:6000] = np.round(o[:6000])
-    brute = scene.intersect(o, d, accel="none")
+    brute = scene.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     assert 0.2 < np.mean(np.isfinite(brute.t)) < 0.95
     for mailboxes in (True, False):
-        grid = scene.intersect(o, d, accel="grid", mailboxes=mailboxes)
+        grid = scene.intersect(o, d, settings=gw.RenderSettings(accel="grid", mailboxes=mailboxes))
         np.testing.assert_array_equal(grid.t, brute.t)
         np.testing.assert_array_equal(grid.kind, brute.kind)
         np.testing.assert_array_equal(grid.prim, brute.prim)

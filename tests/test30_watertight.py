@@ -40,7 +40,7 @@ def test_rays_from_inside_never_escape(name, V, F, center, accel):
     # The centre itself is not representable 1e5 away from the origin; use the float32 centre.
     origin = np.asarray(center, np.float32)
     o, d, nv, ne = inside_rays(V, F, origin, n_random, seed=len(name))
-    hits = sc.intersect(o, d, accel=accel)
+    hits = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel))
     misses = ~np.isfinite(hits.t)
     assert misses.sum() == 0, f"{misses.sum()} escapes: {misses[:nv].sum()} at vertices, " \
                               f"{misses[nv:nv + ne].sum()} at edges, {misses[nv + ne:].sum()} random"

@@ -13,8 +13,8 @@ from meshes import icosphere, random_rays
 
 
 def assert_grid_equals_brute_force(sc, o, d, **kw):
-    g = sc.intersect(o, d, accel="grid", **kw)
-    n = sc.intersect(o, d, accel="none")
+    g = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", **kw))
+    n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     bad = (np.isfinite(g.t) != np.isfinite(n.t)) | (np.isfinite(n.t) & (g.t != n.t))
     assert not bad.any(), f"{bad.sum()} rays differ, e.g. o={o[bad][0]}, d={d[bad][0]}, {g.t[bad][0]} vs {n.t[bad][0]}"
     return g
@@ -139,8 +139,8 @@ def test_nan_and_inf_rays_are_misses_and_do_not_slow_the_batch():
     bad_o[k[1::4], 1] = np.inf
     bad_d[k[2::4]] = 0.0                         # zero direction
     bad_d[k[3::4], 2] = -np.inf
-    t0 = time.perf_counter(); good = sc.intersect(o, d, threads=1); t_good = time.perf_counter() - t0
-    t0 = time.perf_counter(); mixed = sc.intersect(bad_o, bad_d, threads=1); t_mixed = time.perf_counter() - t0
+    t0 = time.perf_counter(); good = sc.intersect(o, d, settings=gw.RenderSettings(threads=1)); t_good = time.perf_counter() - t0
+    t0 = time.perf_counter(); mixed = sc.intersect(bad_o, bad_d, settings=gw.RenderSettings(threads=1)); t_mixed = time.perf_counter() - t0
     assert not np.isfinite(mixed.t[k]).any() and np.all(mixed.prim[k] == -1) and np.all(mixed.kind[k] == 0)
     rest = np.setdiff1d(np.arange(len(o)), k)
     assert np.array_equal(mixed.t[rest], good.t[rest])

@@ -21,7 +21,7 @@ def fire_and_respawn(sc, target, n_dirs, rng, dist_scale):
     n = len(target)
     o = target + unit(rng.normal(size=(n, 3))) * dist_scale[:, None]
     d = target - o
-    hits = sc.intersect(o.astype(np.float32), d.astype(np.float32), accel="none")
+    hits = sc.intersect(o.astype(np.float32), d.astype(np.float32), settings=gw.RenderSettings(accel="none"))
     ok = np.isfinite(hits.t)
     w = unit(rng.normal(size=(n, 3))).astype(np.float32)
     new_o = sc.spawn_origins(o, d, hits, w)
@@ -40,7 +40,7 @@ def test_triangle_reintersection_over_16_orders_of_magnitude():
         P = b @ V.astype(np.float64)
         scale = np.abs(P).max(axis=1) + np.abs(V).max()
         ok, hits, new_o, w = fire_and_respawn(sc, P, 8, rng, scale)
-        again = sc.intersect(new_o[ok], w[ok], accel="none", spawned=True)
+        again = sc.intersect(new_o[ok], w[ok], spawned=True, settings=gw.RenderSettings(accel="none"))
         tested += ok.sum()
         self_hits += np.isfinite(again.t).sum()
     assert tested > 4000
@@ -75,7 +75,7 @@ def test_quadrics_under_random_transforms(kind):
             P = center + axis * (s * h)[:, None] + radial * (r + (r_apex - r) * s)[:, None]
         ok, hits, new_o, w = fire_and_respawn(sc, P, n, rng, np.full(n, 4 * r + np.abs(P).max()))
         outward = np.einsum("ij,ij->i", w, hits.normal) > 0
-        again = sc.intersect(new_o, w, accel="none", spawned=True)
+        again = sc.intersect(new_o, w, spawned=True, settings=gw.RenderSettings(accel="none"))
         sel = ok & outward
         tested += sel.sum()
         escapes_hit += np.isfinite(again.t[sel]).sum()

@@ -37,18 +37,6 @@ def export_suzanne(out_dir, levels):
 
 # -- the Cycles comparison scene -----------------------------------------------
 
-def _principled(bpy, name, color, **inputs):
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    for key, value in inputs.items():
-        bsdf.inputs[key].default_value = value
-    mat.diffuse_color = (*color, 1.0)
-    return mat
-
-
 def build_balls(scene_npz, width, height, fstop):
     """SPD balls from the arrays the driver wrote (gridwalk.io.load_nff's, see bench_cycles.py):
     floor mesh, one UV-sphere mesh shared by every ball object (flagged 'render as sphere' so
@@ -56,6 +44,8 @@ def build_balls(scene_npz, width, height, fstop):
     depth of field. (The NFF is read outside Blender: the bpy venvs lack plyfile, which
     gridwalk.io imports.)"""
     import bpy
+
+    from blender_addon.scripting import principled_material
     import numpy as np
     from mathutils import Vector
 
@@ -67,9 +57,9 @@ def build_balls(scene_npz, width, height, fstop):
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
-    floor_mat = _principled(bpy, "Floor", tuple(map(float, kw["floor_color"])), Roughness=1.0, Metallic=0.0)
+    floor_mat = principled_material("Floor", tuple(map(float, kw["floor_color"])), Roughness=1.0, Metallic=0.0)
     # NFF ball: kd 0.5, mirror 0.5 -> Principled metallic 0.5, roughness 0 (kd = 1 - m, mirror = m)
-    ball_mat = _principled(bpy, "Ball", tuple(map(float, kw["ball_color"])), Roughness=0.0,
+    ball_mat = principled_material("Ball", tuple(map(float, kw["ball_color"])), Roughness=0.0,
                            Metallic=float(kw["ball_mirror"]))
 
     floor = bpy.data.meshes.new("Floor")
@@ -211,13 +201,5 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    code = 0
-    try:
-        main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
-    except BaseException:
-        import traceback
-        traceback.print_exc()
-        code = 1
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
+    from blender_addon.scripting import run_main
+    run_main(main)

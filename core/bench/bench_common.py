@@ -82,7 +82,24 @@ def render_once(scene, settings):
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     stats = job.stats
     stats["cpu_seconds"] = cpu
+    stats["image"] = job.image
     return wall, stats
+
+
+def check_identical(what: str, images: dict, region=None) -> None:
+    """Raise if the renders in `images` ({label: rgba}) are not bit-identical (over
+    `region` = (x, y, w, h) of the first one where given): acceleration settings,
+    mailboxes and thread counts must never change an image."""
+    labels = list(images)
+    crop = (lambda im: im) if region is None else \
+        (lambda im: im[region[1]:region[1] + region[3], region[0]:region[0] + region[2]])
+    ref = crop(images[labels[0]])
+    for label in labels[1:]:
+        other = crop(images[label])
+        if not np.array_equal(ref, other):
+            bad = int(np.sum(np.any(ref != other, axis=-1)))
+            raise RuntimeError(f"{what}: '{label}' renders a different image from '{labels[0]}' "
+                               f"({bad} pixels differ)")
 
 
 def timed_render(scene, settings, reps):

@@ -7,7 +7,7 @@ import numpy as np
 
 from bench_common import Section, alternate, figure, log, save, table
 from bench_meshes import LABELS, scene_kwargs, tessellate_spheres
-from gridwalk import Scene
+from gridwalk import RenderSettings, Scene
 from gridwalk.validate import compare, embree_intersect, embree_scene, ray_sets
 
 KINDS = ("primary", "shadow", "random")
@@ -55,15 +55,15 @@ def measure(name, kw, n, reps):
         o, d, tmax = rays[kind]
         if kind == "shadow":
             gw_s, gw_occ, em_s, em_ids = alternate(
-                lambda: scene.occluded(o, d, tmax=tmax, threads=1, spawned=True),
+                lambda: scene.occluded(o, d, tmax=tmax, spawned=True, settings=RenderSettings(threads=1)),
                 lambda: em_scene.run(o.copy(), d.copy(), dists=tmax.copy(), query="OCCLUDED"), reps)
             em_occ = np.asarray(em_ids) != -1
             # Scene.occluded returns no statistics: count them with a closest-hit query on the same rays.
-            stats = scene.intersect(o, d, tmax=tmax, threads=1, spawned=True).stats
+            stats = scene.intersect(o, d, tmax=tmax, spawned=True, settings=RenderSettings(threads=1)).stats
             agree = {"hit_miss_agreement": 100.0 * float(np.mean(gw_occ == em_occ)), "same_primitive": None,
                      "disagree": int(np.sum(gw_occ != em_occ)), "hits": float(np.mean(em_occ))}
         else:
-            gw_s, hits, em_s, em = alternate(lambda: scene.intersect(o, d, tmin=0.0, tmax=tmax, threads=1),
+            gw_s, hits, em_s, em = alternate(lambda: scene.intersect(o, d, tmin=0.0, tmax=tmax, settings=RenderSettings(threads=1)),
                                              lambda: embree_intersect(em_scene, o, d, tmax), reps)
             stats = hits.stats
             c = compare(hits, em)

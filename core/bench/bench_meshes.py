@@ -10,36 +10,10 @@ from gridwalk import scenes
 from gridwalk.io import load_nff, load_ply
 
 
-def icosphere(subdiv: int) -> tuple[np.ndarray, np.ndarray]:
-    """Unit icosphere: 20 * 4**subdiv outward-wound triangles."""
-    p = (1 + 5 ** 0.5) / 2
-    v = [(-1, p, 0), (1, p, 0), (-1, -p, 0), (1, -p, 0), (0, -1, p), (0, 1, p), (0, -1, -p), (0, 1, -p),
-         (p, 0, -1), (p, 0, 1), (-p, 0, -1), (-p, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
-         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
-         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    verts = [np.array(x, float) / np.linalg.norm(x) for x in v]
-    for _ in range(subdiv):
-        cache, faces = {}, []
-
-        def mid(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in cache:
-                m = verts[a] + verts[b]
-                cache[key] = len(verts)
-                verts.append(m / np.linalg.norm(m))
-            return cache[key]
-        for a, b, c in f:
-            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
-            faces += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = faces
-    return np.array(verts), np.array(f, np.int64)
-
-
 def tessellate_spheres(kw: dict, subdiv: int) -> dict:
     """Scene kwargs with every sphere replaced by an icosphere (triangles only, lights and camera kept)."""
     centres, radii = np.asarray(kw["sphere_centers"], float), np.asarray(kw["sphere_radii"], float)
-    unit_v, unit_t = icosphere(subdiv)
+    unit_v, unit_t = scenes.icosphere(subdiv, dtype=np.float64)
     verts = (centres[:, None, :] + radii[:, None, None] * unit_v[None]).reshape(-1, 3)
     tris = (unit_t[None] + (np.arange(len(radii)) * len(unit_v))[:, None, None]).reshape(-1, 3)
     base_v, base_t = np.asarray(kw["vertices"], float).reshape(-1, 3), np.asarray(kw["triangles"]).reshape(-1, 3)

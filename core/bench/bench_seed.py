@@ -5,7 +5,7 @@ import math
 
 import gridwalk as gw
 
-from bench_common import NPROC, Section, hms, interleaved, table, timed_render
+from bench_common import NPROC, Section, check_identical, hms, interleaved, table, timed_render
 from bench_meshes import LABELS, scene_kwargs
 
 # The seed's table (i7-8750H, 6 cores / 12 threads), seconds: no grid, grid, grid + mailboxes, grid + parallel.
@@ -18,7 +18,7 @@ COLUMNS = (("grid", False, 1), ("grid + mailboxes", True, 1), ("grid + parallel"
            ("grid + mailboxes + parallel", True, NPROC))
 
 
-def brute_force(scene, settings, res, budget):
+def brute_force(scene, settings, res, budget, reference):
     """Single-core brute force on a regular lattice of short row segments, scaled to the image.
 
     A probe (32 pixels of the middle row) gives the time per pixel; segments are wide enough for
@@ -26,7 +26,8 @@ def brute_force(scene, settings, res, budget):
     about `budget` seconds in all. Returns (seconds for the image, pixels used, prim tests per ray,
     rays per pixel on those pixels: brute force costs rays x primitives, so comparing it with the
     whole image's rays per pixel checks that the subset is representative), or None when the whole
-    image is cheap enough to render with the other columns."""
+    image is cheap enough to render with the other columns. Every segment must equal the same
+    pixels of `reference` (the grid's image)."""
     probe = min(32, res)
     t, _ = timed_render(scene, settings.replace(region=((res - probe) // 2, res // 2, probe, 1)), 1)
     per_pixel = max(t / probe, 1e-7)
@@ -42,6 +43,8 @@ def brute_force(scene, settings, res, budget):
         for i in range(kx):
             x = min(res - w, max(0, int((i + 0.5) * res / kx - w / 2)))
             dt, st = timed_render(scene, settings.replace(region=(x, y, w, 1)), 1)
+            check_identical(f"no grid, pixels ({x}, {y}) + {w}", {"grid": reference, "no grid": st["image"]},
+                            (x, y, w, 1))
             total += dt
             tests, rays = tests + st["prim_tests"], rays + st["rays"]
     pixels = kx * ky * w
@@ -61,9 +64,14 @@ def run(sizes, suzanne, out) -> Section:
         scene = gw.Scene(**kw)
         grid = scene.grid_info(settings)
         none = settings.replace(accel="none", threads=1)
-        subset = brute_force(scene, none, sizes.res, sizes.none_budget)
         columns = [(label, settings.replace(mailboxes=mb, threads=th)) for label, mb, th in COLUMNS]
-        best = interleaved(scene, columns + ([("no grid", none)] if subset is None else []), sizes.reps)
+        best = interleaved(scene, columns, sizes.reps)
+        check_identical(LABELS.get(name, name), {label: st["image"] for label, (_, st) in best.items()})
+        subset = brute_force(scene, none, sizes.res, sizes.none_budget, best["grid"][1]["image"])
+        if subset is None:
+            best.update(interleaved(scene, [("no grid", none)], sizes.reps))
+            check_identical(LABELS.get(name, name), {"grid": best["grid"][1]["image"],
+                                                     "no grid": best["no grid"][1]["image"]})
         times, stats = {k: v[0] for k, v in best.items()}, {k: v[1] for k, v in best.items()}
         if subset is None:
             st = stats["no grid"]

@@ -32,6 +32,7 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import sve_scenes  # noqa: E402
+from bench_common import cpu_model  # noqa: E402
 from sve_analysis import adaptive_verdict, compare, groups, losses, ms, param, ratio_cell  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -160,16 +161,6 @@ def strip(name, rows, info, t_target, out):
 
 
 # -- report ------------------------------------------------------------------------
-def cpu_model():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown"
-
-
 def section(name, title, ref_settings, baseline, rows, info, img_dir, clock):
     md = [f"## {title}", ""]
     md.append(f"Reference: {describe(ref_settings)}, mean of two renders (seeds 1001, 1002), "

@@ -97,12 +97,5 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    code = 0
-    try:
-        main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
-    except BaseException:
-        import traceback
-        traceback.print_exc()
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
+    from blender_addon.scripting import run_main
+    run_main(main)

@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "offset.h"
-#include "render_job.h"
+#include "threads.h"
 
 namespace gw {
 namespace {
@@ -16,14 +16,14 @@ namespace {
 // thread and rethrown here after every thread has been joined, so it reaches
 // Python as an exception instead of terminating the process.
 template <class F>
-Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, bool skip_empty, F&& body) {
-    const int nt = int(std::min<size_t>(size_t(resolve_threads(threads)), std::max<size_t>(1, n / 4096 + 1)));
+Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& body) {
+    const int nt = int(std::min<size_t>(size_t(resolve_threads(s.threads)), std::max<size_t>(1, n / 4096 + 1)));
     Stats total;
     std::mutex mu;
     std::exception_ptr error;
     auto run = [&](int k) {
         try {
-            TraceContext ctx(accel, mailboxes, skip_empty);
+            TraceContext ctx = make_trace_context(accel, s);
             const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
             for (size_t i = lo; i < hi; ++i) body(i, ctx);
             std::lock_guard<std::mutex> lock(mu);
@@ -46,23 +46,22 @@ Stats parallel_rays(const Accel& accel, size_t n, int threads, bool mailboxes, b
     return total;
 }
 
-Ray make_ray(const float* o, const float* d, const float* tmin, const float* tmax, size_t i, bool spawned) {
+Ray make_ray(const RayBatch& b, size_t i) {
     Ray r;
-    r.spawned = spawned;
-    r.o = {o[3 * i], o[3 * i + 1], o[3 * i + 2]};
-    r.d = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
-    r.tmin = tmin[i];
-    r.tmax = tmax[i];
+    r.spawned = b.spawned;
+    r.o = {b.o[3 * i], b.o[3 * i + 1], b.o[3 * i + 2]};
+    r.d = {b.d[3 * i], b.d[3 * i + 1], b.d[3 * i + 2]};
+    r.tmin = b.tmin[i];
+    r.tmax = b.tmax[i];
     return r;
 }
 
 }  // namespace
 
-Stats intersect_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                      size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, const BatchOut& out) {
+Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, const BatchOut& out) {
     const Scene& sc = accel.scene();
-    return parallel_rays(accel, n, threads, mailboxes, skip_empty, [&](size_t i, TraceContext& ctx) {
-        const RayPre r(make_ray(o, d, tmin, tmax, i, spawned));
+    return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
+        const RayPre r(make_ray(rays, i));
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
         hit.t = r.ray.tmax;
@@ -84,11 +83,10 @@ Stats intersect_batch(const Accel& accel, const float* o, const float* d, const 
     });
 }
 
-Stats occluded_batch(const Accel& accel, const float* o, const float* d, const float* tmin, const float* tmax,
-                     size_t n, int threads, bool mailboxes, bool spawned, bool skip_empty, uint8_t* out) {
-    return parallel_rays(accel, n, threads, mailboxes, skip_empty, [&](size_t i, TraceContext& ctx) {
+Stats occluded_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, uint8_t* out) {
+    return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
-        out[i] = accel.occluded(RayPre(make_ray(o, d, tmin, tmax, i, spawned)), ctx) ? 1 : 0;
+        out[i] = accel.occluded(RayPre(make_ray(rays, i)), ctx) ? 1 : 0;
     });
 }
 

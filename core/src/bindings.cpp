@@ -7,8 +7,11 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
+#include <nanobind/stl/array.h>
 
 #include "batch.h"
+#include "bind_casters.h"
+#include "bindings.h"
 #include "render_job.h"
 
 namespace nb = nanobind;
@@ -35,7 +38,7 @@ nb::dict stats_dict(const Stats& s) {
     return d;
 }
 
-nb::dict grid_dict(const GridInfo& g) {
+nb::dict accel_dict(const AccelInfo& g) {
     nb::dict d;
     d["resolution"] = nb::make_tuple(g.n[0], g.n[1], g.n[2]);
     d["cells"] = g.cells;
@@ -58,10 +61,6 @@ nb::ndarray<nb::numpy, T> owned(std::vector<size_t> shape) {
     return nb::ndarray<nb::numpy, T>(p, shape.size(), shape.data(), owner);
 }
 
-void check_threads(int threads) {
-    if (threads < 0 || threads > 1024) throw std::invalid_argument("threads must be in [0, 1024] (0 = all cores)");
-}
-
 void check_rays(const In<float>& o, const In<float>& d, const In<float>& tmin, const In<float>& tmax) {
     if (o.ndim() != 2 || o.shape(1) != 3) throw std::invalid_argument("origins must have shape (N, 3)");
     if (d.ndim() != 2 || d.shape(1) != 3 || d.shape(0) != o.shape(0))
@@ -75,52 +74,18 @@ void check_rays(const In<float>& o, const In<float>& d, const In<float>& tmin, c
 NB_MODULE(_core, m) {
     m.doc() = "Gridwalk native core (private: use the gridwalk package)";
 
-    nb::enum_<AAMode>(m, "AAMode")
-        .value("center", AAMode::Center).value("jittered", AAMode::Jittered).value("random", AAMode::Random)
-        .value("adaptive", AAMode::Adaptive).value("sobol", AAMode::Sobol);
-    nb::enum_<ShadowMode>(m, "ShadowMode")
-        .value("hard", ShadowMode::Hard).value("random", ShadowMode::Random).value("area", ShadowMode::Area);
-    nb::enum_<PixelFilter>(m, "PixelFilter").value("box", PixelFilter::Box).value("gaussian", PixelFilter::Gaussian);
-
-    nb::class_<RenderSettings>(m, "RenderSettings")
-        .def(nb::init<>())
-        .def_rw("accel", &RenderSettings::accel)
-        .def_rw("grid_density", &RenderSettings::grid_density)
-        .def_rw("max_cells", &RenderSettings::max_cells)
-        .def_rw("mailboxes", &RenderSettings::mailboxes)
-        .def_rw("skip_empty", &RenderSettings::skip_empty)
-        .def_rw("threads", &RenderSettings::threads)
-        .def_rw("tile_size", &RenderSettings::tile_size)
-        .def_rw("max_depth", &RenderSettings::max_depth)
-        .def_rw("seed", &RenderSettings::seed)
-        .def_rw("aa", &RenderSettings::aa)
-        .def_rw("aa_samples", &RenderSettings::aa_samples)
-        .def_rw("adaptive_threshold", &RenderSettings::adaptive_threshold)
-        .def_rw("adaptive_depth", &RenderSettings::adaptive_depth)
-        .def_rw("filter", &RenderSettings::filter)
-        .def_rw("filter_width", &RenderSettings::filter_width)
-        .def_rw("shadow", &RenderSettings::shadow)
-        .def_rw("shadow_samples", &RenderSettings::shadow_samples)
-        .def_rw("dof_samples", &RenderSettings::dof_samples)
-        .def_rw("glossy_samples", &RenderSettings::glossy_samples)
-        .def_rw("min_weight", &RenderSettings::min_weight)
-        .def_prop_rw("region",
-            [](const RenderSettings& s) { return std::make_tuple(s.region[0], s.region[1], s.region[2], s.region[3]); },
-            [](RenderSettings& s, std::tuple<int, int, int, int> r) {
-                s.region[0] = std::get<0>(r); s.region[1] = std::get<1>(r);
-                s.region[2] = std::get<2>(r); s.region[3] = std::get<3>(r);
-            })
-        .def("validate", &validate_settings);
+    bind_settings(m);
+    bind_records(m);
 
     nb::class_<Scene>(m, "Scene")
         .def("__init__",
              [](Scene* self, In<float> vertices, In<int32_t> triangles, In<float> normals, In<int32_t> tri_mat,
                 In<float> centers, In<float> radii, In<int32_t> sph_mat, In<float> cb, In<float> ca, In<float> cbr,
-                In<float> car, In<int32_t> cmat, In<float> materials, In<float> lights, In<float> camera,
-                std::tuple<float, float, float> bg) {
+                In<float> car, In<int32_t> cmat, std::vector<Material> materials, std::vector<Light> lights,
+                const CameraDesc& camera, Vec3 background) {
                  new (self) Scene(vec(vertices), vec(triangles), vec(normals), vec(tri_mat), vec(centers), vec(radii),
-                                  vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), vec(materials),
-                                  vec(lights), vec(camera), Vec3(std::get<0>(bg), std::get<1>(bg), std::get<2>(bg)));
+                                  vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), std::move(materials),
+                                  std::move(lights), camera, background);
              })
         .def_prop_ro("num_triangles", &Scene::num_triangles)
         .def_prop_ro("num_spheres", &Scene::num_spheres)
@@ -133,7 +98,7 @@ NB_MODULE(_core, m) {
         });
 
     nb::class_<Accel>(m, "Accel")
-        .def_prop_ro("grid", [](const Accel& a) { return grid_dict(a.info()); });
+        .def_prop_ro("grid", [](const Accel& a) { return accel_dict(a.info()); });
 
     m.def("build_accel",
           [](std::shared_ptr<Scene> scene, const RenderSettings& s) {
@@ -143,10 +108,10 @@ NB_MODULE(_core, m) {
           "scene"_a, "settings"_a);
 
     m.def("intersect",
-          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes, bool spawned, bool skip_empty) {
+          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax,
+             const RenderSettings& s, bool spawned) {
               check_rays(o, d, tmin, tmax);
-              check_threads(threads);
+              validate_settings(s);
               const size_t n = o.shape(0);
               auto t = owned<float>({n});
               auto prim = owned<int32_t>({n});
@@ -158,24 +123,24 @@ NB_MODULE(_core, m) {
               Stats st;
               {
                   nb::gil_scoped_release release;
-                  st = intersect_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes, spawned,
-                                      skip_empty, out);
+                  st = intersect_batch(*accel, RayBatch{o.data(), d.data(), tmin.data(), tmax.data(), n, spawned}, s,
+                                       out);
               }
               return nb::make_tuple(t, prim, kind, u, v, nrm, stats_dict(st));
           });
 
     m.def("occluded",
-          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax, int threads,
-             bool mailboxes, bool spawned, bool skip_empty) {
+          [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax,
+             const RenderSettings& s, bool spawned) {
               check_rays(o, d, tmin, tmax);
-              check_threads(threads);
+              validate_settings(s);
               const size_t n = o.shape(0);
               auto hit = owned<uint8_t>({n});
               Stats st;
               {
                   nb::gil_scoped_release release;
-                  st = occluded_batch(*accel, o.data(), d.data(), tmin.data(), tmax.data(), n, threads, mailboxes,
-                                      spawned, skip_empty, hit.data());
+                  st = occluded_batch(*accel, RayBatch{o.data(), d.data(), tmin.data(), tmax.data(), n, spawned}, s,
+                                      hit.data());
               }
               return nb::make_tuple(hit, stats_dict(st));
           });

@@ -1,10 +1,26 @@
 // Perspective camera with an optional thin lens (depth of field).
 #pragma once
+#include <array>
+
 #include "ray.h"
-#include "scene.h"
 #include "sampler.h"
 
 namespace gw {
+
+// The camera record, bound to Python field by field as gridwalk._core.Camera
+// (see gridwalk.Camera for the meaning of each field).
+struct CameraDesc {
+    Vec3 eye{0, -10, 0}, target, up{0, 0, 1};
+    float fov = 45;                       // vertical field of view, degrees
+    int width = 512, height = 512;
+    float aperture = 0, focus_distance = 1;
+    std::array<float, 2> shift{0, 0};     // in units of the image plane's larger side
+    float hither = 0;
+};
+
+// Throws std::invalid_argument naming the field, for values the camera
+// cannot use as float32 (the precision it computes in).
+void validate_camera(const CameraDesc& c);
 
 class Camera {
 public:
@@ -12,11 +28,11 @@ public:
         fwd_ = normalize(c.target - c.eye);
         right_ = normalize(cross(fwd_, c.up));
         up_ = cross(right_, fwd_);
-        half_h_ = std::tan(float(c.fov_deg * kPi / 360.0));
+        half_h_ = std::tan(float(c.fov * kPi / 360.0));
         half_w_ = half_h_ * float(c.width) / float(c.height);
         const float big = 2.0f * std::max(half_w_, half_h_);   // shift is in units of the larger side
-        shift_x_ = c.shift_x * big;
-        shift_y_ = c.shift_y * big;
+        shift_x_ = c.shift[0] * big;
+        shift_y_ = c.shift[1] * big;
         aperture_ = c.aperture;
         focus_ = c.focus_distance;
         hither_ = c.hither;

@@ -1,11 +1,13 @@
-// Ray/cone-frustum intersection for NFF "c" primitives (cylinders when the
-// two radii are equal). Open ends, no caps. Evaluated in double.
+// The NFF cone frustum ("c" primitives; cylinders when the two radii are
+// equal), open ends, no caps: bounds, intersection, normal and the hit point
+// with its error bound. Evaluated in double.
 //
 // With axis unit vector h from base B to apex A (height H), slope
 // k = (r_apex - r_base) / H and w = o - B, a point at parameter t lies on the
 // surface when |w_perp + t d_perp|^2 = (r_base + k s(t))^2 with
 // s(t) = (w + t d).h in [0, H].
 #pragma once
+#include "bounds.h"
 #include "ray.h"
 
 namespace gw {
@@ -14,6 +16,20 @@ struct ConeData {
     Vec3d base, axis;     // axis is unit length
     double height, r0, k; // r(s) = r0 + k s
 };
+
+// The float box of both end circles, rounded outwards.
+inline Bounds cone_bounds(const ConeData& c) {
+    Bounds b;
+    const Vec3d ends[2] = {c.base, c.base + c.axis * c.height};
+    const double rad[2] = {c.r0, c.r0 + c.k * c.height};
+    for (int e = 0; e < 2; ++e)
+        for (int a = 0; a < 3; ++a) {
+            const double ext = rad[e] * std::sqrt(std::max(0.0, 1.0 - c.axis[a] * c.axis[a]));
+            b.lo[a] = std::min(b.lo[a], next_down(float(ends[e][a] - ext)));
+            b.hi[a] = std::max(b.hi[a], next_up(float(ends[e][a] + ext)));
+        }
+    return b;
+}
 
 inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float& t_out) {
     const Vec3d w = r.od - c.base;
@@ -48,6 +64,27 @@ inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float
         return true;
     }
     return false;
+}
+
+// Outward unit normal at the ray's parameter t.
+inline Vec3 cone_normal(const RayPre& r, float t, const ConeData& c) {
+    const Vec3d w = r.od + r.dd * double(t) - c.base;
+    const double s = dot(w, c.axis);
+    const Vec3d perp = w - c.axis * s;
+    return Vec3(normalize(perp - c.axis * (c.k * (c.r0 + c.k * s))));
+}
+
+// The hit point re-projected onto the surface in double (as for spheres: o + t d
+// carries t's rounding error along d, which no per-axis bound on |p| covers),
+// and its error bound.
+inline void cone_point(const RayPre& r, float t, const ConeData& c, Vec3& p, Vec3& p_err) {
+    const Vec3d w = r.od + r.dd * double(t) - c.base;
+    const double s = std::min(std::max(dot(w, c.axis), 0.0), c.height);
+    Vec3d radial = w - c.axis * dot(w, c.axis);
+    const double len = length(radial);
+    radial = len > 0 ? radial / len : radial;
+    p = Vec3(c.base + c.axis * s + radial * (c.r0 + c.k * s));
+    p_err = vabs(p) * gamma_bound(3);
 }
 
 }  // namespace gw

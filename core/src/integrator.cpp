@@ -30,7 +30,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
         const bool has_area = L.kind == LightKind::Sphere ? L.radius > 0
-                            : L.kind == LightKind::Rect   ? L.width > 0 || L.height > 0
+                            : L.kind == LightKind::Rect   ? L.size[0] > 0 || L.size[1] > 0
                             : L.kind == LightKind::Disk   ? L.radius > 0
                             : L.kind == LightKind::Sun    ? L.angle > 0
                                                           : false;
@@ -53,7 +53,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                 // positions, shuffled per pixel so that the pixel's sub-samples
                 // meet different positions.
                 const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
-                const uint32_t key = hash4(st.seed, st.pixel, uint32_t(li), 0xA11u);
+                const uint32_t key = hash4(st.seed, st.pixel, uint32_t(li), uint32_t(Stream::AreaLightGrid));
                 const uint32_t cell = permute(slot, grid, key);
                 u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
                 u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);

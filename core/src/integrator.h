@@ -44,32 +44,4 @@ private:
     const RenderSettings& s_;
 };
 
-// A bijection of [0, n) chosen by seed (cycle-walking an invertible mixer on
-// the next power of two): shuffles the area-light grid per pixel.
-inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
-    uint32_t mask = n - 1;
-    mask |= mask >> 1; mask |= mask >> 2; mask |= mask >> 4; mask |= mask >> 8; mask |= mask >> 16;
-    do {
-        i ^= seed & mask;
-        i = (i * 0x2c1b3c6dU + (seed >> 7)) & mask;
-        i ^= (i >> 3) & mask;
-        i = (i * 0x297a2d39U) & mask;
-        i ^= i >> 5;
-        i &= mask;
-    } while (i >= n);
-    return i;
-}
-
-// Radical inverse in base 2, as a float in [0, 1).
-inline float radical_inverse(uint32_t i) { return float(reverse_bits(i) >> 8) * (1.0f / 16777216.0f); }
-
-// Stratified 2D point j of a set of n (jittered on the first axis, Hammersley
-// on the second, rotated by the set's own offset).
-inline void strat2(uint32_t j, uint32_t n, float xi1, float rot, float& u1, float& u2) {
-    u1 = (float(j) + xi1) / float(n);
-    u2 = radical_inverse(j) + rot;
-    if (u2 >= 1.0f) u2 -= 1.0f;
-    u1 = std::min(u1, 0.99999994f);
-}
-
 }  // namespace gw

@@ -3,10 +3,35 @@
 // lights are exact points; sphere, rect and disk lights spread their
 // intensity over their shape (soft shadows); the sun is a direction cone.
 #pragma once
-#include "scene.h"
+#include <array>
+#include <string>
+
+#include "enums.h"
 #include "sampler.h"
 
 namespace gw {
+
+// The light record, bound to Python field by field as gridwalk._core.Light.
+// See gridwalk.Light for the meaning of each field. prepare_light() checks a
+// record and fills in the derived fields below it.
+struct Light {
+    LightKind kind = LightKind::Point;
+    Vec3 position, color{1, 1, 1};
+    float radius = 0;                     // sphere, disk
+    std::array<float, 2> size{1, 1};      // rect: along axis_u, axis_v
+    Vec3 axis_u{1, 0, 0}, axis_v{0, 1, 0};
+    Vec3 direction{0, 0, -1};             // sun, spot, rect, disk: where the light goes
+    float angle = 0;                      // sun: angular diameter (radians)
+    double spot_size = kPi / 4;           // spot: full cone angle (radians)
+    float spot_blend = 0.15f;             // spot: soft edge, 0..1
+    bool inverse_square = false;          // physical falloff (Blender's lights); NFF's lights have none
+    // Derived by prepare_light:
+    float spot_cos = -1;                  // cos(spot_size / 2)
+};
+
+// Validates `l` (throws std::invalid_argument naming `where` and the field),
+// normalises its axes and direction and computes the derived fields.
+void prepare_light(Light& l, const std::string& where);
 
 struct LightSample {
     Vec3 wi;          // unit direction from the shading point towards the light
@@ -45,7 +70,7 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         break;
     }
     case LightKind::Rect:
-        pos = L.position + L.axis_u * ((u1 - 0.5f) * L.width) + L.axis_v * ((u2 - 0.5f) * L.height);
+        pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
         break;
     case LightKind::Disk: {
         float x, y;

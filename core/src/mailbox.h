@@ -5,18 +5,22 @@
 // ray counter, so stamps are never shared between threads.
 #pragma once
 #include <cstdint>
+#include <algorithm>
 #include <vector>
 
 namespace gw {
 
-class Mailbox {
+// Counter is the stamp type: 32 bits in the renderer; the unit tests use 8
+// bits to reach the wrap-around after 255 rays.
+template <class Counter>
+class BasicMailbox {
 public:
     void resize(size_t prims) {
         if (stamp_.size() != prims) { stamp_.assign(prims, 0); ray_ = 0; }
     }
-    // Start a new ray. On wrap-around (after 2^32 rays) the stamps are cleared.
+    // Start a new ray. On wrap-around (after 2^32 rays for 32-bit stamps) the stamps are cleared.
     void next_ray() {
-        if (++ray_ == 0) { std::fill(stamp_.begin(), stamp_.end(), 0u); ray_ = 1; }
+        if (++ray_ == 0) { std::fill(stamp_.begin(), stamp_.end(), Counter(0)); ray_ = 1; }
     }
     // True if prim was already tested by the current ray; otherwise marks it.
     bool seen(uint32_t prim) {
@@ -27,8 +31,9 @@ public:
     bool enabled() const { return !stamp_.empty(); }
 
 private:
-    std::vector<uint32_t> stamp_;
-    uint32_t ray_ = 0;
+    std::vector<Counter> stamp_;
+    Counter ray_ = 0;
 };
+using Mailbox = BasicMailbox<uint32_t>;
 
 }  // namespace gw

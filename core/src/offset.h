@@ -4,7 +4,7 @@
 // rounded one ulp further away. The offset scales with the hit point's own
 // rounding error, so there is no epsilon tied to the scene's scale.
 #pragma once
-#include "scene.h"
+#include "math.h"
 
 namespace gw {
 

@@ -4,47 +4,16 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "pixel.h"
+#include "pixel_estimator.h"
+#include "threads.h"
 
 namespace gw {
 
+namespace {
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-
-int resolve_threads(int requested) {
-    if (requested > 0) return requested;
-    const unsigned hc = std::thread::hardware_concurrency();
-    return hc ? int(hc) : 1;
-}
-
-void validate_settings(const RenderSettings& s) {
-    auto need = [](bool ok, const char* msg) { if (!ok) throw std::invalid_argument(msg); };
-    need(s.accel == 0 || s.accel == 1, "accel must be 'none' or 'grid'");
-    need(s.grid_density > 0 && std::isfinite(s.grid_density), "grid_density must be > 0");
-    need(s.threads >= 0 && s.threads <= 1024, "threads must be in [0, 1024] (0 = all cores)");
-    need(s.tile_size >= 1 && s.tile_size <= 4096, "tile_size must be in [1, 4096]");
-    need(s.max_depth >= 1 && s.max_depth <= 64, "max_depth must be in [1, 64]");
-    need(s.aa_samples >= 1 && s.aa_samples <= 64, "aa_samples must be in [1, 64]");
-    need(s.adaptive_depth >= 0 && s.adaptive_depth <= 6, "adaptive_depth must be in [0, 6]");
-    need(s.adaptive_threshold >= 0, "adaptive_threshold must be >= 0");
-    need(s.filter_width > 0 && s.filter_width <= 4, "filter_width must be in (0, 4]");
-    need(s.shadow_samples >= 1 && s.shadow_samples <= 64, "shadow_samples must be in [1, 64]");
-    need(s.dof_samples >= 1 && s.dof_samples <= 4096, "dof_samples must be in [1, 4096]");
-    need(s.glossy_samples >= 1 && s.glossy_samples <= 4096, "glossy_samples must be in [1, 4096]");
-    need(s.min_weight >= 0, "min_weight must be >= 0");
-    need(s.region[0] >= 0 && s.region[1] >= 0 && s.region[2] >= 0 && s.region[3] >= 0,
-         "region must be (x, y, w, h) with non-negative values");
-}
-
-std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s) {
-    validate_settings(s);
-    if (s.accel == 0) return std::make_shared<BruteForce>(std::move(scene));
-    GridParams p;
-    p.density = s.grid_density;
-    p.max_cells = s.max_cells;
-    return std::make_shared<Grid>(std::move(scene), p);
-}
+}  // namespace
 
 RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s)
     : accel_(std::move(accel)), s_(s) {
@@ -57,11 +26,11 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
     int x0 = 0, y0 = 0, x1 = width, y1 = height;
-    if (s_.region[2] > 0) {   // render only a region (border render, sparse timing)
-        x0 = std::max(0, s_.region[0]);
-        y0 = std::max(0, s_.region[1]);
-        x1 = int(std::min<int64_t>(width, int64_t(s_.region[0]) + s_.region[2]));
-        y1 = int(std::min<int64_t>(height, int64_t(s_.region[1]) + std::max(1, s_.region[3])));
+    if (s_.region.w > 0) {   // render only a region (border render, sparse timing)
+        x0 = s_.region.x;
+        y0 = s_.region.y;
+        x1 = int(std::min<int64_t>(width, int64_t(s_.region.x) + s_.region.w));
+        y1 = int(std::min<int64_t>(height, int64_t(s_.region.y) + s_.region.h));
         if (x0 >= x1 || y0 >= y1) throw std::invalid_argument("region lies outside the image");
     }
     for (int y = y0; y < y1; y += s_.tile_size)
@@ -93,7 +62,7 @@ void RenderJob::start() {
 void RenderJob::worker() {
     try {
         PixelEstimator est(*accel_, s_);
-        TraceContext ctx(*accel_, s_.mailboxes, s_.skip_empty);
+        TraceContext ctx = make_trace_context(*accel_, s_);
         PixelScratch scratch;
         for (;;) {
             if (cancel_.load(std::memory_order_relaxed)) break;
@@ -157,6 +126,7 @@ void RenderJob::cancel() {
 }
 
 void RenderJob::wait() {
+    if (!started_.load()) throw std::logic_error("RenderJob.wait() called before start(): nothing was rendered");
     join_all();
     std::lock_guard<std::mutex> lock(mu_);
     if (!error_.empty()) throw std::runtime_error("render failed: " + error_);

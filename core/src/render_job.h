@@ -60,9 +60,4 @@ private:
     double t_start_ = 0, t_end_ = -1;
 };
 
-std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s);
-void validate_settings(const RenderSettings& s);
-int resolve_threads(int requested);
-double now_seconds();
-
 }  // namespace gw

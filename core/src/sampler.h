@@ -1,7 +1,11 @@
-// Deterministic random numbers: every value is a hash of (seed, pixel,
-// sample, dimension), so an image does not depend on the thread count or the
-// order in which tiles are rendered.
+// Every source of sample positions in one place: hashing, the named random
+// streams, stratification, permutations, low-discrepancy sequences (Sobol
+// with Owen scrambling, radical inverse), disk mapping and filter sampling.
+//
+// Every value is a hash of (seed, pixel, sample, dimension), so an image does
+// not depend on the thread count or the order in which tiles are rendered.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 
 #include "math.h"
@@ -15,10 +19,24 @@ inline uint32_t mix32(uint32_t x) {
     x ^= x >> 16;
     return x;
 }
+constexpr uint32_t kGoldenRatio32 = 0x9e3779b9U;   // 2^32 / phi: spreads small keys before mixing
 inline uint32_t hash4(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
-    return mix32(a ^ mix32(b ^ mix32(c ^ mix32(d + 0x9e3779b9U))));
+    return mix32(a ^ mix32(b ^ mix32(c ^ mix32(d + kGoldenRatio32))));
 }
 inline float to_unit(uint32_t x) { return float(x >> 8) * (1.0f / 16777216.0f); }   // [0, 1)
+
+// The independent random streams of a render. Each use of randomness mixes
+// its own constant into the seed (or into its hash key), so that no two uses
+// draw correlated numbers for the same pixel and sample.
+enum class Stream : uint32_t {
+    Path = 0,                     // shading: light samples, glossy directions (seed as is)
+    Lens = 0x1e35a7bdU,           // depth of field: lens positions
+    PixelSamples = 0x68e31da4U,   // anti-aliasing: sample positions in the pixel, Sobol scrambles
+    LatticeJitter = 0x2545f491U,  // adaptive AA: jitter of a lattice point
+    LatticePoint = 0xADU,         // adaptive AA: hash key of a lattice point
+    AreaLightGrid = 0xA11U,       // the seed's area light: shuffle of the n x n light grid
+};
+inline uint32_t stream_seed(uint32_t seed, Stream s) { return seed ^ uint32_t(s); }
 
 inline uint32_t reverse_bits(uint32_t x) {
     x = (x << 16) | (x >> 16);
@@ -39,6 +57,54 @@ private:
     uint32_t a_, b_, c_, dim_ = 0;
 };
 
+// A bijection of [0, n) chosen by seed (cycle-walking an invertible mixer on
+// the next power of two): shuffles the area-light grid per pixel.
+inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
+    uint32_t mask = n - 1;
+    mask |= mask >> 1; mask |= mask >> 2; mask |= mask >> 4; mask |= mask >> 8; mask |= mask >> 16;
+    do {
+        i ^= seed & mask;
+        i = (i * 0x2c1b3c6dU + (seed >> 7)) & mask;
+        i ^= (i >> 3) & mask;
+        i = (i * 0x297a2d39U) & mask;
+        i ^= i >> 5;
+        i &= mask;
+    } while (i >= n);
+    return i;
+}
+
+// Burley (2020) hash-based Owen scrambling, applied in reversed bit order.
+inline uint32_t lk_permutation(uint32_t x, uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cU;
+    x ^= x * 0xb82f1e52U;
+    x ^= x * 0xc7afe638U;
+    x ^= x * 0x8d22f6e6U;
+    return x;
+}
+inline uint32_t owen_scramble(uint32_t x, uint32_t seed) { return reverse_bits(lk_permutation(reverse_bits(x), seed)); }
+
+// Second Sobol dimension (generator matrix of the polynomial x + 1); the
+// first is reverse_bits.
+inline uint32_t sobol_dim1(uint32_t i) {
+    uint32_t r = 0;
+    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
+        if (i & 1) r ^= v;
+    return r;
+}
+
+// Radical inverse in base 2, as a float in [0, 1).
+inline float radical_inverse(uint32_t i) { return float(reverse_bits(i) >> 8) * (1.0f / 16777216.0f); }
+
+// Stratified 2D point j of a set of n (jittered on the first axis, Hammersley
+// on the second, rotated by the set's own offset).
+inline void strat2(uint32_t j, uint32_t n, float xi1, float rot, float& u1, float& u2) {
+    u1 = (float(j) + xi1) / float(n);
+    u2 = radical_inverse(j) + rot;
+    if (u2 >= 1.0f) u2 -= 1.0f;
+    u1 = std::min(u1, 0.99999994f);
+}
+
 // Shirley-Chiu concentric map of [0,1)^2 onto the unit disk (keeps strata compact).
 inline void concentric_disk(float u1, float u2, float& x, float& y) {
     const float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
@@ -48,6 +114,16 @@ inline void concentric_disk(float u1, float u2, float& x, float& y) {
     else { r = b; phi = float(kPi / 2) - float(kPi / 4) * (a / b); }
     x = r * std::cos(phi);
     y = r * std::sin(phi);
+}
+
+// Filter importance sampling of a Gaussian of standard deviation `sigma`
+// (clipped at 2 sigma): Box-Muller turns the (stratified) uniform pair into
+// a pixel offset, so every sample has weight 1.
+inline void gaussian_offset(float u, float v, float sigma, float& ox, float& oy) {
+    const float r = sigma * std::sqrt(-2.0f * std::log(std::max(1.0f - u, 1e-7f)));
+    const float phi = float(2 * kPi) * v;
+    ox = std::min(std::max(r * std::cos(phi), -2 * sigma), 2 * sigma);
+    oy = std::min(std::max(r * std::sin(phi), -2 * sigma), 2 * sigma);
 }
 
 }  // namespace gw

@@ -30,11 +30,12 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
              std::vector<float> sphere_radii, std::vector<int32_t> sphere_materials,
              std::vector<float> cone_base, std::vector<float> cone_apex, std::vector<float> cone_base_radius,
              std::vector<float> cone_apex_radius, std::vector<int32_t> cone_materials,
-             const std::vector<float>& materials, const std::vector<float>& lights,
-             const std::vector<float>& camera, Vec3 background)
+             std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
+             Vec3 background)
     : verts_(std::move(vertices)), normals_(std::move(normals)), tris_(std::move(triangles)),
       tri_mat_(std::move(tri_materials)), radii_(std::move(sphere_radii)),
-      sphere_mat_(std::move(sphere_materials)), cone_mat_(std::move(cone_materials)), background_(background) {
+      sphere_mat_(std::move(sphere_materials)), cone_mat_(std::move(cone_materials)),
+      materials_(std::move(materials)), lights_(std::move(lights)), camera_(camera), background_(background) {
     // --- shapes -------------------------------------------------------------
     if (verts_.size() % 3) bad("vertices must have shape (N, 3)");
     if (tris_.size() % 3) bad("triangles must have shape (M, 3)");
@@ -51,9 +52,7 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     if (cone_mat_.size() != nc) bad("cylinder_materials must have one entry per cylinder");
     if (nt + ns + nc == 0) bad("the scene is empty: no triangles, spheres or cylinders");
     if (nt + ns + nc >= (size_t(1) << 31)) bad("too many primitives (limit 2^31)");
-    if (materials.empty() || materials.size() % kMaterialWidth) bad("materials table must have shape (>=1, 12)");
-    if (lights.size() % kLightWidth) bad("lights table must have shape (L, 24)");
-    if (camera.size() != kCameraWidth) bad("camera record must have 20 values");
+    if (materials_.empty()) bad("the scene needs at least one material");
 
     // --- values -------------------------------------------------------------
     check_finite(verts_, 3, "vertices");
@@ -64,11 +63,8 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     check_finite(cone_apex, 3, "cylinder_apex");
     check_finite(cone_base_radius, 1, "cylinder_base_radius");
     check_finite(cone_apex_radius, 1, "cylinder_apex_radius");
-    check_finite(materials, kMaterialWidth, "materials");
-    check_finite(lights, kLightWidth, "lights");
-    check_finite(camera, kCameraWidth, "camera");
     check_ids(tris_, nv, 3, "triangles", "vertices");
-    const size_t nm = materials.size() / kMaterialWidth;
+    const size_t nm = materials_.size();
     check_ids(tri_mat_, nm, 1, "triangle_materials", "materials");
     check_ids(sphere_mat_, nm, 1, "sphere_materials", "materials");
     check_ids(cone_mat_, nm, 1, "cylinder_materials", "materials");
@@ -87,41 +83,10 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
         if (!(h > 0)) bad("cylinder_apex[" + std::to_string(i) + "] coincides with cylinder_base");
         cones_[i] = ConeData{b, (a - b) / h, h, r0, (r1 - r0) / h};
     }
-    materials_.resize(nm);
-    for (size_t i = 0; i < nm; ++i) {
-        const float* m = &materials[i * kMaterialWidth];
-        materials_[i] = Material{v3(m), m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10]};
-        if (!(m[7] > 0)) bad("materials[" + std::to_string(i) + "] has ior <= 0");
-    }
-    for (size_t i = 0; i < lights.size() / kLightWidth; ++i) {
-        const float* l = &lights[i * kLightWidth];
-        Light L;
-        if (!(l[0] >= 0 && l[0] <= 5) || float(int(l[0])) != l[0])
-            bad("lights[" + std::to_string(i) + "] has an unknown kind");
-        const int k = int(l[0]);
-        L.kind = LightKind(k);
-        L.position = v3(l + 1);
-        L.color = v3(l + 4);
-        L.axis_u = normalize(v3(l + 7));
-        L.axis_v = normalize(v3(l + 10));
-        L.direction = normalize(v3(l + 13));
-        L.radius = std::abs(l[16]);
-        L.width = std::abs(l[17]);
-        L.height = std::abs(l[18]);
-        L.angle = std::abs(l[19]);
-        L.spot_cos = l[20];
-        L.spot_blend = l[21];
-        L.inverse_square = l[22] != 0;
-        if ((L.kind == LightKind::Sun || L.kind == LightKind::Spot || L.kind == LightKind::Rect ||
-             L.kind == LightKind::Disk) && length(v3(l + 13)) == 0)
-            bad("lights[" + std::to_string(i) + "] needs a non-zero direction");
-        lights_.push_back(L);
-    }
-    const float* c = camera.data();
-    if (!(c[10] >= 1 && c[11] >= 1 && c[10] * c[11] <= float(1 << 28)))
-        bad("camera resolution must be at least 1x1 and at most 2^28 pixels");
-    camera_ = CameraDesc{v3(c), v3(c + 3), v3(c + 6), c[9], int(c[10]), int(c[11]), c[12], c[13], c[14], c[15], c[16]};
-    if (camera_.width < 1 || camera_.height < 1) bad("camera resolution must be at least 1x1");
+    for (size_t i = 0; i < nm; ++i) validate_material(materials_[i], "materials[" + std::to_string(i) + "]");
+    for (size_t i = 0; i < lights_.size(); ++i) prepare_light(lights_[i], "lights[" + std::to_string(i) + "]");
+    if (!finite3(background_)) bad("background has a non-finite component");
+    validate_camera(camera_);
 
     // Coordinates (and extents) within +-1e30 keep every box, distance and
     // grid cell computation finite in float.
@@ -155,115 +120,46 @@ bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const {
 }
 
 Bounds Scene::prim_bounds(size_t prim) const {
-    Bounds b;
     switch (kind_of(prim)) {
-    case PrimKind::Triangle: {
-        const int32_t* f = &tris_[3 * prim];
-        b.grow(vert(f[0])); b.grow(vert(f[1])); b.grow(vert(f[2]));
-        break;
+    case PrimKind::Triangle: return triangle_bounds(tri_verts_[3 * prim], tri_verts_[3 * prim + 1], tri_verts_[3 * prim + 2]);
+    case PrimKind::Sphere: return sphere_bounds(centers_[local_index(prim)], radii_[local_index(prim)]);
+    default: return cone_bounds(cones_[local_index(prim)]);
     }
-    case PrimKind::Sphere: {
-        const size_t s = local_index(prim);
-        const Vec3 r(radii_[s], radii_[s], radii_[s]);
-        // Round outwards so the float box contains the exact sphere.
-        b.lo = centers_[s] - r; b.hi = centers_[s] + r;
-        for (int a = 0; a < 3; ++a) { b.lo[a] = next_down(b.lo[a]); b.hi[a] = next_up(b.hi[a]); }
-        break;
-    }
-    default: {
-        const ConeData& c = cones_[local_index(prim)];
-        const Vec3d ends[2] = {c.base, c.base + c.axis * c.height};
-        const double rad[2] = {c.r0, c.r0 + c.k * c.height};
-        for (int e = 0; e < 2; ++e)
-            for (int a = 0; a < 3; ++a) {
-                const double ext = rad[e] * std::sqrt(std::max(0.0, 1.0 - c.axis[a] * c.axis[a]));
-                b.lo[a] = std::min(b.lo[a], next_down(float(ends[e][a] - ext)));
-                b.hi[a] = std::max(b.hi[a], next_up(float(ends[e][a] + ext)));
-            }
-    }
-    }
-    return b;
 }
 
 Vec3 Scene::geometric_normal(const RayPre& r, const Hit& hit) const {
     const size_t prim = size_t(hit.prim);
     switch (kind_of(prim)) {
-    case PrimKind::Triangle: {
-        const int32_t* f = &tris_[3 * prim];
-        const Vec3 v0 = vert(f[0]);
-        return normalize(cross(vert(f[1]) - v0, vert(f[2]) - v0));
-    }
-    case PrimKind::Sphere: {
-        const size_t s = local_index(prim);
-        const Vec3d p = r.od + r.dd * double(hit.t);
-        return Vec3(normalize(p - Vec3d(centers_[s])));
-    }
-    default: {
-        const ConeData& c = cones_[local_index(prim)];
-        const Vec3d w = r.od + r.dd * double(hit.t) - c.base;
-        const double s = dot(w, c.axis);
-        const Vec3d perp = w - c.axis * s;
-        return Vec3(normalize(perp - c.axis * (c.k * (c.r0 + c.k * s))));
-    }
+    case PrimKind::Triangle: return triangle_normal(tri_verts_[3 * prim], tri_verts_[3 * prim + 1], tri_verts_[3 * prim + 2]);
+    case PrimKind::Sphere: return sphere_normal(r, hit.t, centers_[local_index(prim)]);
+    default: return cone_normal(r, hit.t, cones_[local_index(prim)]);
     }
 }
 
 SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
     SurfacePoint sp;
-    const size_t prim = size_t(hit.prim);
-    sp.ng = geometric_normal(r, hit);
+    const size_t prim = size_t(hit.prim), k = local_index(prim);
+    sp.ng = sp.ns = geometric_normal(r, hit);
     switch (kind_of(prim)) {
     case PrimKind::Triangle: {
-        const int32_t* f = &tris_[3 * prim];
-        const float b0 = 1.0f - hit.u - hit.v;
-        const Vec3 v0 = vert(f[0]), v1 = vert(f[1]), v2 = vert(f[2]);
-        const Vec3 a = v0 * b0, b = v1 * hit.u, c = v2 * hit.v;
-        sp.p = a + b + c;
-        // Error bound of the barycentric interpolation (pbrt-v3 3.9.3).
-        sp.p_err = (vabs(a) + vabs(b) + vabs(c)) * gamma_bound(7);
+        const Vec3* v = &tri_verts_[3 * prim];
+        triangle_point(v[0], v[1], v[2], hit.u, hit.v, sp.p, sp.p_err);
         sp.material = tri_mat_[prim];
-        sp.ns = sp.ng;
         if (!normals_.empty()) {
-            auto nrm = [&](int32_t i) {
-                const size_t k = 3 * size_t(i);
-                return Vec3{normals_[k], normals_[k + 1], normals_[k + 2]};
-            };
-            const Vec3 n = nrm(f[0]) * b0 + nrm(f[1]) * hit.u + nrm(f[2]) * hit.v;
-            const float len = length(n);
-            if (len > 0 && std::isfinite(len)) {
-                sp.ns = n / len;
-                if (dot(sp.ns, sp.ng) < 0) sp.ng = -sp.ng;   // the normals define the outside
-            }
+            const int32_t* f = &tris_[3 * prim];
+            if (triangle_shading_normal(normal(f[0]), normal(f[1]), normal(f[2]), hit.u, hit.v, sp.ns) &&
+                dot(sp.ns, sp.ng) < 0)
+                sp.ng = -sp.ng;   // the vertex normals define the outside
         }
         break;
     }
-    case PrimKind::Sphere: {
-        const size_t s = local_index(prim);
-        const Vec3d c(centers_[s]);
-        const Vec3d n(sp.ng);
-        const Vec3d p = c + n * double(radii_[s]);   // re-projected onto the surface
-        sp.p = Vec3(p);
-        // p is exact to double precision, then rounded once to float.
-        sp.p_err = vabs(sp.p) * gamma_bound(3);
-        sp.ns = sp.ng;
-        sp.material = sphere_mat_[s];
+    case PrimKind::Sphere:
+        sphere_point(centers_[k], radii_[k], sp.ng, sp.p, sp.p_err);
+        sp.material = sphere_mat_[k];
         break;
-    }
-    default: {
-        // Re-project onto the surface in double (as for spheres): o + t d
-        // carries t's rounding error along d, which no per-axis bound on |p| covers.
-        const size_t k = local_index(prim);
-        const ConeData& c = cones_[k];
-        const Vec3d w = r.od + r.dd * double(hit.t) - c.base;
-        const double s = std::min(std::max(dot(w, c.axis), 0.0), c.height);
-        Vec3d radial = w - c.axis * dot(w, c.axis);
-        const double len = length(radial);
-        radial = len > 0 ? radial / len : radial;
-        sp.p = Vec3(c.base + c.axis * s + radial * (c.r0 + c.k * s));
-        sp.p_err = vabs(sp.p) * gamma_bound(3);
-        sp.ns = sp.ng;
+    default:
+        cone_point(r, hit.t, cones_[k], sp.p, sp.p_err);
         sp.material = cone_mat_[k];
-    }
     }
     if (!finite3(sp.ng) || length(sp.ng) == 0) sp.ng = sp.ns = normalize(-r.ray.d);
     return sp;

@@ -1,35 +1,78 @@
-// Per-render settings (mirrored by gridwalk.RenderSettings in Python).
+// Render settings, declared once.
+//
+// Each row of GW_RENDER_SETTINGS is one setting: its C++ type, name,
+// default, inclusive limits, the group hosts show it in, when it matters
+// ("aa=adaptive": only for that value of another setting; "" always), a
+// label and a help line. Everything else is derived from this table: the
+// RenderSettings struct, validate_settings(), and the schema the bindings
+// export (gridwalk._core.settings_schema), from which gridwalk.RenderSettings,
+// the CLI options and the Blender properties and panels are built.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <limits>
+
+#include "enums.h"
 
 namespace gw {
 
-enum class AAMode : int { Center = 0, Jittered = 1, Random = 2, Adaptive = 3, Sobol = 4 };
-enum class ShadowMode : int { Hard = 0, Random = 1, Area = 2 };
-enum class PixelFilter : int { Box = 0, Gaussian = 1 };
-
-struct RenderSettings {
-    int accel = 1;                     // 0 = none (brute force), 1 = uniform grid
-    double grid_density = 2.0;         // the seed's M
-    uint64_t max_cells = 1ull << 24;   // grid cell cap (M is reduced past it)
-    bool mailboxes = true;
-    bool skip_empty = true;            // grid: jump across blocks of empty cells
-    int threads = 0;                   // 0 = all cores
-    int tile_size = 32;
-    int max_depth = 5;                 // ray generations: primary = 1
-    uint32_t seed = 0;
-    AAMode aa = AAMode::Center;
-    int aa_samples = 1;                // n: n x n samples per pixel (jittered/random/sobol)
-    float adaptive_threshold = 0.05f;  // colour difference that triggers subdivision
-    int adaptive_depth = 3;            // maximum subdivision levels
-    PixelFilter filter = PixelFilter::Box;
-    float filter_width = 0.5f;         // Gaussian standard deviation in pixels (clipped at 2 sigma)
-    ShadowMode shadow = ShadowMode::Hard;
-    int shadow_samples = 1;            // random: rays per light; area: n for the n x n light grid
-    int dof_samples = 1;               // lens samples per pixel sample
-    int glossy_samples = 1;            // rays at the first glossy bounce
-    float min_weight = 1e-3f;          // skip secondary rays whose path weight is below this
-    int region[4] = {0, 0, 0, 0};      // x, y, w, h of the part to render; w = 0: whole image
+// Part of the image to render, in pixels, row 0 at the top; w = 0: all of it.
+struct Region {
+    int x = 0, y = 0, w = 0, h = 0;
 };
+
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+
+// X(type, name, default, min, max, group, when, label, help)
+#define GW_RENDER_SETTINGS(X)                                                                                      \
+    X(AccelKind, accel, AccelKind::Grid, 0, 0, "acceleration", "", "Acceleration",                                 \
+      "How rays find the primitives they hit")                                                                     \
+    X(double, grid_density, 2.0, 0.01, 1000.0, "acceleration", "accel=grid", "Grid Density (M)",                  \
+      "The seed's M in N_ax = floor(M * dim_ax / cbrt(V / N)) + 1: about M^3 cells per primitive")                 \
+    X(uint64_t, max_cells, uint64_t(1) << 24, 1, double(uint64_t(1) << 31), "acceleration", "accel=grid",         \
+      "Max Cells", "Cap on grid cells; past it the density is reduced (the grid's note says so)")                  \
+    X(bool, mailboxes, true, 0, 1, "acceleration", "accel=grid", "Mailboxes",                                      \
+      "Skip primitives this ray already tested (per-thread stamps)")                                               \
+    X(bool, skip_empty, true, 0, 1, "acceleration", "accel=grid", "Skip Empty Space",                              \
+      "Jump across blocks of empty grid cells; off walks every cell, as Havran & Sixta count them")                \
+    X(int, threads, 0, 0, 1024, "performance", "", "Threads", "Worker threads, 0 = all cores")                     \
+    X(int, tile_size, 32, 1, 4096, "performance", "", "Tile Size", "Tile edge in pixels")                          \
+    X(uint32_t, seed, 0, 0, 4294967295.0, "performance", "", "Seed",                                               \
+      "Random seed: the image is a pure function of the scene, the settings and the seed")                         \
+    X(int, max_depth, 5, 1, 64, "sampling", "", "Max Depth", "Ray generations (1 = primary rays only)")            \
+    X(float, min_weight, 1e-3f, 0.0, 1.0, "sampling", "", "Min Path Weight",                                       \
+      "Secondary rays whose path weight falls below this are skipped")                                             \
+    X(AAMode, aa, AAMode::Center, 0, 0, "sampling", "", "Anti-Aliasing", "Where a pixel's camera rays go")         \
+    X(int, aa_samples, 1, 1, 64, "sampling", "aa!=center", "AA Samples (n)", "n: n x n camera samples per pixel")  \
+    X(float, adaptive_threshold, 0.05f, 0.0, kNoLimit, "sampling", "aa=adaptive", "Adaptive Threshold",            \
+      "Colour difference between corners that makes a square subdivide")                                          \
+    X(int, adaptive_depth, 3, 0, 6, "sampling", "aa=adaptive", "Adaptive Depth", "Maximum subdivision levels")    \
+    X(PixelFilter, filter, PixelFilter::Box, 0, 0, "sampling", "", "Pixel Filter", "How samples are weighted")     \
+    X(float, filter_width, 0.5f, 0.01, 4.0, "sampling", "filter=gaussian", "Filter Width",                         \
+      "Gaussian standard deviation in pixels (clipped at 2 sigma)")                                                \
+    X(ShadowMode, shadow, ShadowMode::Hard, 0, 0, "lights", "", "Soft Shadows", "Where shadow rays go on a light") \
+    X(int, shadow_samples, 1, 1, 64, "lights", "shadow!=hard", "Shadow Samples",                                   \
+      "random: rays per light; area: n of the n x n light grid")                                                   \
+    X(int, dof_samples, 1, 1, 4096, "lens", "", "DoF Samples",                                                     \
+      "Lens samples per camera sample (used when the camera has an aperture)")                                     \
+    X(int, glossy_samples, 1, 1, 4096, "lens", "", "Glossy Samples", "Rays at the first glossy bounce")            \
+    X(Region, region, Region(), 0, 0, "host", "", "Region",                                                        \
+      "(x, y, w, h) in pixels, row 0 at the top: render only this part of the image (Blender: the render border)")
+
+// Where a host (the Blender add-on) starts from other defaults, and why.
+// X(name, default as the host writes it, reason)
+#define GW_HOST_DEFAULTS(X)                                                                              \
+    X(aa, "jittered", "A final render in Blender is expected to be anti-aliased; the library keeps the "  \
+                      "seed's single centre ray, the baseline its tables compare against")               \
+    X(aa_samples, "2", "2 x 2 jittered samples: anti-aliased at 4x the cost of one ray")
+
+#define GW_SETTING_FIELD(type, name, def, lo, hi, group, when, label, help) type name = def;
+struct RenderSettings {
+    GW_RENDER_SETTINGS(GW_SETTING_FIELD)
+};
+#undef GW_SETTING_FIELD
+
+// Throws std::invalid_argument naming the first setting outside its limits.
+void validate_settings(const RenderSettings& s);
 
 }  // namespace gw

@@ -1,18 +1,57 @@
+// The triangle: bounds, watertight intersection, normals and the hit point
+// with its error bound.
+//
 // Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013).
 // Shared edges are evaluated with bit-identical edge functions in both
 // triangles, so a ray through an edge or vertex of a closed mesh cannot slip
 // through. When an edge function is exactly zero it is recomputed in double,
 // as the paper recommends, so the tie is decided consistently.
 #pragma once
+#include "bounds.h"
 #include "ray.h"
 
 namespace gw {
+
+inline Bounds triangle_bounds(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+    Bounds b;
+    b.grow(v0); b.grow(v1); b.grow(v2);
+    return b;
+}
+
+// Unit geometric normal; its side follows the winding v0 -> v1 -> v2.
+inline Vec3 triangle_normal(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+    return normalize(cross(v1 - v0, v2 - v0));
+}
+
+// The point with barycentrics (b1, b2) of v1, v2, and a conservative bound of
+// its rounding error (pbrt-v3 3.9.3).
+inline void triangle_point(const Vec3& v0, const Vec3& v1, const Vec3& v2, float b1, float b2, Vec3& p,
+                           Vec3& p_err) {
+    const float b0 = 1.0f - b1 - b2;
+    const Vec3 a = v0 * b0, b = v1 * b1, c = v2 * b2;
+    p = a + b + c;
+    p_err = (vabs(a) + vabs(b) + vabs(c)) * gamma_bound(7);
+}
+
+// Vertex normals interpolated at (b1, b2); false where they cancel out (the
+// caller then keeps the geometric normal).
+inline bool triangle_shading_normal(const Vec3& n0, const Vec3& n1, const Vec3& n2, float b1, float b2, Vec3& ns) {
+    const float b0 = 1.0f - b1 - b2;
+    const Vec3 n = n0 * b0 + n1 * b1 + n2 * b2;
+    const float len = length(n);
+    if (!(len > 0 && std::isfinite(len))) return false;
+    ns = n / len;
+    return true;
+}
 
 // Returns true and sets t, b1, b2 (barycentrics of v1, v2) for a hit with
 // tmin < t < tmax. Triangles are two-sided.
 // v points at the triangle's 9 coordinates (v0, v1, v2), read in the ray's
 // permuted axis order straight from memory.
-inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, float& t_out, float& b1, float& b2) {
+// t_err, when given, receives the bound on t's rounding error (computed for
+// every ray that reaches it, spawned or not; the unit tests check it).
+inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, float& t_out, float& b1, float& b2,
+                               float* t_err = nullptr) {
     const float Akz = v[r.kz] - r.oz, Bkz = v[3 + r.kz] - r.oz, Ckz = v[6 + r.kz] - r.oz;
     const float Ax = (v[r.kx] - r.ox) - r.sx * Akz, Ay = (v[r.ky] - r.oy) - r.sy * Akz;
     const float Bx = (v[3 + r.kx] - r.ox) - r.sx * Bkz, By = (v[3 + r.ky] - r.oy) - r.sy * Bkz;
@@ -41,7 +80,7 @@ inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, floa
     // so it is rejected. This is what keeps a ray spawned exactly on a
     // triangle (zero position error, e.g. an axis-aligned floor) from
     // re-hitting it.
-    if (r.ray.spawned) {
+    if (r.ray.spawned || t_err) {
         const float max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
         const float max_xt = std::max(std::abs(Ax), std::max(std::abs(Bx), std::abs(Cx)));
         const float max_yt = std::max(std::abs(Ay), std::max(std::abs(By), std::abs(Cy)));
@@ -50,7 +89,8 @@ inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, floa
         const float de = 2.0f * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
         const float max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
         const float dt = 3.0f * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) * inv;
-        if (!(t > dt)) return false;
+        if (t_err) *t_err = dt;
+        if (r.ray.spawned && !(t > dt)) return false;
     }
     t_out = t;
     b1 = V * inv;

@@ -1,12 +1,24 @@
-"""The add-on registers its engine, properties and panels, and unregisters cleanly."""
+"""The add-on registers its engine, properties and panels, and unregisters
+cleanly; its render properties are exactly the core's settings table."""
 import json
+import math
 
+import pytest
+
+from gridwalk.settings import SCHEMA
 from runner import run_script
 
+INT_MAX = 2**31 - 1
 
-def test_register_and_unregister(any_blender, tmp_path):
+
+@pytest.fixture
+def registration(any_blender, tmp_path):
     run_script(any_blender, "registration.py", tmp_path)
-    info = json.loads((tmp_path / "registration.json").read_text())
+    return json.loads((tmp_path / "registration.json").read_text())
+
+
+def test_register_and_unregister(registration):
+    info = registration
     assert info["engine"] == "GRIDWALK"
     panels = set(info["panels"])
     ours = {"GRIDWALK_RENDER_PT_sampling", "GRIDWALK_RENDER_PT_acceleration",
@@ -16,7 +28,37 @@ def test_register_and_unregister(any_blender, tmp_path):
     assert {"DATA_PT_lens", "DATA_PT_camera_dof", "EEVEE_MATERIAL_PT_surface",
             "EEVEE_WORLD_PT_surface", "RENDER_PT_format"} <= panels
     assert info["object_option"]
-    assert info["settings"]["accel"] == "grid" and info["settings"]["aa"] == "jittered"
     # unregister leaves nothing behind
     assert info["panels_after"] == [] and not info["engine_after"]
     assert not info["scene_property_after"]
+
+
+def test_every_setting_is_a_blender_property_with_the_tables_default_and_limits(registration):
+    props, settings = registration["properties"], registration["settings"]
+    for s in SCHEMA:
+        if s.group == "host":                     # region comes from the render border
+            assert s.name not in props
+            continue
+        p = props[s.name]
+        default = s.host_default if s.host_default is not None else s.default
+        if s.host_default is not None:
+            assert s.host_default_reason, s.name  # a different default says why
+        assert p["label"] == s.label and s.help in p["description"], s.name
+        if s.kind == "enum":
+            assert p["items"] == [c.upper() for c in s.ids] and p["default"] == default.upper(), s.name
+        elif s.kind == "bool":
+            assert p["default"] is default, s.name
+        else:
+            assert p["default"] == pytest.approx(default, rel=1e-6), s.name
+            assert p["min"] == pytest.approx(s.min, rel=1e-6), s.name
+            high = min(s.max, INT_MAX) if s.kind == "int" else s.max
+            if math.isfinite(high):
+                assert p["max"] == pytest.approx(high, rel=1e-6), s.name
+        # the settings the add-on hands the core are the property values
+        assert settings[s.name] == pytest.approx(default) if s.kind in ("int", "float") \
+            else settings[s.name] == default, s.name
+
+
+def test_every_settings_group_has_a_panel(registration):
+    shown = {g for groups in registration["panel_groups"].values() for g in groups}
+    assert shown == {s.group for s in SCHEMA} - {"host"}

@@ -30,7 +30,7 @@ def exercise(kwargs: dict):
     or None when the file's content is refused with ValueError."""
     camera = kwargs["camera"]
     try:
-        camera.packed()          # the camera exactly as the file describes it
+        camera.validate()          # the camera exactly as the file describes it
     except ValueError:
         pass
     kwargs = dict(kwargs, camera=dataclasses.replace(camera, width=SIZE, height=SIZE))

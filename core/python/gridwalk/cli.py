@@ -12,21 +12,18 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import re
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from . import io, scenes, settings
+from . import io, scenes
 from .render import RenderJob
 from .scene import Scene
-from .settings import RenderSettings
+from .settings import BY_NAME, SCHEMA, RenderSettings
 
 OUTPUT_TYPES = (".png", ".npy")
-CHOICES = {"accel": tuple(settings.ACCELS), "aa": settings.AA_MODES,
-           "shadow": settings.SHADOW_MODES, "filter": settings.FILTERS}
 
 
 class CliError(Exception):
@@ -63,6 +60,8 @@ def check_output(path) -> Path:
         raise CliError(f"{path}: output must end in {' or '.join(OUTPUT_TYPES)}")
     if not path.parent.is_dir():
         raise CliError(f"{path}: the folder {str(path.parent)!r} does not exist")
+    if path.is_dir():
+        raise CliError(f"{path}: is a folder, not an image file")
     return path
 
 
@@ -167,14 +166,11 @@ def load(path) -> dict:
 def cmd_render(args) -> int:
     out = check_output(args.output)
     npy = check_output(args.npy) if args.npy else None
+    s = settings_from_args(args)
     kwargs = load(args.scene)
     cam = kwargs["camera"]
     kwargs["camera"] = dataclasses.replace(cam, width=cam.width if args.width is None else args.width,
                                            height=cam.height if args.height is None else args.height)
-    changes = {f.name: getattr(args, f.name) for f in dataclasses.fields(RenderSettings)
-               if getattr(args, f.name) is not None}
-    s = RenderSettings().replace(**changes)
-    s.to_core()                                   # bad settings fail here, before the scene is built
     job = RenderJob(Scene(**kwargs), s)
     image = run_job(job, args.quiet)
     write_image(out, image, args.alpha)
@@ -203,7 +199,7 @@ def cmd_info(args) -> int:
     print(f"bounds     {_vec(lo)} .. {_vec(hi)}")
     print(f"camera     eye {_vec(c.eye)}, target {_vec(c.target)}, up {_vec(c.up)}, "
           f"fov {c.fov:.4g} deg, {c.width}x{c.height}, aperture {c.aperture:g}")
-    print(f"grid       {grid_line(scene.grid_info(RenderSettings(grid_density=args.grid_density)))}")
+    print(f"grid       {grid_line(scene.grid_info(settings_from_args(args)))}")
     return 0
 
 
@@ -225,30 +221,33 @@ def cmd_validate(args) -> int:
 
 
 # -- argument parsing ---------------------------------------------------------
-def _field_help(name: str) -> str:
-    """The field's sentence from the RenderSettings docstring, if it has one."""
-    doc = re.sub(r"\s+", " ", RenderSettings.__doc__ or "")
-    m = re.search(rf"(?:^|[ .,]){name}(?:, \w+)*: (.*?)(?:\.(?= \w+(?:, \w+)*: )|\.$|$)", doc)
-    return (m.group(1).strip() if m else "").replace("%", "%%")
-
-
-def add_settings_options(parser: argparse.ArgumentParser) -> None:
-    """One option per RenderSettings field, so no setting can be forgotten."""
+def add_settings_options(parser: argparse.ArgumentParser, groups=None) -> None:
+    """One option per setting of the core's settings table (gridwalk.settings.SCHEMA),
+    so no setting can be forgotten; `groups` limits them to those groups."""
     group = parser.add_argument_group("render settings (gridwalk.RenderSettings)")
-    for f in dataclasses.fields(RenderSettings):
-        flag, default = "--" + f.name.replace("_", "-"), f.default
-        help_text = f"{_field_help(f.name)} (default: {default})".lstrip()
-        if isinstance(default, bool):
-            group.add_argument(flag, dest=f.name, action=argparse.BooleanOptionalAction, default=None,
+    for setting in SCHEMA:
+        if groups is not None and setting.group not in groups:
+            continue
+        flag = "--" + setting.name.replace("_", "-")
+        help_text = f"{setting.describe()} (default: {setting.default})".replace("%", "%%")
+        if setting.kind == "bool":
+            group.add_argument(flag, dest=setting.name, action=argparse.BooleanOptionalAction, default=None,
                                help=help_text)
-        elif isinstance(default, (int, float, str)):
-            group.add_argument(flag, dest=f.name, type=type(default), default=None,
-                               choices=CHOICES.get(f.name), help=help_text)
-        elif "tuple" in str(f.type):               # e.g. region: tuple | None
-            group.add_argument(flag, dest=f.name, type=_numbers, default=None, metavar="N,N,...",
+        elif setting.kind == "region":
+            group.add_argument(flag, dest=setting.name, type=_numbers, default=None, metavar="X,Y,W,H",
                                help=help_text)
         else:
-            raise TypeError(f"RenderSettings.{f.name}: no command-line option type for {f.type}")
+            kind = {"int": int, "float": float, "enum": str}[setting.kind]
+            group.add_argument(flag, dest=setting.name, type=kind, default=None, choices=setting.ids or None,
+                               help=help_text)
+
+
+def settings_from_args(args) -> RenderSettings:
+    """The RenderSettings the options ask for (defaults where not given), checked."""
+    changes = {name: getattr(args, name) for name in BY_NAME if getattr(args, name, None) is not None}
+    s = RenderSettings().replace(**changes)
+    s.to_core()                                   # bad settings fail here, before any scene is built
+    return s
 
 
 def _numbers(text: str) -> tuple:
@@ -293,8 +292,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("info", help="primitive counts, bounds, camera and the grid that would be built")
     p.add_argument("scene", help="scene file (.nff or .ply)")
-    p.add_argument("--grid-density", type=float, default=RenderSettings.grid_density,
-                   help=f"grid density M (default: {RenderSettings.grid_density})")
+    add_settings_options(p, groups=("acceleration",))
     p.set_defaults(func=cmd_info)
     return parser
 

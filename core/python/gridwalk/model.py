@@ -1,62 +1,121 @@
 """Scene description records: materials, lights and the camera.
 
-These are plain Python records. `gridwalk.Scene` packs them into the float32
-tables the native core reads (see `pack_*` below), so the packing layout lives
-in exactly one place.
+Each is a dataclass whose fields are the fields of the core's record of the
+same name (gridwalk._core.Material, Light, Camera, declared in
+core/src/material.h, lights.h and camera.h). `to_core()` fills the core's
+record field by field: there is no packed layout and no column index. The
+defaults are the core's own. Values are validated once, by the core, when
+the record enters it (gridwalk.Scene, or `validate()`): ValueError names the
+record and the field.
 """
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+import numbers
+from dataclasses import dataclass, fields
 
 import numpy as np
 
-# Packed material table: float32 rows of (r, g, b, kd, ks, shininess,
-# transmittance, ior, mirror, roughness, emission, pad); see Material.packed.
-# Light kinds, as stored in column 0 of the packed light table.
-LIGHT_KINDS = {"point": 0, "sphere": 1, "rect": 2, "disk": 3, "sun": 4, "spot": 5}
-LIGHT_WIDTH = 24
+from . import _core
+
+LIGHT_KINDS = tuple(kind for kind, _, _ in _core.light_kinds())
+
+_MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 
 
-def _vec3(value, name):
-    v = np.asarray(value, dtype=np.float64).reshape(-1)
-    if v.shape != (3,):
-        raise ValueError(f"{name} must have 3 components, got shape {np.shape(value)}")
-    if not np.all(np.isfinite(v)):
-        raise ValueError(f"{name} has a non-finite component: {tuple(v)}")
-    return v
+def _f32(x: float) -> float:
+    """The shortest decimal of a float32 default (0.8, not 0.800000011920929)."""
+    return float(str(np.float32(x)))
+
+
+def as_floats(value, n: int, where: str) -> tuple:
+    """`value` as n floats, or ValueError naming the field (shape and type only)."""
+    try:
+        v = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where} must be {n} numbers, got {value!r}") from None
+    if v.shape != (n,):
+        raise ValueError(f"{where} must have {n} components, got shape {np.shape(value)}")
+    return tuple(float(x) for x in v)
+
+
+def _scalar(value, kind, where: str):
+    if isinstance(value, (bool, np.bool_)) and kind is not bool:
+        raise ValueError(f"{where} must be a number, got {value!r}")
+    if kind is bool:
+        if not isinstance(value, (bool, np.bool_)):
+            raise ValueError(f"{where} must be True or False, got {value!r}")
+        return bool(value)
+    if kind is int:
+        if not isinstance(value, numbers.Integral):
+            raise ValueError(f"{where} must be an integer, got {value!r}")
+        if not -2**31 <= int(value) < 2**31:
+            raise ValueError(f"{where} = {value} does not fit the core's 32-bit integer")
+        return int(value)
+    if not isinstance(value, numbers.Real):
+        raise ValueError(f"{where} must be a number, got {value!r}")
+    return float(value)
+
+
+def to_core(record, core_type, convert=None):
+    """A core record filled from the dataclass `record`, field by field.
+    `convert` maps a field name to a function giving the core's value."""
+    core = core_type()
+    name = type(record).__name__
+    for f in fields(record):
+        value, where = getattr(record, f.name), f"{name}.{f.name}"
+        if convert and f.name in convert:
+            value = convert[f.name](value, where)
+        elif isinstance(getattr(core, f.name), (tuple, list)):
+            value = as_floats(value, len(getattr(core, f.name)), where)
+        else:
+            value = _scalar(value, type(getattr(core, f.name)), where)
+        setattr(core, f.name, value)
+    return core
+
+
+class Record:
+    """A dataclass mirroring a core record: CORE is the core's type; converters()
+    maps fields to functions giving the core's value where a plain copy won't do."""
+    CORE = None
+
+    def converters(self) -> dict:
+        return {}
+
+    def to_core(self):
+        """The core's record, field by field (shapes and types checked here)."""
+        return to_core(self, self.CORE, self.converters())
+
+    def validate(self) -> None:
+        """Raise ValueError naming the field if the core would refuse this record."""
+        self.to_core().validate()
 
 
 @dataclass
-class Material:
+class Material(Record):
     """Whitted / NFF material. NFF's `f r g b Kd Ks Shine T ior` maps to
-    color, kd, ks, shininess, transmittance, ior, with mirror = Ks."""
-    color: tuple = (1.0, 1.0, 1.0)
-    kd: float = 0.8
-    ks: float = 0.0
-    shininess: float = 32.0
-    transmittance: float = 0.0
-    ior: float = 1.0
-    mirror: float = 0.0
-    roughness: float = 0.0      # 0 = exact mirror; > 0 glossy (sampling issue)
-    emission: float = 0.0       # self-lit strength (added to the shaded colour)
+    color, kd, ks, shininess, transmittance, ior, with mirror = Ks.
+    roughness: 0 = exact mirror, > 0 glossy. emission: self-lit strength
+    (added to the shaded colour)."""
+    color: tuple = _MAT.color
+    kd: float = _f32(_MAT.kd)
+    ks: float = _MAT.ks
+    shininess: float = _MAT.shininess
+    transmittance: float = _MAT.transmittance
+    ior: float = _MAT.ior
+    mirror: float = _MAT.mirror
+    roughness: float = _MAT.roughness
+    emission: float = _MAT.emission
+    CORE = _core.Material
 
-    def packed(self) -> np.ndarray:
-        c = _vec3(self.color, "Material.color")
-        row = [c[0], c[1], c[2], self.kd, self.ks, self.shininess, self.transmittance,
-               self.ior, self.mirror, self.roughness, self.emission, 0.0]
-        row = np.asarray(row, dtype=np.float64)
-        if not np.all(np.isfinite(row)):
-            raise ValueError(f"Material has a non-finite field: {self}")
-        if self.ior <= 0:
-            raise ValueError(f"Material.ior must be > 0, got {self.ior}")
-        if self.roughness < 0 or self.shininess < 0:
-            raise ValueError("Material.roughness and shininess must be >= 0")
-        return row.astype(np.float32)
+
+def _light_kind(value, where):
+    if value not in LIGHT_KINDS:
+        raise ValueError(f"{where} must be one of {list(LIGHT_KINDS)}, got {value!r}")
+    return getattr(_core.LightKind, value)
 
 
 @dataclass
-class Light:
+class Light(Record):
     """A light. kind: point | sphere | rect | disk | sun | spot.
 
     position: centre (point, sphere, rect, disk, spot).
@@ -70,92 +129,49 @@ class Light:
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
     Area lights (rect, disk) emit along `direction` with a cosine falloff.
     """
-    position: tuple = (0.0, 0.0, 0.0)
-    color: tuple = (1.0, 1.0, 1.0)
-    kind: str = "point"
-    radius: float = 0.0
-    size: tuple = (1.0, 1.0)
-    axis_u: tuple = (1.0, 0.0, 0.0)
-    axis_v: tuple = (0.0, 1.0, 0.0)
-    direction: tuple = (0.0, 0.0, -1.0)
-    angle: float = 0.0
-    spot_size: float = math.pi / 4
-    spot_blend: float = 0.15
-    inverse_square: bool = False   # NFF lights have no falloff; Blender's do
+    position: tuple = _LIGHT.position
+    color: tuple = _LIGHT.color
+    kind: str = LIGHT_KINDS[0]
+    radius: float = _LIGHT.radius
+    size: tuple = tuple(_LIGHT.size)
+    axis_u: tuple = _LIGHT.axis_u
+    axis_v: tuple = _LIGHT.axis_v
+    direction: tuple = _LIGHT.direction
+    angle: float = _LIGHT.angle
+    spot_size: float = _LIGHT.spot_size
+    spot_blend: float = _f32(_LIGHT.spot_blend)
+    inverse_square: bool = _LIGHT.inverse_square   # NFF lights have no falloff; Blender's do
+    CORE = _core.Light
 
-    def packed(self) -> np.ndarray:
-        if self.kind not in LIGHT_KINDS:
-            raise ValueError(f"Light.kind must be one of {sorted(LIGHT_KINDS)}, got {self.kind!r}")
-        p = _vec3(self.position, "Light.position")
-        c = _vec3(self.color, "Light.color")
-        u = _vec3(self.axis_u, "Light.axis_u")
-        v = _vec3(self.axis_v, "Light.axis_v")
-        d = _vec3(self.direction, "Light.direction")
-        if self.kind in ("sun", "spot", "rect", "disk") and np.linalg.norm(d) == 0:
-            raise ValueError("Light.direction must be non-zero for sun, spot, rect and disk lights")
-        if self.radius < 0 or self.angle < 0:
-            raise ValueError("Light.radius and Light.angle must be >= 0")
-        w, h = float(self.size[0]), float(self.size[1])
-        row = np.zeros(LIGHT_WIDTH, dtype=np.float64)
-        row[0] = LIGHT_KINDS[self.kind]
-        row[1:4] = p
-        row[4:7] = c
-        row[7:10] = u
-        row[10:13] = v
-        row[13:16] = d
-        row[16] = self.radius
-        row[17] = w
-        row[18] = h
-        row[19] = self.angle
-        row[20] = math.cos(0.5 * self.spot_size)
-        row[21] = min(max(self.spot_blend, 0.0), 1.0)
-        row[22] = 1.0 if self.inverse_square else 0.0
-        if not np.all(np.isfinite(row)):
-            raise ValueError(f"Light has a non-finite field: {self}")
-        return row.astype(np.float32)
+    def converters(self) -> dict:
+        return {"kind": _light_kind}
 
 
 @dataclass
-class Camera:
+class Camera(Record):
     """Perspective camera. fov is the vertical field of view in degrees.
 
     shift = (sx, sy) moves the image window, in units of the image plane's
     larger side (Blender's convention). aperture is the thin-lens radius
-    (0 = pinhole); focus_distance defaults to |target - eye|.
+    (0 = pinhole); focus_distance defaults to |target - eye|. hither: rays
+    start this far along the view axis.
     """
-    eye: tuple = (0.0, -10.0, 0.0)
-    target: tuple = (0.0, 0.0, 0.0)
-    up: tuple = (0.0, 0.0, 1.0)
-    fov: float = 45.0
-    width: int = 512
-    height: int = 512
-    aperture: float = 0.0
+    eye: tuple = _CAM.eye
+    target: tuple = _CAM.target
+    up: tuple = _CAM.up
+    fov: float = _CAM.fov
+    width: int = _CAM.width
+    height: int = _CAM.height
+    aperture: float = _CAM.aperture
     focus_distance: float | None = None
-    shift: tuple = (0.0, 0.0)
-    hither: float = 0.0
+    shift: tuple = tuple(_CAM.shift)
+    hither: float = _CAM.hither
+    CORE = _core.Camera
 
-    def packed(self) -> np.ndarray:
-        e = _vec3(self.eye, "Camera.eye")
-        t = _vec3(self.target, "Camera.target")
-        up = _vec3(self.up, "Camera.up")
-        fwd = t - e
-        if np.linalg.norm(fwd) == 0:
-            raise ValueError("Camera.eye and Camera.target coincide")
-        if np.linalg.norm(np.cross(fwd, up)) <= 1e-12 * np.linalg.norm(fwd) * max(np.linalg.norm(up), 1e-300):
-            raise ValueError("Camera.up is parallel to the viewing direction (or zero)")
-        if not (0.0 < float(self.fov) < 180.0):
-            raise ValueError(f"Camera.fov must be in (0, 180) degrees, got {self.fov}")
-        if int(self.width) < 1 or int(self.height) < 1:
-            raise ValueError(f"Camera resolution must be at least 1x1, got {self.width}x{self.height}")
-        if int(self.width) * int(self.height) > 1 << 28:
-            raise ValueError(f"Camera resolution {self.width}x{self.height} is too large")
-        if self.aperture < 0:
-            raise ValueError("Camera.aperture must be >= 0")
-        fd = float(np.linalg.norm(fwd)) if self.focus_distance is None else float(self.focus_distance)
-        if not (fd > 0 and math.isfinite(fd)):
-            raise ValueError(f"Camera.focus_distance must be > 0, got {self.focus_distance}")
-        row = np.array([*e, *t, *up, self.fov, self.width, self.height, self.aperture, fd,
-                        self.shift[0], self.shift[1], self.hither, 0.0, 0.0, 0.0], dtype=np.float64)
-        if not np.all(np.isfinite(row)):
-            raise ValueError(f"Camera has a non-finite field: {self}")
-        return row.astype(np.float32)
+    def converters(self) -> dict:
+        def focus(value, where):
+            if value is None:   # |target - eye|, in double
+                eye, target = as_floats(self.eye, 3, "Camera.eye"), as_floats(self.target, 3, "Camera.target")
+                return float(np.linalg.norm(np.subtract(target, eye)))
+            return _scalar(value, float, where)
+        return {"focus_distance": focus}

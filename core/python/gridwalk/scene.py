@@ -6,13 +6,14 @@ raises ValueError naming the array and the first bad index.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _core
-from .model import LIGHT_WIDTH, Camera, Light, Material
-from .settings import RenderSettings
+from .model import Camera, Light, Material, as_floats
+from .settings import SCHEMA, RenderSettings
 
 
 def _array(value, name, dtype, width):
@@ -57,6 +58,9 @@ class Hits:
     stats: dict
 
 
+# The keywords Scene.intersect / occluded took before they took a RenderSettings.
+DEPRECATED_QUERY_KEYWORDS = ("accel", "grid_density", "mailboxes", "threads", "skip_empty")
+
 KIND_MISS, KIND_TRIANGLE, KIND_SPHERE, KIND_CYLINDER = 0, 1, 2, 3
 
 
@@ -80,13 +84,7 @@ class Scene:
                 raise ValueError(f"lights[{i}] must be a gridwalk.Light, got {type(l).__name__}")
         if not isinstance(self.camera, Camera):
             raise ValueError(f"camera must be a gridwalk.Camera, got {type(self.camera).__name__}")
-        bg = np.asarray(background, dtype=np.float64).reshape(-1)
-        if bg.shape != (3,) or not np.all(np.isfinite(bg)):
-            raise ValueError(f"background must be 3 finite numbers, got {background!r}")
-        self.background = tuple(float(x) for x in bg)
-        mats = np.stack([m.packed() for m in self.materials])
-        lts = (np.stack([l.packed() for l in self.lights]) if self.lights
-               else np.zeros((0, LIGHT_WIDTH), np.float32))
+        self.background = as_floats(background, 3, "background")
         self._native = _core.Scene(
             _array(vertices, "vertices", f32, 3), _array(triangles, "triangles", i32, 3),
             _array(normals, "normals", f32, 3), _array(triangle_materials, "triangle_materials", i32, 0),
@@ -96,7 +94,8 @@ class Scene:
             _array(cylinder_base_radius, "cylinder_base_radius", f32, 0),
             _array(cylinder_apex_radius, "cylinder_apex_radius", f32, 0),
             _array(cylinder_materials, "cylinder_materials", i32, 0),
-            mats.reshape(-1), lts.reshape(-1), self.camera.packed(), self.background)
+            [m.to_core() for m in self.materials], [l.to_core() for l in self.lights], self.camera.to_core(),
+            self.background)
         self._accels = {}
 
     # -- counts ---------------------------------------------------------------
@@ -123,10 +122,12 @@ class Scene:
 
     # -- acceleration ---------------------------------------------------------
     def accel(self, settings: RenderSettings | None = None):
-        """The acceleration structure for these settings (built once, cached)."""
+        """The acceleration structure these settings build (built once, cached).
+        Structures are keyed by the settings that shape them: the acceleration
+        group's values, less its on/off traversal switches (mailboxes, skip_empty)."""
         s = settings or RenderSettings()
         core = s.to_core()
-        key = (s.accel, float(s.grid_density), int(s.max_cells))
+        key = tuple(getattr(s, x.name) for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
         if key not in self._accels:
             self._accels[key] = _core.build_accel(self._native, core)
         return self._accels[key]
@@ -143,33 +144,57 @@ class Scene:
         if d.shape != o.shape:
             raise ValueError(f"directions must have the shape of origins {o.shape}, got {d.shape}")
         n = o.shape[0]
-        lo = np.ascontiguousarray(np.broadcast_to(np.asarray(tmin, np.float32), (n,)))
-        hi = np.ascontiguousarray(np.broadcast_to(np.asarray(tmax, np.float32), (n,)))
-        return o, d, lo, hi
 
-    def intersect(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
-                  mailboxes=True, threads=0, spawned=False, skip_empty=True) -> Hits:
-        """Closest hits of a batch of rays (multithreaded, GIL released).
+        def per_ray(value, name):
+            a = np.asarray(value)
+            if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool) \
+                    or np.issubdtype(a.dtype, np.complexfloating):
+                raise ValueError(f"{name} must be a number or an array of {n} numbers, got dtype {a.dtype}")
+            if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n):
+                raise ValueError(f"{name} must be a number or have shape ({n},), got shape {a.shape}")
+            with np.errstate(over="ignore"):
+                return np.ascontiguousarray(np.broadcast_to(a.astype(np.float32), (n,)))
+
+        return o, d, per_ray(tmin, "tmin"), per_ray(tmax, "tmax")
+
+    def _query_settings(self, settings, deprecated: dict, method: str) -> RenderSettings:
+        """The settings a ray query traces with; the keywords of the old API
+        (accel=, grid_density=, mailboxes=, threads=, skip_empty=) still work
+        for this release, with a warning."""
+        s = settings if settings is not None else RenderSettings()
+        if not isinstance(s, RenderSettings):
+            raise ValueError(f"settings must be a gridwalk.RenderSettings, got {type(s).__name__}")
+        if deprecated:
+            unknown = set(deprecated) - set(DEPRECATED_QUERY_KEYWORDS)
+            if unknown:
+                raise TypeError(f"Scene.{method}() got unexpected keyword arguments {sorted(unknown)}")
+            args = ", ".join(f"{k}={v!r}" for k, v in deprecated.items())
+            warnings.warn(f"Scene.{method}({args}) is deprecated and will be removed in the next release: "
+                          f"pass settings=RenderSettings({args}) instead", FutureWarning, stacklevel=3)
+            s = s.replace(**deprecated)
+        return s
+
+    def intersect(self, origins, directions, tmin=0.0, tmax=np.inf, settings: RenderSettings | None = None,
+                  spawned=False, **deprecated) -> Hits:
+        """Closest hits of a batch of rays (multithreaded, GIL released),
+        traced through the structure `settings` builds, as the renderer traces
+        (threads, mailboxes, skip_empty are taken from it too).
 
         spawned=True treats the rays as leaving a surface (as the renderer's
         secondary rays do, e.g. from spawn_origins): hits closer than the
         triangle test's own error bound are then rejected as self-hits.
-        skip_empty=False walks every grid cell (no empty-space jumps).
         """
-        s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
+        s = self._query_settings(settings, deprecated, "intersect")
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
-        t, prim, kind, u, v, n, stats = _core.intersect(self.accel(s), o, d, lo, hi, int(threads),
-                                                        bool(mailboxes and accel == "grid"), bool(spawned),
-                                                        bool(skip_empty))
+        t, prim, kind, u, v, n, stats = _core.intersect(self.accel(s), o, d, lo, hi, s.to_core(), bool(spawned))
         return Hits(t, prim, kind, u, v, n, stats)
 
-    def occluded(self, origins, directions, tmin=0.0, tmax=np.inf, accel="grid", grid_density=2.0,
-                 mailboxes=True, threads=0, spawned=False, skip_empty=True) -> np.ndarray:
-        """True where anything is hit in (tmin, tmax): shadow-ray queries."""
-        s = RenderSettings(accel=accel, grid_density=grid_density, threads=threads)
+    def occluded(self, origins, directions, tmin=0.0, tmax=np.inf, settings: RenderSettings | None = None,
+                 spawned=False, **deprecated) -> np.ndarray:
+        """True where anything is hit in (tmin, tmax): shadow-ray queries (see intersect)."""
+        s = self._query_settings(settings, deprecated, "occluded")
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
-        hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, int(threads), bool(mailboxes and accel == "grid"),
-                                bool(spawned), bool(skip_empty))
+        hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, s.to_core(), bool(spawned))
         return hit.astype(bool)
 
     def spawn_origins(self, origins, directions, hits: Hits, new_directions) -> np.ndarray:

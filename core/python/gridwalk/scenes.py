@@ -5,6 +5,7 @@
 balls(size)  SPD's "balls" (sphereflake): the same spheres, floor, materials,
              lights and view as SPD's balls generator writes to NFF, so that
              balls(n) matches ../shared/scenes/spd/balls_s<n>.nff.
+icosphere()  a closed, outward-wound icosphere mesh (vertices, triangles).
 distant()    the seed's "Distant" scene: three spheres at different distances
              on a ground plane, seen through a thin lens focused on the middle
              one; the seed renders it with DISTANT_DOF_SAMPLES samples a pixel.
@@ -71,6 +72,35 @@ def _sphereflake(size: int) -> tuple[np.ndarray, np.ndarray]:
         position = (position[:, None] + 1 + np.arange(9) * subtree).reshape(-1)
         radius /= 3.0
     return centres, radii
+
+
+def icosphere(subdivisions: int = 2, radius: float = 1.0, center=(0.0, 0.0, 0.0), dtype=np.float32):
+    """A closed icosphere of 20 * 4**subdivisions outward-wound triangles:
+    (vertices of `dtype`, triangles int32)."""
+    t = (1.0 + 5 ** 0.5) / 2.0
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    for _ in range(subdivisions):
+        cache, nf = {}, []
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in cache:
+                m = verts[a] + verts[b]
+                verts.append(m / np.linalg.norm(m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        f = nf
+    V = np.array(verts) * radius + np.asarray(center, float)
+    return V.astype(dtype), np.array(f, np.int32)
 
 
 def balls(size: int = 3) -> dict:

@@ -1,107 +1,181 @@
-"""Render settings: one dataclass, converted to the core's struct in one place."""
+"""Render settings, derived from the one declaration in the core.
+
+Every setting is declared once, as a row of GW_RENDER_SETTINGS in
+core/src/settings.h: name, type, default, limits, group, label, help and (for
+enums) the choices. This module turns that table (`_core.settings_schema()`)
+into `SCHEMA`, a tuple of `Setting`, and into the `RenderSettings` dataclass;
+the CLI options (cli.py) and the Blender properties and panels
+(blender_addon/properties.py, ui.py) are built from `SCHEMA` as well.
+
+Values are checked, never coerced: a setting takes values of its own kind
+(`mailboxes="no"` is an error, not True), integers must fit the core's type,
+floats are rounded to the core's precision *before* the core checks their
+limits, so a value the core stores is a value it accepts.
+"""
 from __future__ import annotations
 
+import dataclasses
+import math
+import numbers
 from dataclasses import asdict, dataclass, fields
+
+import numpy as np
 
 from . import _core
 
-ACCELS = {"none": 0, "grid": 1}
-AA_MODES = ("center", "jittered", "random", "adaptive", "sobol")
-SHADOW_MODES = ("hard", "random", "area")
-FILTERS = ("box", "gaussian")
+# Ranges of the core's integer types (the core's checked limits lie within).
+_INT_RANGES = {"int32": (-2**31, 2**31 - 1), "uint32": (0, 2**32 - 1), "uint64": (0, 2**64 - 1)}
 
 
-@dataclass
-class RenderSettings:
-    """Every setting of a render.
+@dataclass(frozen=True)
+class Setting:
+    """One row of the core's settings table."""
+    name: str
+    ctype: str           # bool, int32, uint32, uint64, float32, float64, enum, region
+    default: object
+    min: float
+    max: float
+    group: str           # acceleration, performance, sampling, lights, lens, host
+    when: str            # "aa=adaptive", "shadow!=hard", or "" (always relevant)
+    label: str
+    help: str
+    choices: tuple = ()  # enums: ((id, label, help), ...)
+    enum_type: str = ""  # enums: the core's enum (gridwalk._core.<enum_type>)
+    host_default: object = None       # a host's (Blender's) default where it differs ...
+    host_default_reason: str = ""     # ... and why
 
-    accel: "grid" (uniform grid, Amanatides & Woo DDA) or "none" (brute force).
-    grid_density: the seed's M in N_ax = floor(M * dim_ax / cbrt(V / N)) + 1.
-    max_cells: cap on grid cells; past it M is reduced (reported in stats).
-    mailboxes: skip primitives already tested by the same ray (per-thread stamps).
-    skip_empty: jump across blocks of empty grid cells (proximity clouds); off
-        walks every cell, as in Havran & Sixta's cell counts.
-    threads: worker threads, 0 = all cores. tile_size: tile edge in pixels.
-    max_depth: ray generations (primary rays are generation 1).
-    seed: random seed; the image is a pure function of the seed.
-    aa: "center" (1 ray through the pixel centre), "jittered" (stratified n x n),
-        "random" (n x n uniform), "sobol" (n x n Owen-scrambled Sobol),
-        "adaptive" (Whitted: corners, subdivide where they differ).
-    aa_samples: n for the n x n modes.
-    adaptive_threshold, adaptive_depth: adaptive subdivision controls.
-    filter: "box" or "gaussian" (filter_width = standard deviation in pixels).
-    shadow: "hard" (light centre), "random" (random point per shadow ray),
-        "area" (n x n jittered light grid shuffled per pixel).
-    shadow_samples: random: rays per light; area: n of the n x n grid.
-    dof_samples: lens samples per pixel sample (used when the camera has an aperture).
-    glossy_samples: rays at the first glossy bounce.
-    min_weight: secondary rays whose path weight falls below this are skipped.
-    region: (x, y, w, h) in pixels (row 0 at the top) to render only part of
-        the image; None renders all of it. Pixels outside stay 0.
-    """
-    accel: str = "grid"
-    grid_density: float = 2.0
-    max_cells: int = 1 << 24
-    mailboxes: bool = True
-    skip_empty: bool = True
-    threads: int = 0
-    tile_size: int = 32
-    max_depth: int = 5
-    seed: int = 0
-    aa: str = "center"
-    aa_samples: int = 1
-    adaptive_threshold: float = 0.05
-    adaptive_depth: int = 3
-    filter: str = "box"
-    filter_width: float = 0.5
-    shadow: str = "hard"
-    shadow_samples: int = 1
-    dof_samples: int = 1
-    glossy_samples: int = 1
-    min_weight: float = 1e-3
-    region: tuple | None = None
+    @property
+    def kind(self) -> str:
+        """The Python kind: bool, int, float, enum or region."""
+        if self.ctype.startswith(("int", "uint")):
+            return "int"
+        if self.ctype.startswith("float"):
+            return "float"
+        return self.ctype
 
-    def replace(self, **changes) -> "RenderSettings":
-        unknown = set(changes) - {f.name for f in fields(self)}
-        if unknown:
-            raise ValueError(f"unknown render settings: {sorted(unknown)}")
-        return RenderSettings(**{**asdict(self), **changes})
+    @property
+    def ids(self) -> tuple:
+        return tuple(c[0] for c in self.choices)
 
-    def to_core(self) -> "_core.RenderSettings":
-        def pick(name, value, choices):
-            if value not in choices:
-                raise ValueError(f"RenderSettings.{name} must be one of {list(choices)}, got {value!r}")
+    def relevant(self, values) -> bool:
+        """Whether this setting matters, given the other settings (`values[name]`)."""
+        if not self.when:
+            return True
+        negate = "!=" in self.when
+        other, want = self.when.replace("!=", "=").split("=")
+        return (values[other] == want) != negate
+
+    def describe(self) -> str:
+        """Help with the limits and (for dependent settings) when it applies."""
+        text = self.help
+        if self.kind in ("int", "float"):
+            hi = "inf" if math.isinf(self.max) else f"{self.max:g}"
+            text += f"; [{self.min:g}, {hi}]"
+        if self.when:
+            text += f"; used when {self.when}"
+        return text
+
+    def check(self, value):
+        """`value` as the core stores it (an int, float rounded to the core's
+        precision, enum id, or 4-tuple), or ValueError naming the setting."""
+        where = f"RenderSettings.{self.name}"
+        if self.kind == "bool":
+            if not isinstance(value, (bool, np.bool_)):
+                raise ValueError(f"{where} must be True or False, got {value!r}")
+            return bool(value)
+        if self.kind == "enum":
+            if value not in self.ids:
+                raise ValueError(f"{where} must be one of {list(self.ids)}, got {value!r}")
             return value
+        if self.kind == "region":
+            return _check_region(where, value)
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            raise ValueError(f"{where} must be a number, got {value!r}")
+        if self.kind == "int":
+            if not isinstance(value, numbers.Integral):
+                raise ValueError(f"{where} must be an integer, got {value!r}")
+            lo, hi = _INT_RANGES[self.ctype]
+            value = int(value)
+            if not lo <= value <= hi:
+                raise ValueError(f"{where} must be in [{self.min:g}, {self.max:g}], got {value}")
+            return value
+        with np.errstate(over="ignore"):
+            stored = float(np.float32(value)) if self.ctype == "float32" else float(value)
+        if math.isfinite(float(value)) and not math.isfinite(stored):
+            raise ValueError(f"{where} = {value!r} does not fit a float32")
+        return stored
 
-        c = _core.RenderSettings()
-        c.accel = ACCELS[pick("accel", self.accel, ACCELS)]
-        c.grid_density = float(self.grid_density)
-        if int(self.max_cells) < 1:
-            raise ValueError("RenderSettings.max_cells must be >= 1")
-        c.max_cells = int(self.max_cells)
-        c.mailboxes = bool(self.mailboxes)
-        c.skip_empty = bool(self.skip_empty)
-        c.threads = int(self.threads)
-        c.tile_size = int(self.tile_size)
-        c.max_depth = int(self.max_depth)
-        if not 0 <= int(self.seed) < 2**32:
-            raise ValueError("RenderSettings.seed must be in [0, 2^32)")
-        c.seed = int(self.seed)
-        c.aa = getattr(_core.AAMode, pick("aa", self.aa, AA_MODES))
-        c.aa_samples = int(self.aa_samples)
-        c.adaptive_threshold = float(self.adaptive_threshold)
-        c.adaptive_depth = int(self.adaptive_depth)
-        c.filter = getattr(_core.PixelFilter, pick("filter", self.filter, FILTERS))
-        c.filter_width = float(self.filter_width)
-        c.shadow = getattr(_core.ShadowMode, pick("shadow", self.shadow, SHADOW_MODES))
-        c.shadow_samples = int(self.shadow_samples)
-        c.dof_samples = int(self.dof_samples)
-        c.glossy_samples = int(self.glossy_samples)
-        c.min_weight = float(self.min_weight)
-        if self.region is not None:
-            r = tuple(int(v) for v in self.region)
-            if len(r) != 4 or min(r) < 0 or r[2] < 1 or r[3] < 1:
-                raise ValueError(f"RenderSettings.region must be (x, y, w, h) with w, h >= 1, got {self.region!r}")
-            c.region = r
-        c.validate()
-        return c
+
+def _check_region(where, value):
+    if value is None:
+        return (0, 0, 0, 0)
+    try:
+        r = tuple(value)
+    except TypeError:
+        raise ValueError(f"{where} must be (x, y, w, h) or None, got {value!r}") from None
+    if len(r) != 4 or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in r):
+        raise ValueError(f"{where} must be 4 integers (x, y, w, h), got {value!r}")
+    r = tuple(int(v) for v in r)
+    if min(r) < 0 or r[2] < 1 or r[3] < 1 or max(r) > 2**31 - 1:
+        raise ValueError(f"{where} must be (x, y, w, h) with x, y >= 0 and w, h >= 1, got {value!r}")
+    return r
+
+
+def _host_value(row, text):
+    if text is None:
+        return None
+    return int(text) if row["ctype"].startswith(("int", "uint")) else \
+        float(text) if row["ctype"].startswith("float") else text
+
+
+def _schema() -> tuple:
+    host = _core.host_defaults()
+    rows = []
+    for row in _core.settings_schema():
+        row = dict(row)
+        if row["ctype"] == "float32":   # the shortest decimal of the core's float32 default
+            row["default"] = float(str(np.float32(row["default"])))
+        choices = tuple(tuple(c) for c in row.pop("choices", ()))
+        value, reason = host.get(row["name"], (None, ""))
+        rows.append(Setting(choices=choices, host_default=_host_value(row, value), host_default_reason=reason,
+                            **row))
+    return tuple(rows)
+
+
+SCHEMA = _schema()
+BY_NAME = {s.name: s for s in SCHEMA}
+
+
+def _docstring() -> str:
+    lines = ["Every setting of a render (declared once, in core/src/settings.h).", ""]
+    for s in SCHEMA:
+        line = f"{s.name}: {s.describe()}."
+        if s.choices:
+            line += " " + "; ".join(f'"{cid}": {chelp}' for cid, _, chelp in s.choices) + "."
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def _replace(self, **changes) -> "RenderSettings":
+    unknown = set(changes) - {f.name for f in fields(self)}
+    if unknown:
+        raise ValueError(f"unknown render settings: {sorted(unknown)}")
+    return RenderSettings(**{**asdict(self), **changes})
+
+
+def _to_core(self) -> "_core.RenderSettings":
+    """The core's struct, every value checked (ValueError names the setting)."""
+    core = _core.RenderSettings()
+    for s in SCHEMA:
+        value = s.check(getattr(self, s.name))
+        setattr(core, s.name, getattr(getattr(_core, s.enum_type), value) if s.enum_type else value)
+    core.validate()
+    return core
+
+
+RenderSettings = dataclasses.make_dataclass(
+    "RenderSettings",
+    [(s.name, {"bool": bool, "int": int, "float": float, "enum": str, "region": "tuple | None"}[s.kind],
+      dataclasses.field(default=s.default)) for s in SCHEMA],
+    namespace={"replace": _replace, "to_core": _to_core, "__doc__": _docstring(), "__module__": __name__},
+)

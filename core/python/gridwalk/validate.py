@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from .scene import Scene
+from .settings import RenderSettings
 
 AGREEMENT_REQUIRED = 99.999   # percent of rays on which hit / miss must agree
 TIE_TOLERANCE = 1e-5          # two different primitives within this relative t are a tie
@@ -188,7 +189,7 @@ def cross_check(scene_kwargs: dict, n: int, seed: int = 0, threads: int = 1) -> 
     results = {}
     for kind, (o, d, tmax) in ray_sets(scene_kwargs, n, seed, scene).items():
         start = time.perf_counter()
-        gw_hits = scene.intersect(o, d, tmin=0.0, tmax=tmax, threads=threads)
+        gw_hits = scene.intersect(o, d, tmin=0.0, tmax=tmax, settings=RenderSettings(threads=threads))
         gw_seconds = time.perf_counter() - start
         start = time.perf_counter()
         em = embree_intersect(embree, o, d, tmax)

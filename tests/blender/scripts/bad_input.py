@@ -292,5 +292,5 @@ def main(out_dir):
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from entry import run
+    from blender_addon.scripting import run_main as run
     run(main, spread=True)

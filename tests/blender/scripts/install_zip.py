@@ -50,5 +50,8 @@ def main(zip_path, out_dir):
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from entry import run
+    # The repository root, for the script runner only: the add-on itself and
+    # gridwalk come from the installed zip (the environment has no PYTHONPATH).
+    sys.path.append(os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", "..")))
+    from blender_addon.scripting import run_main as run
     run(main, spread=True)

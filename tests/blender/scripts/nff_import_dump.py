@@ -96,5 +96,5 @@ def main(argv):
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from entry import run
+    from blender_addon.scripting import run_main as run
     run(main)

@@ -25,7 +25,22 @@ def main(out_dir):
     scene.render.engine = "GRIDWALK"
     settings = render_settings(gridwalk, scene.gridwalk)
     settings.to_core()                        # validates every value
+    rna = bpy.types.Scene.gridwalk.keywords["type"].bl_rna.properties
+    props = {}
+    for name in rna.keys():
+        p = rna[name]
+        entry = {"type": p.type, "label": p.name, "description": p.description}
+        if p.type in ("INT", "FLOAT"):
+            entry.update(default=p.default, min=p.hard_min, max=p.hard_max)
+        elif p.type == "BOOLEAN":
+            entry.update(default=p.default)
+        elif p.type == "ENUM":
+            entry.update(default=p.default, items=[item.identifier for item in p.enum_items])
+        props[name] = entry
+    from blender_addon.ui import SETTINGS_PANELS
     info = {
+        "properties": props,
+        "panel_groups": {panel.__name__: list(panel.groups) for panel in SETTINGS_PANELS},
         "engine": scene.render.engine,
         "panels": panels_with(bpy, "GRIDWALK"),
         "settings": {k: v for k, v in vars(settings).items()},
@@ -47,5 +62,5 @@ def main(out_dir):
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from entry import run
+    from blender_addon.scripting import run_main as run
     run(main, spread=True)

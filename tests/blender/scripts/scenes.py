@@ -9,6 +9,8 @@ import math
 import bpy
 from mathutils import Euler, Vector
 
+from blender_addon.scripting import principled_material
+
 
 def reset(camera=True, resolution=(64, 48)):
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -37,18 +39,6 @@ def cube_object(name="Cube", size=2.0):
     mesh.from_pydata(verts, [], faces)
     mesh.update()
     return bpy.data.objects.new(name, mesh)
-
-
-def principled(name, color, **inputs):
-    """A node material whose Principled BSDF has `color` and the given inputs."""
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    for key, value in inputs.items():
-        bsdf.inputs[key].default_value = value
-    return mat
 
 
 def world_corners(obj, matrix=None):
@@ -234,7 +224,7 @@ def showcase_scene(resolution=(96, 72), fresh=True):
         empty.location, empty.rotation_euler = loc, (0.3, 0.2 * i, 0.5)
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0.3, 1.5, -1.0), segments=64, ring_count=32)
     bpy.context.object.gridwalk.render_as_sphere = True
-    monkey.data.materials.append(principled("Red", (0.8, 0.15, 0.1), Roughness=0.4))
+    monkey.data.materials.append(principled_material("Red", (0.8, 0.15, 0.1), Roughness=0.4))
     add_light("Key", "POINT", (-3, -6, 5), energy=600.0, shadow_soft_size=0.0)
     add_light("Sun", "SUN", (0, 0, 9), (0.6, 0.2, 0), energy=1.0)
     add_light("Fill", "AREA", (4, -4, 2), (1.2, 0, 0.8), energy=150.0, shape="SQUARE", size=1.0)

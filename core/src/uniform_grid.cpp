@@ -1,9 +1,11 @@
-// Uniform grid: build (the seed's resolution formula, compact CSR storage)
+// The uniform grid: build (the seed's resolution formula, compact CSR storage)
 // and Amanatides & Woo 3D-DDA traversal with optional per-thread mailboxes.
 #include <chrono>
 #include <stdexcept>
 
-#include "accel.h"
+#include "uniform_grid.h"
+
+#include "empty_space.h"
 
 namespace gw {
 
@@ -11,7 +13,7 @@ namespace gw {
 // (a jump then crosses up to 2 * cap + 1 cells).
 constexpr int kEmptyCap = 16;
 
-Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
+UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
     const auto t_start = std::chrono::steady_clock::now();
     if (!(p.density > 0) || !std::isfinite(p.density)) throw std::invalid_argument("grid_density must be > 0");
     const Scene& sc = *scene_;
@@ -109,7 +111,7 @@ Grid::Grid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::mov
 // exact). The box is inflated by 1/1000 of a cell plus the float rounding of
 // a cell coordinate at this resolution, so that a primitive touching a cell
 // face within rounding error is listed on both sides.
-void Grid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
+void UniformGrid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
     for (int a = 0; a < 3; ++a) {
         const double top = double(n_[a] - 1), pad = 1e-3 + 4e-7 * double(n_[a]);
         double x0 = (double(b.lo[a]) - double(lo_[a])) * double(inv_cell_[a]) - pad;
@@ -123,13 +125,13 @@ void Grid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
 
 // The cell holding the point at parameter t, located in double so a far-away
 // origin does not shift it by a cell.
-int Grid::cell_at(const Ray& ray, float t, int a) const {
+int UniformGrid::cell_at(const Ray& ray, float t, int a) const {
     const double x = (double(ray.o[a]) - double(lo_[a]) + double(ray.d[a]) * double(t)) * double(inv_cell_[a]);
     return int(std::min(std::max(x, 0.0), double(n_[a] - 1)));
 }
 
 template <bool AnyHit>
-bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     if (!r.valid) return false;
     const Ray& ray = r.ray;
     // Clip the ray to the grid box. Zero direction components give +-inf
@@ -223,9 +225,9 @@ bool Grid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     return found;
 }
 
-bool Grid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const { return traverse<false>(r, hit, ctx); }
+bool UniformGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const { return traverse<false>(r, hit, ctx); }
 
-bool Grid::occluded(const RayPre& r, TraceContext& ctx) const {
+bool UniformGrid::occluded(const RayPre& r, TraceContext& ctx) const {
     Hit hit;
     hit.t = r.ray.tmax;
     return traverse<true>(r, hit, ctx);

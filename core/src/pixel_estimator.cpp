@@ -1,29 +1,7 @@
-// Pixel estimation. See pixel.h.
-#include "pixel.h"
+// Pixel estimation. See pixel_estimator.h.
+#include "pixel_estimator.h"
 
 namespace gw {
-namespace {
-
-// Burley (2020) hash-based Owen scrambling, applied in reversed bit order.
-uint32_t lk_permutation(uint32_t x, uint32_t seed) {
-    x += seed;
-    x ^= x * 0x6c50b47cU;
-    x ^= x * 0xb82f1e52U;
-    x ^= x * 0xc7afe638U;
-    x ^= x * 0x8d22f6e6U;
-    return x;
-}
-uint32_t owen_scramble(uint32_t x, uint32_t seed) { return reverse_bits(lk_permutation(reverse_bits(x), seed)); }
-// Second Sobol dimension (generator matrix of the polynomial x + 1).
-uint32_t sobol_dim1(uint32_t i) {
-    uint32_t r = 0;
-    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
-        if (i & 1) r ^= v;
-    return r;
-}
-
-}  // namespace
-
 PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s)
     : scene_(accel.scene()), s_(s), integrator_(accel, s), camera_(accel.scene().camera()) {}
 
@@ -31,7 +9,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
                                   TraceContext& ctx, float out[4], FirstHit* fh) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
     const bool lens = scene_.camera().aperture > 0;
-    Rng lens_rng(s_.seed ^ 0x1e35a7bdU, pixel_key, sample);
+    Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
     const float rot = lens_rng.next();
     Vec3 sum;
     float hits = 0;
@@ -39,7 +17,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
         float lu = 0.5f, lv = 0.5f;
         if (lens) strat2(j, nd, lens_rng.next(), rot, lu, lv);
         const Ray ray = camera_.generate(px, py, lu, lv);
-        SampleState st{Rng(s_.seed, pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
+        SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;
         sum += integrator_.camera_ray(ray, camera_.forward(), st, ctx, &local);
         if (local.hit) hits += 1;
@@ -54,7 +32,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
     const uint32_t key = uint32_t(y) * uint32_t(camera_.width()) + uint32_t(x);
     const uint32_t n = uint32_t(std::max(1, s_.aa_samples));
     const uint32_t count = s_.aa == AAMode::Center ? 1 : n * n;
-    Rng prng(s_.seed ^ 0x68e31da4U, key, 0);
+    Rng prng(stream_seed(s_.seed, Stream::PixelSamples), key, 0);
     const uint32_t shuffle = prng.next_u32(), sx = prng.next_u32(), sy = prng.next_u32();
     PixelValue pv;
     float acc[4] = {0, 0, 0, 0}, wsum = 0;
@@ -72,14 +50,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
         default: break;
         }
         float ox = u - 0.5f, oy = v - 0.5f;
-        if (s_.filter == PixelFilter::Gaussian && count > 1) {
-            // Filter importance sampling: Box-Muller turns the (stratified)
-            // uniform pair into a Gaussian offset, so every sample has weight 1.
-            const float r = s_.filter_width * std::sqrt(-2.0f * std::log(std::max(1.0f - u, 1e-7f)));
-            const float phi = float(2 * kPi) * v;
-            ox = std::min(std::max(r * std::cos(phi), -2 * s_.filter_width), 2 * s_.filter_width);
-            oy = std::min(std::max(r * std::sin(phi), -2 * s_.filter_width), 2 * s_.filter_width);
-        }
+        if (s_.filter == PixelFilter::Gaussian && count > 1) gaussian_offset(u, v, s_.filter_width, ox, oy);
         float out[4];
         sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr);
         for (int c = 0; c < 4; ++c) acc[c] += out[c];
@@ -101,8 +72,8 @@ void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext
     // pixel corner by up to half a pixel lets all four corners fall on the same
     // side of an edge that crosses the pixel, which then never subdivides.)
     const float spacing = 1.0f / float(1 << D);
-    const uint32_t key = hash4(gx, gy, uint32_t(D), 0xADu);
-    Rng jr(s_.seed ^ 0x2545f491U, key, 0);
+    const uint32_t key = hash4(gx, gy, uint32_t(D), uint32_t(Stream::LatticePoint));
+    Rng jr(stream_seed(s_.seed, Stream::LatticeJitter), key, 0);
     const float px = float(gx) / float(1 << D) + (jr.next() - 0.5f) * spacing;
     const float py = float(gy) / float(1 << D) + (jr.next() - 0.5f) * spacing;
     sample_point(px, py, key, 0, 1, ctx, out, fh);

@@ -1,0 +1,63 @@
+// Bindings of the scene records: gridwalk._core.Material, Light and Camera,
+// one attribute per C++ field (the gridwalk package's dataclasses of the
+// same names fill them field by field), and their validation.
+#include <nanobind/nanobind.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+
+#include "bind_casters.h"
+#include "bindings.h"
+#include "camera.h"
+#include "lights.h"
+#include "material.h"
+
+namespace nb = nanobind;
+
+namespace gw {
+
+void bind_records(nb::module_& m) {
+    nb::class_<Material>(m, "Material")
+        .def(nb::init<>())
+        .def_rw("color", &Material::color)
+        .def_rw("kd", &Material::kd)
+        .def_rw("ks", &Material::ks)
+        .def_rw("shininess", &Material::shininess)
+        .def_rw("transmittance", &Material::transmittance)
+        .def_rw("ior", &Material::ior)
+        .def_rw("mirror", &Material::mirror)
+        .def_rw("roughness", &Material::roughness)
+        .def_rw("emission", &Material::emission)
+        .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
+
+    nb::class_<Light>(m, "Light")
+        .def(nb::init<>())
+        .def_rw("kind", &Light::kind)
+        .def_rw("position", &Light::position)
+        .def_rw("color", &Light::color)
+        .def_rw("radius", &Light::radius)
+        .def_rw("size", &Light::size)
+        .def_rw("axis_u", &Light::axis_u)
+        .def_rw("axis_v", &Light::axis_v)
+        .def_rw("direction", &Light::direction)
+        .def_rw("angle", &Light::angle)
+        .def_rw("spot_size", &Light::spot_size)
+        .def_rw("spot_blend", &Light::spot_blend)
+        .def_rw("inverse_square", &Light::inverse_square)
+        .def("validate", [](const Light& l) { Light copy = l; prepare_light(copy, "Light"); });
+
+    nb::class_<CameraDesc>(m, "Camera")
+        .def(nb::init<>())
+        .def_rw("eye", &CameraDesc::eye)
+        .def_rw("target", &CameraDesc::target)
+        .def_rw("up", &CameraDesc::up)
+        .def_rw("fov", &CameraDesc::fov)
+        .def_rw("width", &CameraDesc::width)
+        .def_rw("height", &CameraDesc::height)
+        .def_rw("aperture", &CameraDesc::aperture)
+        .def_rw("focus_distance", &CameraDesc::focus_distance)
+        .def_rw("shift", &CameraDesc::shift)
+        .def_rw("hither", &CameraDesc::hither)
+        .def("validate", &validate_camera);
+}
+
+}  // namespace gw

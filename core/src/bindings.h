@@ -1,0 +1,8 @@
+// The parts of the private module gridwalk._core, each bound in its own file.
+#pragma once
+#include <nanobind/nanobind.h>
+
+namespace gw {
+void bind_settings(nanobind::module_& m);   // bind_settings.cpp
+void bind_records(nanobind::module_& m);    // bind_records.cpp
+}  // namespace gw

@@ -1,0 +1,70 @@
+// Named enumerations, declared once. Each list row is one value: its C++
+// name, the identifier Python, the CLI and Blender use for it, a label and
+// a help line. GW_ENUM turns a list into the enum class, its item table and
+// EnumTraits, from which the bindings export both the enum and its items.
+#pragma once
+#include <cstddef>
+
+namespace gw {
+
+struct EnumItem {
+    const char* id;      // "jittered": the value in Python, on the CLI, lower-cased in Blender's enum ids
+    const char* label;   // "Jittered": Blender's label
+    const char* help;    // one line
+};
+
+template <class E>
+struct EnumTraits;   // ::name, ::items, ::count
+
+#define GW_ENUM_VALUE(value, id, label, help) value,
+#define GW_ENUM_ITEM(value, id, label, help) EnumItem{id, label, help},
+#define GW_ENUM(Type, LIST)                                                    \
+    enum class Type : int { LIST(GW_ENUM_VALUE) };                              \
+    template <>                                                                \
+    struct EnumTraits<Type> {                                                  \
+        static constexpr const char* name = #Type;                             \
+        static constexpr EnumItem items[] = {LIST(GW_ENUM_ITEM)};              \
+        static constexpr int count = int(sizeof(items) / sizeof(items[0]));    \
+    };
+
+template <class E>
+inline bool enum_valid(E e) { return int(e) >= 0 && int(e) < EnumTraits<E>::count; }
+template <class E>
+inline const char* enum_id(E e) { return enum_valid(e) ? EnumTraits<E>::items[int(e)].id : "?"; }
+
+// --- the enumerations ---------------------------------------------------------
+
+#define GW_ACCEL_KINDS(X)                                                                          \
+    X(None, "none", "None", "Test every primitive (brute force, the seed's no-grid column)")      \
+    X(Grid, "grid", "Uniform Grid", "The seed's uniform grid, walked with Amanatides & Woo's DDA")
+GW_ENUM(AccelKind, GW_ACCEL_KINDS)
+
+#define GW_AA_MODES(X)                                                                    \
+    X(Center, "center", "Pixel Centre", "One ray through each pixel centre")              \
+    X(Jittered, "jittered", "Jittered", "Stratified n x n jittered samples per pixel")    \
+    X(Random, "random", "Random", "n x n uniformly random samples per pixel")             \
+    X(Adaptive, "adaptive", "Adaptive", "Whitted's adaptive supersampling: trace the corners, subdivide where they differ") \
+    X(Sobol, "sobol", "Sobol", "n x n Owen-scrambled Sobol (low-discrepancy) samples per pixel")
+GW_ENUM(AAMode, GW_AA_MODES)
+
+#define GW_SHADOW_MODES(X)                                                                          \
+    X(Hard, "hard", "Hard", "One shadow ray to each light's centre")                               \
+    X(Random, "random", "Random", "A random point on the light per shadow ray")                    \
+    X(Area, "area", "Area", "The seed's area light: an n x n jittered grid of light positions, shuffled per pixel")
+GW_ENUM(ShadowMode, GW_SHADOW_MODES)
+
+#define GW_PIXEL_FILTERS(X)                                    \
+    X(Box, "box", "Box", "Box pixel filter")                    \
+    X(Gaussian, "gaussian", "Gaussian", "Gaussian pixel filter (filter_width is its standard deviation)")
+GW_ENUM(PixelFilter, GW_PIXEL_FILTERS)
+
+#define GW_LIGHT_KINDS(X)                                                                        \
+    X(Point, "point", "Point", "A point (a sphere light when its radius is > 0)")                \
+    X(Sphere, "sphere", "Sphere", "A sphere of the given radius (soft shadows)")                 \
+    X(Rect, "rect", "Rectangle", "A one-sided rectangle of the given size, emitting along direction") \
+    X(Disk, "disk", "Disk", "A one-sided disk of the given radius, emitting along direction")    \
+    X(Sun, "sun", "Sun", "A direction, with an angular diameter for soft shadows")              \
+    X(Spot, "spot", "Spot", "A point emitting in a cone around direction")
+GW_ENUM(LightKind, GW_LIGHT_KINDS)
+
+}  // namespace gw

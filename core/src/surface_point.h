@@ -1,0 +1,15 @@
+// What shading and secondary rays need to know about a hit.
+#pragma once
+#include "math.h"
+
+namespace gw {
+
+struct SurfacePoint {
+    Vec3 p;        // hit position
+    Vec3 p_err;    // conservative absolute error bound of p, per axis
+    Vec3 ng;       // geometric normal, unit, "outward" (winding / radial)
+    Vec3 ns;       // shading normal, unit, same hemisphere as ng
+    int material = 0;
+};
+
+}  // namespace gw

@@ -1,0 +1,15 @@
+// Per-thread state for traversal: the mailbox (enabled when sized to the
+// primitive count) and the statistics counters.
+#pragma once
+#include "mailbox.h"
+#include "stats.h"
+
+namespace gw {
+
+struct TraceContext {
+    Mailbox mailbox;
+    Stats stats;
+    bool skip_empty = true;   // grid: jump across blocks of empty cells (empty_space.h)
+};
+
+}  // namespace gw

@@ -71,9 +71,9 @@ def spd_mount():
     return kw["vertices"], kw["triangles"], kw["camera"]
 
 
-@pytest.mark.parametrize("accel", ["grid", "none"])
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
 def test_random_triangle_soup(accel):
-    V, F = triangle_soup(2000 if accel == "grid" else 300, seed=1)
+    V, F = triangle_soup(300 if accel == "none" else 2000, seed=1)
     o, d = random_rays(N_RAYS, V.min(0), V.max(0), seed=2)
     assert check_agreement(V, F, o, d, accel) > 1000
 
@@ -117,7 +117,7 @@ def sphere_reference(C, R, o, d):
     return best, idx
 
 
-@pytest.mark.parametrize("accel", ["grid", "none"])
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
 def test_spheres_match_double_precision_reference(accel):
     rng = np.random.default_rng(5)
     C = rng.uniform(-20, 20, (200, 3)).astype(np.float32)

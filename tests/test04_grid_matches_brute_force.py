@@ -9,20 +9,23 @@ from meshes import icosphere, random_rays, triangle_soup
 
 
 def same_hits(sc, o, d, **kw):
-    g = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", **kw))
+    """The uniform grid and the adaptive grid against brute force; returns the uniform grid's hits."""
     n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
-    assert np.array_equal(np.isfinite(g.t), np.isfinite(n.t))
     hit = np.isfinite(n.t)
-    assert np.array_equal(g.t[hit], n.t[hit])
-    assert np.array_equal(g.prim[hit], n.prim[hit]) and np.array_equal(g.kind[hit], n.kind[hit])
-    return g
+    out = {}
+    for accel in ("grid", "adaptive"):
+        g = out[accel] = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel, **kw))
+        assert np.array_equal(np.isfinite(g.t), hit), accel
+        assert np.array_equal(g.t[hit], n.t[hit]), accel
+        assert np.array_equal(g.prim[hit], n.prim[hit]) and np.array_equal(g.kind[hit], n.kind[hit]), accel
+    return out["grid"]
 
 
 def test_resolution_follows_the_seed_formula():
     V, F = triangle_soup(5000, seed=3, extent=20.0, size=0.3)
     sc = gw.Scene(vertices=V, triangles=F)
     for m in (1.0, 2.0, 3.5):
-        info = sc.grid_info(gw.RenderSettings(grid_density=m))
+        info = sc.grid_info(gw.RenderSettings(accel="grid", grid_density=m))
         lo, hi = sc.bounds
         dim = hi - lo
         side = np.cbrt(np.prod(dim) / len(F))
@@ -37,7 +40,7 @@ def test_resolution_follows_the_seed_formula():
 def test_cell_cap_reduces_density_and_says_so():
     V, F = triangle_soup(20000, seed=4)
     sc = gw.Scene(vertices=V, triangles=F)
-    s = gw.RenderSettings(grid_density=8.0, max_cells=50_000)
+    s = gw.RenderSettings(accel="grid", grid_density=8.0, max_cells=50_000)
     info = sc.grid_info(s)
     assert info["cells"] <= 50_000
     assert info["reduced"] and info["density_used"] < 8.0
@@ -62,7 +65,7 @@ def test_flat_scene_with_zero_extent_axis():
     V[:, 2] = 0.0
     F = np.arange(3000, dtype=np.int32).reshape(-1, 3)
     sc = gw.Scene(vertices=V, triangles=F)
-    assert sc.grid_info()["resolution"][2] == 1
+    assert sc.grid_info(gw.RenderSettings(accel="grid"))["resolution"][2] == 1
     o, d = random_rays(20000, [-5, -5, -1], [5, 5, 1], seed=9)
     g = same_hits(sc, o, d)
     assert np.isfinite(g.t).sum() > 1000
@@ -72,8 +75,8 @@ def test_mailboxes_skip_repeat_tests_without_changing_hits():
     V, F = icosphere(3, radius=4.0)
     sc = gw.Scene(vertices=V, triangles=F, sphere_centers=[[0, 0, 0], [6, 0, 0]], sphere_radii=[2.5, 3.0])
     o, d = random_rays(20000, V.min(0), V.max(0), seed=10)
-    on = sc.intersect(o, d, settings=gw.RenderSettings(mailboxes=True, grid_density=4.0))
-    off = sc.intersect(o, d, settings=gw.RenderSettings(mailboxes=False, grid_density=4.0))
+    on = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", mailboxes=True, grid_density=4.0))
+    off = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", mailboxes=False, grid_density=4.0))
     assert np.array_equal(on.t, off.t) and np.array_equal(on.prim, off.prim)
     assert on.stats["mailbox_skips"] > 0 and off.stats["mailbox_skips"] == 0
     assert on.stats["prim_tests"] + on.stats["mailbox_skips"] == off.stats["prim_tests"]

@@ -80,7 +80,7 @@ def test_statistics_report_rays_tests_and_cells():
     assert s["rays"] == s["primary_rays"] + s["shadow_rays"] + s["secondary_rays"]
     assert 0 < s["tests_per_ray"] < 200 and s["cells_per_ray"] > 1
     g = s["grid"]
-    assert g["cells"] == np.prod(g["resolution"]) and g["refs"] >= sc.num_primitives
+    assert g["cells"] >= np.prod(g["resolution"]) and g["refs"] >= sc.num_primitives   # root grid and the refining ones
     assert g["build_seconds"] >= 0 and g["bytes"] > 0
     assert s["seconds"] > 0 and s["mrays_per_second"] > 0
 

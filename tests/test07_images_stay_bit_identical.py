@@ -72,7 +72,7 @@ CASES = {
     "mesh-center": (mesh_scene, dict()),
     "mesh-jittered-area": (mesh_scene, dict(aa="jittered", aa_samples=2, shadow="area", shadow_samples=2,
                                             glossy_samples=2, max_depth=6)),
-    "mesh-uniform-m1": (mesh_scene, dict(grid_density=1.0, skip_empty=False, mailboxes=False)),
+    "mesh-uniform-m1": (mesh_scene, dict(accel="grid", grid_density=1.0, skip_empty=False, mailboxes=False)),
     "distant-dof": (distant_scene, dict(dof_samples=4, aa="jittered", aa_samples=2)),
 }
 

@@ -137,8 +137,8 @@ def test_bad_settings_give_a_one_line_error_and_exit_2(tmp_path, options, messag
 
 @needs_spd
 def test_render_says_when_the_grid_density_was_reduced(tmp_path):
-    run = gridwalk("render", SPD_DIR / "mount_s4.nff", "-o", tmp_path / "m.png", "--max-cells", 100,
-                   "--width", 16, "--height", 16)
+    run = gridwalk("render", SPD_DIR / "mount_s4.nff", "-o", tmp_path / "m.png", "--accel", "grid",
+                   "--max-cells", 100, "--width", 16, "--height", 16)
     assert run.returncode == 0, run.stderr
     assert "4x4x4 = 64 cells" in run.stdout and "note" in run.stdout and "density reduced" in run.stdout
 
@@ -166,7 +166,9 @@ def test_info_reports_counts_bounds_camera_and_grid():
     assert "512 triangles" in run.stdout and "4 spheres" in run.stdout and "0 cylinders" in run.stdout
     assert "1 lights" in run.stdout
     assert "bounds" in run.stdout and "eye (-1.6, 1.6, 1.7)" in run.stdout
-    assert "17x17x16 = 4624 cells" in run.stdout
+    assert "adaptive grid: root " in run.stdout and " grids, " in run.stdout
+    uniform = gridwalk("info", SPD_DIR / "mount_s4.nff", "--accel", "grid")
+    assert "uniform grid: 17x17x16 = 4624 cells" in uniform.stdout
 
 
 @needs_spd

@@ -12,7 +12,7 @@ from gridwalk import memory
 
 
 def test_estimate_adds_up_and_scales_with_the_counts():
-    s = gw.RenderSettings(threads=2)
+    s = gw.RenderSettings(threads=2, accel="grid")
     small = memory.estimate(1000, 600, width=64, height=48, settings=s)
     big = memory.estimate(10_000, 6000, width=64, height=48, settings=s)
     assert small.total == small.scene_arrays + small.grid + small.mailboxes + small.images
@@ -23,11 +23,15 @@ def test_estimate_adds_up_and_scales_with_the_counts():
     assert memory.estimate(1000, 600, settings=s, normals=False).scene_arrays < small.scene_arrays
     none = memory.estimate(1000, 600, settings=s.replace(accel="none"))
     assert none.grid == 0 and none.mailboxes == 0
+    adaptive = memory.estimate(10_000, 6000, settings=s.replace(accel="adaptive"))
+    assert adaptive.mailboxes == 0 and adaptive.grid == 10_000 * (
+        memory.ADAPTIVE_CELLS * memory.ADAPTIVE_CELL_BYTES + memory.ADAPTIVE_REFS * memory.REF_BYTES
+        + memory.ADAPTIVE_BUILD_BYTES)
     assert memory.estimate(0, 0).total == memory.PIXEL_BYTES         # one pixel, nothing else
 
 
 def test_grid_is_capped_by_max_cells_and_the_reference_cap():
-    s = gw.RenderSettings(threads=1, mailboxes=False)
+    s = gw.RenderSettings(threads=1, mailboxes=False, accel="grid")
     capped = memory.estimate(10**9, settings=s.replace(max_cells=1000))
     refs = max(memory.MAX_REFS, 10**9)   # as in the core: every primitive keeps at least one reference
     assert capped.grid == 1000 * memory.CELL_BYTES + 4 + refs * memory.REF_BYTES
@@ -69,7 +73,7 @@ MEASURE = textwrap.dedent("""
     tris = tris.astype(np.int32)
     del th, ph, t, p, i, a, b, c, d
     base = rss()
-    s = gw.RenderSettings(threads=2)
+    s = gw.RenderSettings(threads=2, accel=sys.argv[2])
     cam = gw.Camera(eye=(0, -3, 0), target=(0, 0, 0), width=320, height=240)
     scene = gw.Scene(vertices=v, triangles=tris, normals=v.copy(), camera=cam,
                      lights=[gw.Light(position=(0, -5, 5))])
@@ -81,13 +85,14 @@ MEASURE = textwrap.dedent("""
 """)
 
 
-def test_estimate_is_close_to_the_memory_a_render_uses(tmp_path):
+@pytest.mark.parametrize("accel", ["adaptive", "grid"])
+def test_estimate_is_close_to_the_memory_a_render_uses(tmp_path, accel):
     """A 1M-triangle sphere: resident memory grown while the scene, grid, job and
     images are alive (the mailboxes are freed when the workers end, and the host
     result buffers are not allocated here, so both are left out of the estimate)."""
     script = tmp_path / "measure.py"
     script.write_text(MEASURE)
-    out = subprocess.run([sys.executable, str(script), "500"], capture_output=True, text=True, timeout=120)
+    out = subprocess.run([sys.executable, str(script), "500", accel], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     figures = json.loads(out.stdout)
     ratio = figures["estimate"] / figures["used"]

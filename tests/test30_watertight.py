@@ -33,7 +33,7 @@ CASES = list(meshes())
 
 
 @pytest.mark.parametrize("name, V, F, center", CASES, ids=[c[0] for c in CASES])
-@pytest.mark.parametrize("accel", ["grid", "none"])
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
 def test_rays_from_inside_never_escape(name, V, F, center, accel):
     n_random = 1_000_000
     sc = gw.Scene(vertices=V, triangles=F)

@@ -1,7 +1,8 @@
 """Grid traversal edge cases: axis-parallel rays with +0/-0 components, origins
 on cell boundaries and on the grid's faces and corners, rays grazing along
 faces, degenerate scenes, huge extents with tiny triangles, and NaN/Inf rays.
-In every case the grid must report exactly what brute force reports."""
+In every case both grids (the seed's uniform grid and the adaptive grid, at
+every level) must report exactly what brute force reports."""
 import time
 
 import numpy as np
@@ -12,12 +13,19 @@ from gridwalk.scenes import balls
 from meshes import icosphere, random_rays
 
 
+GRIDS = ("grid", "adaptive")
+
+
 def assert_grid_equals_brute_force(sc, o, d, **kw):
-    g = sc.intersect(o, d, settings=gw.RenderSettings(accel="grid", **kw))
+    """Both grids against brute force; returns the uniform grid's hits."""
     n = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
-    bad = (np.isfinite(g.t) != np.isfinite(n.t)) | (np.isfinite(n.t) & (g.t != n.t))
-    assert not bad.any(), f"{bad.sum()} rays differ, e.g. o={o[bad][0]}, d={d[bad][0]}, {g.t[bad][0]} vs {n.t[bad][0]}"
-    return g
+    out = {}
+    for accel in GRIDS:
+        g = out[accel] = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel, **kw))
+        bad = (np.isfinite(g.t) != np.isfinite(n.t)) | (np.isfinite(n.t) & (g.t != n.t))
+        assert not bad.any(), (f"{accel}: {bad.sum()} rays differ, e.g. o={o[bad][0]}, d={d[bad][0]}, "
+                               f"{g.t[bad][0]} vs {n.t[bad][0]}")
+    return out["grid"]
 
 
 def cube_grid_scene():
@@ -60,8 +68,8 @@ def test_axis_parallel_rays_with_signed_zeros():
 def test_origins_on_cell_boundaries_and_grid_faces_and_corners():
     sc = cube_grid_scene()
     lo, hi = sc.bounds
-    res = np.array(sc.grid_info()["resolution"])
-    ticks = [np.linspace(lo[a], hi[a], res[a] + 1) for a in range(3)]   # (about) the cell boundaries
+    res = np.array(sc.grid_info(gw.RenderSettings(accel="grid"))["resolution"])
+    ticks = [np.linspace(lo[a], hi[a], res[a] + 1) for a in range(3)]   # (about) the uniform grid's cell boundaries
     rng = np.random.default_rng(2)
     pts = np.stack([rng.choice(t, 2000) for t in ticks], -1)
     corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])

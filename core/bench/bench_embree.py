@@ -29,11 +29,16 @@ def shadow_rays(scene, kw, o, d, n, rng):
         spawned = scene.spawn_origins(o, d, hits, (to_light / np.linalg.norm(to_light, axis=1)[:, None]))
         v = np.asarray(light.position, np.float64) - spawned[keep].astype(np.float64)
         dist = np.linalg.norm(v, axis=1)
-        origins.append(spawned[keep])
-        directions.append(v / dist[:, None])
-        tmax.append(dist)
+        w = v / dist[:, None]
+        # embreex fixes tnear at 0: a shadow ray starting exactly on a surface
+        # (an axis-aligned floor, whose points need no offset) would hit it
+        # there. Both engines get origins moved 1e-4 of the light distance
+        # along the ray.
+        origins.append(spawned[keep] + w * (1e-4 * dist[:, None]))
+        directions.append(w)
+        tmax.append(dist * (1 - 2e-4))
     o2, d2, t2 = (np.concatenate(a) for a in (origins, directions, tmax))
-    pick = rng.permutation(len(o2))[:n]
+    pick = np.sort(rng.permutation(len(o2))[:n])   # a subset, kept in pixel order (per light) as a renderer makes them
     return o2[pick].astype(np.float32), d2[pick].astype(np.float32), t2[pick].astype(np.float32)
 
 

@@ -1,6 +1,7 @@
 // build_accel and make_trace_context. See accel.h.
 #include "accel.h"
 
+#include "adaptive_grid.h"
 #include "brute_force.h"
 #include "uniform_grid.h"
 
@@ -10,6 +11,12 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
     validate_settings(s);
     switch (s.accel) {
     case AccelKind::None: return std::make_shared<BruteForce>(std::move(scene));
+    case AccelKind::Adaptive: {
+        AdaptiveParams ap;
+        ap.leaf_size = s.leaf_size;
+        ap.max_depth = s.grid_levels;
+        return std::make_shared<AdaptiveGrid>(std::move(scene), ap);
+    }
     case AccelKind::Grid: break;
     }
     GridParams p;

@@ -13,7 +13,9 @@ namespace gw {
 
 // What a structure reports about itself (resolution, memory, build time).
 struct AccelInfo {
-    int n[3] = {0, 0, 0};
+    std::string kind;       // "uniform grid", "adaptive grid"
+    int n[3] = {0, 0, 0};   // resolution (of the root grid)
+    uint64_t grids = 0;     // uniform grids in the structure (1 for the uniform grid)
     uint64_t cells = 0, refs = 0, bytes = 0;
     double build_seconds = 0, density_requested = 0, density_used = 0;
     bool reduced = false;   // density lowered to respect the cell / reference caps

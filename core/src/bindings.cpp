@@ -40,6 +40,8 @@ nb::dict stats_dict(const Stats& s) {
 
 nb::dict accel_dict(const AccelInfo& g) {
     nb::dict d;
+    d["kind"] = g.kind;
+    d["grids"] = g.grids;
     d["resolution"] = nb::make_tuple(g.n[0], g.n[1], g.n[2]);
     d["cells"] = g.cells;
     d["refs"] = g.refs;

@@ -22,12 +22,12 @@ static void dilate(std::vector<uint8_t>& mask, std::vector<uint8_t>& tmp, const 
     }
 }
 
-std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap) {
+std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap) {
     const int64_t cells = int64_t(n[0]) * n[1] * n[2];
     std::vector<uint8_t> dist(size_t(cells), uint8_t(cap + 1)), mask(size_t(cells), 0), tmp(size_t(cells), 0);
     bool any_empty = false;
     for (int64_t c = 0; c < cells; ++c) {
-        if (offsets[c + 1] != offsets[c]) { mask[c] = 1; dist[c] = 0; }
+        if (occupied[c]) { mask[c] = 1; dist[c] = 0; }
         else any_empty = true;
     }
     for (int r = 1; r <= cap && any_empty; ++r) {
@@ -39,6 +39,13 @@ std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const 
         }
     }
     return dist;
+}
+
+std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap) {
+    const int64_t cells = int64_t(n[0]) * n[1] * n[2];
+    std::vector<uint8_t> occupied(static_cast<size_t>(cells), 0);
+    for (int64_t c = 0; c < cells; ++c) occupied[c] = offsets[c + 1] != offsets[c];
+    return chebyshev_distance(occupied, n, cap);
 }
 
 }  // namespace gw

@@ -14,4 +14,7 @@ namespace gw {
 // cells farther away (a safe lower bound).
 std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap);
 
+// The same from an occupancy mask (1 = non-empty), one byte per cell.
+std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap);
+
 }  // namespace gw

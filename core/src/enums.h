@@ -36,7 +36,9 @@ inline const char* enum_id(E e) { return enum_valid(e) ? EnumTraits<E>::items[in
 
 #define GW_ACCEL_KINDS(X)                                                                          \
     X(None, "none", "None", "Test every primitive (brute force, the seed's no-grid column)")      \
-    X(Grid, "grid", "Uniform Grid", "The seed's uniform grid, walked with Amanatides & Woo's DDA")
+    X(Grid, "grid", "Uniform Grid", "The seed's uniform grid, walked with Amanatides & Woo's DDA")   \
+    X(Adaptive, "adaptive", "Adaptive Grid",                                                       \
+      "Uniform grids refined where the primitives crowd, each walked with the DDA; SIMD triangle tests")
 GW_ENUM(AccelKind, GW_ACCEL_KINDS)
 
 #define GW_AA_MODES(X)                                                                    \

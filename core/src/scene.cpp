@@ -71,7 +71,9 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     for (size_t i = 0; i < ns; ++i)
         if (radii_[i] < 0) bad("sphere_radii[" + std::to_string(i) + "] is negative");
 
-    tri_verts_.resize(3 * nt);
+    // One padding corner at the end: the SIMD triangle test reads each
+    // triangle's 9 floats as three rows of 4 (triangle_simd.inc).
+    tri_verts_.assign(3 * nt + 1, Vec3());
     for (size_t i = 0; i < 3 * nt; ++i) tri_verts_[i] = vert(tris_[i]);
     centers_.resize(ns);
     for (size_t i = 0; i < ns; ++i) centers_[i] = v3(&sphere_centers[3 * i]);
@@ -105,12 +107,12 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     }
 }
 
-bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const {
+bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit, float tmax) const {
     float t;
     const size_t s = prim - num_triangles();
     if (s < num_spheres()) {
-        if (!intersect_sphere(r, centers_[s], radii_[s], hit.t, t)) return false;
-    } else if (!intersect_cone(r, cones_[s - num_spheres()], hit.t, t)) {
+        if (!intersect_sphere(r, centers_[s], radii_[s], tmax, t)) return false;
+    } else if (!intersect_cone(r, cones_[s - num_spheres()], tmax, t)) {
         return false;
     }
     hit.t = t;

@@ -51,10 +51,12 @@ public:
     // Tests one primitive; on a hit nearer than hit.t, updates hit and returns true.
     // Triangles are tested inline (the hot path); quadrics out of line.
     inline bool intersect(size_t prim, const RayPre& r, Hit& hit) const;
-    bool intersect_quadric(size_t prim, const RayPre& r, Hit& hit) const;
+    bool intersect_quadric(size_t prim, const RayPre& r, Hit& hit, float tmax) const;
     SurfacePoint surface(const RayPre& r, const Hit& hit) const;
     Vec3 geometric_normal(const RayPre& r, const Hit& hit) const;
 
+    // The triangles' corners, 3 per triangle, in triangle order (9 contiguous floats each).
+    const Vec3* triangle_vertices() const { return tri_verts_.data(); }
     const std::vector<Material>& materials() const { return materials_; }
     const std::vector<Light>& lights() const { return lights_; }
     const CameraDesc& camera() const { return camera_; }
@@ -86,10 +88,15 @@ private:
     Bounds bounds_;
 };
 
+// A hit at exactly the current hit's t wins when its primitive index is
+// lower: with the hit decided on t alone (triangle.h), the nearest hit is the
+// same whatever order the primitives are tested in (brute force, the uniform
+// grid's cells, the adaptive grid's SIMD lanes).
 __attribute__((always_inline)) inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
-    if (prim >= num_triangles()) return intersect_quadric(prim, r, hit);
+    const float tmax = int32_t(prim) < hit.prim ? next_up(hit.t) : hit.t;   // t < next_up(x) <=> t <= x
+    if (prim >= num_triangles()) return intersect_quadric(prim, r, hit, tmax);
     float t, u, v;
-    if (!intersect_triangle(r, &tri_verts_[3 * prim].x, hit.t, t, u, v)) return false;
+    if (!intersect_triangle(r, &tri_verts_[3 * prim].x, tmax, t, u, v)) return false;
     hit.t = t;
     hit.prim = int32_t(prim);
     hit.u = u;

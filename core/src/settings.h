@@ -25,15 +25,19 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 
 // X(type, name, default, min, max, group, when, label, help)
 #define GW_RENDER_SETTINGS(X)                                                                                      \
-    X(AccelKind, accel, AccelKind::Grid, 0, 0, "acceleration", "", "Acceleration",                                 \
+    X(AccelKind, accel, AccelKind::Adaptive, 0, 0, "acceleration", "", "Acceleration",                                 \
       "How rays find the primitives they hit")                                                                     \
     X(double, grid_density, 2.0, 0.01, 1000.0, "acceleration", "accel=grid", "Grid Density (M)",                  \
       "The seed's M in N_ax = floor(M * dim_ax / cbrt(V / N)) + 1: about M^3 cells per primitive")                 \
     X(uint64_t, max_cells, uint64_t(1) << 24, 1, double(uint64_t(1) << 31), "acceleration", "accel=grid",         \
       "Max Cells", "Cap on grid cells; past it the density is reduced (the grid's note says so)")                  \
+    X(int, leaf_size, 8, 1, 4096, "acceleration", "accel=adaptive", "Leaf Size",                                    \
+      "Adaptive grid: a cell with more primitives than this is refined by a grid of its own")                      \
+    X(int, grid_levels, 2, 0, 4, "acceleration", "accel=adaptive", "Grid Levels",                                   \
+      "Adaptive grid: refining levels below the root grid (0: the root grid alone)")                               \
     X(bool, mailboxes, true, 0, 1, "acceleration", "accel=grid", "Mailboxes",                                      \
       "Skip primitives this ray already tested (per-thread stamps)")                                               \
-    X(bool, skip_empty, true, 0, 1, "acceleration", "accel=grid", "Skip Empty Space",                              \
+    X(bool, skip_empty, true, 0, 1, "acceleration", "accel!=none", "Skip Empty Space",                             \
       "Jump across blocks of empty grid cells; off walks every cell, as Havran & Sixta count them")                \
     X(int, threads, 0, 0, 1024, "performance", "", "Threads", "Worker threads, 0 = all cores")                     \
     X(int, tile_size, 32, 1, 4096, "performance", "", "Tile Size", "Tile edge in pixels")                          \

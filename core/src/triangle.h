@@ -72,9 +72,12 @@ inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, floa
     const float Az = r.sz * Akz, Bz = r.sz * Bkz, Cz = r.sz * Ckz;
     float T = U * Az + V * Bz + W * Cz;
     if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
-    if (!(T > r.ray.tmin * det) || !(T < tmax * det)) return false;
+    // The hit is decided on t itself (not on T against tmax * det, whose
+    // rounding differs), so the nearest of several hits does not depend on
+    // the order they are tested in.
     const float inv = 1.0f / det;
     const float t = T * inv;
+    if (!(t > r.ray.tmin && t < tmax)) return false;
     // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): for a
     // ray leaving a surface, a hit closer than the bound may be that surface,
     // so it is rejected. This is what keeps a ray spawned exactly on a
@@ -95,7 +98,7 @@ inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, floa
     t_out = t;
     b1 = V * inv;
     b2 = W * inv;
-    return t_out > r.ray.tmin && t_out < tmax;
+    return true;
 }
 
 }  // namespace gw

@@ -86,6 +86,8 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p) : 
         break;
     }
     info_.density_used = m;
+    info_.kind = "uniform grid";
+    info_.grids = 1;
     // Prefix sums, then pass 2: fill.
     offsets_.assign(info_.cells + 1, 0);
     for (uint64_t c = 0; c < info_.cells; ++c) offsets_[c + 1] = offsets_[c] + counts[c];

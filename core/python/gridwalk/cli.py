@@ -122,9 +122,12 @@ def _si(n: float) -> str:
 
 def grid_line(grid: dict) -> str:
     nx, ny, nz = grid["resolution"]
-    line = (f"{nx}x{ny}x{nz} = {grid['cells']} cells, {grid['refs']} refs, "
-            f"{grid['bytes'] / 1024:.1f} KiB, built in {grid['build_seconds'] * 1e3:.2f} ms "
-            f"(density {grid['density_used']:g})")
+    root = f"{nx}x{ny}x{nz} = {nx * ny * nz} cells" if grid["grids"] == 1 else \
+        f"root {nx}x{ny}x{nz}, {grid['grids']} grids, {grid['cells']} cells"
+    line = (f"{grid['kind']}: {root}, {grid['refs']} refs, {grid['bytes'] / 1024:.1f} KiB, "
+            f"built in {grid['build_seconds'] * 1e3:.2f} ms")
+    if grid["kind"] == "uniform grid":
+        line += f" (density {grid['density_used']:g})"
     return line + (f"\n  note      {grid['note']}" if grid.get("note") else "")
 
 

@@ -14,15 +14,20 @@ What is counted (bytes):
                 triangles 12 + 4 (material) per triangle (x2) and the core's
                 packed corner positions (36 per triangle); spheres 20 (x2);
                 cylinders 36 (x2) + the core's 76-byte record.
-  grid          per cell 4 (offsets) + 1 (empty-space distance) + 4 (the count
-                array of the build); per primitive reference 4. Cells follow
-                the resolution formula (about M^3 per primitive, capped at
-                settings.max_cells); references are estimated at 1 + M^2
-                per primitive (measured: 1.7 - 3.3 for M = 1, 2.7 - 7.5 for
-                M = 2 on tessellated spheres and triangle soups) and capped at
-                the core's 2^27.
-  mailboxes     one 4-byte stamp per primitive per worker thread (grid with
-                mailboxes on).
+  grid          The adaptive grid (accel "adaptive"): 8 bytes per cell and 4
+                per primitive reference, at ADAPTIVE_CELLS and ADAPTIVE_REFS
+                per primitive (measured: 1.2 - 1.7 cells and 2.7 - 5.3
+                references on tessellated spheres, scans on a floor, SPD
+                mount and balls), plus the build's per-primitive boxes (24).
+                The uniform grid (accel "grid"): per cell 4 (offsets) + 1
+                (empty-space distance) + 4 (the count array of the build);
+                per primitive reference 4. Cells follow the resolution formula
+                (about M^3 per primitive, capped at settings.max_cells);
+                references are estimated at 1 + M^2 per primitive (measured:
+                1.7 - 3.3 for M = 1, 2.7 - 7.5 for M = 2 on tessellated
+                spheres and triangle soups) and capped at the core's 2^27.
+  mailboxes     one 4-byte stamp per primitive per worker thread (uniform
+                grid with mailboxes on).
   images        the core's RGBA, depth and normal buffers (32 per pixel), the
                 copies read back at the end (36) and the host's render result
                 (Combined + Depth + Normal, 32): 100 per pixel.
@@ -46,6 +51,12 @@ SPHERE_BYTES = 2 * 20
 CYLINDER_BYTES = 2 * 36 + 76    # the arrays, the core's input copies and its records
 CELL_BYTES = 4 + 1 + 4
 REF_BYTES = 4
+ADAPTIVE_CELL_BYTES = 8
+ADAPTIVE_CELLS = 2.0          # cells per primitive, all levels
+ADAPTIVE_REFS = 6.0           # references per primitive, all levels
+ADAPTIVE_BUILD_BYTES = 24     # the build's box per primitive
+ADAPTIVE_MAX_CELLS = 1 << 26  # the core's caps (AdaptiveParams)
+ADAPTIVE_MAX_REFS = 1 << 28
 STAMP_BYTES = 4
 PIXEL_BYTES = 32 + 36 + 32
 
@@ -119,7 +130,11 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
                     + cylinders * CYLINDER_BYTES)
     prims = triangles + spheres + cylinders
     grid = mailboxes = 0
-    if settings.accel == "grid" and prims:
+    if settings.accel == "adaptive" and prims:
+        cells = min(ADAPTIVE_MAX_CELLS, math.ceil(ADAPTIVE_CELLS * prims))
+        refs = min(ADAPTIVE_MAX_REFS, math.ceil(ADAPTIVE_REFS * prims))
+        grid = cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
+    elif settings.accel == "grid" and prims:
         density = float(settings.grid_density)
         cells = grid_cells(prims, density, int(settings.max_cells))
         grid = cells * CELL_BYTES + 4 + grid_refs(prims, density) * REF_BYTES

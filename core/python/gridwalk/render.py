@@ -97,7 +97,7 @@ class RenderJob:
         s["cells_per_ray"] = s["cells"] / rays
         s["seconds"] = self._job.elapsed
         s["mrays_per_second"] = s["rays"] / max(s["seconds"], 1e-9) / 1e6
-        s["grid"] = dict(self.accel.grid) if self.settings.accel == "grid" else None
+        s["grid"] = dict(self.accel.grid) if self.settings.accel != "none" else None
         return s
 
 

@@ -133,8 +133,11 @@ class Scene:
         return self._accels[key]
 
     def grid_info(self, settings: RenderSettings | None = None) -> dict:
-        """Resolution, cells, references, memory and build time of the grid."""
-        s = (settings or RenderSettings()).replace(accel="grid")
+        """Kind, (root) resolution, grids, cells, references, memory and build
+        time of the grid these settings build (the default one for accel="none")."""
+        s = settings or RenderSettings()
+        if s.accel == "none":
+            s = s.replace(accel=RenderSettings().accel)
         return dict(self.accel(s).grid)
 
     # -- ray queries ----------------------------------------------------------

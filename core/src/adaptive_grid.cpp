@@ -1,0 +1,343 @@
+// The adaptive grid: build, and the traversal compiled per instruction set.
+// See adaptive_grid.h.
+#include "adaptive_grid.h"
+
+#include <chrono>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "empty_space.h"
+
+namespace gw {
+
+// --- traversal, once per instruction set ------------------------------------
+
+namespace walk_portable {   // 4 lanes: SSE on x86-64, NEON on aarch64 (GCC vector extensions)
+#include "adaptive_walk.inc"
+}  // namespace walk_portable
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define GW_HAVE_AVX2_WALK 1
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define GW_WALK_AVX2 1
+namespace walk_avx2 {   // 8 lanes
+#include "adaptive_walk.inc"
+bool closest(const AdaptiveGridData& g, const Scene& sc, const Vec3* tv, const RayPre& r, Hit& hit, TraceContext& ctx) {
+    return walk<8, false>(g, sc, tv, r, hit, ctx);
+}
+bool occluded(const AdaptiveGridData& g, const Scene& sc, const Vec3* tv, const RayPre& r, Hit& hit, TraceContext& ctx) {
+    return walk<8, true>(g, sc, tv, r, hit, ctx);
+}
+
+}  // namespace walk_avx2
+#undef GW_WALK_AVX2
+#pragma GCC pop_options
+#endif
+
+namespace {
+
+bool cpu_has_avx2() {
+#ifdef GW_HAVE_AVX2_WALK
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+// --- build ---------------------------------------------------------------------
+
+constexpr int kEmptyCap = 16;       // largest exact empty-block radius stored per cell
+constexpr int kMaxResolution = 1024;
+
+struct Box {   // in double: sizes and cell boundaries are exact enough for any float scene
+    double lo[3], hi[3];
+};
+
+class Builder {
+public:
+    Builder(const Scene& sc, const AdaptiveParams& p, AdaptiveGridData& g) : sc_(sc), p_(p), g_(g) {
+        const size_t n = sc.num_prims();
+        bounds_.resize(n);
+        for (size_t i = 0; i < n; ++i) bounds_[i] = sc.prim_bounds(i);
+    }
+
+    void build() {
+        const Bounds sb = sc_.bounds();
+        Box box;
+        double maxext = 0, mag = 0;
+        for (int a = 0; a < 3; ++a) {
+            maxext = std::max(maxext, double(sb.hi[a]) - double(sb.lo[a]));
+            mag = std::max(mag, std::max(std::abs(double(sb.lo[a])), std::abs(double(sb.hi[a]))));
+        }
+        // A size the DDA can divide by, even for a point scene; padding on every side.
+        const double scale = std::max(std::max(maxext, mag * 1e-6), 1e-12);
+        for (int a = 0; a < 3; ++a) {
+            const double pad = 1e-5 * scale;
+            box.lo[a] = next_down(float(double(sb.lo[a]) - pad - std::abs(double(sb.lo[a])) * 1e-6));
+            box.hi[a] = next_up(float(double(sb.hi[a]) + pad + std::abs(double(sb.hi[a])) * 1e-6));
+        }
+        std::vector<uint32_t> all(sc_.num_prims());
+        for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
+        g_.nodes.reserve(64);
+        if (node(box, all, 0) != 0) throw std::logic_error("adaptive grid: the root must be node 0");
+    }
+
+    uint64_t refs() const { return g_.refs.size(); }
+
+private:
+    // Resolution of a grid over `box` for n primitives at `density` cells per
+    // primitive: cells as cubic as the box allows; axes thinner than 1e-4 of
+    // the box's largest side get one cell and stay out of the count.
+    static void resolution(const Box& box, size_t n, double density, int res[3]) {
+        double ext[3], maxext = 0;
+        for (int a = 0; a < 3; ++a) maxext = std::max(maxext, ext[a] = box.hi[a] - box.lo[a]);
+        int k = 0;
+        double vol = 1;
+        for (int a = 0; a < 3; ++a)
+            if (ext[a] > 1e-4 * maxext) { ++k; vol *= ext[a]; }
+        const double wanted = std::max(1.0, density * double(n));
+        const double side = k ? std::pow(vol / wanted, 1.0 / k) : 1.0;
+        for (int a = 0; a < 3; ++a)
+            res[a] = ext[a] > 1e-4 * maxext && side > 0
+                         ? int(std::min(std::max(std::floor(ext[a] / side + 0.5), 1.0), double(kMaxResolution)))
+                         : 1;
+    }
+
+    // Cells overlapped by b (clipped to the node), inflated by 1/1000 of a
+    // cell plus the float rounding of a cell coordinate, so that a primitive
+    // touching a cell face within rounding error is listed on both sides.
+    static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3]) {
+        for (int a = 0; a < 3; ++a) {
+            if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
+                return false;
+            const double pad = 1e-3 + 4e-7 * double(n[a]), top = double(n[a] - 1);
+            const double x0 = (double(b.lo[a]) - box.lo[a]) / cell[a] - pad;
+            const double x1 = (double(b.hi[a]) - box.lo[a]) / cell[a] + pad;
+            c0[a] = int(std::min(std::max(x0, 0.0), top));
+            c1[a] = int(std::min(std::max(x1, 0.0), top));
+        }
+        return true;
+    }
+
+    // Builds the node over `box` holding `prims`; returns its index, or -1
+    // when refining would not separate the primitives (the caller keeps a leaf).
+    // Total references the primitives would have in a grid of resolution n
+    // over box (each primitive counts the cells its clipped box overlaps).
+    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) const {
+        double cell[3];
+        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
+        uint64_t total = 0;
+        for (uint32_t prim : prims) {
+            int c0[3], c1[3];
+            if (cell_range(bounds_[prim], box, cell, n, c0, c1))
+                total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+        }
+        return total;
+    }
+
+    int64_t node(const Box& box, const std::vector<uint32_t>& prims, int depth) {
+        // The finest resolution up to the density whose references stay within
+        // max_refs_per_prim per primitive: primitives as large as the cells
+        // would otherwise be listed in many of them.
+        double density = depth == 0 ? p_.root_density : p_.sub_density;
+        int n[3] = {1, 1, 1};
+        const uint64_t allowed = uint64_t(p_.max_refs_per_prim * double(prims.size()));
+        for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
+            int m[3];
+            resolution(box, prims.size(), density, m);
+            if (uint64_t(m[0]) * m[1] * m[2] <= 1 || count_refs(box, prims, m) <= allowed) {
+                std::copy(m, m + 3, n);
+                break;
+            }
+            if (density * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
+        }
+        const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
+        if (depth > 0 && ncells <= 1) return -1;
+        // Large primitives: those covering the most cells, beyond big_cells, at
+        // most big_max of them; the node tests them once per ray.
+        std::vector<uint32_t> big;
+        std::vector<uint32_t> rest_storage;
+        const std::vector<uint32_t>* use = &prims;
+        {
+            double cs[3];
+            for (int a = 0; a < 3; ++a) cs[a] = (box.hi[a] - box.lo[a]) / n[a];
+            std::vector<std::pair<uint64_t, uint32_t>> wide;
+            for (uint32_t prim : prims) {
+                int c0[3], c1[3];
+                if (!cell_range(bounds_[prim], box, cs, n, c0, c1)) continue;
+                const uint64_t covered =
+                    uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+                if (covered > uint64_t(p_.big_cells)) wide.emplace_back(covered, prim);
+            }
+            if (!wide.empty()) {
+                std::sort(wide.begin(), wide.end(), [](const auto& x, const auto& y) {
+                    return x.first != y.first ? x.first > y.first : x.second < y.second;
+                });
+                if (wide.size() > size_t(p_.big_max)) wide.resize(size_t(p_.big_max));
+                for (const auto& w : wide) big.push_back(w.second);
+                std::sort(big.begin(), big.end());
+                rest_storage.reserve(prims.size() - big.size());
+                for (uint32_t prim : prims)
+                    if (!std::binary_search(big.begin(), big.end(), prim)) rest_storage.push_back(prim);
+                use = &rest_storage;
+            }
+        }
+        const std::vector<uint32_t>& rest = *use;
+        if (g_.cells.size() + ncells > p_.max_cells) {
+            if (depth > 0) return -1;
+            throw std::invalid_argument("adaptive grid: the cell cap is too small for the root grid");
+        }
+        double cell[3];
+        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
+        // Pass 1: count references per cell.
+        std::vector<uint32_t> count(ncells + 1, 0);
+        uint64_t total = 0;
+        for (uint32_t prim : rest) {
+            int c0[3], c1[3];
+            if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
+            for (int z = c0[2]; z <= c1[2]; ++z)
+                for (int y = c0[1]; y <= c1[1]; ++y)
+                    for (int x = c0[0]; x <= c1[0]; ++x) ++count[(uint64_t(z) * n[1] + y) * n[0] + x];
+            total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+        }
+        uint32_t most = 0;
+        for (uint64_t c = 0; c < ncells; ++c) most = std::max(most, count[c]);
+        // Refining is useless when a cell still holds most of the primitives.
+        if (depth > 0 && double(most) >= 0.75 * double(prims.size())) return -1;
+        if (total + g_.refs.size() > p_.max_refs) {
+            if (depth > 0) return -1;
+            throw std::invalid_argument("adaptive grid: too many primitive references for the reference cap");
+        }
+        // Pass 2: fill per-cell lists (CSR).
+        std::vector<uint32_t> start(ncells + 1, 0);
+        for (uint64_t c = 0; c < ncells; ++c) start[c + 1] = start[c] + count[c];
+        std::vector<uint32_t> list(total);
+        for (uint64_t c = 0; c < ncells; ++c) count[c] = start[c];
+        for (uint32_t prim : rest) {
+            int c0[3], c1[3];
+            if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
+            for (int z = c0[2]; z <= c1[2]; ++z)
+                for (int y = c0[1]; y <= c1[1]; ++y)
+                    for (int x = c0[0]; x <= c1[0]; ++x) list[count[(uint64_t(z) * n[1] + y) * n[0] + x]++] = prim;
+        }
+        // The node, and its cells (filled below; children append after them).
+        const uint32_t index = uint32_t(g_.nodes.size());
+        AdaptiveGridData::Node nd;
+        for (int a = 0; a < 3; ++a) {
+            nd.lo[a] = float(box.lo[a]);
+            nd.hi[a] = float(box.hi[a]);
+            nd.cell[a] = float(box.hi[a] - box.lo[a]) / float(n[a]);
+            nd.inv_cell[a] = float(n[a]) / float(box.hi[a] - box.lo[a]);
+            nd.n[a] = n[a];
+        }
+        nd.first = uint32_t(g_.cells.size());
+        nd.big = nd.big_count = 0;
+        if (!big.empty()) {
+            const AdaptiveGridData::Cell list_cell = leaf(big.data(), uint32_t(big.size()));
+            nd.big = list_cell.a;
+            nd.big_count = list_cell.b;
+        }
+        g_.nodes.push_back(nd);
+        g_.cells.resize(g_.cells.size() + ncells, AdaptiveGridData::Cell{0, 0});
+        std::vector<uint8_t> occupied(ncells, 0);
+        std::vector<uint32_t> sub;
+        for (uint64_t c = 0; c < ncells; ++c) {
+            const uint32_t b = start[c], e = start[c + 1];
+            if (b == e) continue;
+            occupied[c] = 1;
+            AdaptiveGridData::Cell out{0, 0};
+            // Refine a crowded cell; deeper down, only a much more crowded one
+            // (leaf_size x 4^depth): each level multiplies references.
+            if (uint64_t(e - b) > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
+                sub.assign(list.begin() + b, list.begin() + e);
+                const int x = int(c % uint64_t(n[0])), y = int((c / uint64_t(n[0])) % uint64_t(n[1])),
+                          z = int(c / (uint64_t(n[0]) * n[1]));
+                const int idx[3] = {x, y, z};
+                Box cb;   // the cell's box, shrunk to what its primitives occupy
+                for (int a = 0; a < 3; ++a) {
+                    const double lo = box.lo[a] + idx[a] * cell[a], hi = box.lo[a] + (idx[a] + 1) * cell[a];
+                    cb.lo[a] = hi;
+                    cb.hi[a] = lo;
+                    for (uint32_t prim : sub) {
+                        cb.lo[a] = std::min(cb.lo[a], std::max(lo, double(bounds_[prim].lo[a])));
+                        cb.hi[a] = std::max(cb.hi[a], std::min(hi, double(bounds_[prim].hi[a])));
+                    }
+                    if (cb.lo[a] > cb.hi[a]) { cb.lo[a] = lo; cb.hi[a] = hi; }   // primitives only in the padding
+                    // Pad by a little of the cell, rounded outwards to float.
+                    const double pad = 1e-4 * cell[a];
+                    cb.lo[a] = next_down(float(cb.lo[a] - pad));
+                    cb.hi[a] = next_up(float(cb.hi[a] + pad));
+                }
+                const int64_t child = node(cb, sub, depth + 1);
+                if (child >= 0) out = AdaptiveGridData::Cell{uint32_t(child), AdaptiveGridData::kChild};
+            }
+            if (out.b == 0) out = leaf(list.data() + b, e - b);
+            g_.cells[nd.first + c] = out;
+        }
+        // Empty cells: the distance to the nearest non-empty one, for jumps.
+        const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kEmptyCap);
+        for (uint64_t c = 0; c < ncells; ++c)
+            if (!occupied[c]) g_.cells[nd.first + c].a = dist[c];
+        return index;
+    }
+
+    // A leaf: refs gets [number of triangles, triangles..., quadrics...].
+    AdaptiveGridData::Cell leaf(const uint32_t* ids, uint32_t count) {
+        const uint32_t at = uint32_t(g_.refs.size());
+        const uint32_t nt = uint32_t(sc_.num_triangles());
+        g_.refs.push_back(0);
+        uint32_t ntri = 0;
+        for (uint32_t i = 0; i < count; ++i)
+            if (ids[i] < nt) { g_.refs.push_back(ids[i]); ++ntri; }
+        for (uint32_t i = 0; i < count; ++i)
+            if (ids[i] >= nt) g_.refs.push_back(ids[i]);
+        g_.refs[at] = ntri;
+        return AdaptiveGridData::Cell{at, count};
+    }
+
+    const Scene& sc_;
+    const AdaptiveParams& p_;
+    AdaptiveGridData& g_;
+    std::vector<Bounds> bounds_;
+};
+
+}  // namespace
+
+AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p) : Accel(std::move(s)) {
+    const auto t_start = std::chrono::steady_clock::now();
+    Builder b(*scene_, p, g_);
+    b.build();
+    width_ = cpu_has_avx2() ? 8 : 4;
+    const AdaptiveGridData::Node& root = g_.nodes[0];
+    for (int a = 0; a < 3; ++a) info_.n[a] = root.n[a];
+    info_.cells = g_.cells.size();
+    info_.refs = g_.refs.size();
+    info_.bytes = g_.nodes.size() * sizeof(AdaptiveGridData::Node) + g_.cells.size() * sizeof(AdaptiveGridData::Cell) +
+                  g_.refs.size() * sizeof(uint32_t);
+    info_.density_requested = info_.density_used = p.root_density;
+    info_.kind = "adaptive grid";
+    info_.grids = g_.nodes.size();
+    info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
+
+bool AdaptiveGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    const Vec3* tv = scene_->triangle_vertices();
+#ifdef GW_HAVE_AVX2_WALK
+    if (width_ == 8) return walk_avx2::closest(g_, *scene_, tv, r, hit, ctx);
+#endif
+    return walk_portable::walk<4, false>(g_, *scene_, tv, r, hit, ctx);
+}
+
+bool AdaptiveGrid::occluded(const RayPre& r, TraceContext& ctx) const {
+    Hit hit;
+    hit.t = r.ray.tmax;
+    const Vec3* tv = scene_->triangle_vertices();
+#ifdef GW_HAVE_AVX2_WALK
+    if (width_ == 8) return walk_avx2::occluded(g_, *scene_, tv, r, hit, ctx);
+#endif
+    return walk_portable::walk<4, true>(g_, *scene_, tv, r, hit, ctx);
+}
+
+}  // namespace gw

@@ -1,0 +1,67 @@
+// The adaptive grid: a hierarchy of uniform grids. The root is a uniform grid
+// over the scene box; each of its cells that holds more than a leaf's worth
+// of primitives is refined by its own uniform grid, sized from that cell's
+// primitive count and fitted to the part of the cell they occupy; and so on,
+// a few levels deep. Every level is walked with Amanatides & Woo's 3D-DDA and
+// jumps across blocks of empty cells; a leaf's triangles are tested several
+// at a time (triangle_simd.h), 8 with AVX2 or 4 with SSE / NEON, chosen at
+// run time. See docs/architecture.md for the measurements behind the design.
+#pragma once
+#include <vector>
+
+#include "accel.h"
+
+namespace gw {
+
+struct AdaptiveParams {
+    double root_density = 1.0;   // root grid: cells per primitive
+    double sub_density = 2.0;    // refining grids: cells per primitive of their cell
+    int leaf_size = 8;           // a cell with more primitives than this is refined (deeper: x 4 per level)
+    int max_depth = 2;           // refining levels below the root
+    double max_refs_per_prim = 3.0;   // a grid's references per primitive (its resolution is lowered past it)
+    int big_cells = 64;          // a primitive covering more cells of a grid than this is "large" there ...
+    int big_max = 16;            // ... and up to this many large ones per grid are tested once per ray
+    uint64_t max_cells = 1ull << 26;   // cap on cells of all levels (densities are lowered past it)
+    uint64_t max_refs = 1ull << 28;    // cap on primitive references of all levels
+};
+
+// The structure, flat. Public so that the per-ISA traversal code
+// (adaptive_walk.inc) can read it.
+struct AdaptiveGridData {
+    struct Node {
+        Vec3 lo, hi;          // the node's box
+        Vec3 cell, inv_cell;  // cell size and its reciprocal (float, as the DDA uses them)
+        int n[3];             // resolution
+        uint32_t first;       // index of the node's cell (0, 0, 0) in cells
+        // The node's large primitives (refs[big] = number of triangles, then
+        // the ids; big_count == 0: none): primitives that would cover many of
+        // its cells are tested once, when a ray enters the node, instead.
+        uint32_t big, big_count;
+    };
+    // b == 0: empty, a = Chebyshev distance (in cells) to the nearest non-empty
+    // cell of the same node, capped; b == kChild: refined by node a; otherwise a
+    // leaf of b primitives whose list is refs[a] = number of triangles, then
+    // refs[a + 1 ..] the triangles' and then the quadrics' global indices.
+    struct Cell { uint32_t a, b; };
+    static constexpr uint32_t kChild = 0xFFFFFFFFu;
+    std::vector<Node> nodes;
+    std::vector<Cell> cells;
+    std::vector<uint32_t> refs;
+};
+
+class AdaptiveGrid final : public Accel {
+public:
+    AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p);
+    bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override;
+    bool occluded(const RayPre& r, TraceContext& ctx) const override;
+    AccelInfo info() const override { return info_; }
+    const AdaptiveGridData& data() const { return g_; }
+    int simd_width() const { return width_; }
+
+private:
+    AdaptiveGridData g_;
+    AccelInfo info_;
+    int width_ = 4;   // triangles per SIMD test: 8 (AVX2) or 4
+};
+
+}  // namespace gw

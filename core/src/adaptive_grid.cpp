@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dda.h"
 #include "empty_space.h"
 
 namespace gw {
@@ -307,6 +308,8 @@ private:
 
 AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p) : Accel(std::move(s)) {
     const auto t_start = std::chrono::steady_clock::now();
+    if (p.max_depth < 0 || p.max_depth > kMaxGridDepth)
+        throw std::invalid_argument("adaptive grid: at most " + std::to_string(kMaxGridDepth) + " refining levels");
     Builder b(*scene_, p, g_);
     b.build();
     width_ = cpu_has_avx2() ? 8 : 4;

@@ -13,6 +13,8 @@
 
 namespace gw {
 
+constexpr int kMaxGridDepth = 7;   // refining levels the traversal's stack holds
+
 struct AdaptiveParams {
     double root_density = 1.0;   // root grid: cells per primitive
     double sub_density = 2.0;    // refining grids: cells per primitive of their cell

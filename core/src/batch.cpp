@@ -46,13 +46,28 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     return total;
 }
 
-Ray make_ray(const RayBatch& b, size_t i) {
+// Ray i of the batch, with its direction rescaled by a power of two (exactly)
+// into [1, 2) when its largest component lies outside [2^-64, 2^64], and its
+// tmin, tmax by the inverse: the walks' reciprocals then stay finite.
+// scale_exp receives e such that the caller's t = ldexp(the rescaled ray's t, e).
+Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
     Ray r;
     r.spawned = b.spawned;
     r.o = {b.o[3 * i], b.o[3 * i + 1], b.o[3 * i + 2]};
     r.d = {b.d[3 * i], b.d[3 * i + 1], b.d[3 * i + 2]};
     r.tmin = b.tmin[i];
     r.tmax = b.tmax[i];
+    scale_exp = 0;
+    const float m = std::max(std::abs(r.d.x), std::max(std::abs(r.d.y), std::abs(r.d.z)));
+    if (m > 0 && std::isfinite(m) && (m < 0x1p-64f || m > 0x1p64f)) {
+        const int e = -std::ilogb(m);   // d * 2^e has its largest component in [1, 2)
+        for (int a = 0; a < 3; ++a) r.d[a] = std::ldexp(r.d[a], e);
+        r.tmin = std::ldexp(r.tmin, -e);
+        // Hits beyond float range along the caller's ray are misses, for
+        // occlusion queries too: the segment ends where t would overflow.
+        r.tmax = std::min(std::ldexp(r.tmax, -e), std::ldexp(std::numeric_limits<float>::max(), -e));
+        scale_exp = e;
+    }
     return r;
 }
 
@@ -61,13 +76,16 @@ Ray make_ray(const RayBatch& b, size_t i) {
 Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, const BatchOut& out) {
     const Scene& sc = accel.scene();
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
-        const RayPre r(make_ray(rays, i));
+        int scale_exp;
+        const RayPre r(make_ray(rays, i, scale_exp));
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
         hit.t = r.ray.tmax;
-        if (accel.closest(r, hit, ctx)) {
+        const bool found = accel.closest(r, hit, ctx);
+        const float t = std::ldexp(hit.t, scale_exp);   // the caller's t (overflow: beyond float range, a miss)
+        if (found && std::isfinite(t)) {
             const Vec3 n = sc.geometric_normal(r, hit);
-            out.t[i] = hit.t;
+            out.t[i] = t;
             out.prim[i] = int32_t(sc.local_index(size_t(hit.prim)));
             out.kind[i] = int32_t(sc.kind_of(size_t(hit.prim)));
             out.u[i] = hit.u;
@@ -86,7 +104,8 @@ Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSett
 Stats occluded_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, uint8_t* out) {
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
-        out[i] = accel.occluded(RayPre(make_ray(rays, i)), ctx) ? 1 : 0;
+        int scale_exp;
+        out[i] = accel.occluded(RayPre(make_ray(rays, i, scale_exp)), ctx) ? 1 : 0;
     });
 }
 

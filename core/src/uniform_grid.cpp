@@ -5,6 +5,7 @@
 
 #include "uniform_grid.h"
 
+#include "dda.h"
 #include "empty_space.h"
 
 namespace gw {
@@ -136,21 +137,11 @@ template <bool AnyHit>
 bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     if (!r.valid) return false;
     const Ray& ray = r.ray;
-    // Clip the ray to the grid box. Zero direction components give +-inf
-    // reciprocals; 0 * inf = NaN is ignored by the ordered comparisons, which
-    // treats a ray lying in a boundary plane as inside (pbrt's slab test).
+    const DdaDirection dd = dda_direction(ray.d);
+    const Vec3& inv = dd.inv;
     float t0 = ray.tmin, t1 = hit.t;   // t1: where the ray leaves the grid (or its tmax)
-    Vec3 inv;
-    for (int a = 0; a < 3; ++a) {
-        inv[a] = 1.0f / ray.d[a];
-        float tn = (lo_[a] - ray.o[a]) * inv[a];
-        float tf = (hi_[a] - ray.o[a]) * inv[a];
-        if (tn > tf) std::swap(tn, tf);
-        tf *= 1.0f + 2.0f * gamma_bound(3);
-        t0 = tn > t0 ? tn : t0;
-        t1 = tf < t1 ? tf : t1;
-        if (t0 > t1) return false;
-    }
+    if (!clip_to_box(lo_, hi_, ray, dd, t0, t1)) return false;
+    if (!(t0 < kInf)) return false;    // the box lies beyond float range along this ray
     const bool mailboxes = ctx.mailbox.enabled();
     if (mailboxes) ctx.mailbox.next_ray();
     int cell[3], step[3], out[3];
@@ -161,11 +152,11 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     };
     for (int a = 0; a < 3; ++a) {
         cell[a] = cell_at(ray, t0, a);
-        if (ray.d[a] > 0) {
+        if (dd.d[a] > 0) {
             step[a] = 1; out[a] = n_[a];
             tnext[a] = exit_t(a);
             tdelta[a] = cell_[a] * inv[a];
-        } else if (ray.d[a] < 0) {
+        } else if (dd.d[a] < 0) {
             step[a] = -1; out[a] = -1;
             tnext[a] = exit_t(a);
             tdelta[a] = -cell_[a] * inv[a];

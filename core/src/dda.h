@@ -1,0 +1,49 @@
+// What both grids' walks share: the direction a walk follows, and clipping a
+// ray to a box.
+#pragma once
+#include "ray.h"
+
+namespace gw {
+
+// The direction the DDA follows and its reciprocal. Components below 2^-40 of
+// the largest are taken as 0: over the whole scene they move the ray by less
+// than 2^-40 of its size, far below any cell (whose lists are padded by a
+// thousandth of a cell), and their reciprocals would overflow. Rays reach the
+// walks with |d| within [2^-64, 2^64] (the integrator's are unit vectors;
+// batch.cpp rescales others), so every 1/d here is finite.
+struct DdaDirection {
+    Vec3 d, inv;   // inv = 1/d, or inf where d = 0
+};
+
+inline DdaDirection dda_direction(const Vec3& d) {
+    const float m = std::max(std::abs(d.x), std::max(std::abs(d.y), std::abs(d.z)));
+    DdaDirection out;
+    for (int a = 0; a < 3; ++a) {
+        out.d[a] = std::abs(d[a]) >= m * 0x1p-40f ? d[a] : 0.0f;
+        out.inv[a] = out.d[a] != 0 ? 1.0f / out.d[a] : kInf;
+    }
+    return out;
+}
+
+// Clips [t0, t1] to the box [lo, hi] (the far side relaxed by the rounding of
+// its own computation); false when nothing is left. A ray that does not move
+// along an axis keeps its segment when its origin lies within that slab.
+inline bool clip_to_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const DdaDirection& dd, float& t0,
+                        float& t1) {
+    for (int a = 0; a < 3; ++a) {
+        if (dd.d[a] == 0) {
+            if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return false;
+            continue;
+        }
+        float tn = (lo[a] - ray.o[a]) * dd.inv[a];
+        float tf = (hi[a] - ray.o[a]) * dd.inv[a];
+        if (tn > tf) std::swap(tn, tf);
+        tf *= 1.0f + 2.0f * gamma_bound(3);
+        t0 = tn > t0 ? tn : t0;
+        t1 = tf < t1 ? tf : t1;
+        if (!(t0 <= t1)) return false;
+    }
+    return true;
+}
+
+}  // namespace gw

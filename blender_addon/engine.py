@@ -152,7 +152,12 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         camera = kwargs["camera"]
         gw_scene = gridwalk.Scene(**kwargs)
         kwargs = None                      # the core holds its own copies
-        job = gridwalk.RenderJob(gw_scene, settings)
+        try:                               # Esc stops the build too (within milliseconds)
+            job = gridwalk.RenderJob(gw_scene, settings, should_stop=lambda: streaming.break_requested(self))
+        except gridwalk.BuildCancelled:
+            writer.ensure_written()
+            print(f"Gridwalk: cancelled while building the grid; export {t1 - t0:.3f} s")
+            return
         if camera_enclosed(gw_scene, camera, settings):
             self._warn("The camera is inside a closed object (every direction from it meets the back "
                        "of a surface): the image shows that object's inside")
@@ -160,7 +165,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             return
         completed = streaming.run(self, job, writer)
         print(f"Gridwalk: {'finished' if completed else 'cancelled'}; export {t1 - t0:.3f} s, "
-              f"render {job.stats['seconds']:.3f} s, {streaming.stats_text(job)}")
+              f"build {job.build_seconds:.3f} s, render {job.stats['seconds']:.3f} s, {streaming.stats_text(job)}")
 
 
 def register():

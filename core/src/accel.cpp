@@ -7,7 +7,8 @@
 
 namespace gw {
 
-std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s) {
+std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s,
+                                         const CancelToken* cancel) {
     validate_settings(s);
     switch (s.accel) {
     case AccelKind::None: return std::make_shared<BruteForce>(std::move(scene));
@@ -15,14 +16,14 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
         AdaptiveParams ap;
         ap.leaf_size = s.leaf_size;
         ap.max_depth = s.grid_levels;
-        return std::make_shared<AdaptiveGrid>(std::move(scene), ap);
+        return std::make_shared<AdaptiveGrid>(std::move(scene), ap, cancel);
     }
     case AccelKind::Grid: break;
     }
     GridParams p;
     p.density = s.grid_density;
     p.max_cells = s.max_cells;
-    return std::make_shared<UniformGrid>(std::move(scene), p);
+    return std::make_shared<UniformGrid>(std::move(scene), p, cancel);
 }
 
 TraceContext make_trace_context(const Accel& accel, const RenderSettings& s) {

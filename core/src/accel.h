@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cancel.h"
 #include "scene.h"
 #include "settings.h"
 #include "trace_context.h"
@@ -38,8 +39,10 @@ protected:
     std::shared_ptr<const Scene> scene_;
 };
 
-// The structure s.accel names, built over `scene` (validates s first).
-std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s);
+// The structure s.accel names, built over `scene` (validates s first). A
+// cancelled `cancel` token (may be null) stops the build with BuildCancelled.
+std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s,
+                                         const CancelToken* cancel = nullptr);
 
 // Per-thread state for tracing with `accel` under settings `s`: mailboxes are
 // sized only where the structure uses them and s.mailboxes asks for them.

@@ -58,10 +58,14 @@ struct Box {   // in double: sizes and cell boundaries are exact enough for any 
 
 class Builder {
 public:
-    Builder(const Scene& sc, const AdaptiveParams& p, AdaptiveGridData& g) : sc_(sc), p_(p), g_(g) {
+    Builder(const Scene& sc, const AdaptiveParams& p, AdaptiveGridData& g, const CancelToken* cancel)
+        : sc_(sc), p_(p), g_(g), cancel_(cancel) {
         const size_t n = sc.num_prims();
         bounds_.resize(n);
-        for (size_t i = 0; i < n; ++i) bounds_[i] = sc.prim_bounds(i);
+        for (size_t i = 0; i < n; ++i) {
+            check_cancel(cancel_, step_);
+            bounds_[i] = sc.prim_bounds(i);
+        }
     }
 
     void build() {
@@ -126,11 +130,12 @@ private:
     // when refining would not separate the primitives (the caller keeps a leaf).
     // Total references the primitives would have in a grid of resolution n
     // over box (each primitive counts the cells its clipped box overlaps).
-    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) const {
+    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         uint64_t total = 0;
         for (uint32_t prim : prims) {
+            check_cancel(cancel_, step_);
             int c0[3], c1[3];
             if (cell_range(bounds_[prim], box, cell, n, c0, c1))
                 total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
@@ -196,6 +201,7 @@ private:
         std::vector<uint32_t> count(ncells + 1, 0);
         uint64_t total = 0;
         for (uint32_t prim : rest) {
+            check_cancel(cancel_, step_);
             int c0[3], c1[3];
             if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
             for (int z = c0[2]; z <= c1[2]; ++z)
@@ -217,6 +223,7 @@ private:
         std::vector<uint32_t> list(total);
         for (uint64_t c = 0; c < ncells; ++c) count[c] = start[c];
         for (uint32_t prim : rest) {
+            check_cancel(cancel_, step_);
             int c0[3], c1[3];
             if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
             for (int z = c0[2]; z <= c1[2]; ++z)
@@ -245,6 +252,7 @@ private:
         std::vector<uint8_t> occupied(ncells, 0);
         std::vector<uint32_t> sub;
         for (uint64_t c = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
             const uint32_t b = start[c], e = start[c + 1];
             if (b == e) continue;
             occupied[c] = 1;
@@ -278,7 +286,7 @@ private:
             g_.cells[nd.first + c] = out;
         }
         // Empty cells: the distance to the nearest non-empty one, for jumps.
-        const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kEmptyCap);
+        const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kEmptyCap, cancel_);
         for (uint64_t c = 0; c < ncells; ++c)
             if (!occupied[c]) g_.cells[nd.first + c].a = dist[c];
         return index;
@@ -301,16 +309,19 @@ private:
     const Scene& sc_;
     const AdaptiveParams& p_;
     AdaptiveGridData& g_;
+    const CancelToken* cancel_;
+    uint64_t step_ = 0;   // for check_cancel
     std::vector<Bounds> bounds_;
 };
 
 }  // namespace
 
-AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p) : Accel(std::move(s)) {
+AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p, const CancelToken* cancel)
+    : Accel(std::move(s)) {
     const auto t_start = std::chrono::steady_clock::now();
     if (p.max_depth < 0 || p.max_depth > kMaxGridDepth)
         throw std::invalid_argument("adaptive grid: at most " + std::to_string(kMaxGridDepth) + " refining levels");
-    Builder b(*scene_, p, g_);
+    Builder b(*scene_, p, g_, cancel);
     b.build();
     width_ = cpu_has_avx2() ? 8 : 4;
     const AdaptiveGridData::Node& root = g_.nodes[0];

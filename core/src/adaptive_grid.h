@@ -53,7 +53,7 @@ struct AdaptiveGridData {
 
 class AdaptiveGrid final : public Accel {
 public:
-    AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p);
+    AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams& p, const CancelToken* cancel = nullptr);
     bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override;
     bool occluded(const RayPre& r, TraceContext& ctx) const override;
     AccelInfo info() const override { return info_; }

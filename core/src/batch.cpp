@@ -36,9 +36,9 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     std::vector<std::thread> pool;
     try {
         for (int k = 1; k < nt; ++k) pool.emplace_back(run, k);
-    } catch (...) {   // could not start a thread: the chunks it would have run are run here
+    } catch (const std::system_error& e) {   // could not start a thread: stop, report
         std::lock_guard<std::mutex> lock(mu);
-        if (!error) error = std::current_exception();
+        if (!error) error = std::make_exception_ptr(thread_start_error(int(pool.size()) + 1, nt, e));
     }
     if (!error) run(0);
     for (auto& t : pool) t.join();

@@ -102,12 +102,18 @@ NB_MODULE(_core, m) {
     nb::class_<Accel>(m, "Accel")
         .def_prop_ro("grid", [](const Accel& a) { return accel_dict(a.info()); });
 
+    nb::exception<BuildCancelled>(m, "BuildCancelled");
+    nb::class_<CancelToken>(m, "CancelToken")
+        .def(nb::init<>())
+        .def("cancel", &CancelToken::cancel)
+        .def_prop_ro("cancelled", &CancelToken::cancelled);
+
     m.def("build_accel",
-          [](std::shared_ptr<Scene> scene, const RenderSettings& s) {
+          [](std::shared_ptr<Scene> scene, const RenderSettings& s, std::shared_ptr<CancelToken> cancel) {
               nb::gil_scoped_release release;
-              return build_accel(std::move(scene), s);
+              return build_accel(std::move(scene), s, cancel.get());
           },
-          "scene"_a, "settings"_a);
+          "scene"_a, "settings"_a, "cancel"_a.none() = nb::none());
 
     m.def("intersect",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax,

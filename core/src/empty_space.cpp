@@ -1,51 +1,61 @@
-// Chebyshev distance to the nearest non-empty cell by repeated dilation. See empty_space.h.
+// Chebyshev distance to the nearest non-empty cell. See empty_space.h.
 #include "empty_space.h"
 
 #include <algorithm>
 
 namespace gw {
 
-// One dilation by a 3x3x3 cube, done as three separable 1D dilations along x, y, z.
-static void dilate(std::vector<uint8_t>& mask, std::vector<uint8_t>& tmp, const int n[3]) {
+// The exact Chebyshev distance transform, capped, in three separable passes
+// (the L-infinity distance to the nearest occupied cell is the min over them
+// of the max of the per-axis distances):
+//   pass x: g(x) = distance along x to the nearest occupied cell of the row;
+//   pass y: g(x, y) = min over y' of max(|y - y'|, g(x, y'));
+//   pass z: the same along z.
+// Values are capped at cap + 1, so each min looks at most cap cells away.
+namespace {
+
+// One pass along axis a over every line of the grid: in/out hold one value per cell.
+void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n[3], int a, int cap,
+          const CancelToken* cancel) {
+    uint64_t step = 0;
     const int64_t stride[3] = {1, n[0], int64_t(n[0]) * n[1]};
-    const int64_t cells = int64_t(n[0]) * n[1] * n[2];
-    for (int a = 0; a < 3; ++a) {
-        if (n[a] == 1) continue;
-        for (int64_t c = 0; c < cells; ++c) {
-            const int64_t i = (c / stride[a]) % n[a];   // coordinate along axis a
-            uint8_t v = mask[c];
-            if (i > 0) v |= mask[c - stride[a]];
-            if (i + 1 < n[a]) v |= mask[c + stride[a]];
-            tmp[c] = v;
+    const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;   // the other two axes
+    const int len = n[a];
+    for (int j = 0; j < n[c]; ++j)
+        for (int i = 0; i < n[b]; ++i) {
+            check_cancel(cancel, step);
+            const int64_t base = int64_t(i) * stride[b] + int64_t(j) * stride[c];
+            for (int k = 0; k < len; ++k) {
+                int best = in[base + k * stride[a]];
+                for (int o = 1; o < best; ++o) {   // a cell o away helps only if o < best
+                    if (k - o >= 0) best = std::min(best, std::max(o, int(in[base + (k - o) * stride[a]])));
+                    if (k + o < len) best = std::min(best, std::max(o, int(in[base + (k + o) * stride[a]])));
+                }
+                out[base + k * stride[a]] = uint8_t(best);
+            }
         }
-        mask.swap(tmp);
-    }
 }
 
-std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap) {
-    const int64_t cells = int64_t(n[0]) * n[1] * n[2];
-    std::vector<uint8_t> dist(size_t(cells), uint8_t(cap + 1)), mask(size_t(cells), 0), tmp(size_t(cells), 0);
-    bool any_empty = false;
-    for (int64_t c = 0; c < cells; ++c) {
-        if (occupied[c]) { mask[c] = 1; dist[c] = 0; }
-        else any_empty = true;
-    }
-    for (int r = 1; r <= cap && any_empty; ++r) {
-        dilate(mask, tmp, n);
-        any_empty = false;
-        for (int64_t c = 0; c < cells; ++c) {
-            if (mask[c] && dist[c] > r) dist[c] = uint8_t(r);
-            any_empty |= !mask[c];
-        }
-    }
-    return dist;
+}  // namespace
+
+std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
+                                        const CancelToken* cancel) {
+    const size_t cells = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
+    std::vector<uint8_t> a(cells), b(cells);
+    for (size_t c = 0; c < cells; ++c) a[c] = occupied[c] ? 0 : uint8_t(cap + 1);
+    // Axis x starts from "occupied here": max(|x - x'|, 0) is the 1D distance.
+    pass(a, b, n, 0, cap, cancel);
+    pass(b, a, n, 1, cap, cancel);
+    pass(a, b, n, 2, cap, cancel);
+    return b;
 }
 
-std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap) {
+std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap,
+                                    const CancelToken* cancel) {
     const int64_t cells = int64_t(n[0]) * n[1] * n[2];
     std::vector<uint8_t> occupied(static_cast<size_t>(cells), 0);
     for (int64_t c = 0; c < cells; ++c) occupied[c] = offsets[c + 1] != offsets[c];
-    return chebyshev_distance(occupied, n, cap);
+    return chebyshev_distance(occupied, n, cap, cancel);
 }
 
 }  // namespace gw

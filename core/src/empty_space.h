@@ -7,14 +7,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "cancel.h"
+
 namespace gw {
 
 // offsets: the grid's CSR offsets (cells + 1). Returns one byte per cell: 0
 // for non-empty cells, else the exact distance up to `cap`, and cap + 1 for
 // cells farther away (a safe lower bound).
-std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap);
+// `cancel` (may be null) stops the work with BuildCancelled.
+std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap,
+                                    const CancelToken* cancel = nullptr);
 
 // The same from an occupancy mask (1 = non-empty), one byte per cell.
-std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap);
+std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
+                                        const CancelToken* cancel = nullptr);
 
 }  // namespace gw

@@ -51,11 +51,12 @@ void RenderJob::start() {
     threads_.reserve(size_t(wanted));
     try {
         for (int i = 0; i < wanted; ++i) threads_.emplace_back([this] { worker(); });
-    } catch (...) {   // could not start every thread: stop the ones that did
-        nthreads_.store(int(threads_.size()));
+    } catch (const std::system_error& e) {   // could not start every thread: stop the ones that did
+        const int started = int(threads_.size());
+        nthreads_.store(started);
         cancel_.store(true);
         join_all();
-        throw;
+        throw thread_start_error(started, wanted, e);
     }
 }
 

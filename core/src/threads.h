@@ -1,5 +1,8 @@
 // How many worker threads a request means.
 #pragma once
+#include <stdexcept>
+#include <string>
+#include <system_error>
 #include <thread>
 
 namespace gw {
@@ -9,6 +12,15 @@ inline int resolve_threads(int requested) {
     if (requested > 0) return requested;
     const unsigned hc = std::thread::hardware_concurrency();
     return hc ? int(hc) : 1;
+}
+
+// The error to raise when the system refuses to start worker thread number
+// `started` + 1 of `wanted` (std::thread reports only "Resource temporarily
+// unavailable"): says what was asked and what to change.
+inline std::runtime_error thread_start_error(int started, int wanted, const std::system_error& e) {
+    return std::runtime_error("could not start worker thread " + std::to_string(started + 1) + " of " +
+                              std::to_string(wanted) + " (" + e.what() +
+                              "): the system limits threads or memory; set fewer threads (RenderSettings.threads)");
 }
 
 }  // namespace gw

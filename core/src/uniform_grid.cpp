@@ -14,7 +14,9 @@ namespace gw {
 // (a jump then crosses up to 2 * cap + 1 cells).
 constexpr int kEmptyCap = 16;
 
-UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p) : Accel(std::move(s)) {
+UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel)
+    : Accel(std::move(s)) {
+    uint64_t step = 0;
     const auto t_start = std::chrono::steady_clock::now();
     if (!(p.density > 0) || !std::isfinite(p.density)) throw std::invalid_argument("grid_density must be > 0");
     const Scene& sc = *scene_;
@@ -71,6 +73,7 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p) : 
         counts.assign(cells, 0);
         uint64_t refs = 0;
         for (size_t i = 0; i < np && refs <= max_refs; ++i) {
+            check_cancel(cancel, step);
             int c0[3], c1[3];
             cell_range(sc.prim_bounds(i), c0, c1);
             for_cells(c0, c1, [&](uint64_t c) { ++counts[c]; });
@@ -91,17 +94,21 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p) : 
     info_.grids = 1;
     // Prefix sums, then pass 2: fill.
     offsets_.assign(info_.cells + 1, 0);
-    for (uint64_t c = 0; c < info_.cells; ++c) offsets_[c + 1] = offsets_[c] + counts[c];
+    for (uint64_t c = 0; c < info_.cells; ++c) {
+        check_cancel(cancel, step);
+        offsets_[c + 1] = offsets_[c] + counts[c];
+    }
     prims_.resize(info_.refs);
     for (uint64_t c = 0; c < info_.cells; ++c) counts[c] = offsets_[c];
     for (size_t i = 0; i < np; ++i) {
+        check_cancel(cancel, step);
         int c0[3], c1[3];
         cell_range(sc.prim_bounds(i), c0, c1);
         for_cells(c0, c1, [&](uint64_t c) { prims_[counts[c]++] = uint32_t(i); });
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
     std::vector<uint32_t>().swap(counts);   // free before the distance field's scratch
-    empty_ = empty_distance(offsets_, n_, kEmptyCap);
+    empty_ = empty_distance(offsets_, n_, kEmptyCap, cancel);
     info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     if (info_.reduced)

@@ -16,7 +16,7 @@ struct GridParams {
 
 class UniformGrid final : public Accel {
 public:
-    UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p);
+    UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel = nullptr);
     bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override;
     bool occluded(const RayPre& r, TraceContext& ctx) const override;
     AccelInfo info() const override { return info_; }

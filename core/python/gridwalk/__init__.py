@@ -3,8 +3,9 @@ ray tracer. The native core is private (gridwalk._core); this package is the API
 """
 from .model import Camera, Light, Material
 from .render import RenderJob, TileResult, render
-from .scene import Hits, Scene
+from .scene import BuildCancelled, Hits, Scene
 from .settings import RenderSettings
 
-__all__ = ["Camera", "Light", "Material", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render"]
+__all__ = ["Camera", "Light", "Material", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
+           "BuildCancelled"]
 __version__ = "0.1.0"

@@ -27,13 +27,17 @@ class RenderJob:
     while not job.finished: tiles = job.poll(); ...; job.cancel() to stop
     """
 
-    def __init__(self, scene: Scene, settings: RenderSettings | None = None):
+    def __init__(self, scene: Scene, settings: RenderSettings | None = None, should_stop=None):
+        """Builds (or reuses) the scene's acceleration structure before the
+        clock starts; should_stop() can cancel that build (see Scene.accel)."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a gridwalk.Scene, got {type(scene).__name__}")
         self.settings = settings or RenderSettings()
         core = self.settings.to_core()
         self.scene = scene
-        self.accel = scene.accel(self.settings)   # builds (or reuses) the grid before the clock starts
+        t0 = time.perf_counter()
+        self.accel = scene.accel(self.settings, should_stop)
+        self.build_seconds = time.perf_counter() - t0
         self._job = _core.RenderJob(self.accel, core)
 
     def start(self) -> "RenderJob":

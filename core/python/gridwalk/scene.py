@@ -6,6 +6,7 @@ raises ValueError naming the array and the first bad index.
 """
 from __future__ import annotations
 
+import threading
 import warnings
 from dataclasses import dataclass
 
@@ -56,6 +57,42 @@ class Hits:
     v: np.ndarray        # barycentric of vertex 2 (triangles), else 0
     normal: np.ndarray   # (N, 3) unit geometric normal (triangle winding / outward)
     stats: dict
+
+
+BuildCancelled = _core.BuildCancelled
+POLL_SECONDS = 0.01
+
+
+def build(native, core_settings, should_stop=None):
+    """Build the structure in a worker thread while this thread waits, so that
+    should_stop() (polled every POLL_SECONDS) and Ctrl-C can cancel it: the
+    builder checks its cancel token well under a millisecond apart."""
+    token = _core.CancelToken()
+    result, error = [], []
+
+    def work():
+        try:
+            result.append(_core.build_accel(native, core_settings, token))
+        except BaseException as exc:   # handed to the waiting thread
+            error.append(exc)
+
+    worker = threading.Thread(target=work, name="gridwalk-build", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(POLL_SECONDS)
+            if should_stop is not None and worker.is_alive() and should_stop():
+                token.cancel()
+    except BaseException:   # KeyboardInterrupt: stop the builder, then let it propagate
+        token.cancel()
+        worker.join()
+        raise
+    worker.join()
+    if token.cancelled:
+        raise BuildCancelled("the build was cancelled")
+    if error:
+        raise error[0]
+    return result[0]
 
 
 # The keywords Scene.intersect / occluded took before they took a RenderSettings.
@@ -121,15 +158,20 @@ class Scene:
         return np.array(lo), np.array(hi)
 
     # -- acceleration ---------------------------------------------------------
-    def accel(self, settings: RenderSettings | None = None):
+    def accel(self, settings: RenderSettings | None = None, should_stop=None):
         """The acceleration structure these settings build (built once, cached).
         Structures are keyed by the settings that shape them: the acceleration
-        group's values, less its on/off traversal switches (mailboxes, skip_empty)."""
+        group's values, less its on/off traversal switches (mailboxes, skip_empty).
+
+        should_stop: a function polled every POLL_SECONDS while the structure
+        builds (in a native thread, the GIL released); once it returns True
+        the build stops and BuildCancelled is raised. A KeyboardInterrupt
+        (Ctrl-C) during the build stops it too, then propagates."""
         s = settings or RenderSettings()
         core = s.to_core()
         key = tuple(getattr(s, x.name) for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
         if key not in self._accels:
-            self._accels[key] = _core.build_accel(self._native, core)
+            self._accels[key] = build(self._native, core, should_stop)
         return self._accels[key]
 
     def grid_info(self, settings: RenderSettings | None = None) -> dict:

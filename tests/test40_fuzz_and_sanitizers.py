@@ -3,6 +3,9 @@
 * The NFF and PLY fuzzers (tests/fuzz, atheris) run over the checked-in
   corpus and must end cleanly: no uncaught exception other than
   SceneFileError / ValueError, no crash, no hang.
+* The API fuzzer (fuzz_api.py, api_harness.py) does the same with programs of
+  Scene, ray-query, RenderSettings and RenderJob calls with extreme values:
+  only ValueError (RuntimeError for calls out of order) may escape.
 * The core is built once with ASan + UBSan (GRIDWALK_SANITIZE=ON, into
   build/asan), put into a copy of the gridwalk package, and the core test
   files run against it in a subprocess, with the ASan runtime preloaded into
@@ -45,8 +48,8 @@ def _runs(variable, default):
 
 
 # Inputs per fuzzer (the first runs are the fastest: the corpus is still small).
-FUZZ_RUNS = _runs("GRIDWALK_FUZZ_RUNS", {"nff": 100000, "ply": 100000})
-ASAN_FUZZ_RUNS = _runs("GRIDWALK_ASAN_FUZZ_RUNS", {"nff": 20000, "ply": 30000})
+FUZZ_RUNS = _runs("GRIDWALK_FUZZ_RUNS", {"nff": 100000, "ply": 100000, "api": 8000})
+ASAN_FUZZ_RUNS = _runs("GRIDWALK_ASAN_FUZZ_RUNS", {"nff": 20000, "ply": 30000, "api": 1500})
 FUZZ_MAX_SECONDS = 90            # a cap per fuzzer run on a slow machine (inputs/s vary)
 SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer")
 
@@ -143,7 +146,7 @@ def run_fuzzer(kind, runs, workdir: Path, env=None):
     return seconds
 
 
-@pytest.mark.parametrize("kind", ["nff", "ply"])
+@pytest.mark.parametrize("kind", ["nff", "ply", "api"])
 def test_fuzzer_runs_clean_over_the_corpus(kind, tmp_path):
     run_fuzzer(kind, FUZZ_RUNS[kind], tmp_path)
 
@@ -256,7 +259,7 @@ def test_core_test_suite_passes_under_asan_and_ubsan(asan_env, tmp_path):
     print(f"core tests under ASan/UBSan: {seconds:.1f} s; {output.strip().splitlines()[-1]}")
 
 
-@pytest.mark.parametrize("kind", ["nff", "ply"])
+@pytest.mark.parametrize("kind", ["nff", "ply", "api"])
 def test_fuzzer_runs_clean_on_the_asan_core(kind, asan_env, tmp_path):
     # atheris warns that libasan's coverage symbols shadow libFuzzer's: under
     # the preloaded runtime the Python coverage feedback is lost, so this run

@@ -88,7 +88,12 @@ def _lines(entity, layout):
 def write(scene, layout: str, seed: int = 0) -> str:
     if layout in ("spd", "spec", "one_line"):
         return "".join(line + "\n" for e in scene for line in _lines(e, layout))
-    tokens = [t for e in scene if e[0] != "#" for line in _lines(e, "spd") for t in line.split()]
+    return relayout([t for e in scene if e[0] != "#" for line in _lines(e, "spd") for t in line.split()],
+                    layout, seed)
+
+
+def relayout(tokens, layout: str, seed: int = 0) -> str:
+    """The tokens of an NFF file (no comments) in the stream or scrambled layout."""
     if layout == "stream":
         return " ".join(tokens) + "\n"
     rng = random.Random(seed)

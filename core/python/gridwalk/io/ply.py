@@ -112,7 +112,7 @@ def load_ply_mesh(path) -> PlyMesh:
     reader = _Reader(header, vertex, lists)
     with open_scene_file(path) as f:
         f.seek(header.body_start)
-        body = Body(f, header)
+        body = reader.body = Body(f, header)
         for e in header.elements:
             if e is vertex:
                 reader.vertices(body, e)
@@ -176,7 +176,7 @@ class _Reader:
     """The arrays of load_ply_mesh, filled chunk by chunk."""
 
     def __init__(self, h: Header, vertex: Element, lists: dict):
-        self.h, self.n = h, vertex.count
+        self.h, self.n, self.vertex, self.body = h, vertex.count, vertex, None
         self.xyz = np.empty((self.n, 3), np.float32)
         self.normals = self.colours = None
         if all(vertex.get(c) is not None for c in ("nx", "ny", "nz")):
@@ -274,7 +274,7 @@ class _Reader:
         if not len(triangles):
             raise SceneFileError(f"{self.h.path}: the mesh has no triangles (no faces, or only "
                                  f"degenerate strips)")
-        origin = _Origin(origins)
+        origin = _Origin(origins, self.body)
         self._check_used(triangles, origin)
         return PlyMesh(self.xyz, np.ascontiguousarray(triangles, np.int32), self.normals,
                        self.colours, origin)
@@ -302,14 +302,14 @@ class _Reader:
         if far.any():
             v = int(np.argmax(far))
             t = int(np.argmax((triangles == v).any(axis=1)))
-            raise SceneFileError(f"{self.h.path}: element 'vertex' record {v}: the coordinate "
+            raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, v)}: the coordinate "
                                  f"{_show(self.xyz[v])} lies beyond +-1e30, the core's limit (used by "
                                  f"{origin(t)})")
         if self.normals is not None:
             length = np.linalg.norm(self.normals.astype(np.float64), axis=1)
             zero = used & ~(length > 0)
             if zero.any():
-                raise SceneFileError(f"{self.h.path}: element 'vertex' record {int(np.argmax(zero))}: "
+                raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, int(np.argmax(zero)))}: "
                                      f"the normal has zero length")
             ok = length > 0
             self.normals[ok] = (self.normals[ok] / length[ok, None]).astype(np.float32)
@@ -319,13 +319,13 @@ class _Reader:
 class _Origin:
     """Triangle index -> the element and record it comes from."""
 
-    def __init__(self, parts):
-        self.parts = parts           # [(element, cumulative triangles per record)]
+    def __init__(self, parts, body):
+        self.parts, self.body = parts, body   # [(element, cumulative triangles per record)]
 
     def __call__(self, t: int) -> str:
         for e, ends in self.parts:
             if len(ends) and t < ends[-1]:
-                return f"element {e.name!r} record {int(np.searchsorted(ends, t, side='right'))}"
+                return self.body.where(e, int(np.searchsorted(ends, t, side="right")))
             t -= int(ends[-1]) if len(ends) else 0
         return f"triangle {t}"
 

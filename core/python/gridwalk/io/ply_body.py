@@ -16,7 +16,8 @@ caller keeps, however large the file:
   vary a Python loop finds the record boundaries and numpy gathers the items.
   A record longer than a chunk (a long triangle strip) is read whole; a list
   longer than the rest of the file is refused before anything is allocated;
-* ASCII: one record per line (as Turk's ply.c reads it), parsed with
+* ASCII: one record per line (as Turk's ply.c reads it), ASCII_BYTES of
+  text at a time, parsed with
   numpy.loadtxt where the lines have equal widths, line by line otherwise;
   a line longer than MAX_LINE bytes is refused.
 
@@ -32,7 +33,8 @@ import numpy as np
 from .common import SceneFileError, excerpt
 from .ply_header import Element, Header
 
-CHUNK_BYTES = 1 << 23
+CHUNK_BYTES = 1 << 23           # binary data read at a time
+ASCII_BYTES = 1 << 20            # text read at a time (its lines take several times that as objects)
 ASCII_LINES = 1 << 16
 MAX_LINE = 1 << 26
 _SLOW_BATCH = 1 << 15            # records per Python-loop batch
@@ -43,13 +45,16 @@ class Body:
     def __init__(self, f, header: Header):
         self.f, self.h = f, header
         self.line = header.lines + 1          # ASCII: the line of the next record
+        self.first_line = {}                  # ASCII: element name -> line of its first record
         self._text, self._rows, self._row = b"", [], 0
 
-    def fail(self, e: Element, record: int | None, message: str):
-        where = f"element {e.name!r}"
-        if record is not None:
-            where += f" record {record}" + (f" (line {self.line + record})" if self.h.ascii else "")
-        raise SceneFileError(f"{self.h.path}: {where}: {message}")
+    def where(self, e: Element, record: int) -> str:
+        """"element 'face' record 12", with its line in an ASCII file."""
+        line = self.first_line.get(e.name)
+        return f"element {e.name!r} record {record}" + (f" (line {line + record})" if line else "")
+
+    def fail(self, e: Element, record: int, message: str):
+        raise SceneFileError(f"{self.h.path}: {self.where(e, record)}: {message}")
 
     def _truncated(self, e, record):
         self.fail(e, record, f"the file ends here, but the header declares {e.count} records "
@@ -213,6 +218,7 @@ class Body:
     def _ascii(self, e):
         """Chunks (first record, up to ASCII_LINES lines) of element e; one record a line."""
         first = 0
+        self.first_line[e.name] = self.line
         while first < e.count:
             if self._row >= len(self._rows):
                 self._fill(e, first)
@@ -224,7 +230,7 @@ class Body:
         self.line += e.count
 
     def _fill(self, e, record):
-        data = self.f.read(CHUNK_BYTES)
+        data = self.f.read(ASCII_BYTES)
         if not data:
             if not self._text:
                 self._truncated(e, record)

@@ -130,7 +130,7 @@ def read_header(path: Path) -> Header:
         dup = next((n for n in names if names.count(n) > 1), None)
         if dup:
             fail(e.line, f"element {e.name!r} has two properties named {dup!r}")
-    return Header(path, fmt, elements, end.end(), size, len(rows) + 1)
+    return Header(path, fmt, elements, end.end(), size, head[:end.end()].count(b"\n"))
 
 
 def _property(tokens, line, fail) -> Property:

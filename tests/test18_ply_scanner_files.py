@@ -211,9 +211,9 @@ def test_vertex_colours_become_the_diffuse_colour_of_each_triangle(tmp_path):
     assert (image[lit, 0] > 2 * image[lit, 2]).any() and (image[lit, 2] > 2 * image[lit, 0]).any()
 
 
-def test_a_million_distinct_colours_stay_a_bounded_material_table(tmp_path):
+def test_a_scan_of_300k_distinct_colours_stays_a_bounded_material_table(tmp_path):
     rng = np.random.default_rng(3)
-    n = 1_000_000
+    n = 300_000
     points = rng.random((n, 3)).astype(np.float32)
     rgb = rng.integers(0, 256, (n, 3)).astype(np.uint8)
     extra = [(c, "u1", rgb[:, k]) for k, c in enumerate(("red", "green", "blue"))]

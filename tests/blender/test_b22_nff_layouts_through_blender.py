@@ -5,21 +5,17 @@ write them (one-line cones; the gears' concave faces) import, render with
 GRIDWALK like the core's render of the same file, and the same scene in a
 scrambled layout (random line breaks, tabs, CRLF, comments) imports to the
 same Blender scene."""
-import json
 import sys
 
 import numpy as np
 import pytest
 
-import exr
-import gridwalk
-from gridwalk.io import load_nff
-from runner import ROOT, missing_reason, run_script
+from nff_roundtrip import import_nff, imported_fixture
+from runner import ROOT, missing_reason
 
 sys.path.insert(0, str(ROOT / "tests"))
 import nff_corpus as corpus  # noqa: E402
 
-SETTINGS = {"aa": "JITTERED", "aa_samples": 2}
 # scene: bounds on the mean absolute difference from the core's render and on
 # the luminance correlation. gears: polygons only (Blender triangulates the
 # concave faces its own way; the pixels covered are the same). rings: its 30
@@ -32,26 +28,13 @@ def small(scene, size=160):
     return [("resolution", [size, size]) if word == "resolution" else (word, v) for word, v in scene]
 
 
-def _import(kind, path, out, render=True):
-    options = ["render=" + json.dumps(SETTINGS)] if render else []
-    run_script(kind, "nff_import_dump.py", path, out, *options, timeout=300)
-    return json.loads((out / "import.json").read_text()), dict(np.load(out / "arrays.npz"))
-
-
-@pytest.fixture(scope="module", params=[(k, s) for k in ("bpy45", "bpy50") for s in SCENES],
-                ids=lambda p: f"{p[0]}-{p[1]}")
-def imported(request, tmp_path_factory):
-    kind, name = request.param
-    if missing_reason(kind):
-        pytest.skip(missing_reason(kind))
-    out = tmp_path_factory.mktemp(f"{kind}_{name}")
+def write_generated(name, out):
     path = out / f"{name}.nff"
     path.write_text(corpus.write(small(corpus.GENERATORS[name]()), "spd"))
-    info, arrays = _import(kind, path, out)
-    nff = load_nff(path)
-    core = gridwalk.render(gridwalk.Scene(**nff), gridwalk.RenderSettings(**info["render_settings"]))
-    rgba = exr.rgba(exr.read_exr(out / "gridwalk.exr"), "ViewLayer.Combined.")
-    return {"kind": kind, "name": name, "info": info, "nff": nff, "core": core, "rgba": rgba}
+    return path
+
+
+imported = imported_fixture(SCENES, write_generated)
 
 
 def test_generated_scene_imports_every_primitive(imported):
@@ -92,7 +75,7 @@ def test_a_scrambled_layout_imports_to_the_same_blender_scene(tmp_path):
         out.mkdir()
         path = out / "scene.nff"
         path.write_bytes(corpus.write(scene, layout, seed=4).encode("utf-8"))
-        results.append(_import("bpy45", path, out, render=False))
+        results.append(import_nff("bpy45", path, out))
     (info_a, arrays_a), (info_b, arrays_b) = results
     assert info_a["result"] == info_b["result"] == ["FINISHED"]
     for key in ("spheres", "meshes", "light_objects", "cameras", "resolution", "materials", "lights",

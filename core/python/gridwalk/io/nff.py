@@ -66,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from . import nff_parser, triangulate
-from .common import SceneFileError, core_refusal, excerpt, open_scene_file, scene_kwargs
+from .common import SceneFileError, core_refusal, open_scene_file, scene_kwargs
 from .nff_parser import AT, FROM, RESOLUTION, UP, ANGLE, HITHER, V, Parser, Refusal
 from .tokens import TokenError, TokenStream, line_of
 

@@ -100,13 +100,13 @@ def read_header(path: Path) -> Header:
     fmt, elements = None, []
     rows = head[:end.start()].split(b"\n")
     for lineno, raw in enumerate(rows[1:], 2):
-        raw = raw.rstrip(b"\r")
-        if raw.split(None, 1)[:1] in ([b"comment"], [b"obj_info"]) or not raw.strip():
+        words = raw.split()                      # ASCII whitespace only (not 0x1c-0x1f)
+        if not words or words[0] in (b"comment", b"obj_info"):
             continue
         try:
-            tokens = raw.decode("ascii").split()
+            tokens = [w.decode("ascii") for w in words]
         except UnicodeDecodeError:
-            fail(lineno, f"header line {excerpt(raw)} is not ASCII (only comments may hold other text)")
+            fail(lineno, f"header line {excerpt(raw.rstrip())} is not ASCII (only comments may hold other text)")
         line = " ".join(tokens)
         if tokens[0] == "format":
             if len(tokens) != 3 or tokens[1] not in FORMATS or tokens[2] != "1.0":

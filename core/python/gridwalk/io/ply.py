@@ -216,10 +216,12 @@ class _Reader:
             restart = np.iinfo(prop.type).max          # -1 as written to an unsigned type
         corners, counts, per_record = [], [], []
         for first, items, c in body.lists(e, name):
-            if items.dtype.kind == "f" and not np.array_equal(items, np.round(items)):
-                k = self._record_of(c, int(np.argmax(items != np.round(items))))
-                body.fail(e, first + k, f"{name} holds {items[items != np.round(items)][0]:g}; "
-                                        f"expected integer vertex indices")
+            if items.dtype.kind == "f":
+                bad = ~np.isfinite(items) | (items != np.round(items))
+                if bad.any():
+                    k = self._record_of(c, int(np.argmax(bad)))
+                    body.fail(e, first + k, f"{name} holds {items[bad][0]:g}; expected integer vertex "
+                                            f"indices")
             items = items.astype(np.int64)
             strips = e.name == "tristrips"
             is_restart = ((items == -1) | (items == restart)) if strips else np.zeros(len(items), bool)

@@ -279,7 +279,7 @@ class Body:
                     pos += 1
                     continue
                 c = row[pos] if pos < len(row) else None
-                if c is None or c != int(c) or c < 0 or pos + 1 + c > len(row):
+                if c is None or not 0 <= c <= len(row) - pos - 1 or c != int(c):   # NaN fails too
                     got = "nothing" if c is None else f"{c:g} then {len(row) - pos - 1} numbers"
                     self.fail(e, first + k, f"list {p.name!r}: expected a count then that many "
                                                  f"numbers, got {got}")

@@ -1,7 +1,7 @@
 """NFF scene values -> Blender datablock values, for File > Import > NFF.
 
 Plain functions (numpy, no bpy) on the keyword arguments of
-`gridwalk.io.load_nff`; nff_import.py puts the results into Blender. Each one
+`gridwalk.io.read_nff`; nff_import.py puts the results into Blender. Each one
 inverts the exporter (export/), so that exporting the imported scene gives the
 core's scene back (exactly, or as noted):
 
@@ -22,8 +22,8 @@ core's scene back (exactly, or as noted):
   mirror forces the exporter's shininess to its cap (1000) and
   ks = mirror * 126, so the highlight is a small bright spot instead of NFF's
   `Shine` lobe.
-* Polygons: the reader fan-triangulates; fan_polygons() undoes that, so NFF
-  polygons come back as n-gons.
+* Polygons: the reader also returns them untriangulated, so NFF polygons
+  come back as n-gons (Blender triangulates concave ones itself).
 * Spheres: a unit UV sphere whose bounding box is exactly [-1, 1]^3, scaled by
   r and moved to the centre; the exporter's "render as sphere" gives it back.
 * Cones and cylinders: the exporter has no analytic cone, so they become
@@ -146,26 +146,6 @@ def principled_inputs(material) -> dict:
 
 
 # -- geometry ---------------------------------------------------------------
-def fan_polygons(triangles):
-    """Undo gridwalk.io's fan triangulation (s, s+j, s+j+1, polygons sharing
-    no vertices): (corners, starts, polygon of each triangle), where polygon
-    k's vertex indices are corners[starts[k]:starts[k + 1]]."""
-    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    new = np.ones(len(t), dtype=bool)
-    if len(t) > 1:
-        # a triangle continues the fan before it when it shares its root and edge
-        new[1:] = (t[1:, 0] != t[:-1, 0]) | (t[1:, 1] != t[:-1, 2])
-    polygon = np.cumsum(new) - 1
-    first = np.flatnonzero(new)
-    counts = np.bincount(polygon, minlength=len(first)) + 2 if len(t) else np.zeros(0, np.int64)
-    starts = np.cumsum(counts) - counts
-    corners = np.empty(int(counts.sum()), dtype=np.int64)
-    corners[starts] = t[first, 0]
-    corners[starts + 1] = t[first, 1]
-    corners[starts[polygon] + 2 + np.arange(len(t)) - first[polygon]] = t[:, 2]
-    return corners, starts, polygon
-
-
 def uv_sphere(segments: int = 32, rings: int = 16):
     """(vertices, corners, starts) of a unit UV sphere. With segments a
     multiple of 4 and rings even, its bounding box is exactly [-1, 1]^3."""

@@ -1,12 +1,14 @@
 """File > Import > NFF (.nff): an NFF scene as Blender objects.
 
-The file is read by `gridwalk.io.load_nff` (the core's own reader, so the
-parsing and the errors are the same; a malformed file becomes an error report).
+The file is read by `gridwalk.io.read_nff` (the core's own reader, so the
+layouts it reads, the parsing and the errors are the same; a malformed file
+becomes an error report).
 The values come from nff_convert.py, which explains how each inverts the
 exporter. The import adds a collection named after the file holding:
 
-  "<name> polygons"   one mesh of every p / pp polygon (n-gons; pp normals as
-                      custom normals, smooth shading), a material slot each
+  "<name> polygons"   one mesh of every p / pp polygon (n-gons, concave ones
+                      too; pp normals as custom normals, smooth shading), a
+                      material slot each
   "<name> sphere k"   unit UV spheres scaled by the radius, "Render as Sphere"
   "<name> cones"      one open mesh of every c cone / cylinder (tessellated)
   "<name> light k"    point lights (power: see nff_convert.py)
@@ -89,17 +91,17 @@ def _used(indices, materials):
     return [materials[i] for i in used], slots
 
 
-def add_polygons(collection, name, kw, materials):
-    from .nff_convert import fan_polygons
-    if not len(kw["triangles"]):
+def add_polygons(collection, name, kw, polygons, materials):
+    """One mesh of the file's polygons as n-gons (gridwalk.io.nff.NffPolygons:
+    each polygon's corners are consecutive rows of the Scene's vertices)."""
+    import numpy as np
+    if not len(polygons.counts):
         return 0
-    corners, starts, polygon = fan_polygons(kw["triangles"])
-    first_triangle = polygon.searchsorted(range(len(starts)))     # polygon is sorted
-    slot_materials, slots = _used(kw["triangle_materials"][first_triangle], materials)
-    mesh = make_mesh(f"{name} polygons", kw["vertices"], corners, starts, slot_materials, slots,
-                     kw["normals"])
+    slot_materials, slots = _used(polygons.materials, materials)
+    mesh = make_mesh(f"{name} polygons", kw["vertices"], np.arange(len(kw["vertices"])), polygons.starts,
+                     slot_materials, slots, kw["normals"])
     collection.objects.link(bpy.data.objects.new(f"{name} polygons", mesh))
-    return len(starts)
+    return len(polygons.counts)
 
 
 def add_spheres(collection, name, kw, materials, segments=32):
@@ -201,17 +203,18 @@ def import_nff(context, filepath, segments=32) -> dict:
     Raises gridwalk.io.SceneFileError, another ValueError (the core's checks of
     the scene) or OSError, always before anything is added."""
     import numpy as np
-    from gridwalk.io import load_nff
+    from gridwalk.io import read_nff
 
     from .nff_convert import reference_distances, scene_bounds
-    kw = load_nff(filepath)
+    nff = read_nff(filepath)
+    kw = nff.kwargs
     distances = reference_distances(kw)     # builds a gridwalk.Scene: validates everything first
     name = Path(filepath).stem
     scene = context.scene
     collection = bpy.data.collections.new(name)
     scene.collection.children.link(collection)
     materials = [make_material(f"{name} f{k}", m) for k, m in enumerate(kw["materials"])]
-    counts = {"polygons": add_polygons(collection, name, kw, materials),
+    counts = {"polygons": add_polygons(collection, name, kw, nff.polygons, materials),
               "spheres": add_spheres(collection, name, kw, materials, segments),
               "cones": add_cones(collection, name, kw, materials, segments),
               "lights": add_lights(collection, name, kw["lights"], distances)}

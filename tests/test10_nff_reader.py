@@ -128,7 +128,7 @@ def test_each_primitive_takes_the_latest_material_and_early_ones_a_default(tmp_p
     assert scene["triangle_materials"].tolist() == [1]
 
 
-def test_polygon_is_fan_triangulated_with_its_own_vertices(tmp_path):
+def test_convex_polygon_is_fan_triangulated_with_its_own_vertices(tmp_path):
     pentagon = "p 5\n0 0 0\n2 0 0\n3 1 0\n1 2 0\n-1 1 0\n"
     scene = load_nff(write(tmp_path, VIEW + TRIANGLE + pentagon))
     assert len(scene["vertices"]) == 8
@@ -175,27 +175,35 @@ def test_comments_blank_lines_and_tabs_are_skipped_even_inside_a_polygon(tmp_pat
 # One case per kind of malformed input: (file text, line named in the error, phrase in it).
 MALFORMED = {
     "unknown_entity": (VIEW + "q 1 2 3\n", VIEW_LINES + 1, "unknown entity 'q'"),
-    "missing_numbers": (VIEW + "s 0 0 0\n", VIEW_LINES + 1, "expects 4 numbers, got 3"),
-    "missing_view_numbers": ("v\nfrom 0 -5\n" + TRIANGLE, 2, "'from' expects 3 numbers, got 2"),
-    "nan": (VIEW + "s 0 nan 0 1\n", VIEW_LINES + 1, "NaN"),
-    "inf_in_vertex": (VIEW + "p 3\n0 0 0\n1 inf 0\n0 1 0\n", VIEW_LINES + 3, "infinite"),
-    "float32_overflow": (VIEW + "l 1e39 0 0\n" + TRIANGLE, VIEW_LINES + 1, "out-of-range"),
-    "bad_number": (VIEW + "p 3\n0 0 0\n1 1.2.3 0\n0 1 0\n", VIEW_LINES + 3, "bad number"),
-    "bad_number_in_entity": (VIEW + "b 0 x 0\n" + TRIANGLE, VIEW_LINES + 1, "bad number"),
-    "fewer_vertex_lines_than_declared": (VIEW + "p 4\n0 0 0\n1 0 0\n0 1 0\n" + "s 0 0 0 1\n",
-                                         VIEW_LINES + 1, "needs 4 lines of numbers below it, "
-                                                         "but only 3 follow (then line 12"),
-    "truncated_file": (VIEW + "p 3\n0 0 0\n1 0 0\n", VIEW_LINES + 1,
-                       "only 2 follow (then the file ends"),
-    "truncated_line": (VIEW + "p 3\n0 0 0\n1 0 0\n0 1", VIEW_LINES + 4, "expects 3 numbers, got 2"),
-    "extra_numeric_line": (VIEW + "s 0 0 0 1\n1 2 3\n", VIEW_LINES + 2,
-                           "unexpected numbers after 's'"),
-    "bad_vertex_count": (VIEW + "p 2\n0 0 0\n1 0 0\n", VIEW_LINES + 1, "vertex count"),
+    "missing_numbers_at_the_end": (VIEW + "s 0 0 0\n", VIEW_LINES + 1,
+                                   "'s' needs 4 numbers (x y z radius), but the file ends after 3"),
+    "missing_numbers_before_an_entity": (VIEW + "s 0 0 0\n" + TRIANGLE, VIEW_LINES + 1,
+                                         "'s' needs 4 numbers (x y z radius), but only 3 follow before "
+                                         f"the entity 'p' on line {VIEW_LINES + 2}"),
+    "missing_view_numbers": ("v\nfrom 0 -5\n" + TRIANGLE, 2,
+                             "'from' needs 3 numbers (x y z), but only 2 follow before the entity 'p'"),
+    "nan": (VIEW + "s 0 nan 0 1\n", VIEW_LINES + 1, "'s': 'nan' is NaN or infinite"),
+    "inf_in_vertex": (VIEW + "p 3\n0 0 0\n1 inf 0\n0 1 0\n", VIEW_LINES + 3, "'inf' is NaN or infinite"),
+    "float32_overflow": (VIEW + "l 1e39 0 0\n" + TRIANGLE, VIEW_LINES + 1,
+                         "'l': '1e39' is beyond the float32 range"),
+    "bad_number": (VIEW + "p 3\n0 0 0\n1 1.2.3 0\n0 1 0\n", VIEW_LINES + 3, "bad number '1.2.3'"),
+    "bad_word_in_entity": (VIEW + "b 0 x 0\n" + TRIANGLE, VIEW_LINES + 1, "'b': bad number 'x'"),
+    "underscore_in_number": (VIEW + "s 0 0 0 1_0\n", VIEW_LINES + 1, "'s': bad number '1_0'"),
+    "fewer_vertices_than_declared": (VIEW + "p 4\n0 0 0\n1 0 0\n0 1 0\n" + "s 0 0 0 1\n",
+                                     VIEW_LINES + 1, "'p' needs 12 numbers (x y z per vertex), but only 9 "
+                                                     f"follow before the entity 's' on line {VIEW_LINES + 5}"),
+    "truncated_polygon": (VIEW + "p 3\n0 0 0\n1 0 0\n", VIEW_LINES + 1,
+                          "'p' needs 9 numbers (x y z per vertex), but the file ends after 6: truncated?"),
+    "truncated_line": (VIEW + "p 3\n0 0 0\n1 0 0\n0 1", VIEW_LINES + 1, "the file ends after 8"),
+    "extra_number": (VIEW + "s 0 0 0 1\n1 2 3\n", VIEW_LINES + 2,
+                     f"unexpected number '1': the 's' on line {VIEW_LINES + 1} has all its numbers"),
+    "bad_vertex_count": (VIEW + "p 2\n0 0 0\n1 0 0\n", VIEW_LINES + 1,
+                         "'p' expects a vertex count (an integer from 3 to 1000000), got '2'"),
     "bad_angle": (VIEW.replace("angle 40", "angle 180") + TRIANGLE, 5, "between 0 and 180"),
     "bad_resolution": (VIEW.replace("64 48", "64.5 48") + TRIANGLE, 7, "positive integers"),
     "zero_patch_normal": (VIEW + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n",
-                          VIEW_LINES + 3, "zero length"),
-    "starts_with_numbers": ("1 2 3\n" + VIEW + TRIANGLE, 1, "got numbers"),
+                          VIEW_LINES + 1, "'pp' has a vertex normal of zero length"),
+    "starts_with_numbers": ("1 2 3\n" + VIEW + TRIANGLE, 1, "numbers; expected an entity"),
 }
 
 
@@ -207,13 +215,13 @@ def test_malformed_nff_names_file_line_and_expectation(tmp_path, case):
         load_nff(path)
     message = str(err.value)
     assert message.startswith(f"{path}:{line}: "), message
-    assert phrase in message
+    assert phrase in message, message
 
 
 @pytest.mark.parametrize("text, phrase", [
     ("", "no geometry"),
     (VIEW + "l 1 1 1\nf 1 1 1 1 0 1 0 1\n", "no geometry"),
-    ("s 0 0 0 1\n", "lacks from, at, up, angle"),
+    ("s 0 0 0 1\n", "the view lacks from, at, up, angle"),
 ])
 def test_file_without_geometry_or_view_is_rejected(tmp_path, text, phrase):
     with pytest.raises(SceneFileError, match=phrase):
@@ -223,7 +231,8 @@ def test_file_without_geometry_or_view_is_rejected(tmp_path, text, phrase):
 def test_binary_file_is_rejected_as_not_text(tmp_path):
     path = tmp_path / "scene.nff"
     path.write_bytes(b"v\n\xff\xfe\x00garbage")
-    with pytest.raises(SceneFileError, match="not a text file"):
+    with pytest.raises(SceneFileError, match=r"scene\.nff:2: binary or non-ASCII data, '\\xff\\xfe\\x00garbage': "
+                                             "not an NFF text file"):
         load_nff(path)
 
 

@@ -108,7 +108,7 @@ def test_render_nff_with_a_cylinder(tmp_path):
 
 @pytest.mark.parametrize("case, content, message", [
     ("missing", None, "no such file"),
-    ("malformed", "s 0 0\n", "scene.nff:1: 's' expects 4 numbers"),
+    ("malformed", "s 0 0\n", "scene.nff:1: 's' needs 4 numbers (x y z radius), but the file ends after 2"),
     ("unknown type", "solid\n", "expected .nff or .ply"),
 ])
 def test_bad_scene_files_give_a_one_line_error_and_exit_2(tmp_path, case, content, message):

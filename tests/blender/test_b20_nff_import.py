@@ -6,19 +6,16 @@ materials in every shading term but the Phong highlight; camera and lights
 within float32 tolerance, lights with the documented falloff approximation);
 and GRIDWALK's render of the import looks like the core's own render of the
 file. PLY goes through Blender's own importer and exporter (test_b21)."""
-import json
 import os
 
 import numpy as np
 import pytest
 
-import exr
-import gridwalk
 from gridwalk.io import load_nff
-from runner import ALL_BLENDERS, ROOT, missing_reason, run_script
+from nff_roundtrip import import_nff, imported_fixture
+from runner import ALL_BLENDERS, ROOT, missing_reason
 
 SPD = ROOT.parent / "shared" / "scenes" / "spd"
-SETTINGS = {"aa": "JITTERED", "aa_samples": 2}
 # scene: spheres, polygons, polygon corners, lights, and bounds on the render's
 # mean absolute difference and its luminance correlation with the core's. The
 # bounds are what the two documented approximations cost: Blender's light
@@ -29,26 +26,7 @@ SCENES = {"balls_s1": (10, 1, 4, 3, 1e-3, 0.999), "balls_s2": (91, 1, 4, 3, 1e-3
 DOCS_IMAGE = ROOT / "docs" / "images" / "nff_import_balls.png"
 
 
-def _run(kind, nff, out, *options):
-    run_script(kind, "nff_import_dump.py", nff, out, *options, timeout=300)
-    info = json.loads((out / "import.json").read_text())
-    path = out / "arrays.npz"
-    return info, dict(np.load(path)) if path.exists() else {}
-
-
-@pytest.fixture(scope="module", params=[(k, s) for k in ("bpy45", "bpy50") for s in SCENES],
-                ids=lambda p: f"{p[0]}-{p[1]}")
-def imported(request, tmp_path_factory):
-    kind, name = request.param
-    if missing_reason(kind):
-        pytest.skip(missing_reason(kind))
-    out = tmp_path_factory.mktemp(f"{kind}_{name}")
-    info, arrays = _run(kind, SPD / f"{name}.nff", out, "render=" + json.dumps(SETTINGS))
-    nff = load_nff(SPD / f"{name}.nff")
-    core = gridwalk.render(gridwalk.Scene(**nff), gridwalk.RenderSettings(**info["render_settings"]))
-    rgba = exr.rgba(exr.read_exr(out / "gridwalk.exr"), "ViewLayer.Combined.")
-    return {"kind": kind, "name": name, "info": info, "arrays": arrays, "nff": nff, "core": core,
-            "rgba": rgba, "out": out}
+imported = imported_fixture(SCENES, lambda name, out: SPD / f"{name}.nff")
 
 
 def _shading(m):
@@ -180,7 +158,7 @@ def extras(request, tmp_path):
         pytest.skip(missing_reason(request.param))
     path = tmp_path / "extras.nff"
     path.write_text(NFF_EXTRAS)
-    info, arrays = _run(request.param, path, tmp_path)
+    info, arrays = import_nff(request.param, path, tmp_path)
     return info, arrays, load_nff(path)
 
 
@@ -223,6 +201,6 @@ def test_malformed_nff_is_an_error_report_and_adds_nothing(tmp_path):
         pytest.skip(missing_reason("bpy45"))
     path = tmp_path / "bad.nff"
     path.write_text(NFF_EXTRAS.replace("p 5\n-1 -1 -0.01\n", "p 5\n-1 nan -0.01\n"))
-    info, _ = _run("bpy45", path, tmp_path)
+    info, _ = import_nff("bpy45", path, tmp_path)
     assert f"{path}:" in info["error"] and "NaN" in info["error"] and "Traceback" not in info["error"]
     assert info["objects"] == 0 and info["collections"] == []

@@ -161,6 +161,8 @@ def cmd_demo(args) -> int:
 
 def load(path) -> dict:
     path = Path(path)
+    if path.is_dir():
+        raise CliError(f"{path}: is a folder, not a scene file")
     if not path.is_file():
         raise CliError(f"{path}: no such file")
     return io.load_scene(path)

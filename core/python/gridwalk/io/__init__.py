@@ -13,10 +13,10 @@ background. Malformed files raise SceneFileError (a ValueError).
 from pathlib import Path
 
 from .common import SceneFileError
-from .nff import load_nff
+from .nff import load_nff, read_nff
 from .ply import default_view, load_ply, load_ply_mesh
 
-__all__ = ["SceneFileError", "load_nff", "load_ply", "load_ply_mesh", "load_scene",
+__all__ = ["SceneFileError", "load_nff", "read_nff", "load_ply", "load_ply_mesh", "load_scene",
            "default_view"]
 
 _LOADERS = {".nff": load_nff, ".ply": load_ply}

@@ -1,12 +1,16 @@
 """Pieces shared by the scene readers and generators."""
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 
 
 class SceneFileError(ValueError):
     """A scene file is malformed. The message names the file and, where one
-    applies, the line (NFF) or header line (PLY) and what was expected."""
+    applies, the line (NFF) or the element and record (PLY), and what was
+    expected. It quotes at most a short excerpt of the file."""
 
 
 # Geometry keywords of gridwalk.Scene: dtype and shape of one row.
@@ -19,6 +23,7 @@ _ARRAYS = {
     "cylinder_base_radius": (np.float32, ()), "cylinder_apex_radius": (np.float32, ()),
     "cylinder_materials": (np.int32, ()),
 }
+EXCERPT = 40                    # characters of the file an error message quotes at most
 
 
 def scene_kwargs(*, materials, lights, camera, background, normals=None, **arrays) -> dict:
@@ -39,18 +44,41 @@ def scene_kwargs(*, materials, lights, camera, background, normals=None, **array
     return kwargs
 
 
-def fan_triangulate(counts) -> tuple[np.ndarray, np.ndarray]:
-    """Fan-triangulate polygons stored one after another.
+def excerpt(token: bytes | str, limit: int = EXCERPT) -> str:
+    """A short, printable ASCII quotation of `token`: "'abc'", "'\\x00\\x00'", or
+    "'abc'... (5000 characters)" for a long one."""
+    text = token.decode("latin-1") if isinstance(token, bytes) else str(token)
+    if len(text) <= limit:
+        return ascii(text)
+    return f"{ascii(text[:limit])}... ({len(text)} characters)"
 
-    counts[k] is the vertex count (>= 3) of polygon k; its corners are the
-    positions starts[k] .. starts[k] + counts[k] - 1 of the concatenated
-    corner list. Returns (triangles, polygon): (T, 3) int64 corner positions
-    (s, s+j, s+j+1 for j = 1 .. n-2) and the polygon of each triangle.
-    """
-    counts = np.asarray(counts, dtype=np.int64)
-    starts = np.cumsum(counts) - counts
-    ntri = counts - 2
-    polygon = np.repeat(np.arange(len(counts)), ntri)
-    j = np.arange(ntri.sum()) - np.repeat(np.cumsum(ntri) - ntri, ntri) + 1
-    first = starts[polygon]
-    return np.stack([first, first + j, first + j + 1], axis=1), polygon
+
+def open_scene_file(path: Path):
+    """open(path, "rb"), with a SceneFileError for a folder (OSError otherwise)."""
+    if Path(path).is_dir():
+        raise SceneFileError(f"{path}: is a folder, not a scene file")
+    return open(path, "rb")
+
+
+_INDEXED = re.compile(r"(?P<name>[a-z_]+)\[(?P<index>\d+)\](?P<rest>.*)", re.S)
+_FIELD = re.compile(r"(?P<name>Camera\.[a-z_]+)(?P<rest>.*)", re.S)
+
+
+def core_refusal(kwargs) -> tuple[str, int | None, str] | None:
+    """Build the scene in the core (its own checks, in its own float32
+    precision); None if the core accepts it, else (name, index, rest) from the
+    core's ValueError "name[index] rest", or ("Camera.field", None, rest), or
+    ("", None, message) for one naming no array."""
+    from ..scene import Scene
+    try:
+        Scene(**kwargs)
+    except ValueError as err:
+        message = str(err)
+        m = _INDEXED.match(message)
+        if m:
+            return m["name"], int(m["index"]), m["rest"].lstrip(": ")
+        m = _FIELD.match(message)
+        if m:
+            return m["name"], None, m["rest"].strip()
+        return "", None, message
+    return None

@@ -1,40 +1,66 @@
-"""PLY mesh reader (ascii, binary_little_endian, binary_big_endian).
+"""PLY mesh reader (ascii, binary_little_endian, binary_big_endian), as scanners and tools write it.
 
-The body is read by the `plyfile` package; the header is checked here first,
-so that a header whose declared element counts need more bytes than the file
-holds (say `element vertex 4000000000` in a 1 kB file) is rejected before
-anything is allocated. Supported content: a `vertex` element with x, y, z
-(optional nx, ny, nz normals and red, green, blue colours) and a `face` element
-with a `vertex_indices` (or `vertex_index`) list; faces with more than three
-corners are fan-triangulated (they are assumed convex). Also rejected: NaN,
-infinite or beyond-float32 coordinates and normals, zero-length normals, faces
-with fewer than 3 corners and indices outside the vertex array.
+Read here, in bounded chunks (ply_header.py, ply_body.py), without plyfile:
 
-PLY holds no camera, lights or materials: `load_ply` frames the mesh with
-`default_view` and gives it one grey material (kd 0.8, ks 0.2, shininess 40).
-Vertex colours are not used for shading; `load_ply_mesh` returns them.
+* `vertex`: x, y, z (any numeric type: float, double or integers), optional
+  nx, ny, nz normals (normalised; used for smooth shading) and red, green,
+  blue colours (also diffuse_red/green/blue; integers scaled by their type's
+  maximum, floats as they are);
+* `face`: a list of vertex indices named `vertex_indices` or `vertex_index`,
+  any signed or unsigned integer type from 8 to 32 bits for the count and the
+  indices. Faces with more than three corners are triangulated: a fan where
+  the face is convex, ear clipping where it is not (gridwalk.io.triangulate);
+* `tristrips`: the same list, each record one or more triangle strips with
+  -1 between them (in an unsigned type, its maximum, where that is no vertex
+  index); the winding alternates along a strip and the degenerate triangles
+  that stitch strips together are dropped. A file may have both faces and
+  strips: both are read.
+* other elements (edges, materials, ...) and other properties are skipped.
+
+Memory: what the header declares is checked before the body is read: the
+file must be large enough for it, and the memory estimate of loading and
+rendering the mesh (gridwalk.memory, at the default 512 x 512) must fit in
+memory.default_limit(); the body is then read a chunk at a time into the
+output arrays, so a file larger than memory can be read when its mesh fits.
+
+Refused, with the file, element, record and what was expected: NaN, infinite
+or beyond-float32 values; a vertex used by a face beyond +-1e30 (the core's
+limit); zero-length normals of used vertices; faces with fewer than 3
+corners; indices outside the vertex array; a file shorter than its header says.
+
+Vertex colours: the core has one Material per triangle, not colours per
+vertex. Each triangle gets the mean of its three vertex colours (taken as
+sRGB, as Blender's PLY importer does, and averaged in linear light), and the
+means are quantised in sRGB to the finest of 8, 7, 6, 5 or 4 bits per channel
+that gives at most MAX_COLOURS distinct colours. Each distinct colour becomes
+one Material (the grey material's kd, ks and shininess with that colour), so
+the material table stays bounded for a scan of any size. A colour that varies
+across a triangle is flattened to its mean (a per-vertex colour attribute in
+the core would keep it).
+
+PLY holds no camera or lights: `load_ply` frames the used vertices with
+`default_view`. Without colours the mesh gets one grey material (kd 0.8,
+ks 0.2, shininess 40).
 """
 from __future__ import annotations
 
 import math
-import os
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..model import Camera, Light, Material
-from .common import SceneFileError, fan_triangulate, scene_kwargs
+from . import triangulate
+from .common import SceneFileError, core_refusal, open_scene_file, scene_kwargs
+from .ply_body import Body
+from .ply_header import Element, Header, read_header
 
-_SIZES = {"char": 1, "int8": 1, "uchar": 1, "uint8": 1, "short": 2, "int16": 2,
-          "ushort": 2, "uint16": 2, "int": 4, "int32": 4, "uint": 4, "uint32": 4,
-          "float": 4, "float32": 4, "double": 8, "float64": 8}
-_INTEGER_TYPES = {name for name in _SIZES if not name.startswith(("float", "double"))}
-_FORMATS = ("ascii", "binary_little_endian", "binary_big_endian")
-_MAX_HEADER = 1 << 20
 _INDEX_NAMES = ("vertex_indices", "vertex_index")
+_COLOUR_NAMES = (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue"))
 _F32_MAX = float(np.finfo(np.float32).max)
+CORE_LIMIT = 1e30               # the core refuses primitives beyond +-1e30
+MAX_COLOURS = 4096
+GREY = dict(kd=0.8, ks=0.2, shininess=40.0)
 BACKGROUND = (0.1, 0.1, 0.1)
 
 
@@ -42,63 +68,301 @@ BACKGROUND = (0.1, 0.1, 0.1)
 class PlyMesh:
     """A triangle mesh from a PLY file.
 
-    vertices (N, 3) float32; triangles (M, 3) int32; normals (N, 3) float32
-    unit vectors or None; colors (N, 3) float32 RGB in [0, 1] or None.
+    vertices (N, 3) float32; triangles (M, 3) int32 (those of the faces
+    first, then those of the strips); normals (N, 3) float32 unit vectors or
+    None; colors (N, 3) float32 as stored in the file, in [0, 1], or None.
     """
     vertices: np.ndarray
     triangles: np.ndarray
     normals: np.ndarray | None
     colors: np.ndarray | None
+    origin: object = None       # triangle index -> "element 'face' record k" (for messages)
 
 
 def load_ply(path) -> dict:
     """Read a PLY mesh into keyword arguments for `gridwalk.Scene`, with the
-    camera and lights of `default_view` and one grey material."""
+    camera and lights of `default_view`, and one grey material or (with
+    vertex colours) one material per quantised colour."""
     mesh = load_ply_mesh(path)
-    camera, lights = default_view(mesh.vertices)
-    return scene_kwargs(
+    used = np.unique(mesh.triangles)
+    camera, lights = default_view(mesh.vertices[used])
+    if mesh.colors is None:
+        from ..model import Material
+        materials = [Material(color=(0.8, 0.8, 0.8), **GREY)]
+        triangle_materials = np.zeros(len(mesh.triangles), dtype=np.int32)
+    else:
+        materials, triangle_materials = colour_materials(mesh.colors, mesh.triangles)
+    kwargs = scene_kwargs(
         vertices=mesh.vertices, triangles=mesh.triangles, normals=mesh.normals,
-        triangle_materials=np.zeros(len(mesh.triangles), dtype=np.int32),
-        materials=[Material(color=(0.8, 0.8, 0.8), kd=0.8, ks=0.2, shininess=40.0)],
+        triangle_materials=triangle_materials, materials=materials,
         lights=lights, camera=camera, background=BACKGROUND)
+    refusal = core_refusal(kwargs)
+    if refusal:
+        name, index, rest = refusal
+        where = mesh.origin(index) if name.startswith("triangle") else name
+        raise SceneFileError(f"{path}: {where}: {rest}")
+    return kwargs
 
 
 def load_ply_mesh(path) -> PlyMesh:
     """Read a PLY file's triangle mesh; malformed files raise SceneFileError."""
-    # Imported here, not at the top: gridwalk.io (the NFF reader) must import
-    # where plyfile is absent, e.g. in Blender, whose add-on bundles only gridwalk.
-    import plyfile
-
     path = Path(path)
-    _check_header(path)
-    try:
-        ply = plyfile.PlyData.read(str(path))
-    except (plyfile.PlyParseError, ValueError, OverflowError, EOFError, IndexError) as err:
-        raise SceneFileError(f"{path}: {err}") from None
-    vertex = ply["vertex"].data
-    vertices = np.column_stack([vertex[c] for c in "xyz"]).astype(np.float64)
-    _require_finite(path, vertices, "coordinate")
-    face = ply["face"].data
-    faces = face[next(n for n in _INDEX_NAMES if n in face.dtype.names)]
-    triangles = _triangulate(path, faces, len(vertices))
-    names = vertex.dtype.names
-    normals = colors = None
-    if all(c in names for c in ("nx", "ny", "nz")):
-        normals = np.column_stack([vertex[c] for c in ("nx", "ny", "nz")]).astype(np.float64)
-        _require_finite(path, normals, "normal")
-        length = np.linalg.norm(normals, axis=1)
-        if not length.all():
-            bad = int(np.argmin(length))
-            raise SceneFileError(f"{path}: vertex {bad} has a zero-length normal")
-        normals = (normals / length[:, None]).astype(np.float32)
-    if all(c in names for c in ("red", "green", "blue")):
-        rgb = np.column_stack([vertex[c] for c in ("red", "green", "blue")])
-        scale = np.iinfo(rgb.dtype).max if rgb.dtype.kind in "iu" else 1.0
-        colors = (rgb / scale).astype(np.float32)
-    return PlyMesh(vertices.astype(np.float32), triangles, normals, colors)
+    header = read_header(path)
+    vertex, lists = _plan(header)
+    reader = _Reader(header, vertex, lists)
+    with open_scene_file(path) as f:
+        f.seek(header.body_start)
+        body = reader.body = Body(f, header)
+        for e in header.elements:
+            if e is vertex:
+                reader.vertices(body, e)
+            elif e in lists:
+                reader.lists(body, e, lists[e])
+            else:
+                body.skip(e)
+    return reader.mesh()
 
 
-def default_view(vertices, up=(0.0, 0.0, 1.0)) -> tuple[Camera, list[Light]]:
+def _plan(h: Header):
+    """Check what the header declares; the vertex element and {element: list name}."""
+    path = h.path
+    vertex = h.element("vertex")
+    if vertex is None or any(vertex.get(c) is None or vertex.get(c).is_list for c in "xyz"):
+        raise SceneFileError(f"{path}: no 'vertex' element with x, y and z properties")
+    if vertex.count >= 2 ** 31:
+        raise SceneFileError(f"{path}: element 'vertex' declares {vertex.count} records; the core "
+                             f"indexes at most 2^31 - 1 vertices")
+    lists = {}
+    for e in h.elements:
+        if e.name not in ("face", "tristrips"):
+            continue
+        p = next((e.get(n) for n in _INDEX_NAMES if e.get(n) is not None), None)
+        if p is None or not p.is_list or p.type[0] == "f":
+            raise SceneFileError(f"{path}:{e.line}: element {e.name!r} has no 'vertex_indices' (or "
+                                 f"'vertex_index') list of integers")
+        lists[e] = p.name
+    if not lists:
+        raise SceneFileError(f"{path}: no 'face' or 'tristrips' element: the file holds points "
+                             f"only, nothing to render")
+    need = sum(e.count * e.min_record_bytes(h.ascii) for e in h.elements)
+    body = h.file_size - h.body_start
+    if need - h.ascii > body:                  # the last ASCII line may lack its newline
+        counts = ", ".join(f"{e.count} {e.name}" for e in h.elements)
+        raise SceneFileError(f"{path}: the header declares {counts} records, at least {need} bytes, "
+                             f"but only {body} bytes follow it (truncated?)")
+    _check_memory(h, vertex, lists)
+    return vertex, lists
+
+
+def _check_memory(h: Header, vertex: Element, lists: dict) -> None:
+    """Refuse up front a mesh whose estimated memory (the reader's arrays and
+    the render's, gridwalk.memory) exceeds memory.default_limit()."""
+    from .. import memory
+    faces = sum(e.count for e in lists if e.name == "face")
+    normals = all(vertex.get(c) is not None for c in ("nx", "ny", "nz"))
+    colours = any(all(vertex.get(c) is not None for c in names) for names in _COLOUR_NAMES)
+    est = memory.estimate(triangles=faces, vertices=vertex.count, normals=normals, width=512, height=512)
+    reading = vertex.count * 12 * (1 + normals + colours) + faces * 3 * 4
+    limit = memory.default_limit()
+    if limit is not None and est.total + reading > limit:
+        raise SceneFileError(
+            f"{h.path}: the header declares {vertex.count:,} vertices and {faces:,} faces: reading and "
+            f"rendering them needs an estimated {memory.format_bytes(est.total + reading)} of memory "
+            f"(reader {memory.format_bytes(reading)}, {est.breakdown()}), more than the limit of "
+            f"{memory.format_bytes(limit)} ({memory.DEFAULT_FRACTION:.0%} of physical memory)")
+
+
+class _Reader:
+    """The arrays of load_ply_mesh, filled chunk by chunk."""
+
+    def __init__(self, h: Header, vertex: Element, lists: dict):
+        self.h, self.n, self.vertex, self.body = h, vertex.count, vertex, None
+        self.xyz = np.empty((self.n, 3), np.float32)
+        self.normals = self.colours = None
+        if all(vertex.get(c) is not None for c in ("nx", "ny", "nz")):
+            self.normals = np.empty((self.n, 3), np.float32)
+        self.colour_names = next((n for n in _COLOUR_NAMES if all(vertex.get(c) for c in n)), None)
+        if self.colour_names:
+            self.colours = np.empty((self.n, 3), np.float32)
+            kind = vertex.get(self.colour_names[0]).type
+            self.colour_scale = float(np.iinfo(kind).max) if kind[0] in "iu" else 1.0
+        self.faces = []                   # (element, corner chunks, count chunks)
+        self.strips = []                  # (element, triangles, triangles per record)
+
+    def vertices(self, body: Body, e: Element):
+        names = ["x", "y", "z"] + (["nx", "ny", "nz"] if self.normals is not None else [])
+        names += list(self.colour_names or ())
+        for first, cols in body.scalars(e, names):
+            n = len(cols["x"])
+            for out, keys, what in ((self.xyz, "xyz", "coordinate"),
+                                    (self.normals, ("nx", "ny", "nz"), "normal"),
+                                    (self.colours, self.colour_names, "colour")):
+                if out is None:
+                    continue
+                block = np.column_stack([cols[k] for k in keys]).astype(np.float64)
+                bad = ~(np.abs(block) <= _F32_MAX).all(axis=1)
+                if bad.any():
+                    k = int(np.argmax(bad))
+                    body.fail(e, first + k, f"the {what} {_show(block[k])} is NaN, infinite or beyond "
+                                            f"the float32 range")
+                if what == "colour":
+                    block = np.clip(block / self.colour_scale, 0.0, 1.0)
+                out[first:first + n] = block
+
+    def lists(self, body: Body, e: Element, name: str):
+        prop = e.get(name)
+        restart = -1
+        if prop.type[0] == "u" and np.iinfo(prop.type).max >= self.n:
+            restart = np.iinfo(prop.type).max          # -1 as written to an unsigned type
+        corners, counts, per_record = [], [], []
+        for first, items, c in body.lists(e, name):
+            if items.dtype.kind == "f":
+                bad = ~np.isfinite(items) | (items != np.round(items))
+                if bad.any():
+                    k = self._record_of(c, int(np.argmax(bad)))
+                    body.fail(e, first + k, f"{name} holds {items[bad][0]:g}; expected integer vertex "
+                                            f"indices")
+            items = items.astype(np.int64)
+            strips = e.name == "tristrips"
+            is_restart = ((items == -1) | (items == restart)) if strips else np.zeros(len(items), bool)
+            bad = ~is_restart & ((items < 0) | (items >= self.n))
+            if bad.any():
+                k = self._record_of(c, int(np.argmax(bad)))
+                body.fail(e, first + k, f"uses vertex index {items[bad][0]}, but there are {self.n} "
+                                        f"vertices (0 to {self.n - 1})")
+            if strips:
+                tris, records = self._strips(items, is_restart, c)
+                corners.append(tris)
+                per_record.append(np.bincount(records, minlength=len(c)))
+                continue
+            if len(c) and c.min() < 3:
+                k = int(np.argmax(c < 3))
+                body.fail(e, first + k, f"a face of {c[k]} corners; a face needs at least 3")
+            corners.append(items.astype(np.int32))
+            counts.append(c.astype(np.int64))
+        if e.name == "tristrips":
+            self.strips.append((e, corners, per_record))
+        else:
+            self.faces.append((e, corners, counts))
+
+    @staticmethod
+    def _record_of(counts, item):
+        return int(np.searchsorted(np.cumsum(counts), item, side="right"))
+
+    @staticmethod
+    def _strips(items, is_restart, counts):
+        """Triangles of a chunk of strip records (a record boundary ends a strip)."""
+        ends = np.cumsum(counts)
+        stream = np.insert(items, ends[:-1], -1)
+        cut = np.insert(is_restart, ends[:-1], True)
+        record = np.repeat(np.arange(len(counts)), counts + 1)[:len(stream)]
+        tris, start = triangulate.strips(stream, cut, positions=True)
+        return tris.astype(np.int32), record[start]
+
+    def mesh(self) -> PlyMesh:
+        triangles, origins = [], []
+        for e, corners, counts in self.faces:
+            corners = np.concatenate(corners) if corners else np.empty(0, np.int32)
+            counts = np.concatenate(counts) if counts else np.empty(0, np.int64)
+            if len(counts) and np.all(counts == 3):
+                triangles.append(corners.reshape(-1, 3))
+            elif len(counts):
+                triangles.append(self._polygons(e, corners, counts))
+            origins.append((e, np.cumsum(counts - 2)))
+        for e, tris, per_record in self.strips:
+            triangles.append(np.concatenate(tris) if tris else np.empty((0, 3), np.int32))
+            origins.append((e, np.cumsum(np.concatenate(per_record)) if per_record else np.zeros(0, int)))
+        triangles = np.concatenate(triangles) if triangles else np.empty((0, 3), np.int32)
+        if not len(triangles):
+            raise SceneFileError(f"{self.h.path}: the mesh has no triangles (no faces, or only "
+                                 f"degenerate strips)")
+        origin = _Origin(origins, self.body)
+        self._check_used(triangles, origin)
+        return PlyMesh(self.xyz, np.ascontiguousarray(triangles, np.int32), self.normals,
+                       self.colours, origin)
+
+    def _polygons(self, e, corners, counts, block=1 << 20):
+        """Triangles of faces of any size, `block` faces at a time (bounded memory)."""
+        out, ends = [], np.cumsum(counts)
+        for lo in range(0, len(counts), block):
+            hi = min(lo + block, len(counts))
+            a, b = (ends[lo - 1] if lo else 0), ends[hi - 1]
+            chunk = corners[a:b]
+            try:
+                local, _ = triangulate.polygons(self.xyz[chunk].astype(np.float64), counts[lo:hi])
+            except triangulate.TooManyCorners as err:
+                raise SceneFileError(f"{self.h.path}: element {e.name!r} record {lo + err.polygon}: "
+                                     f"a face of {err}") from None
+            out.append(chunk[local])
+        return np.concatenate(out)
+
+    def _check_used(self, triangles, origin):
+        """Normals and coordinates of the vertices the triangles use."""
+        used = np.zeros(self.n, dtype=bool)
+        used[triangles.reshape(-1)] = True
+        far = used & ~(np.abs(self.xyz) <= CORE_LIMIT).all(axis=1)
+        if far.any():
+            v = int(np.argmax(far))
+            t = int(np.argmax((triangles == v).any(axis=1)))
+            raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, v)}: the coordinate "
+                                 f"{_show(self.xyz[v])} lies beyond +-1e30, the core's limit (used by "
+                                 f"{origin(t)})")
+        if self.normals is not None:
+            length = np.linalg.norm(self.normals.astype(np.float64), axis=1)
+            zero = used & ~(length > 0)
+            if zero.any():
+                raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, int(np.argmax(zero)))}: "
+                                     f"the normal has zero length")
+            ok = length > 0
+            self.normals[ok] = (self.normals[ok] / length[ok, None]).astype(np.float32)
+            self.normals[~ok] = (0.0, 0.0, 1.0)
+
+
+class _Origin:
+    """Triangle index -> the element and record it comes from."""
+
+    def __init__(self, parts, body):
+        self.parts, self.body = parts, body   # [(element, cumulative triangles per record)]
+
+    def __call__(self, t: int) -> str:
+        for e, ends in self.parts:
+            if len(ends) and t < ends[-1]:
+                return self.body.where(e, int(np.searchsorted(ends, t, side="right")))
+            t -= int(ends[-1]) if len(ends) else 0
+        return f"triangle {t}"
+
+
+def _show(v) -> str:
+    return "(" + ", ".join(f"{x:g}" for x in np.asarray(v, dtype=np.float64)) + ")"
+
+
+def colour_materials(colors, triangles) -> tuple[list, np.ndarray]:
+    """(materials, triangle_materials) for per-vertex sRGB `colors` in [0, 1]:
+    see the module docstring."""
+    from ..model import Material
+    linear = _srgb_to_linear(np.asarray(colors, dtype=np.float64))
+    mean = (linear[triangles[:, 0]] + linear[triangles[:, 1]] + linear[triangles[:, 2]]) / 3.0
+    srgb = _linear_to_srgb(mean)
+    for bits in (8, 7, 6, 5, 4):
+        levels = (1 << bits) - 1
+        q = np.rint(srgb * levels).astype(np.int64)
+        keys, index = np.unique((q[:, 0] << (2 * bits)) | (q[:, 1] << bits) | q[:, 2], return_inverse=True)
+        if len(keys) <= MAX_COLOURS:
+            break
+    rgb = np.stack([keys >> (2 * bits), (keys >> bits) & levels, keys & levels], axis=1) / levels
+    materials = [Material(color=tuple(float(c) for c in row), **GREY) for row in _srgb_to_linear(rgb)]
+    return materials, index.astype(np.int32).reshape(-1)
+
+
+def _srgb_to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _linear_to_srgb(c):
+    return np.where(c <= 0.0031308, c * 12.92, 1.055 * np.maximum(c, 0.0) ** (1 / 2.4) - 0.055)
+
+
+def default_view(vertices, up=(0.0, 0.0, 1.0)):
     """A camera and lights that frame `vertices` (any (N, 3) array).
 
     The camera looks at the bounding box centre from a diagonal above it, at
@@ -107,6 +371,7 @@ def default_view(vertices, up=(0.0, 0.0, 1.0)) -> tuple[Camera, list[Light]]:
     a fill light (0.3) on the opposite side; like NFF lights they are meant
     without distance falloff.
     """
+    from ..model import Camera, Light
     v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
     lo, hi = v.min(axis=0), v.max(axis=0)
     centre = (lo + hi) / 2
@@ -132,100 +397,3 @@ def default_view(vertices, up=(0.0, 0.0, 1.0)) -> tuple[Camera, list[Light]]:
 
 def _floats(vector) -> tuple:
     return tuple(float(c) for c in vector)
-
-
-def _require_finite(path, values, what):
-    bad = ~(np.abs(values) <= _F32_MAX).all(axis=1)
-    if bad.any():
-        raise SceneFileError(f"{path}: vertex {int(np.argmax(bad))} has a NaN, infinite or "
-                             f"out-of-float32-range {what}")
-
-
-def _triangulate(path, faces, n_vertices) -> np.ndarray:
-    counts = np.fromiter(map(len, faces), dtype=np.int64, count=len(faces))
-    if not len(counts):
-        raise SceneFileError(f"{path}: the mesh has no faces")
-    if counts.min() < 3:
-        k = int(np.argmax(counts < 3))
-        raise SceneFileError(f"{path}: face {k} has {counts[k]} corners; a face needs at least 3")
-    flat = np.concatenate(list(faces)).astype(np.int64)
-    bad = (flat < 0) | (flat >= n_vertices)
-    if bad.any():
-        at = int(np.argmax(bad))
-        face = int(np.searchsorted(np.cumsum(counts), at, side="right"))
-        raise SceneFileError(f"{path}: face {face} uses vertex index {flat[at]}, "
-                             f"but there are {n_vertices} vertices")
-    corners, _ = fan_triangulate(counts)
-    return flat[corners].astype(np.int32)
-
-
-def _check_header(path: Path) -> None:
-    """Check the header, and that the body is large enough for what it declares."""
-    fmt, elements, body = _read_header(path)
-    props = {name: p for name, _, p in elements}
-    vertex, face = props.get("vertex", {}), props.get("face", {})
-    if not all(vertex.get(c) in _SIZES for c in "xyz"):
-        raise SceneFileError(f"{path}: no 'vertex' element with scalar x, y, z properties")
-    index = next((face[n] for n in _INDEX_NAMES if n in face), None)
-    if not (isinstance(index, tuple) and index[2] in _INTEGER_TYPES):
-        raise SceneFileError(f"{path}: no 'face' element with an integer 'vertex_indices' list")
-    need = 0
-    for name, count, p in elements:
-        if not p:
-            raise SceneFileError(f"{path}: element {name!r} has no properties")
-        if fmt == "ascii":       # each value takes at least a digit and a separator
-            need += count * 2 * len(p)
-        else:                    # each scalar its size; each list at least its count
-            need += count * sum(_SIZES[t[1] if isinstance(t, tuple) else t] for t in p.values())
-    if need - (fmt == "ascii") > body:       # the last ascii line may lack its newline
-        counts = ", ".join(f"{count} {name}" for name, count, _ in elements)
-        raise SceneFileError(f"{path}: the header declares {counts} records, at least {need} "
-                             f"bytes, but only {body} bytes follow it (truncated?)")
-
-
-def _read_header(path: Path):
-    """Parse the header: (format, [[element, count, {property: type}]], body bytes).
-
-    A scalar property's type is its type name; a list's is ("list", count
-    type, item type). Only the first 1 MiB is read.
-    """
-    with open(path, "rb") as f:
-        head = f.read(_MAX_HEADER)
-        size = os.fstat(f.fileno()).st_size
-
-    def fail(message, lineno=None):
-        raise SceneFileError(f"{path}:{lineno}: {message}" if lineno else f"{path}: {message}")
-
-    end = re.search(rb"(?m)^end_header[ \t\r]*\n", head)
-    if not head.startswith(b"ply") or end is None:
-        fail("not a PLY file, or a truncated one (no 'ply' ... 'end_header' header in "
-             "the first 1 MiB)")
-    fmt, elements = None, []
-    header = head[:end.start()].decode("ascii", "replace").splitlines()
-    for lineno, line in enumerate(header[1:], 2):
-        tokens = line.split()
-        if not tokens or tokens[0] in ("comment", "obj_info"):
-            continue
-        if tokens[0] == "format":
-            if len(tokens) != 3 or tokens[1] not in _FORMATS or tokens[2] != "1.0":
-                fail(f"unsupported format line {line!r}", lineno)
-            fmt = tokens[1]
-        elif tokens[0] == "element":
-            if len(tokens) != 3 or not tokens[2].isdecimal():
-                fail(f"expected 'element <name> <count>', got {line!r}", lineno)
-            elements.append([tokens[1], int(tokens[2]), {}])
-        elif tokens[0] == "property" and elements:
-            if len(tokens) == 5 and tokens[1] == "list":
-                if tokens[2] not in _INTEGER_TYPES or tokens[3] not in _SIZES:
-                    fail(f"list count type must be an integer type (and item type known), "
-                         f"got {line!r}", lineno)
-                elements[-1][2][tokens[4]] = ("list", tokens[2], tokens[3])
-            elif len(tokens) == 3 and tokens[1] in _SIZES:
-                elements[-1][2][tokens[2]] = tokens[1]
-            else:
-                fail(f"bad property line {line!r}", lineno)
-        else:
-            fail(f"unexpected header line {line!r}", lineno)
-    if fmt is None:
-        fail("the header has no 'format' line")
-    return fmt, elements, size - end.end()

@@ -1,0 +1,199 @@
+"""Polygons and triangle strips to triangles.
+
+polygons(points, counts): polygon k has the counts[k] corners that follow
+those of polygon k-1 in `points`. Each polygon is projected onto the plane of
+its dominant normal axis (Newell's normal). A convex polygon becomes a fan
+(0, j, j+1); any other one is ear-clipped, so that a concave polygon (SPD's
+gears, an L-shaped scan face) is covered exactly once. Triangles keep the
+polygon's winding. A non-convex polygon needs Python work per corner, so
+those with more than MAX_CLIPPED_CORNERS corners are refused (TooManyCorners).
+
+strips(indices, restart): triangle strips in one index stream, a strip
+ending wherever `restart` is set; triangle j of a strip is (s[j], s[j+1],
+s[j+2]) for even j and (s[j+1], s[j], s[j+2]) for odd j (the winding
+alternates), and triangles that repeat an index (the joins of stitched strips)
+are dropped.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+MAX_CLIPPED_CORNERS = 100_000
+
+
+class TooManyCorners(ValueError):
+    """A non-convex polygon too large to clip; `polygon` is its index."""
+
+    def __init__(self, polygon: int, corners: int):
+        super().__init__(f"{corners} corners and not convex: non-convex polygons are "
+                         f"triangulated up to {MAX_CLIPPED_CORNERS} corners")
+        self.polygon = polygon
+
+
+def polygons(points, counts) -> tuple[np.ndarray, np.ndarray]:
+    """(triangles, polygon): (T, 3) int64 positions in `points`, and the
+    polygon each triangle comes from; polygons appear in order."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    counts = np.asarray(counts, dtype=np.int64)
+    starts = np.cumsum(counts) - counts
+    tris, polys = [], []
+    for n in np.unique(counts):
+        which = np.flatnonzero(counts == n)
+        if n == 3:
+            tris.append(starts[which, None] + np.arange(3))
+            polys.append(which)
+            continue
+        xy = _project(points[starts[which, None] + np.arange(n)])
+        fan = _convex(xy) | _flat(xy)
+        tris.append(_fans(starts[which[fan]], n))
+        polys.append(np.repeat(which[fan], n - 2))
+        if n == 4:                       # a concave quad: split at its reflex corner
+            t = _concave_quads(xy[~fan])
+            tris.append((starts[which[~fan], None, None] + t).reshape(-1, 3))
+            polys.append(np.repeat(which[~fan], 2))
+            continue
+        for k in which[~fan]:
+            if n > MAX_CLIPPED_CORNERS:
+                raise TooManyCorners(int(k), int(n))
+            local = ear_clip(_project(points[starts[k]:starts[k] + n][None])[0])
+            tris.append(starts[k] + local)
+            polys.append(np.full(len(local), k))
+    if not tris:
+        return np.empty((0, 3), np.int64), np.empty(0, np.int64)
+    tri, poly = np.concatenate(tris).reshape(-1, 3), np.concatenate(polys)
+    if len(poly) > 1 and np.any(poly[1:] < poly[:-1]):
+        order = np.argsort(poly, kind="stable")   # back to polygon order
+        tri, poly = tri[order], poly[order]
+    return tri, poly
+
+
+def strips(indices, restart, positions=False):
+    """(T, 3) triangles of the strips in `indices` (see the module docstring);
+    with positions=True also the position in `indices` where each one starts."""
+    s = np.asarray(indices, dtype=np.int64)
+    restart = np.asarray(restart, dtype=bool)
+    if len(s) < 3:
+        empty = np.empty((0, 3), np.int64)
+        return (empty, np.empty(0, np.int64)) if positions else empty
+    j = np.arange(len(s) - 2)
+    keep = ~(restart[j] | restart[j + 1] | restart[j + 2])
+    last = np.maximum.accumulate(np.where(restart, np.arange(len(s)), -1))
+    odd = (j - last[j] - 1) % 2 == 1
+    a, b, c = s[j], s[j + 1], s[j + 2]
+    tri = np.stack([np.where(odd, b, a), np.where(odd, a, b), c], axis=1)
+    keep &= (a != b) & (b != c) & (a != c)
+    return (tri[keep], j[keep]) if positions else tri[keep]
+
+
+def _fans(starts, n):
+    j = np.arange(1, n - 1)
+    first = np.repeat(starts, n - 2)
+    return np.stack([first, first + np.tile(j, len(starts)), first + np.tile(j + 1, len(starts))], axis=1)
+
+
+def _project(p):
+    """(m, n, 3) polygons -> (m, n, 2) in the plane of each one's dominant normal
+    axis, mirrored where needed so that every polygon winds counter-clockwise."""
+    nxt = np.roll(p, -1, axis=1)
+    normal = np.cross(p, nxt).sum(axis=1)                      # Newell's method
+    axis = np.argmax(np.abs(normal), axis=1)
+    keep = np.array([[1, 2], [2, 0], [0, 1]])[axis]            # the other two axes, cyclic
+    xy = np.take_along_axis(p, keep[:, None, :], axis=2)
+    flip = np.take_along_axis(normal, axis[:, None], axis=1)[:, 0] < 0
+    xy[flip, :, 0] *= -1.0
+    return xy
+
+
+def _turns(xy):
+    """Cross product of the edges in and out of each corner of (m, n, 2) polygons."""
+    e = np.roll(xy, -1, axis=1) - xy
+    ep = np.roll(e, 1, axis=1)
+    return ep, e, ep[..., 0] * e[..., 1] - ep[..., 1] * e[..., 0]
+
+
+def _flat(xy):
+    """Polygons of no area (collinear or coincident corners): any split is as good."""
+    x, y = xy[..., 0], xy[..., 1]
+    area = (x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y).sum(axis=1)
+    size = np.ptp(xy, axis=1).max(axis=1)
+    return ~(np.abs(area) > 1e-12 * size * size)
+
+
+def _concave_quads(xy):
+    """(m, 2, 3) local triangles of quads with one reflex corner r: (r, r+1, r+2),
+    (r, r+2, r+3). A bow-tie (two reflex corners) has no right answer: its fan is kept."""
+    _, _, cross = _turns(xy)
+    r = np.where((cross < 0).sum(axis=1) == 1, np.argmin(cross, axis=1), 0)[:, None]
+    return np.stack([np.concatenate([r, r + 1, r + 2], axis=1),
+                     np.concatenate([r, r + 2, r + 3], axis=1)], axis=1) % 4
+
+
+def _convex(xy):
+    """Which (m, n, 2) counter-clockwise polygons are convex: no right turn, and
+    a total turn of one revolution (a pentagram turns left everywhere, twice)."""
+    ep, e, cross = _turns(xy)
+    dot = (ep * e).sum(axis=-1)
+    scale = np.linalg.norm(ep, axis=-1) * np.linalg.norm(e, axis=-1)
+    turn = np.arctan2(cross, dot).sum(axis=1)
+    return np.all(cross >= -1e-12 * scale, axis=1) & (np.abs(turn - 2 * np.pi) < 1e-6)
+
+
+def ear_clip(xy) -> np.ndarray:
+    """Triangles (n-2, 3) of local corner indices covering the counter-clockwise
+    polygon `xy` (n, 2). An ear is a convex corner whose triangle holds no other
+    non-convex corner; after each clip only the two neighbours change. Where no
+    ear is left (a self-intersecting or degenerate outline) the most convex
+    corner is clipped anyway, so the result always has n - 2 triangles."""
+    xy = np.asarray(xy, dtype=np.float64)
+    n = len(xy)
+    prev, nxt = list(range(-1, n - 1)), list(range(1, n + 1))
+    prev[0], nxt[-1] = n - 1, 0
+    alive = np.ones(n, dtype=bool)
+
+    def turn(i):
+        a, b, c = xy[prev[i]], xy[i], xy[nxt[i]]
+        return (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+
+    reflex = np.array([turn(i) <= 0 for i in range(n)])
+
+    def is_ear(i):
+        if reflex[i]:
+            return False
+        a, b, c = xy[prev[i]], xy[i], xy[nxt[i]]
+        others = np.flatnonzero(reflex & alive)
+        p = xy[others]
+        p = p[~((p == a).all(1) | (p == b).all(1) | (p == c).all(1))]
+        if not len(p):
+            return True
+        d1 = (b[0] - a[0]) * (p[:, 1] - a[1]) - (b[1] - a[1]) * (p[:, 0] - a[0])
+        d2 = (c[0] - b[0]) * (p[:, 1] - b[1]) - (c[1] - b[1]) * (p[:, 0] - b[0])
+        d3 = (a[0] - c[0]) * (p[:, 1] - c[1]) - (a[1] - c[1]) * (p[:, 0] - c[0])
+        return not np.any((d1 >= 0) & (d2 >= 0) & (d3 >= 0))
+
+    ear = [is_ear(i) for i in range(n)]
+    queue = [i for i in range(n - 1, -1, -1) if ear[i]]      # popped from the end: 0 first
+    out, left = [], n
+    while left > 3:
+        i = None
+        while queue:
+            k = queue.pop()
+            if alive[k] and ear[k]:
+                i = k
+                break
+        if i is None:                                         # no ear: clip the most convex corner
+            live = np.flatnonzero(alive)
+            i = int(live[np.argmax([turn(k) for k in live])])
+        a, c = prev[i], nxt[i]
+        out.append((a, i, c))
+        alive[i], ear[i] = False, False
+        nxt[a], prev[c] = c, a
+        left -= 1
+        for k in (a, c):
+            reflex[k] = turn(k) <= 0
+        for k in (c, a):
+            ear[k] = is_ear(k)
+            if ear[k]:
+                queue.append(k)
+    i = int(np.flatnonzero(alive)[0])
+    out.append((prev[i], i, nxt[i]))
+    return np.array(out, dtype=np.int64)

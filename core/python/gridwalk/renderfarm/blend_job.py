@@ -43,6 +43,7 @@ class BlendOnWorker(JobPlugin):
         self.blend = self.folder / self.blend_name
         self.blend.write_bytes(self.blend_bytes)
         self.blend_bytes = None
+        self.scene_loads += 1
 
     def teardown(self, worker):
         shutil.rmtree(self.folder, ignore_errors=True)

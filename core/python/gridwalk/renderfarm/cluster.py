@@ -13,7 +13,9 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+import signal
 import socket
+import threading
 from contextlib import contextmanager
 
 CONNECT_TIMEOUT = 10.0
@@ -64,6 +66,21 @@ def check_scheduler(address: str, timeout: float) -> None:
                         f"{timeout:g} s ({exc})") from None
 
 
+def start_local_cluster(LocalCluster, workers: int):
+    """A LocalCluster whose worker processes ignore SIGINT: Ctrl-C in a terminal
+    reaches the whole process group, and the workers must leave the cancel to
+    the client (which stops their tasks) instead of dying with tracebacks.
+    A process started with SIGINT ignored keeps it ignored (Python too)."""
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                            silence_logs=logging.ERROR)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+
+
 @contextmanager
 def connect(scheduler: str | None = None, local: int | None = None, timeout: float = CONNECT_TIMEOUT):
     """Yield (client, render threads per task: 0 where each worker decides)."""
@@ -88,8 +105,7 @@ def connect(scheduler: str | None = None, local: int | None = None, timeout: flo
     workers = cores if local is None else local
     if workers < 1:
         raise ValueError(f"--local must be at least 1 worker, got {workers}")
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    cluster = start_local_cluster(LocalCluster, workers)
     try:
         client = Client(cluster, set_as_default=False)
         try:

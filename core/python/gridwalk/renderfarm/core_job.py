@@ -48,6 +48,7 @@ class CoreTiles(JobPlugin):
                 scene = Scene(**self.scene_kwargs)
                 scene.accel(self.settings)
                 self._scene = scene
+                self.scene_loads += 1
         return self._scene
 
     def label(self, index) -> str:

@@ -33,6 +33,7 @@ class WorkerFigures:
     items: int = 0
     rays: int = 0
     seconds: float = 0.0          # time spent rendering
+    scene_loads: int = 0          # times the worker built (or wrote) the scene: 1, sent once
 
     @property
     def rays_per_second(self) -> float:
@@ -123,6 +124,7 @@ def _collect(client, job, store, futures, report, progress) -> dict:
         figures.items += 1
         figures.rays += result.get("rays") or 0
         figures.seconds += result.get("seconds") or 0.0
+        figures.scene_loads = max(figures.scene_loads, result["scene_loads"])
         report.done_by[item] = result["worker"]
         report.rendered.append(item)
         progress.step()
@@ -135,9 +137,9 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
     t0 = time.perf_counter()
     run_id = uuid.uuid4().hex[:12]
     plugin = job.plugin(run_id, threads)
-    client.register_plugin(plugin)
     futures = {}
     try:
+        client.register_plugin(plugin)
         if getattr(job, "needs_probe", False):
             futures = _submit(client, run_id, "probe", [PROBE])
             try:
@@ -164,9 +166,12 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
         wait_until_idle(client, run_id)
         raise
     finally:
-        client.unregister_worker_plugin(plugin.name)
+        try:
+            client.unregister_worker_plugin(plugin.name)
+        except (KeyError, ValueError):      # it never reached the workers
+            pass
     if failures:
-        named = "\n".join(f"  {failures[item]}" for item in sorted(failures, key=str))
+        named = "\n".join(f"  {failures[item]}" for item in sorted(failures))
         raise FarmError(f"{len(failures)} of {len(todo)} {job.what}s failed:\n{named}\n"
                         f"{len(report.rendered) + len(report.reused)} finished {job.what}s are kept in "
                         f"{store.folder}; run the same command again to render only the missing ones")

@@ -58,6 +58,7 @@ class JobPlugin(WorkerPlugin):
         self.lock = threading.Lock()
         self.stopped = set()
         self.running = set()
+        self.scene_loads = 0            # times the scene was built or written on this worker
 
     def transition(self, key, start, finish, **kwargs):
         if finish in STOPPED_STATES and start in ("executing", "long-running", "cancelled", "resumed"):
@@ -93,7 +94,7 @@ class JobPlugin(WorkerPlugin):
             raise TaskFailed(f"{self.label(item)} failed on worker {where}: {exc}") from None
         finally:
             self.running.discard(key)
-        result["worker"] = self.worker.address
+        result.update(worker=self.worker.address, scene_loads=self.scene_loads)
         return result
 
 

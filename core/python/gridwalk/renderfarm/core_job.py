@@ -10,7 +10,6 @@ for bit.
 from __future__ import annotations
 
 import dataclasses
-import time
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +23,6 @@ from . import plan
 from .jobplugin import JobPlugin, TaskStopped
 from .store import npy_bytes
 
-POLL_SECONDS = 0.02
 # Settings that change how a render is run, not the image it makes.
 NOT_IN_IMAGE = ("threads", "tile_size")
 
@@ -59,12 +57,10 @@ class CoreTiles(JobPlugin):
         x, y, w, h = self.rects[index]
         settings = self.settings.replace(region=(x, y, w, h), threads=self.render_threads())
         job = RenderJob(self.scene(), settings).start()
-        while not job.finished:
-            if self.stop_requested(key):
-                job.cancel()
-                raise TaskStopped(f"{self.label(index)} cancelled")
-            time.sleep(POLL_SECONDS)
-        image = job.wait()
+        with self.stoppable(key, job.cancel):
+            image = job.wait()                   # the GIL is released while the core renders
+        if self.stop_requested(key):
+            raise TaskStopped(f"{self.label(index)} cancelled")
         stats = job.stats
         return {"rgba": image[y:y + h, x:x + w].copy(), "rays": stats["rays"], "seconds": stats["seconds"]}
 

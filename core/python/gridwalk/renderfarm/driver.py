@@ -110,15 +110,14 @@ def _collect(client, job, store, futures, report, progress) -> dict:
     from distributed import as_completed
 
     failures = {}
-    for future in as_completed(futures, loop=client.loop):
+    for future, result in as_completed(futures, loop=client.loop, with_results=True, raise_errors=False):
         item = futures[future]
         if future.status == "error":
-            exc = future.exception()
+            exc = result[1] if isinstance(result, tuple) else result       # (type, exception, traceback)
             failures[item] = str(exc) if isinstance(exc, TaskFailed) else \
                 f"{job.what} {item}: {type(exc).__name__}: {exc}"
             progress.step(failed=True)
             continue
-        result = future.result()
         job.keep(store, item, result)
         figures = report.workers[result["worker"]]
         figures.items += 1

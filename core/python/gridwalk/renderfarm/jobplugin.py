@@ -9,16 +9,17 @@ plugin by name.
 The plugin also lets tasks stop when they are no longer wanted. Dask cannot
 interrupt a running Python function: when the client cancels a future (Ctrl-C)
 or goes away, the worker moves the running task to the state "cancelled" and
-tells its plugins. The plugin records the key, and the task, which checks
-stop_requested() while it waits on the renderer or on Blender, stops them.
-`running` counts the tasks still inside a task function, so the client can
-wait until no worker is busy with its job.
+tells its plugins. The plugin records the key and calls the stop function the
+task registered (`with plugin.stoppable(key, job.cancel): job.wait()`); a task
+may also poll stop_requested(). `running` counts the tasks still inside a task
+function, so the client can wait until no worker is busy with its job.
 """
 from __future__ import annotations
 
 import os
 import socket
 import threading
+from contextlib import contextmanager
 
 from distributed import get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
@@ -58,16 +59,31 @@ class JobPlugin(WorkerPlugin):
         self.lock = threading.Lock()
         self.stopped = set()
         self.running = set()
+        self.stop_functions = {}
         self.scene_loads = 0            # times the scene was built or written on this worker
 
     def transition(self, key, start, finish, **kwargs):
         if finish in STOPPED_STATES and start in ("executing", "long-running", "cancelled", "resumed"):
             self.stopped.add(key)
+            stop = self.stop_functions.get(key)
+            if stop is not None:
+                stop()
         elif finish == "executing":
             self.stopped.discard(key)
 
     def stop_requested(self, key) -> bool:
         return key in self.stopped
+
+    @contextmanager
+    def stoppable(self, key, stop):
+        """Within the block, a cancel of task `key` calls stop() (from the worker's event loop)."""
+        self.stop_functions[key] = stop
+        try:
+            if key in self.stopped:         # cancelled before the function was registered
+                stop()
+            yield
+        finally:
+            self.stop_functions.pop(key, None)
 
     def render_threads(self) -> int:
         """Threads one task renders with: the client's choice, else this

@@ -21,11 +21,10 @@ MANIFEST = ".gridwalk-farm.json"
 
 
 def write_atomically(path: Path, data: bytes) -> None:
+    """Write to a temporary name, then rename: a reader (or a re-run after the
+    process was killed) sees the old file or the whole new one, never a part."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-        os.fsync(f.fileno())
+    tmp.write_bytes(data)
     os.replace(tmp, path)
 
 
@@ -62,7 +61,7 @@ class ResultStore:
         path = self.folder / (stem + suffix)
         write_atomically(path, data)
         self.records[stem] = {"file": path.name, "digest": self.digest}
-        write_atomically(self.folder / MANIFEST, json.dumps(self.records, indent=1, sort_keys=True).encode())
+        write_atomically(self.folder / MANIFEST, json.dumps(self.records, separators=(",", ":")).encode())
         return path
 
     def remove(self) -> None:

@@ -35,7 +35,7 @@ import numpy as np
 from bench_common import NPROC, ROOT, SPD, log, machine_info, parallel_capacity, table
 
 import gridwalk as gw
-from gridwalk.renderfarm import driver, make_job
+from gridwalk.renderfarm import driver, make_job, plan
 from gridwalk.renderfarm.core_job import load_scene
 
 BEGIN, END = "<!-- bench_farm:begin -->", "<!-- bench_farm:end -->"
@@ -87,7 +87,23 @@ def heavy_frame(s: dict, clients: dict, work: Path) -> dict:
             log(f"heavy frame, {workers} worker(s): {dt:.2f} s")
     rays = sum(w.rays for w in runs[1][0][1].workers.values())
     return dict(scene=s["scene"], res=s["res"], settings=settings, tiles=s["tiles"], plain=plain, runs=runs,
-                rays=rays, best={n: min(dt for dt, _ in runs[n]) for n in runs})
+                rays=rays, image=reference, best={n: min(dt for dt, _ in runs[n]) for n in runs})
+
+
+def tiles_picture(h: dict, out: Path) -> None:
+    """The 2-worker image with each tile outlined in the colour of the worker that rendered it."""
+    from PIL import Image, ImageDraw
+
+    from gridwalk.cli import to_srgb8
+
+    dt, report = min(h["runs"][2], key=lambda run: run[0])
+    image = Image.fromarray(to_srgb8(h["image"][..., :3]), "RGB")
+    draw = ImageDraw.Draw(image)
+    colours = dict(zip(sorted(report.workers), [(255, 170, 0), (0, 200, 255), (120, 255, 80), (255, 60, 160)]))
+    for index, (x, y, w, h_) in enumerate(plan.tiles(h["res"], h["res"], h["tiles"])):
+        draw.rectangle([x + 1, y + 1, x + w - 2, y + h_ - 2], outline=colours.get(report.done_by[index]), width=2)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    image.save(out)
 
 
 def task_cost(s: dict, client, work: Path) -> dict:
@@ -244,6 +260,7 @@ def main(argv=None) -> int:
             client.close()
             cluster.close()
         shutil.rmtree(work, ignore_errors=True)
+    tiles_picture(h, Path(args.out) / "images" / "farm_tiles.png")
     cap_after = parallel_capacity()
     block = markdown(info, info["capacity"], cap_after, h, c, b, args.quick)
     doc.write_text(text[:text.index(BEGIN)] + block + text[text.index(END) + len(END):])

@@ -59,11 +59,24 @@ def local_cluster(workers: int):
     return cluster, Client(cluster, set_as_default=False)
 
 
+def cpu_seconds() -> float:
+    """CPU time of this process (run on each worker through client.run)."""
+    import psutil
+
+    t = psutil.Process().cpu_times()
+    return t.user + t.system
+
+
 def farm_once(client, job_args: dict, **options) -> tuple[float, driver.FarmReport]:
+    """(wall seconds, report); report.cores: the CPU the workers got during the run, in cores."""
     job = make_job(**job_args, **options)
+    before = client.run(cpu_seconds)
     t0 = time.perf_counter()
     report = driver.run(client, job, threads=1, quiet=True)
-    return time.perf_counter() - t0, report
+    dt = time.perf_counter() - t0
+    after = client.run(cpu_seconds)
+    report.cores = sum(after[w] - before[w] for w in before if w in after) / dt
+    return dt, report
 
 
 def heavy_frame(s: dict, clients: dict, work: Path) -> dict:
@@ -92,7 +105,8 @@ def heavy_frame(s: dict, clients: dict, work: Path) -> dict:
             if not np.array_equal(image, reference):
                 raise RuntimeError(f"the image of run {r}, {workers} workers, differs from the plain render")
             runs[workers].append((dt, report, cores))
-            log(f"heavy frame, {workers or 'plain'} worker(s): {dt:.2f} s ({cores:.2f} effective cores before)")
+            got = f", the workers got {report.cores:.2f} cores" if report else ""
+            log(f"heavy frame, {workers or 'plain'} worker(s): {dt:.2f} s ({cores:.2f} effective cores before{got})")
     rays = sum(w.rays for w in runs[1][0][1].workers.values())
     ratios = [one[0] / two[0] for one, two in zip(runs[1], runs[2])]
     return dict(scene=s["scene"], res=s["res"], settings=settings, tiles=s["tiles"], runs=runs, rays=rays,
@@ -183,7 +197,9 @@ def model_rows(h: dict, c: dict) -> tuple:
 def markdown(info, cap_before, cap_after, h, c, b, quick) -> str:
     s = h["settings"]
     speedup = h["best"][1] / h["best"][2]
-    runs = {n: ", ".join(f"{dt:.2f} ({cores:.1f})" for dt, _, cores in h["runs"][n]) for n in (0, 1, 2)}
+    runs = {n: ", ".join(f"{dt:.2f} ({cores:.1f}" + (f"; {rep.cores:.2f})" if rep else ")")
+                         for dt, rep, cores in h["runs"][n]) for n in (0, 1, 2)}
+    got = {n: min(h["runs"][n], key=lambda run: run[0])[1].cores for n in (1, 2)}
     lines = [BEGIN, "",
              f"Measured by `core/bench/bench_farm.py{' --quick' if quick else ''}` on {info['cpu']} "
              f"(`nproc` = {NPROC}), gridwalk {info['gridwalk']}, Python {info['python']}. "
@@ -196,14 +212,18 @@ def markdown(info, cap_before, cap_after, h, c, b, quick) -> str:
              f"in {h['tiles']} tiles. Each worker is a process with one render thread. The runs go in rounds "
              f"(plain, 1 worker, 2 workers) x {len(h['runs'][1])}; the best of each is kept. The farm's image "
              "equals the plain render's bit for bit in every run.", ""]
-    lines += table(["configuration", "seconds (best)", "all runs (effective cores just before)", "speed-up"], [
+    lines += table(["configuration", "seconds (best)",
+                    "all runs (effective cores just before; CPU the workers got, in cores)", "speed-up"], [
         ("plain render, one process, 1 thread", f"{h['best'][0]:.2f}", runs[0], ""),
         ("farm, 1 worker", f"{h['best'][1]:.2f}", runs[1], "1.00x"),
         ("farm, 2 workers", f"{h['best'][2]:.2f}", runs[2], f"**{speedup:.2f}x**"),
     ])
     lines += [f"Target: at least 1.8x on 2 workers: **{'met' if speedup >= 1.8 else 'NOT met'}** "
               f"({speedup:.2f}x best against best; the median of the rounds' own ratios is "
-              f"{h['round_ratio']:.2f}x). The farm on 1 worker costs {h['best'][1] / h['best'][0] - 1:+.1%} "
+              f"{h['round_ratio']:.2f}x). In the best runs the workers got {got[1]:.2f} and {got[2]:.2f} "
+              "cores of CPU (other work on the machine took the rest); the speed-up divided by the ratio of "
+              f"the CPU they got is {speedup * got[1] / got[2]:.2f} (1.00: a core given to 2 workers does as "
+              f"much as one given to 1 worker). The farm on 1 worker costs {h['best'][1] / h['best'][0] - 1:+.1%} "
               "against the plain render (sending the job, tasks, keeping tiles on disk, putting them together).",
               "",
               "### 2. The fixed cost of a task", "",

@@ -3,8 +3,9 @@
 #
 #   .ci/setup_blender.sh dist/gridwalk-<version>-cp311-cp311-<platform>.whl
 #
-#   - Debian's `blender` (3.4.1, linked to the system Python 3.11) and `Xvfb`,
-#     with apt-get, only when either command is missing;
+#   - Debian's `blender` (3.4.1, linked to the system Python 3.11), `Xvfb` and
+#     `node` (to run the Flamenco job type's compiler script), with apt-get,
+#     only when a command is missing;
 #   - .venv-bpy45: `bpy` 4.5 LTS from PyPI;  .venv-bpy50: `bpy` 5.0.1 from PyPI;
 #   - .venv-blender34: a venv of the system Python that Debian's blender embeds,
 #     holding numpy and gridwalk for it (the tests pass its site-packages to
@@ -22,10 +23,11 @@ SUDO=""
 
 step() { echo "setup_blender: $*"; }
 
-if ! command -v blender >/dev/null || ! command -v Xvfb >/dev/null || ! "$SYSTEM_PY" -c "import ensurepip" 2>/dev/null; then
-  step "apt-get install blender xvfb python3-venv"
+if ! command -v blender >/dev/null || ! command -v Xvfb >/dev/null || ! command -v node >/dev/null \
+    || ! "$SYSTEM_PY" -c "import ensurepip" 2>/dev/null; then
+  step "apt-get install blender xvfb python3-venv nodejs"
   $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq blender xvfb python3-venv >/dev/null
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq blender xvfb python3-venv nodejs >/dev/null
 fi
 
 # make_venv DIR PYTHON PIP_SPEC VERSION_GLOB: a venv whose `bpy` (or, with

@@ -3,9 +3,10 @@ ray tracer. The native core is private (gridwalk._core); this package is the API
 """
 from .model import Camera, Light, Material
 from .render import RenderJob, TileResult, render
+from .renderfarm import FarmError, farm
 from .scene import BuildCancelled, Hits, Scene
 from .settings import RenderSettings
 
 __all__ = ["Camera", "Light", "Material", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
-           "BuildCancelled"]
+           "BuildCancelled", "farm", "FarmError"]
 __version__ = "0.1.0"

@@ -1,7 +1,8 @@
-"""Command line: python -m gridwalk {demo, render, validate, info} ...
+"""Command line: python -m gridwalk {demo, render, farm, validate, info} ...
 
     python -m gridwalk demo -o demo.png                 the built-in balls scene, distribution effects on
     python -m gridwalk render SCENE.nff -o out.png      any NFF / PLY file, every RenderSettings field an option
+    python -m gridwalk farm SCENE -o OUT                the same on a Dask cluster (tiles, or a .blend's frames)
     python -m gridwalk validate SCENE                   cross-check the triangles against Embree
     python -m gridwalk info SCENE                       counts, bounds, camera and the grid
 
@@ -287,6 +288,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_settings_options(p)
     p.set_defaults(func=cmd_render)
+
+    from .renderfarm.cli import add_parser as add_farm_parser
+    add_farm_parser(sub, add_settings_options, settings_from_args)
 
     p = sub.add_parser("validate", help="cross-check the scene's triangle intersections against Embree")
     p.add_argument("scene", help="scene file (.nff or .ply)")

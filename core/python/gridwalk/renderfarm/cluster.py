@@ -1,0 +1,116 @@
+"""The Dask cluster a farm run uses: an existing one, or a LocalCluster.
+
+    with connect(scheduler="tcp://host:8786") as (client, threads): ...
+    with connect(local=4) as (client, threads): ...   # 4 worker processes here
+
+A wrong scheduler address fails within seconds, with a message that says
+what was tried: the address is parsed, the host looked up and the port
+opened before Dask's client is made (Dask alone would retry for its whole
+timeout and then report a bare timeout).
+"""
+from __future__ import annotations
+
+import asyncio
+import logging
+import os
+import signal
+import socket
+import threading
+from contextlib import contextmanager
+
+CONNECT_TIMEOUT = 10.0
+START_HINT = ("start one with `dask scheduler` (it listens on tcp://HOST:8786) and workers with "
+              "`dask worker tcp://HOST:8786`, or leave out --scheduler to run a local cluster")
+
+
+class FarmError(RuntimeError):
+    """The farm could not run, or some of its tiles or frames failed."""
+
+
+def check_scheduler(address: str, timeout: float) -> None:
+    """FarmError unless a Dask scheduler answers at `address` within `timeout` s."""
+    from distributed.comm import connect
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address)
+        host, port = parse_host_port(location)
+    except ValueError as exc:
+        raise FarmError(f"--scheduler {address!r} is not a scheduler address ({exc}); "
+                        "expected tcp://HOST:PORT") from None
+    if scheme not in ("tcp", "tls"):
+        raise FarmError(f"--scheduler {address!r}: unsupported scheme {scheme!r}; expected tcp://HOST:PORT")
+    if not 0 < port < 65536:
+        raise FarmError(f"--scheduler {address!r}: port {port} is not a TCP port (1-65535)")
+    try:
+        socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as exc:
+        raise FarmError(f"cannot reach the Dask scheduler at {address}: unknown host {host!r} ({exc.strerror})") \
+            from None
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except OSError as exc:
+        reason = "connection refused: nothing listens on that port" if isinstance(exc, ConnectionRefusedError) \
+            else (exc.strerror or str(exc) or type(exc).__name__)
+        raise FarmError(f"cannot reach the Dask scheduler at {address}: {reason}; {START_HINT}") from None
+
+    async def handshake():
+        comm = await connect(address, timeout=timeout)
+        await comm.close()
+
+    try:
+        asyncio.run(handshake())
+    except (OSError, TimeoutError) as exc:
+        raise FarmError(f"{address} accepts connections but no Dask scheduler answers there within "
+                        f"{timeout:g} s ({exc})") from None
+
+
+def start_local_cluster(LocalCluster, workers: int):
+    """A LocalCluster whose worker processes ignore SIGINT: Ctrl-C in a terminal
+    reaches the whole process group, and the workers must leave the cancel to
+    the client (which stops their tasks) instead of dying with tracebacks.
+    A process started with SIGINT ignored keeps it ignored (Python too)."""
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                            silence_logs=logging.ERROR)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
+def connect(scheduler: str | None = None, local: int | None = None, timeout: float = CONNECT_TIMEOUT):
+    """Yield (client, render threads per task: 0 where each worker decides)."""
+    from distributed import Client, LocalCluster
+
+    if scheduler and local:
+        raise ValueError("give either a scheduler address or a number of local workers, not both")
+    if scheduler:
+        check_scheduler(scheduler, timeout)
+        client = Client(scheduler, timeout=timeout, set_as_default=False)
+        try:
+            try:
+                client.wait_for_workers(1, timeout=timeout)
+            except TimeoutError:
+                raise FarmError(f"the Dask scheduler at {scheduler} has no workers (waited {timeout:g} s): "
+                                f"start some with `dask worker {scheduler}`") from None
+            yield client, 0
+        finally:
+            client.close()
+        return
+    cores = os.cpu_count() or 1
+    workers = cores if local is None else local
+    if workers < 1:
+        raise ValueError(f"--local must be at least 1 worker, got {workers}")
+    cluster = start_local_cluster(LocalCluster, workers)
+    try:
+        client = Client(cluster, set_as_default=False)
+        try:
+            yield client, max(1, cores // workers)
+        finally:
+            client.close()
+    finally:
+        cluster.close()

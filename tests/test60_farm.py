@@ -1,0 +1,184 @@
+"""Distributed rendering on a real Dask LocalCluster with 2 worker processes:
+NFF tiles put together equal the single-machine render bit for bit, the scene
+reaches each worker once, a killed worker changes nothing, a bad scheduler
+address fails in seconds, Ctrl-C stops every task and a re-run renders only
+the missing tiles, and the command starts its own cluster."""
+import logging
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+from distributed import Client, LocalCluster
+
+import gridwalk
+from gridwalk import FarmError, RenderSettings
+from gridwalk.renderfarm import plan
+from gridwalk.renderfarm.core_job import load_scene
+from test13_cli import SPD_DIR, gridwalk as run_cli, needs_spd
+
+pytestmark = needs_spd
+
+HEAVY_SCENE, HEAVY_SIZE = SPD_DIR / "balls_s3.nff", (160, 120)
+HEAVY = RenderSettings(aa="jittered", aa_samples=5, shadow="area", shadow_samples=2)
+HEAVY_OPTIONS = ["--width", 160, "--height", 120, "--aa", "jittered", "--aa-samples", 5, "--shadow", "area",
+                 "--shadow-samples", 2]
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """(scheduler address, client) of a LocalCluster: 2 worker processes, each with a nanny."""
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR) as local, Client(local, set_as_default=False) as client:
+        yield local.scheduler_address, client
+
+
+def single_render(scene_path, size, settings):
+    kwargs, _ = load_scene(scene_path, *size)
+    return gridwalk.render(gridwalk.Scene(**kwargs), settings)
+
+
+@pytest.fixture(scope="module")
+def heavy_reference():
+    return single_render(HEAVY_SCENE, HEAVY_SIZE, HEAVY)
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_tiles_cover_every_pixel_exactly_once():
+    for width, height, count in [(160, 120, 16), (97, 61, 7), (5, 300, 6), (64, 64, 1), (10, 3, 30)]:
+        rects = plan.tiles(width, height, count)
+        assert len(rects) == count
+        cover = np.zeros((height, width), int)
+        for x, y, w, h in rects:
+            assert w >= 1 and h >= 1
+            cover[y:y + h, x:x + w] += 1
+        assert np.all(cover == 1), (width, height, count)
+    assert plan.tile_grid(100, 100, 7) == (7, 1)          # a prime count: strips
+    assert plan.parse_frames("1-3,8, 10..11") == [1, 2, 3, 8, 10, 11]
+    for bad in ("3-1", "a-b", "1-"):
+        with pytest.raises(ValueError, match="--frames"):
+            plan.parse_frames(bad)
+
+
+def test_nff_tiles_put_together_equal_the_single_machine_render(cluster, tmp_path):
+    address, _ = cluster
+    settings = RenderSettings(aa="adaptive", shadow="area", shadow_samples=2)   # lattice points shared by tiles
+    reference = single_render(SPD_DIR / "balls_s2.nff", (96, 72), settings)
+    for tiles in (6, 7):
+        out = tmp_path / f"tiles{tiles}.npy"
+        report = gridwalk.farm(SPD_DIR / "balls_s2.nff", out, settings=settings, tiles=tiles, width=96, height=72,
+                               scheduler=address)
+        image = np.load(out)
+        assert image.dtype == np.float32 and np.array_equal(image, reference), f"{tiles} tiles differ"
+        assert sorted(report.rendered) == list(range(tiles)) and not report.reused
+        assert not (tmp_path / f"tiles{tiles}.npy.parts").exists()        # the kept tiles are cleaned up
+        # The scene reached each worker once: every worker that rendered built it exactly once.
+        assert all(w.scene_loads == 1 for w in report.workers.values()), report.workers
+        assert sum(w.items for w in report.workers.values()) == tiles
+
+
+def test_a_killed_worker_leaves_the_output_identical(cluster, heavy_reference, tmp_path):
+    address, client = cluster
+    out = tmp_path / "killed.npy"
+    outcome = {}
+
+    def render():
+        try:
+            outcome["report"] = gridwalk.farm(HEAVY_SCENE, out, settings=HEAVY, tiles=8, width=HEAVY_SIZE[0],
+                                              height=HEAVY_SIZE[1], scheduler=address)
+        except BaseException as exc:           # handed to the test thread
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=render)
+    thread.start()
+    busy = {}
+    deadline = time.monotonic() + 60
+    while not busy and time.monotonic() < deadline:       # a worker in the middle of a tile
+        busy = {w: keys for w, keys in client.run(
+            lambda dask_worker: [ts.key for ts in dask_worker.state.executing if "gridwalk-tile" in ts.key]).items()
+            if keys}
+        time.sleep(0.01)
+    assert busy, "no worker ever ran a tile"
+    victim, keys = next(iter(busy.items()))
+    pid = client.run(os.getpid, workers=[victim])[victim]
+    os.kill(pid, signal.SIGKILL)
+    thread.join(timeout=120)
+    assert not thread.is_alive()
+    assert "error" not in outcome, outcome.get("error")
+    report = outcome["report"]
+    killed_tile = int(keys[0].rsplit("-", 1)[1])
+    assert report.done_by[killed_tile] != victim           # its tile was rendered again, elsewhere
+    assert np.array_equal(np.load(out), heavy_reference)
+    client.wait_for_workers(2, timeout=60)                  # the nanny restarted it, for the next tests
+
+
+def test_a_bad_scheduler_address_fails_within_seconds_with_a_clear_message(tmp_path):
+    port = free_port()
+    t0 = time.monotonic()
+    run = run_cli("farm", SPD_DIR / "balls_s1.nff", "-o", tmp_path / "x.png", "--scheduler", f"tcp://127.0.0.1:{port}")
+    elapsed = time.monotonic() - t0
+    assert run.returncode == 1 and elapsed < 15, (run.returncode, elapsed)
+    message = run.stderr.strip()
+    assert message == (f"gridwalk: error: cannot reach the Dask scheduler at tcp://127.0.0.1:{port}: connection "
+                       "refused: nothing listens on that port; start one with `dask scheduler` (it listens on "
+                       "tcp://HOST:8786) and workers with `dask worker tcp://HOST:8786`, or leave out --scheduler "
+                       "to run a local cluster"), message
+    for address, expected in [("tcp://no-such-host.invalid:8786", "unknown host 'no-such-host.invalid'"),
+                              ("tcp//farm", "is not a scheduler address"),
+                              ("http://127.0.0.1:8786", "unsupported scheme 'http'"),
+                              ("tcp://127.0.0.1:99999", "port 99999 is not a TCP port")]:
+        t0 = time.monotonic()
+        with pytest.raises(FarmError, match=expected):
+            gridwalk.farm(SPD_DIR / "balls_s1.nff", tmp_path / "x.png", scheduler=address)
+        assert time.monotonic() - t0 < 10
+
+
+def test_ctrl_c_stops_every_task_and_a_rerun_renders_only_the_missing_tiles(cluster, heavy_reference, tmp_path):
+    address, client = cluster
+    out = tmp_path / "interrupted.npy"
+    argv = [sys.executable, "-m", "gridwalk", "farm", HEAVY_SCENE, "-o", out, "--tiles", 16, "--scheduler", address,
+            *HEAVY_OPTIONS]
+    proc = subprocess.Popen([str(a) for a in argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    seen = ""
+    try:
+        while " 2/16 tiles" not in seen and proc.poll() is None:
+            seen += proc.stderr.read(1)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130 and "gridwalk: cancelled" in err, seen + err
+    running = client.run(lambda dask_worker: dask_worker.state.executing_count)
+    assert set(running.values()) == {0}, f"tasks still running after Ctrl-C: {running}"
+    kept = sorted((tmp_path / "interrupted.npy.parts").glob("tile_*.npy"))
+    assert 2 <= len(kept) < 16
+
+    report = gridwalk.farm(HEAVY_SCENE, out, settings=HEAVY, tiles=16, width=HEAVY_SIZE[0], height=HEAVY_SIZE[1],
+                           scheduler=address)
+    assert sorted(report.reused) == [int(p.stem[5:]) for p in kept]
+    assert sorted(report.reused + report.rendered) == list(range(16))
+    assert np.array_equal(np.load(out), heavy_reference)
+
+
+def test_farm_command_starts_a_local_cluster_and_reports_progress_and_rays_per_worker(tmp_path):
+    out = tmp_path / "local.npy"
+    run = run_cli("farm", SPD_DIR / "balls_s1.nff", "-o", out, "--local", 2, "--tiles", 8, "--width", 64,
+                  "--height", 48, "--aa", "jittered", "--aa-samples", 2)
+    assert run.returncode == 0, run.stderr
+    reference = single_render(SPD_DIR / "balls_s1.nff", (64, 48), RenderSettings(aa="jittered", aa_samples=2))
+    assert np.array_equal(np.load(out), reference)
+    assert "8/8 tiles" in run.stderr and "farm [" in run.stderr           # the progress bar
+    per_worker = [line for line in run.stdout.splitlines() if line.strip().startswith("worker tcp://")]
+    assert len(per_worker) == 2 and all(line.endswith("Mrays/s") for line in per_worker), run.stdout
+    assert sum(int(line.split(": ")[1].split(" tiles")[0]) for line in per_worker) == 8

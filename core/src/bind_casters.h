@@ -1,5 +1,5 @@
 // nanobind type casters for the core's small value types: Vec3 from any
-// sequence of 3 numbers (to a tuple), Region from 4 integers (to a tuple).
+// sequence of 3 numbers (to a tuple; Vec3d keeps double), Region from 4 integers (to a tuple).
 // The gridwalk package checks shapes first and names the field; a caster
 // that fails makes nanobind raise TypeError.
 #pragma once
@@ -40,6 +40,20 @@ struct type_caster<gw::Vec3> {
         return true;
     }
     static handle from_cpp(const gw::Vec3& v, rv_policy, cleanup_list*) noexcept {
+        return make_tuple(v.x, v.y, v.z).release();
+    }
+};
+
+template <>
+struct type_caster<gw::Vec3d> {
+    NB_TYPE_CASTER(gw::Vec3d, const_name("tuple[float, float, float]"))
+    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+        double v[3];
+        if (!read_sequence(src, v, 3)) return false;
+        value = gw::Vec3d(v[0], v[1], v[2]);
+        return true;
+    }
+    static handle from_cpp(const gw::Vec3d& v, rv_policy, cleanup_list*) noexcept {
         return make_tuple(v.x, v.y, v.z).release();
     }
 };

@@ -251,4 +251,59 @@ def nan_scene():
     return {}
 
 
+CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
+FAR = (1e7, 1e7, 0.0)       # whole numbers: exact in float32 (spacing 1 at 1e7)
+
+
+def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR):
+    """Cubes, a sphere and a ground plane seen by one kind of camera (the
+    CAMERA_KINDS): the scene the camera tests compare with Cycles. "far"
+    moves everything 1e7 from the origin and keeps only geometry with whole
+    coordinates, which float32 holds exactly there."""
+    far = kind == "far"
+    scene = reset(resolution=(101, 101) if far else tuple(resolution))
+    offset = Vector(far_offset if far else (0.0, 0.0, 0.0))
+    cam = scene.camera
+    cam.location = offset + Vector((0.0, -10.0, 3.0))
+    cam.rotation_euler = (math.radians(76), 0.0, math.radians(12 if far else 0))
+    data = cam.data
+    data.lens = 35.0
+    if kind == "perspective":
+        data.sensor_fit, data.sensor_height = "VERTICAL", 24.0
+        data.shift_x, data.shift_y = 0.12, -0.08
+    elif kind == "orthographic":
+        data.type, data.ortho_scale = "ORTHO", 9.0
+        data.shift_x, data.shift_y = 0.1, 0.05
+    elif kind == "panoramic":
+        data.type = "PANO"
+        pano = data if hasattr(data, "panorama_type") else data.cycles      # Blender 4.x / 3.x
+        pano.panorama_type = "EQUIRECTANGULAR"
+        pano.longitude_min, pano.longitude_max = -1.2, 2.0
+        pano.latitude_min, pano.latitude_max = -0.6, 0.9
+    elif kind == "mirrored":
+        cam.scale = (-1.0, 1.0, 1.0)
+    elif kind == "pixel_aspect":
+        scene.render.pixel_aspect_x = 2.0
+    elif kind == "clipped":
+        data.clip_start, data.clip_end = 8.8, 14.0
+    elif far:
+        # Cycles starts its rays at clip_start along each ray in float32: 1e7 from
+        # the origin that point snaps to whole units, moving the rays off their
+        # line by up to clip_start (0.1 by default: most of a pixel here)
+        data.clip_start = 1e-3
+    for name, loc, size, spin in (("Left", (-3.0, 0.0, 0.0), 2.0, 0.0), ("Back", (2.0, 4.0, 1.0), 2.0, 0.4),
+                                  ("Far", (1.0, 12.0, 1.0), 4.0, 0.0)):
+        cube = link(cube_object(name, size))
+        cube.location = offset + Vector(loc)
+        cube.rotation_euler = (0.0, 0.0, 0.0 if far else spin)
+    ground = link(bpy.data.objects.new("Ground", bpy.data.meshes.new("Ground")))
+    ground.data.from_pydata([(-5, -4, -1), (5, -4, -1), (5, 7, -1), (-5, 7, -1)], [], [(0, 1, 2, 3)])
+    ground.location = offset
+    if not far:
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(0.6, -2.0, -0.1), segments=48, ring_count=24)
+    add_light("Key", "SUN", offset + Vector((0, 0, 9)), (0.5, 0.2, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
 BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

@@ -180,3 +180,19 @@ def test_camera_far_from_the_origin_keeps_its_direction():
 def test_bad_camera_values_are_refused_naming_the_field(changes, message):
     with pytest.raises(ValueError, match=message):
         gw.Camera(**changes).validate()
+
+
+def test_a_job_renders_another_view_of_the_scene_on_the_same_grid():
+    """The viewport's path: one scene and grid, a RenderJob per view. The
+    image equals the render of a scene built with that camera."""
+    view = gw.Camera(projection="orthographic", ortho_height=3.0, eye=(2, -8, 1), target=(0, 0, 0),
+                     width=40, height=30)
+    scene = sphere_scene(gw.Camera(width=8, height=8))
+    settings = gw.RenderSettings(aa="jittered", aa_samples=2, threads=2)
+    job = gw.RenderJob(scene, settings, camera=view)
+    assert job.accel is gw.RenderJob(scene, settings).accel              # built once, shared
+    image = job.start().wait()
+    assert image.shape == (30, 40, 4) and image[..., 3].sum() > 50
+    np.testing.assert_array_equal(image, gw.render(sphere_scene(view), settings))
+    with pytest.raises(ValueError, match="Camera.ortho_height must be > 0"):
+        gw.RenderJob(scene, settings, camera=gw.Camera(projection="orthographic", ortho_height=0.0))

@@ -185,6 +185,7 @@ NB_MODULE(_core, m) {
 
     nb::class_<RenderJob>(m, "RenderJob")
         .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&>())
+        .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&, const CameraDesc&>())
         .def("start", &RenderJob::start)
         .def("poll", [](RenderJob& j) {
             std::vector<std::tuple<int, int, int, int>> out;

@@ -12,6 +12,7 @@ Blender's render border becomes RenderSettings.region. A cancel (test_break)
 is honoured between the stages and, through streaming.run, while rendering.
 """
 import os
+import sys
 import time
 
 import bpy
@@ -71,6 +72,35 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)   # required since Blender 4.4
         self.writer = None                  # the current render's ResultWriter
+        self.viewport = None                # viewport.ViewportSession, for Rendered shading
+
+    def __del__(self):
+        # The viewport closed, shading or engine switched, file loaded, Blender quits:
+        # Blender frees the engine; the session's threads stop and are joined.
+        session = self.__dict__.get("viewport")
+        if session is not None:
+            session.stop()
+
+    # -- Rendered viewport shading (viewport.py; never called in `blender -b`) --
+    def _viewport(self):
+        if self.viewport is None:
+            from .viewport import ViewportSession
+            self.viewport = ViewportSession(self)
+        return self.viewport
+
+    def view_update(self, context, depsgraph):
+        try:
+            self._viewport().update(depsgraph)
+        except Exception as exc:           # shown in the viewport, never raised into Blender
+            print(f"Gridwalk viewport: {exc}")
+            self._viewport().message = f"Gridwalk: {exc}"
+
+    def view_draw(self, context, depsgraph):
+        try:
+            from . import viewport_draw
+            viewport_draw.draw(self, self._viewport(), context, depsgraph)
+        except Exception as exc:
+            print(f"Gridwalk viewport: {exc}")
 
     def update_render_passes(self, scene=None, renderlayer=None):
         for p in passes.enabled(renderlayer):
@@ -163,9 +193,21 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
               f"render {job.stats['seconds']:.3f} s, {streaming.stats_text(job)}")
 
 
+@bpy.app.handlers.persistent
+def stop_viewports(*_):
+    """Before a file loads (and on unregister): stop every viewport render."""
+    viewport = sys.modules.get(f"{__package__}.viewport")     # never imported in `blender -b`
+    if viewport is not None:
+        viewport.stop_all()
+
+
 def register():
     bpy.utils.register_class(GridwalkRenderEngine)
+    bpy.app.handlers.load_pre.append(stop_viewports)
 
 
 def unregister():
+    if stop_viewports in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.remove(stop_viewports)
+    stop_viewports()
     bpy.utils.unregister_class(GridwalkRenderEngine)

@@ -75,7 +75,22 @@ class GRIDWALK_RENDER_PT_performance(SettingsPanel, bpy.types.Panel):
         self.layout.prop(context.scene.gridwalk, "memory_limit")
 
 
-SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_acceleration, GRIDWALK_RENDER_PT_performance)
+class GRIDWALK_RENDER_PT_viewport(GridwalkPanel, bpy.types.Panel):
+    """Rendered viewport shading: samples, the coarse first pass, Blender's pixel size."""
+    bl_label = "Viewport"
+    bl_context = "render"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        col = layout.column()
+        col.prop(context.scene.gridwalk, "viewport_samples", text="Samples")
+        col.prop(context.scene.gridwalk, "viewport_start_pixels")
+        col.prop(context.scene.render, "preview_pixel_size", text="Pixel Size")
+
+
+SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,
+                   GRIDWALK_RENDER_PT_performance)
 
 
 class GRIDWALK_OBJECT_PT_settings(GridwalkPanel, bpy.types.Panel):

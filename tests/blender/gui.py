@@ -42,17 +42,23 @@ def user_profile(home: Path) -> dict:
     return env
 
 
-def screenshot(out: Path, timeout: float = 300) -> Path:
-    out = Path(out).resolve()
+def run_gui(script: str, env: dict, timeout: float = 300):
+    """Run scripts/<script> in Blender's GUI under a new Xvfb; `env` adds
+    variables. Returns the finished process (fails on a non-zero exit)."""
     xvfb, display = start_xvfb()
     try:
         with tempfile.TemporaryDirectory() as home:
-            env = dict(user_profile(Path(home)), DISPLAY=display, SHOT=str(out))
-            run(["blender", "--window-geometry", "0", "0", str(SIZE[0]), str(SIZE[1]), "-noaudio",
-                 "--python", str(SCRIPTS / "gui_screenshot.py")], env, timeout=timeout)
+            full_env = dict(user_profile(Path(home)), DISPLAY=display, **env)
+            return run(["blender", "--window-geometry", "0", "0", str(SIZE[0]), str(SIZE[1]), "-noaudio",
+                        "--python", str(SCRIPTS / script)], full_env, timeout=timeout)
     finally:
         xvfb.terminate()
         xvfb.wait(timeout=10)
+
+
+def screenshot(out: Path, timeout: float = 300) -> Path:
+    out = Path(out).resolve()
+    run_gui("gui_screenshot.py", {"SHOT": str(out)}, timeout)
     return out
 
 

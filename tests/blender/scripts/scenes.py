@@ -12,8 +12,14 @@ from mathutils import Euler, Vector
 from blender_addon.scripting import principled_material
 
 
-def reset(camera=True, resolution=(64, 48)):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
+def reset(camera=True, resolution=(64, 48), factory=True):
+    """An empty scene (factory settings; factory=False keeps the preferences and
+    add-ons, as the GUI tests need, and deletes the current scene's objects)."""
+    if factory:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+    else:
+        for obj in list(bpy.data.objects):
+            bpy.data.objects.remove(obj)
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y = resolution
     scene.render.resolution_percentage = 100
@@ -302,6 +308,43 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR)
     if not far:
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(0.6, -2.0, -0.1), segments=48, ring_count=24)
     add_light("Key", "SUN", offset + Vector((0, 0, 9)), (0.5, 0.2, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def uv_sphere_object(name, radius=1.0, segments=32, rings=16):
+    """A smooth UV sphere built with bmesh (no operator: works in GUI timers too)."""
+    import bmesh
+    mesh = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius)
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+    return bpy.data.objects.new(name, mesh)
+
+
+def viewport_scene(resolution=(480, 270), factory=True):
+    """Three coloured objects well apart on a dark world, lit from behind the
+    camera (their shadows fall behind them, out of sight): the GUI viewport
+    tests move "Sphere" and check that the image changes only around it.
+    "Near" and "Far" are equal cubes at the same height, 6 units apart in
+    depth: the same size in an orthographic front view, not in perspective."""
+    scene = reset(resolution=tuple(resolution), factory=factory)
+    scene.camera.location = (1.0, -14.0, 4.0)
+    scene.camera.rotation_euler = (math.radians(76), 0.0, math.radians(4))
+    for name, loc, color in (("Near", (-3.0, 0.0, 0.0), (0.8, 0.2, 0.1)), ("Far", (3.0, 6.0, 0.0), (0.1, 0.3, 0.8))):
+        cube = link(cube_object(name, 2.0))
+        cube.location = loc
+        cube.data.materials.append(principled_material(name, color, Roughness=0.6))
+    sphere = link(uv_sphere_object("Sphere", 1.0))
+    sphere.location = (0.5, 2.0, 0.0)
+    sphere.data.materials.append(principled_material("Green", (0.2, 0.7, 0.2), Roughness=0.5))
+    add_light("Key", "SUN", (0, -20, 20), (math.radians(40), 0, math.radians(5)), energy=3.0)
+    world = bpy.data.worlds.new("World")
+    world.color = (0.05, 0.05, 0.06)
+    world.use_nodes = False
+    scene.world = world
     bpy.context.view_layer.update()
     return {}
 

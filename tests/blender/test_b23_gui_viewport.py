@@ -1,0 +1,116 @@
+"""Rendered viewport shading in Blender's GUI (Debian's blender 3.4 under Xvfb).
+
+One GUI session (scripts/gui_viewport.py) screenshots the 3D view: through the
+camera, after moving an object from a script, in the orthographic front
+view; then it switches the engine while rendering, loads a new file while
+rendering and quits while rendering, counting threads after each event.
+"""
+import json
+import shutil
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from gui import run_gui
+from runner import missing_reason
+
+
+class Session:
+    def __init__(self, out, proc):
+        self.out, self.proc = out, proc
+        self.info = json.loads((out / "gui_viewport.json").read_text())
+
+    def shot(self, name):
+        return np.asarray(Image.open(self.out / name).convert("RGB"), dtype=np.float32)
+
+    def region(self, name):
+        """The 3D view's region of screenshot `name`, rows from the top."""
+        x, y, w, h = self.info[name]["region"]
+        top = self.info[name]["window_height"] - (y + h)
+        return self.shot(name)[top:top + h, x:x + w]
+
+
+@pytest.fixture(scope="module")
+def gui(tmp_path_factory):
+    reason = missing_reason("blender34") or (None if shutil.which("Xvfb") else "Xvfb is missing")
+    if reason:
+        pytest.skip(reason)
+    out = tmp_path_factory.mktemp("gui_viewport")
+    proc = run_gui("gui_viewport.py", {"OUT": str(out)}, timeout=300)
+    return Session(out, proc)
+
+
+def rows_top_down(box, height):
+    """(row0, row1, col0, col1) of a region box (x0, y0, x1, y1, origin bottom left)."""
+    x0, y0, x1, y1 = box
+    return int(height - y1), int(np.ceil(height - y0)), int(x0), int(np.ceil(x1))
+
+
+def test_camera_view_matches_a_final_render_of_the_same_camera(gui):
+    """At zoom 1:1 the camera's frame is the render's size; the frame's part of
+    the screenshot must be the final render (both colour managed by Blender)."""
+    final = gui.shot("final.png")
+    view = gui.region("shot_camera.png")
+    x0, y0, x1, y1 = gui.info["frame"]
+    assert (round(x1 - x0), round(y1 - y0)) == (final.shape[1], final.shape[0])
+    r0, _, c0, _ = rows_top_down(gui.info["frame"], view.shape[0])
+    crop = view[r0:r0 + final.shape[0], c0:c0 + final.shape[1]]
+    assert crop.std() > 20                                  # the objects are there
+    diff = np.abs(crop - final).max(axis=2)
+    # the same image up to sampling noise at edges (and the frame's half-pixel offset)
+    assert np.abs(crop - final).mean() < 3.0
+    assert (diff > 30).mean() < 0.02
+
+
+def test_moving_an_object_changes_the_image_only_where_it_moved(gui):
+    before, after = gui.region("shot_camera.png"), gui.region("shot_moved.png")
+    changed = np.abs(after - before).max(axis=2) > 8
+    height = before.shape[0]
+    where = np.zeros_like(changed)
+    for key in ("sphere_before", "sphere_after"):
+        r0, r1, c0, c1 = rows_top_down(gui.info[key], height)
+        where[max(r0 - 3, 0):r1 + 3, max(c0 - 3, 0):c1 + 3] = True
+    assert changed[where].sum() > 1000, "the sphere's old and new places must change"
+    assert changed[~where].sum() <= 0.001 * (~where).sum(), "nothing else may change"
+
+
+def test_orthographic_front_view_keeps_equal_cubes_equal(gui):
+    """Numpad 1 is orthographic: two equal cubes 6 units apart in depth have the
+    same width, as Blender projects them; through the perspective camera, not."""
+    assert gui.info["shot_front.png"]["perspective"] is False
+    view = gui.region("shot_front.png")
+    red = (view[..., 0] - view[..., 2]) > 40             # "Near"
+    blue = (view[..., 2] - view[..., 0]) > 40            # "Far"
+    widths = []
+    for mask, name in ((red, "Near"), (blue, "Far")):
+        cols = np.nonzero(mask.sum(axis=0) > 10)[0]
+        widths.append(cols.max() - cols.min() + 1)
+        x0, _, x1, _ = gui.info["front_boxes"][name]
+        assert abs(widths[-1] - (x1 - x0)) <= 3, (name, widths[-1], x1 - x0)
+    assert abs(widths[0] - widths[1]) <= 2
+    near, far = (gui.info["camera_boxes"][n] for n in ("Near", "Far"))
+    assert (near[2] - near[0]) > 1.3 * (far[2] - far[0])
+
+
+def test_ui_stays_responsive_while_rendering(gui):
+    """A 20 Hz timer keeps ticking on Blender's main loop while the viewport
+    renders, about as often as with Solid shading (the machine may be busy
+    with other work: the two are compared, measured in the same session)."""
+    assert gui.info["rendering"]["render"] >= 1
+    idle, busy = gui.info["main_loop_idle"], gui.info["main_loop_rendering"]
+    assert busy["ticks"] / 4.0 >= 0.5 * idle["ticks"] / 3.0, (idle, busy)
+    assert busy["max_gap"] < max(0.5, 2 * idle["max_gap"]), (idle, busy)
+
+
+def test_threads_stop_on_engine_switch_file_load_and_quit(gui):
+    info = gui.info
+    assert info["before"] == {"render": 0, "viewport": 0}
+    for rendering in ("rendering", "rendering_again", "rendering_before_quit"):
+        assert info[rendering]["render"] >= 1 and info[rendering]["viewport"] == 1, (rendering, info[rendering])
+    assert info["after_engine_switch"] == {"render": 0, "viewport": 0}
+    assert info["after_new_file"] == {"render": 0, "viewport": 0}
+    assert info["completed"]
+    output = gui.proc.stdout + gui.proc.stderr
+    assert "Gridwalk: viewport render stopped" in output.split("quitting while rendering")[-1]
+    assert "Traceback" not in output and "Segmentation" not in output and "Gridwalk viewport:" not in output

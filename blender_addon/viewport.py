@@ -118,7 +118,7 @@ class ViewportSession:
         self.not_before = 0.0          # a debounced resize waits until then
         self.message = ""              # status for the viewport's header
         self.timings = {}              # of the latest scene: export, scene, grid, first pixels
-        self.draw_seconds = collections.deque(maxlen=64)   # (upload, draw) of the latest redraws
+        self.main_thread = collections.deque(maxlen=256)   # (call, seconds) of view_update / view_draw
         self.job = None
         self.finished = None           # the (scene, view) versions whose render completed
         self.stopping = False

@@ -10,8 +10,6 @@ transform, look, exposure) applies. Imported only by view_draw: never in
 """
 from __future__ import annotations
 
-import time
-
 import gpu
 from gpu_extras.presets import draw_texture_2d
 
@@ -47,9 +45,6 @@ def draw(engine, session, context, depsgraph):
     session.follow_settings(depsgraph.scene)
     session.set_view(key, camera, pixel)
     texture = engine.__dict__.setdefault("viewport_texture", Texture())
-    t0 = time.perf_counter()
     texture.update(session)
-    t1 = time.perf_counter()
     texture.draw(engine, depsgraph.scene, context.region.width, context.region.height)
-    session.draw_seconds.append((t1 - t0, time.perf_counter() - t1))
     engine.update_stats("", session.message)

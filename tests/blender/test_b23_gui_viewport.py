@@ -93,14 +93,34 @@ def test_orthographic_front_view_keeps_equal_cubes_equal(gui):
     assert (near[2] - near[0]) > 1.3 * (far[2] - far[0])
 
 
+def test_material_and_world_previews_render_with_gridwalk(gui):
+    """Thumbnails (bl_use_preview): the material's shows the green sphere, the
+    world's its (constant) background colour; GRIDWALK says it rendered them."""
+    output = gui.proc.stdout
+    assert "Gridwalk: finished preview;" in output and "Gridwalk: preview of the background" in output
+    material, world = gui.info["previews"]["material"], gui.info["previews"]["world"]
+    r, g, b = material["mean"]
+    assert g > r + 0.03 and g > b + 0.03 and max(material["std"]) > 0.05     # a lit green sphere
+    r, g, b = world["mean"]
+    assert b > g > r and max(world["std"]) < 1e-3                            # the blue world, uniform
+    seconds = [float(line.split("total ")[1].split(" s")[0]) for line in output.splitlines()
+               if line.startswith("Gridwalk: finished preview;")]
+    seconds += [float(line.split(" in ")[1].split(" s")[0]) for line in output.splitlines()
+                if line.startswith("Gridwalk: preview of the background")]
+    # the goal is 1 s per thumbnail (docs/blender.md gives the times measured); 2 s leaves room
+    # for a busy machine
+    assert seconds and max(seconds) < 2.0, seconds
+
+
 def test_ui_stays_responsive_while_rendering(gui):
-    """A 20 Hz timer keeps ticking on Blender's main loop while the viewport
-    renders, about as often as with Solid shading (the machine may be busy
-    with other work: the two are compared, measured in the same session)."""
+    """While the viewport renders, Blender's main thread only draws: every call
+    into the engine there (view_update, view_draw: upload and draw the image)
+    returns quickly, and the view keeps redrawing as the image refines."""
     assert gui.info["rendering"]["render"] >= 1
-    idle, busy = gui.info["main_loop_idle"], gui.info["main_loop_rendering"]
-    assert busy["ticks"] / 4.0 >= 0.5 * idle["ticks"] / 3.0, (idle, busy)
-    assert busy["max_gap"] < max(0.5, 2 * idle["max_gap"]), (idle, busy)
+    calls = [seconds for session in gui.info["main_thread"] for _, seconds in session]
+    draws = [seconds for session in gui.info["main_thread"] for kind, seconds in session if kind == "view_draw"]
+    assert len(draws) >= 3, gui.info["main_thread"]
+    assert max(calls) < 0.25, sorted(calls)[-5:]
 
 
 def test_threads_stop_on_engine_switch_file_load_and_quit(gui):

@@ -6,8 +6,9 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
     viewport render is done; a final render of the same camera, final.png.
  2. "Sphere" moved from this script: screenshot shot_moved.png.
  3. The front numpad view (orthographic): screenshot shot_front.png.
- 4. Rendering with many samples: a timer measures how long Blender's main loop
-    stalls; the engine is switched to Workbench mid-render; back to GRIDWALK,
+ 4. Rendering with many samples for 5 s: the time the engine spends in each
+    call on Blender's main thread (view_update, view_draw) is recorded; the
+    engine is switched to Workbench mid-render; back to GRIDWALK,
     then File > New while rendering; back again, then quit while rendering.
     Render threads (named "gridwalk") and the viewport's Python thread are
     counted after each event.
@@ -146,6 +147,9 @@ def setup():
     scene.gridwalk.viewport_samples = 4
     scene.camera.data.show_passepartout = False
     RESULTS["before"] = threads()
+    for properties in bpy.context.window_manager.windows[0].screen.areas:
+        if properties.type == "PROPERTIES":
+            properties.spaces.active.context = "RENDER"         # the Gridwalk panels, for the docs' picture
     win, area, region, space = view3d()
     space.shading.type = "RENDERED"
     space.overlay.show_overlays = False
@@ -176,6 +180,41 @@ def camera_view():
     scene.render.filepath = os.path.join(OUT, "final.png")
     bpy.ops.render.render(write_still=True)
     log("final render written")
+    RESULTS["world_color"] = list(scene.world.color)
+    RESULTS["previews"] = {}
+    preview("material", bpy.data.materials["Green"], lambda: preview("world", scene.world, move_sphere))
+
+
+def preview(name, id_, then):
+    """Render the thumbnail of `id_` (one at a time: a new preview job cancels
+    the running one), record its mean colour, then call `then`."""
+    import numpy as np
+    if name == "world":
+        id_.color = (0.2, 0.3, 0.8)
+    id_.preview_ensure()
+    with bpy.context.temp_override(id=id_):
+        bpy.ops.ed.lib_id_generate_preview()
+    deadline = time.monotonic() + 30
+
+    def poll():
+        w, h = id_.preview.image_size
+        pixels = np.zeros(w * h * 4, np.float32)
+        if w * h:
+            id_.preview.image_pixels_float.foreach_get(pixels)
+        rgb = pixels.reshape(-1, 4)[:, :3]
+        if not w * h or rgb.max() == 0:
+            if time.monotonic() > deadline:
+                fail(f"no {name} preview")
+            return 0.25
+        RESULTS["previews"][name] = {"mean": rgb.mean(axis=0).tolist(), "std": rgb.std(axis=0).tolist()}
+        log("preview", name, RESULTS["previews"][name])
+        after(0.0, then)
+        return None
+    bpy.app.timers.register(step(poll), first_interval=0.25, persistent=True)
+
+
+def move_sphere():
+    bpy.context.scene.world.color = RESULTS["world_color"]
     bpy.data.objects["Sphere"].location.x += 0.6
     bpy.context.view_layer.update()
     RESULTS["sphere_after"] = projected_box(bpy.data.objects["Sphere"])
@@ -192,36 +231,17 @@ def moved():
     after(0.5, lambda: when_done(front))
 
 
-def measure_main_loop(name, seconds, then):
-    """Tick a 20 Hz timer for `seconds`; RESULTS[name] = (ticks, largest gap)."""
-    ticks, until = [], time.monotonic() + seconds
-
-    def tick():
-        ticks.append(time.monotonic())
-        if time.monotonic() < until:
-            return 0.05
-        RESULTS[name] = {"ticks": len(ticks), "max_gap": max(b - a for a, b in zip(ticks, ticks[1:]))}
-        log(name, RESULTS[name])
-        after(0.0, then)
-        return None
-    bpy.app.timers.register(tick, first_interval=0.05)
-
-
 def front():
     screenshot("shot_front.png")
     RESULTS["front_boxes"] = {n: projected_box(bpy.data.objects[n]) for n in ("Near", "Far")}
-    view3d()[3].shading.type = "SOLID"
-    measure_main_loop("main_loop_idle", 3.0, render_long)
-
-
-def render_long():
-    view3d()[3].shading.type = "RENDERED"
     bpy.context.scene.gridwalk.viewport_samples = 4000          # keeps rendering
-    after(1.0, lambda: measure_main_loop("main_loop_rendering", 4.0, switch_engine))
+    for session in sessions():
+        session.main_thread.clear()
+    after(5.0, switch_engine)
 
 
 def switch_engine():
-    RESULTS["draw_seconds"] = [list(s.draw_seconds) for s in sessions()]
+    RESULTS["main_thread"] = [list(s.main_thread) for s in sessions()]
     RESULTS["rendering"] = threads()
     bpy.context.scene.render.engine = "BLENDER_WORKBENCH"
     view3d()[1].tag_redraw()

@@ -4,7 +4,8 @@ scripts/viewport_session.py drives a viewport session with real depsgraph
 updates. Moving an object reads no mesh and transforms one instance; editing
 a mesh shared by two objects reads it once; a modifier change reads that
 object only; a material change restarts without touching geometry; a
-colour-management edit does not restart. After every edit the incremental
+colour-management edit does not restart; a resize waits until it settles.
+After every edit the incremental
 arrays equal a fresh export's, and the image shown equals a render of the
 fresh export. Stopping the session leaves no thread running.
 """
@@ -54,6 +55,12 @@ def test_incremental_scene_and_image_equal_a_fresh_export(session, edit):
 
 def test_colour_management_edit_does_not_restart(session):
     assert session["colour_management"] == {"restarted": False, "reads": 0, "transforms": 0}
+
+
+def test_a_resize_is_debounced(session):
+    assert session["resize_waits"]                          # nothing rendered in the first 0.15 s
+    assert session["resize_rendered_after"] >= 0.3          # RESIZE_DEBOUNCE_SECONDS
+    assert session["resized_shape"] == [60, 100, 4]
 
 
 def test_stopping_leaves_no_thread(session):

@@ -90,7 +90,7 @@ def main(out_dir):
     projection = cam.calc_matrix_camera(depsgraph, x=80, y=60)
     camera = view_camera(np.linalg.inv(to_numpy(cam.matrix_world)), projection, 80, 60,
                          clip=(cam.data.clip_start, cam.data.clip_end))
-    session.set_view(("view",), camera, 1)
+    session.set_view((80, 60, "view"), camera, 1)
 
     def wait_done():
         deadline = time.monotonic() + 60
@@ -142,6 +142,17 @@ def main(out_dir):
     bpy.context.view_layer.update()
     check("delete_object")
 
+    # a resize (only the region's size changes) waits until it settles
+    import dataclasses
+    wait_done()
+    shown_before = session.display.version
+    t_resize = time.monotonic()
+    session.set_view((100, 60, "view"), dataclasses.replace(camera, width=100, pixel_aspect=0.8), 1)
+    time.sleep(0.15)
+    results["resize_waits"] = session.display.version == shown_before and session.job is None
+    wait_done()
+    results["resize_rendered_after"] = time.monotonic() - t_resize
+    results["resized_shape"] = list(session.display.rgba.shape)
     results["threads_rendering_session"] = sum(t.name == "gridwalk-viewport" for t in threading.enumerate())
     session.stop()
     results["threads_after_stop"] = {"render": render_threads(),

@@ -139,9 +139,10 @@ class ViewportSession:
             if signature == self.signature:
                 return False
             kwargs, _ = export.kwargs()
+            self._check_memory(kwargs, depsgraph.scene)
             message = ""
-        except ExportError as exc:
-            kwargs, signature, message = None, None, str(exc)
+        except (ExportError, MemoryError) as exc:
+            kwargs, signature, message = None, None, f"Gridwalk: {exc}"
         t1 = time.perf_counter()
         with self.lock:
             self.signature = signature
@@ -150,6 +151,21 @@ class ViewportSession:
             self.timings = {"edit": t0, "export": t1 - t0}
             self.lock.notify_all()
         return True
+
+    def _check_memory(self, kwargs, scene):
+        """Refuse (gridwalk.memory.SceneTooLarge, shown in the view) a scene over
+        the memory limit, as a final render does; the image is the region's."""
+        from gridwalk import memory
+
+        from .engine import memory_limit
+        with self.lock:
+            view, settings = self.view, self.settings
+        width, height = (view[1].width, view[1].height) if view is not None else (1, 1)
+        estimate = memory.estimate(len(kwargs["triangles"]), len(kwargs["vertices"]), len(kwargs["sphere_radii"]),
+                                   width=width, height=height, settings=settings,
+                                   normals=kwargs["normals"] is not None)
+        limit, source = memory_limit(scene.gridwalk, memory)
+        memory.check(estimate, limit, f"This scene ({len(kwargs['triangles']):,} triangles)", source)
 
     def follow_settings(self, scene):
         """From view_update and view_draw: restart when the render settings or

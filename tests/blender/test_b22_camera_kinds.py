@@ -17,19 +17,14 @@ import json
 import pytest
 
 import exr
-from runner import BPY_VENVS, missing_reason, run_script
+from runner import BPY_VENVS, script_output
 
 KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
 
 
 @pytest.fixture(scope="module", params=list(BPY_VENVS))
 def renders(request, tmp_path_factory):
-    reason = missing_reason(request.param)
-    if reason:
-        pytest.skip(reason)
-    out = tmp_path_factory.mktemp(f"cameras_{request.param}")
-    run_script(request.param, "camera_kinds.py", out, *KINDS, timeout=300)
-    return out
+    return script_output(request.param, tmp_path_factory, "camera_kinds.py", *KINDS, timeout=300)
 
 
 def coverage(out, kind, engine):

@@ -2,8 +2,8 @@
 
 One GUI session (scripts/gui_viewport.py) screenshots the 3D view: through the
 camera, after moving an object from a script, in the orthographic front
-view; then it switches the engine while rendering, loads a new file while
-rendering and quits while rendering, counting threads after each event.
+view; then, while rendering, it switches the engine, switches to Solid
+shading, loads a new file and quits, counting threads after each event.
 """
 import json
 import shutil
@@ -123,13 +123,13 @@ def test_ui_stays_responsive_while_rendering(gui):
     assert max(calls) < 0.25, sorted(calls)[-5:]
 
 
-def test_threads_stop_on_engine_switch_file_load_and_quit(gui):
+def test_threads_stop_on_engine_switch_shading_switch_file_load_and_quit(gui):
     info = gui.info
     assert info["before"] == {"render": 0, "viewport": 0}
-    for rendering in ("rendering", "rendering_again", "rendering_before_quit"):
+    for rendering in ("rendering", "rendering_again", "rendering_before_new_file", "rendering_before_quit"):
         assert info[rendering]["render"] >= 1 and info[rendering]["viewport"] == 1, (rendering, info[rendering])
-    assert info["after_engine_switch"] == {"render": 0, "viewport": 0}
-    assert info["after_new_file"] == {"render": 0, "viewport": 0}
+    for event in ("after_engine_switch", "after_solid_shading", "after_new_file"):
+        assert info[event] == {"render": 0, "viewport": 0}, (event, info[event])
     assert info["completed"]
     output = gui.proc.stdout + gui.proc.stderr
     assert "Gridwalk: viewport render stopped" in output.split("quitting while rendering")[-1]

@@ -13,7 +13,7 @@ import json
 
 import pytest
 
-from runner import missing_reason, run_script
+from runner import BPY_VENVS, script_output
 
 EDITS = {   # edit: (meshes read, instances transformed)
     "move_object": (0, 1),
@@ -25,13 +25,9 @@ EDITS = {   # edit: (meshes read, instances transformed)
 }
 
 
-@pytest.fixture(scope="module", params=["bpy45", "bpy50"])
+@pytest.fixture(scope="module", params=list(BPY_VENVS))
 def session(request, tmp_path_factory):
-    reason = missing_reason(request.param)
-    if reason:
-        pytest.skip(reason)
-    out = tmp_path_factory.mktemp(f"viewport_{request.param}")
-    run_script(request.param, "viewport_session.py", out, timeout=240)
+    out = script_output(request.param, tmp_path_factory, "viewport_session.py", timeout=240)
     return json.loads((out / "viewport_session.json").read_text())
 
 

@@ -8,8 +8,9 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
  3. The front numpad view (orthographic): screenshot shot_front.png.
  4. Rendering with many samples for 5 s: the time the engine spends in each
     call on Blender's main thread (view_update, view_draw) is recorded; the
-    engine is switched to Workbench mid-render; back to GRIDWALK,
-    then File > New while rendering; back again, then quit while rendering.
+    engine is switched to Workbench mid-render; back to GRIDWALK, then Solid
+    shading mid-render; Rendered again, then File > New while rendering;
+    Rendered again, then quit while rendering.
     Render threads (named "gridwalk") and the viewport's Python thread are
     counted after each event.
 OUT (env) is the output folder; results go to OUT/gui_viewport.json.
@@ -252,11 +253,23 @@ def switched():
     RESULTS["after_engine_switch"] = threads()
     bpy.context.scene.render.engine = "GRIDWALK"
     view3d()[1].tag_redraw()
+    after(2.0, solid_shading)
+
+
+def solid_shading():
+    RESULTS["rendering_again"] = threads()
+    view3d()[3].shading.type = "SOLID"
+    after(2.0, rendered_again)
+
+
+def rendered_again():
+    RESULTS["after_solid_shading"] = threads()
+    view3d()[3].shading.type = "RENDERED"
     after(2.0, new_file)
 
 
 def new_file():
-    RESULTS["rendering_again"] = threads()
+    RESULTS["rendering_before_new_file"] = threads()
     bpy.ops.wm.read_homefile()
     after(2.0, after_new_file)
 

@@ -353,7 +353,7 @@ def view_from_context(engine, context, depsgraph):
     region, rv3d, space = context.region, context.region_data, context.space_data
     scene = depsgraph.scene
     pixel = max(1, int(engine.get_preview_pixel_size(scene)))
-    width, height = region.width, region.height
+    width, height = max(1, region.width), max(1, region.height)
     view, window = to_numpy(rv3d.view_matrix), to_numpy(rv3d.window_matrix)
     clip, extra, lens = (space.clip_start, space.clip_end), {}, None
     if rv3d.view_perspective == "CAMERA" and scene.camera is not None:

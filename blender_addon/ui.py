@@ -89,8 +89,7 @@ class GRIDWALK_RENDER_PT_viewport(GridwalkPanel, bpy.types.Panel):
         col.prop(context.scene.render, "preview_pixel_size", text="Pixel Size")
 
 
-SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,
-                   GRIDWALK_RENDER_PT_performance)
+SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_acceleration, GRIDWALK_RENDER_PT_performance)
 
 
 class GRIDWALK_OBJECT_PT_settings(GridwalkPanel, bpy.types.Panel):
@@ -140,7 +139,8 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
                 col.prop(light, "size_y", text="Y")
 
 
-classes = (*SETTINGS_PANELS, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
+classes = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,
+           GRIDWALK_RENDER_PT_performance, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
 
 
 def builtin_panels():

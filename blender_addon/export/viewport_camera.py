@@ -64,6 +64,8 @@ def view_camera(view_matrix, window_matrix, width: int, height: int, clip=None, 
         eye = eye + forward * near          # the near plane may lie behind the view point
         fields.update(projection="orthographic", ortho_height=float(2.0 * half_h), hither=0.0,
                       yon=float(far - near))
+        if extra.get("aperture", 0) > 0 and extra.get("focus_distance"):   # measured from the moved eye
+            extra = dict(extra, focus_distance=max(float(extra["focus_distance"] - near), 1e-6))
     fields.update(extra)
     return Camera(eye=tuple(eye), target=tuple(eye + forward), **fields)
 

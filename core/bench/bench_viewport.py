@@ -106,7 +106,7 @@ def measure(levels: int) -> dict:
         export_scene(bpy.context.evaluated_depsgraph_get(), camera=False)
         full.append(time.perf_counter() - t)
     results = {"triangles": triangles, "first_view": first_total, "first_view_grid": first.get("grid", 0.0),
-               "full_export": min(full)}
+               "full_export": min(full), "accel": session.settings.accel}
     for name, obj in (("move the cube (12 triangles)", cube), ("move Suzanne (1M triangles)", monkey)):
         runs = []
         for i in range(REPEATS):
@@ -133,7 +133,8 @@ def write(results: dict, out: str):
              "`.venv-bpy45/bin/python core/bench/bench_viewport.py`.", "",
              f"Scene: Suzanne, Subdivision level 5, smooth ({results['triangles']:,} triangles), and a cube; "
              f"a {WIDTH} x {HEIGHT} viewport at pixel size 1; the coarse pass renders 8 x 8 blocks "
-             f"({WIDTH // 8} x {HEIGHT // 8} pixels). Time from a transform edit to the first new pixels, "
+             f"({WIDTH // 8} x {HEIGHT // 8} pixels); acceleration structure: `{results['accel']}` (the default). "
+             "Time from a transform edit to the first new pixels, "
              f"median of {REPEATS} edits, in milliseconds:", "",
              "| edit | depsgraph | export delta | Scene | grid build | first coarse pixels | total |",
              "|---|---|---|---|---|---|---|"]

@@ -12,6 +12,7 @@ Blender's render border becomes RenderSettings.region. A cancel (test_break)
 is honoured between the stages and, through streaming.run, while rendering.
 """
 import os
+import sys
 import time
 
 import bpy
@@ -64,13 +65,46 @@ def memory_limit(props, memory) -> tuple[int | None, str]:
 class GridwalkRenderEngine(bpy.types.RenderEngine):
     bl_idname = "GRIDWALK"
     bl_label = "Gridwalk"
-    bl_use_preview = False
+    bl_use_preview = True                   # material and world previews (see docs/blender.md)
     bl_use_shading_nodes_custom = False     # edit materials with Blender's standard nodes
     bl_use_eevee_viewport = True            # Material Preview in the viewport uses EEVEE
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)   # required since Blender 4.4
         self.writer = None                  # the current render's ResultWriter
+        self.viewport = None                # viewport.ViewportSession, for Rendered shading
+
+    def __del__(self):
+        # The viewport closed, shading or engine switched, file loaded, Blender quits:
+        # Blender frees the engine; the session's threads stop and are joined.
+        session = self.__dict__.get("viewport")
+        if session is not None:
+            session.stop()
+
+    # -- Rendered viewport shading (viewport.py; never called in `blender -b`) --
+    def _viewport(self):
+        if self.viewport is None:
+            from .viewport import ViewportSession
+            self.viewport = ViewportSession(self)
+        return self.viewport
+
+    def view_update(self, context, depsgraph):
+        t0 = time.perf_counter()
+        try:
+            self._viewport().update(depsgraph)
+        except Exception as exc:           # shown in the viewport, never raised into Blender
+            print(f"Gridwalk viewport: {exc}")
+            self._viewport().message = f"Gridwalk: {exc}"
+        self._viewport().main_thread.append(("view_update", time.perf_counter() - t0))
+
+    def view_draw(self, context, depsgraph):
+        t0 = time.perf_counter()
+        try:
+            from . import viewport_draw
+            viewport_draw.draw(self, self._viewport(), context, depsgraph)
+        except Exception as exc:
+            print(f"Gridwalk viewport: {exc}")
+        self._viewport().main_thread.append(("view_draw", time.perf_counter() - t0))
 
     def update_render_passes(self, scene=None, renderlayer=None):
         for p in passes.enabled(renderlayer):
@@ -96,6 +130,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             self.writer = None
 
     def _warn(self, warning: str):
+        if self.is_preview:                # a thumbnail: nobody reads its report
+            return
         print("Gridwalk warning:", warning)
         self.report({"WARNING"}, f"Gridwalk: {warning}")
 
@@ -127,7 +163,9 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
 
     def _render(self, depsgraph):
         gridwalk = dependencies.import_gridwalk()
-        from .export import export_scene, render_region, resolution
+        import numpy as np
+
+        from .export import Export, ExportError, render_region, resolution
 
         scene = depsgraph.scene
         settings = render_settings(gridwalk, scene.gridwalk)
@@ -142,7 +180,18 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         if self._cancelled("before the export", writer):
             return
         self.update_stats("", "Gridwalk: exporting scene")
-        kwargs, warnings = export_scene(depsgraph)
+        export = Export(depsgraph)
+        try:
+            kwargs, warnings = export.kwargs()
+        except ExportError:
+            if not self.is_preview:
+                raise
+            # A world's thumbnail has no geometry: it shows the world, a constant background
+            image = np.empty((writer.region[3], writer.region[2], 4), np.float32)
+            image[...] = (*export.background, 1.0)
+            writer.write(writer.region[0], writer.region[1], {"rgba": image})
+            print(f"Gridwalk: preview of the background in {time.perf_counter() - t0:.3f} s")
+            return
         for warning in warnings:
             self._warn(warning)
         t1 = time.perf_counter()
@@ -164,13 +213,26 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         if self._cancelled("after building the grid", writer):
             return
         completed = streaming.run(self, job, writer)
-        print(f"Gridwalk: {'finished' if completed else 'cancelled'}; export {t1 - t0:.3f} s, "
-              f"build {job.build_seconds:.3f} s, render {job.stats['seconds']:.3f} s, {streaming.stats_text(job)}")
+        what = ("finished" if completed else "cancelled") + (" preview" if self.is_preview else "")
+        print(f"Gridwalk: {what}; export {t1 - t0:.3f} s, build {job.build_seconds:.3f} s, "
+              f"render {job.stats['seconds']:.3f} s, total {time.perf_counter() - t0:.3f} s, {streaming.stats_text(job)}")
+
+
+@bpy.app.handlers.persistent
+def stop_viewports(*_):
+    """Before a file loads (and on unregister): stop every viewport render."""
+    viewport = sys.modules.get(f"{__package__}.viewport")     # never imported in `blender -b`
+    if viewport is not None:
+        viewport.stop_all()
 
 
 def register():
     bpy.utils.register_class(GridwalkRenderEngine)
+    bpy.app.handlers.load_pre.append(stop_viewports)
 
 
 def unregister():
+    if stop_viewports in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.remove(stop_viewports)
+    stop_viewports()
     bpy.utils.unregister_class(GridwalkRenderEngine)

@@ -8,8 +8,9 @@ and choices. Enum identifiers are the choices' ids in upper case
 table says so and why (Setting.host_default). The settings of the "host"
 group come from Blender itself (the render border becomes `region`).
 
-memory_limit is the add-on's own setting (the host's memory policy), not a
-render setting of the core.
+memory_limit (the host's memory policy) and the viewport's options
+(viewport_samples, viewport_start_pixels) are the add-on's own settings, not
+render settings of the core.
 """
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
@@ -28,10 +29,17 @@ def blender_default(setting):
     return setting.host_default if setting.host_default is not None else setting.default
 
 
+def changed(self, context):
+    """A render or viewport setting changed: tag the scene, so that a rendered
+    viewport follows (Blender does not update the depsgraph, nor redraw the
+    3D view, when an add-on's property changes)."""
+    self.id_data.update_tag()
+
+
 def make_property(setting):
     """The bpy property for one row of the settings table."""
     default = blender_default(setting)
-    common = dict(name=setting.label, description=setting.describe())
+    common = dict(name=setting.label, description=setting.describe(), update=changed)
     if setting.kind == "bool":
         return BoolProperty(default=default, **common)
     if setting.kind == "enum":
@@ -56,7 +64,20 @@ ADDON_PROPERTIES = {
                                 description="Refuse to render when the estimated memory exceeds this "
                                             "(0 = 75% of physical memory; GRIDWALK_MEMORY_LIMIT_MB "
                                             "also sets a limit, the lower wins)"),
+    "viewport_samples": IntProperty(name="Viewport Samples", default=16, min=1, max=4096, update=changed,
+                                    description="Rendered viewport shading: full-resolution passes of one random "
+                                                "camera sample per pixel, averaged; refining stops after these"),
+    "viewport_start_pixels": IntProperty(name="Start Pixel Size", default=8, min=1, max=64, update=changed,
+                                         description="Rendered viewport shading: the first, coarse pass renders "
+                                                     "blocks of this many pixels (times the Pixel Size), so the "
+                                                     "view answers at once; 1 skips it"),
 }
+
+
+def viewport_options(scene) -> tuple[int, int, bool]:
+    """(samples, start pixel size, opaque) of the scene's rendered viewport."""
+    props = scene.gridwalk
+    return int(props.viewport_samples), int(props.viewport_start_pixels), not scene.render.film_transparent
 
 classes = []
 

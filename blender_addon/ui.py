@@ -75,6 +75,20 @@ class GRIDWALK_RENDER_PT_performance(SettingsPanel, bpy.types.Panel):
         self.layout.prop(context.scene.gridwalk, "memory_limit")
 
 
+class GRIDWALK_RENDER_PT_viewport(GridwalkPanel, bpy.types.Panel):
+    """Rendered viewport shading: samples, the coarse first pass, Blender's pixel size."""
+    bl_label = "Viewport"
+    bl_context = "render"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        col = layout.column()
+        col.prop(context.scene.gridwalk, "viewport_samples", text="Samples")
+        col.prop(context.scene.gridwalk, "viewport_start_pixels")
+        col.prop(context.scene.render, "preview_pixel_size", text="Pixel Size")
+
+
 SETTINGS_PANELS = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_acceleration, GRIDWALK_RENDER_PT_performance)
 
 
@@ -125,7 +139,8 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
                 col.prop(light, "size_y", text="Y")
 
 
-classes = (*SETTINGS_PANELS, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
+classes = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,
+           GRIDWALK_RENDER_PT_performance, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
 
 
 def builtin_panels():

@@ -14,6 +14,18 @@ def thread_count():
     return len(os.listdir("/proc/self/task"))
 
 
+def render_threads():
+    """The core's render threads of this process (they are named "gridwalk")."""
+    names = []
+    for task in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{task}/comm") as f:
+                names.append(f.read().strip())
+        except FileNotFoundError:     # a thread that just ended
+            pass
+    return names.count("gridwalk")
+
+
 def scene(size=2, res=128):
     kw = balls(size)
     kw["camera"].width = kw["camera"].height = res
@@ -50,12 +62,12 @@ def test_cancel_returns_within_100ms_and_stops_all_workers():
     deadline = time.time() + 30
     while job.tiles_done < 1 and time.time() < deadline:   # cancel mid-render, after some tiles
         time.sleep(0.01)
-    assert thread_count() > before
+    assert thread_count() > before and render_threads() == 4
     t0 = time.perf_counter()
     job.cancel()
     elapsed = time.perf_counter() - t0
     assert elapsed < 0.1, f"cancel took {elapsed * 1000:.1f} ms"
-    assert job.cancelled and thread_count() == before
+    assert job.cancelled and thread_count() == before and render_threads() == 0
     assert 0 < job.tiles_done < job.tiles_total
     # A new render after a cancel works and is complete.
     img = gw.render(scene(size=1, res=32))

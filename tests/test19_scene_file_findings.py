@@ -34,8 +34,8 @@ FINDINGS = {
     "sphere_at_1e30": ("scene.nff", VIEW + "s 1e30 0 0 1\n", ":6: ",
                        "sphere ('s'): it extends beyond +-1e30, which the core cannot represent"),
     "from_equals_at": ("scene.nff", "v\nfrom 1 2 3\nat 1 2 3\nup 0 0 1\nangle 40\ns 0 0 0 1\n", ":3: ",
-                       "view: 'at' coincides with 'from' in float32 (1, 2, 3): the camera has no viewing "
-                       "direction"),
+                       "view: 'at' coincides with 'from' (1, 2, 3) (or lies too close to it for float32): "
+                       "the camera has no viewing direction"),
     "up_along_the_view": ("scene.nff", "v\nfrom 0 -5 0\nat 0 0 0\nup 0 1 0\nangle 40\ns 0 0 0 1\n", ":4: ",
                           "view: 'up' is parallel to the viewing direction"),
     "resolution_100000_squared": ("scene.nff", VIEW + "resolution 100000 100000\ns 0 0 0 1\n", ":6: ",

@@ -9,10 +9,12 @@ from __future__ import annotations
 from .camera import CameraError, convert_camera, render_region, resolution
 from .lights import light_from_instance
 from .materials import MaterialTable
+from .mesh_cache import MeshCache
 from .meshes import MeshCollector, count_geometry
 from .world import background_color
 
-__all__ = ["CameraError", "ExportError", "count_geometry", "export_scene", "render_region", "resolution"]
+__all__ = ["CameraError", "Export", "ExportError", "MeshCache", "count_geometry", "export_scene", "render_region",
+           "resolution"]
 
 
 class ExportError(ValueError):
@@ -27,39 +29,67 @@ class ExportError(ValueError):
         self.warnings = list(warnings or [])
 
 
-def export_scene(depsgraph) -> tuple[dict, list[str]]:
-    """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
+class Export:
+    """One export of a depsgraph, before the triangle arrays are assembled:
+    meshes (MeshCollector), materials, lights, background, camera, warnings.
+    signature() tells two exports of the same content apart cheaply (the
+    viewport restarts only when it changes); kwargs() assembles the arrays."""
 
+    def __init__(self, depsgraph, cache: MeshCache | None = None, camera: bool = True):
+        scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
+        self.warnings: list[str] = []
+        try:
+            self.camera = convert_camera(scene.camera, scene.render, scene.unit_settings.scale_length) \
+                if camera else None
+        except CameraError as exc:
+            raise ExportError(str(exc)) from None
+        self.materials = MaterialTable()
+        self.meshes = MeshCollector(self.materials, cache if cache is not None else MeshCache())
+        self.lights = []
+        for inst in depsgraph.object_instances:
+            if inst.object.type == "LIGHT":
+                light = light_from_instance(inst, self.warnings)
+                if light is not None:
+                    self.lights.append(light)
+            else:
+                self.meshes.add_instance(inst)
+        self.world_warnings: list[str] = []
+        self.background = background_color(scene.world, self.world_warnings)
+
+    def signature(self) -> tuple:
+        """What the scene arrays and records are made of: each instance's mesh
+        entry, matrix and materials, the spheres, materials, lights, background."""
+        parts = tuple((key, matrix.tobytes(), lookup.tobytes()) for key, _, matrix, lookup in self.meshes.parts)
+        spheres = tuple((tuple(c), r, m) for c, r, m in self.meshes.spheres)
+        return (parts, spheres, repr(self.materials.materials), repr(self.lights), self.background)
+
+    def kwargs(self) -> tuple[dict, list[str]]:
+        """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
+
+        Raises ExportError with a user-facing message when there is nothing to
+        render. Invalid objects (NaN transforms, ...) are skipped with a
+        warning naming them."""
+        warnings = list(self.warnings)
+        kwargs = self.meshes.arrays()
+        if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0:
+            raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
+        if not self.lights:
+            warnings.append("The scene has no lights: only emissive materials will be visible")
+        warnings.extend(self.world_warnings)
+        if self.camera is not None:
+            kwargs["camera"] = self.camera
+        kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background)
+        warnings.extend(self.materials.warnings())
+        warnings.extend(self.meshes.warnings())
+        return kwargs, warnings
+
+
+def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True) -> tuple[dict, list[str]]:
+    """(scene_kwargs, warnings) of the depsgraph (see Export): a camera is
+    required unless camera=False (the viewport renders its own view).
     Raises ExportError with a user-facing message when there is no camera or
-    nothing to render. Invalid objects (NaN transforms, ...) are skipped with
-    a warning naming them.
-    """
-    scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
-    warnings: list[str] = []
-    try:
-        camera = convert_camera(scene.camera, scene.render, scene.unit_settings.scale_length)
-    except CameraError as exc:
-        raise ExportError(str(exc)) from None
-    materials = MaterialTable()
-    meshes = MeshCollector(materials)
-    lights = []
-    for inst in depsgraph.object_instances:
-        if inst.object.type == "LIGHT":
-            light = light_from_instance(inst, warnings)
-            if light is not None:
-                lights.append(light)
-        else:
-            meshes.add_instance(inst)
-    kwargs = meshes.arrays()
-    if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0:
-        raise ExportError(_nothing_to_render(meshes), warnings + meshes.warnings())
-    if not lights:
-        warnings.append("The scene has no lights: only emissive materials will be visible")
-    kwargs.update(materials=materials.materials, lights=lights, camera=camera,
-                  background=background_color(scene.world, warnings))
-    warnings.extend(materials.warnings())
-    warnings.extend(meshes.warnings())
-    return kwargs, warnings
+    nothing to render."""
+    return Export(depsgraph, cache, camera).kwargs()
 
 
 def _nothing_to_render(meshes) -> str:

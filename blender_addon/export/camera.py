@@ -11,6 +11,17 @@ Shift. Blender measures shift_x/shift_y in units of the fitted side (width for
 horizontal fit, height for vertical fit); our Camera measures it in units of
 the larger side, so shift = blender_shift * side / max(w, h).
 
+Pixel aspect. With pixel_aspect_x / pixel_aspect_y = a, Blender's view is
+w * a wide for h high (its sensor fit compares w * a with h): every length
+above is in these view units, and Camera.pixel_aspect = a.
+
+Orthographic: ortho_scale spans the fitted side, so the view's height is
+ortho_height = ortho_scale * h / side. Panoramic: the equirectangular
+panorama's latitude and longitude ranges (Blender 4.x: on the camera; 3.x:
+Cycles' camera settings). Clipping: clip_start and clip_end become hither
+and yon. A camera with a negative scale (negative determinant) is mirrored,
+as Cycles mirrors it.
+
 Depth of field (when enabled). The thin-lens aperture radius in scene units is
     aperture = (lens [mm] / 1000) / (2 * f-stop) / unit_scale
 (unit_scale = scene length unit scale, metres per Blender unit). The focus
@@ -29,7 +40,7 @@ from ._matrix import axis, to_numpy, unit
 
 
 class CameraError(ValueError):
-    """The scene cannot be viewed (no camera, unsupported projection)."""
+    """The scene cannot be viewed (no camera, unsupported panorama, no viewing direction)."""
 
 
 def resolution(render) -> tuple[int, int]:
@@ -62,19 +73,26 @@ def render_region(render) -> tuple[int, int, int, int] | None:
     return x0, height - y1, x1 - x0, y1 - y0
 
 
-def vertical_fov_and_side(cam, width: int, height: int) -> tuple[float, float]:
-    """(vertical fov in degrees, length in pixels of the side the sensor spans)."""
+def pixel_aspect(render) -> float:
+    """A pixel's width / height (Blender's pixel_aspect_x / pixel_aspect_y)."""
+    return float(render.pixel_aspect_x) / float(render.pixel_aspect_y)
+
+
+def fitted_side(cam, width: int, height: int, aspect: float = 1.0) -> tuple[float, float]:
+    """(sensor size, length of the fitted side) as Blender fits the
+    camera: HORIZONTAL (the width), VERTICAL (the height) or AUTO (the larger
+    side; sensor_width). Lengths are in view units: the width is
+    width * pixel aspect, the height is height."""
+    view_w, view_h = width * aspect, float(height)
     fit = cam.sensor_fit
     if fit == "AUTO":
-        fit = "HORIZONTAL" if width >= height else "VERTICAL"
+        fit = "HORIZONTAL" if view_w >= view_h else "VERTICAL"
         sensor = cam.sensor_width
     elif fit == "HORIZONTAL":
         sensor = cam.sensor_width
     else:
         sensor = cam.sensor_height
-    side = float(width if fit == "HORIZONTAL" else height)
-    half_tan = sensor / (2.0 * cam.lens) * height / side
-    return math.degrees(2.0 * math.atan(half_tan)), side
+    return sensor, view_w if fit == "HORIZONTAL" else view_h
 
 
 def _focus_distance(cam, eye, forward) -> float | None:
@@ -87,6 +105,37 @@ def _focus_distance(cam, eye, forward) -> float | None:
     return max(float(dof.focus_distance), 1e-6)
 
 
+def panorama(cam, name: str) -> dict:
+    """The equirectangular panorama's ranges (Blender 4.x keeps them on the
+    camera; 3.x on the camera's Cycles settings)."""
+    settings = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
+    kind = getattr(settings, "panorama_type", None)
+    if kind != "EQUIRECTANGULAR":
+        what = f"the {kind.replace('_', ' ').lower()} panorama" if kind else "a panorama (enable the Cycles add-on)"
+        raise CameraError(f"Camera {name!r} uses {what}; Gridwalk renders the equirectangular panorama only "
+                          "(Camera properties > Lens > Panorama Type)")
+    return dict(longitude=(settings.longitude_min, settings.longitude_max),
+                latitude=(settings.latitude_min, settings.latitude_max))
+
+
+def camera_frame(cam_obj) -> dict:
+    """eye, target, up and mirror of a camera object; the basis is kept in
+    double and relative to the eye (target = eye + unit forward), so a camera
+    far from the origin keeps its direction. Refuses a transform without a
+    viewing direction (zero scale, NaN), naming the camera."""
+    m = to_numpy(cam_obj.matrix_world)
+    if not np.isfinite(m).all():
+        raise CameraError(f"Camera {cam_obj.name!r} has a non-finite transform (NaN or Inf)")
+    scale = np.linalg.norm(m[:3, :3], axis=0)
+    if not (scale.min() > 1e-12 * max(1.0, scale.max())):
+        raise CameraError(f"Camera {cam_obj.name!r} has a zero scale ({', '.join(f'{s:g}' for s in scale)} along "
+                          "its X, Y, Z axes): it has no viewing direction. Give it a non-zero scale")
+    eye = m[:3, 3].copy()
+    forward = unit(-axis(m, 2))
+    return dict(eye=tuple(eye), target=tuple(eye + forward), up=tuple(unit(axis(m, 1))),
+                mirror=bool(np.linalg.det(m[:3, :3]) < 0))
+
+
 def convert_camera(cam_obj, render, unit_scale: float = 1.0) -> Camera:
     """The camera object `cam_obj` (evaluated) for the render settings `render`."""
     if cam_obj is None:
@@ -95,23 +144,23 @@ def convert_camera(cam_obj, render, unit_scale: float = 1.0) -> Camera:
     if cam_obj.type != "CAMERA":
         raise CameraError(f"The active camera {cam_obj.name!r} is not a camera object")
     cam = cam_obj.data
-    if cam.type != "PERSP":
-        raise CameraError(f"Camera {cam_obj.name!r} uses a {cam.type} projection; "
-                          "Gridwalk supports perspective cameras only")
     width, height = resolution(render)
-    m = to_numpy(cam_obj.matrix_world)
-    if not np.isfinite(m).all():
-        raise CameraError(f"Camera {cam_obj.name!r} has a non-finite transform (NaN or Inf)")
-    eye = m[:3, 3].copy()
-    forward = unit(-axis(m, 2))
-    up = unit(axis(m, 1))
-    fov, side = vertical_fov_and_side(cam, width, height)
-    larger = float(max(width, height))
-    shift = (cam.shift_x * side / larger, cam.shift_y * side / larger)
-    aperture, focus = 0.0, None
+    aspect = pixel_aspect(render)
+    frame = camera_frame(cam_obj)
+    fields = dict(frame, width=width, height=height, pixel_aspect=aspect, hither=float(cam.clip_start),
+                  yon=float(cam.clip_end))
+    if cam.type == "PANO":
+        fields.update(projection="equirectangular", **panorama(cam, cam_obj.name))
+    else:
+        sensor, side = fitted_side(cam, width, height, aspect)
+        larger = max(width * aspect, float(height))
+        fields["shift"] = (cam.shift_x * side / larger, cam.shift_y * side / larger)
+        if cam.type == "ORTHO":
+            fields.update(projection="orthographic", ortho_height=cam.ortho_scale * height / side)
+        else:
+            fields["fov"] = math.degrees(2.0 * math.atan(sensor / (2.0 * cam.lens) * height / side))
     if cam.dof.use_dof:
-        aperture = (cam.lens / 1000.0) / (2.0 * max(cam.dof.aperture_fstop, 1e-6)) / max(unit_scale, 1e-12)
-        focus = _focus_distance(cam, eye, forward)
-    return Camera(eye=tuple(eye), target=tuple(eye + forward), up=tuple(up), fov=fov,
-                  width=width, height=height, aperture=aperture, focus_distance=focus,
-                  shift=shift, hither=float(cam.clip_start))
+        eye, forward = np.array(frame["eye"]), np.subtract(frame["target"], frame["eye"])
+        fields["aperture"] = (cam.lens / 1000.0) / (2.0 * max(cam.dof.aperture_fstop, 1e-6)) / max(unit_scale, 1e-12)
+        fields["focus_distance"] = _focus_distance(cam, eye, forward)
+    return Camera(**fields)

@@ -4,7 +4,8 @@ Every entry of depsgraph.object_instances with geometry (meshes, curves, text,
 metaballs; collection instances included, each with its own matrix_world) is
 evaluated with its modifiers (`to_mesh()`), triangulated through
 loop_triangles and read with foreach_get into numpy. A mesh is read once and
-reused by all its instances. Objects hidden for render are skipped.
+reused by all its instances (mesh_cache.MeshCache; the viewport keeps it
+between updates). Objects hidden for render are skipped.
 
 Shading normals come from Blender's normals domain:
   FACE   (all faces flat)            -> no normals (the core uses geometric normals)
@@ -179,13 +180,26 @@ def _in_range(points) -> bool:
     return bool(np.isfinite(points).all() and np.abs(points).max(initial=0.0) <= MAX_COORDINATE)
 
 
-class MeshCollector:
-    """Gathers world-space triangles and spheres over all object instances."""
+def read_object_mesh(obj) -> MeshData | None:
+    """The evaluated object's mesh (modifiers applied), read into arrays."""
+    mesh = obj.to_mesh()
+    try:
+        return read_mesh(mesh) if mesh is not None else None
+    finally:
+        obj.to_mesh_clear()
 
-    def __init__(self, materials):
+
+class MeshCollector:
+    """Gathers world-space triangles and spheres over all object instances.
+
+    cache: a mesh_cache.MeshCache; meshes it holds are not read again (the
+    viewport keeps one between updates; a final render starts empty)."""
+
+    def __init__(self, materials, cache):
         self.materials = materials
-        self.cache = {}
-        self.parts = []            # (MeshData, matrix, slot->material lookup)
+        self.cache = cache
+        self.used = set()          # the cache entries this export used
+        self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
         self.non_uniform_spheres = []
         self.invalid = {}          # object name -> why it was skipped
@@ -211,7 +225,8 @@ class MeshCollector:
                 self.non_uniform_spheres.append(obj.name)
             self.spheres.append((centre, radius, int(lookup[0])))
             return
-        data = self._mesh_data(obj)
+        key, data = self.cache.mesh(obj)
+        self.used.add(key)
         if data is None or not len(data.triangles):
             if obj.type == "MESH":         # (curves without bevel are paths, not mistakes)
                 self.faceless.add(obj.name)
@@ -225,17 +240,7 @@ class MeshCollector:
             return
         if data.degenerate:
             self.degenerate[obj.name] = (data.degenerate, len(data.triangles))
-        self.parts.append((data, matrix, lookup))
-
-    def _mesh_data(self, obj):
-        key = (obj.original.name_full, obj.data.as_pointer() if obj.data else 0)
-        if key not in self.cache:
-            mesh = obj.to_mesh()
-            try:
-                self.cache[key] = read_mesh(mesh) if mesh is not None else None
-            finally:
-                obj.to_mesh_clear()
-        return self.cache[key]
+        self.parts.append((key, data, matrix, lookup))
 
     def warnings(self) -> list[str]:
         out = [f"Skipped object '{name}': {why}" for name, why in sorted(self.invalid.items())]
@@ -251,22 +256,13 @@ class MeshCollector:
 
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
-        out = _assemble_triangles(self.parts)
+        out = assemble_triangles(self.parts, self.cache)
+        self.cache.prune(self.used)
         centres = np.array([s[0] for s in self.spheres], dtype=np.float32).reshape(-1, 3)
         out["sphere_centers"] = centres
         out["sphere_radii"] = np.array([s[1] for s in self.spheres], dtype=np.float32)
         out["sphere_materials"] = np.array([s[2] for s in self.spheres], dtype=np.int32)
         return out
-
-
-def _flat_corners(data, world):
-    """Unshared corners with face normals, for a flat mesh in a scene that needs normals."""
-    corners = world[data.triangles.reshape(-1)].reshape(-1, 3, 3)
-    n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    length = np.linalg.norm(n, axis=1, keepdims=True)
-    np.divide(n, length, out=n, where=length > 0)
-    triangles = np.arange(corners.shape[0] * 3, dtype=np.int32).reshape(-1, 3)
-    return corners.reshape(-1, 3), triangles, np.repeat(n, 3, axis=0)
 
 
 def count_geometry(depsgraph) -> dict:
@@ -320,21 +316,43 @@ def _counts(mesh) -> tuple[int, int, str]:
     return max(0, corners - 2 * faces), verts, domain
 
 
-def _assemble_triangles(parts) -> dict:
-    need_normals = any(data.normals is not None for data, _, _ in parts)
+def _flat_corners(data, world):
+    """Unshared corners with face normals, for a flat mesh in a scene that needs normals."""
+    corners = world[data.triangles.reshape(-1)].reshape(-1, 3, 3)
+    n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    np.divide(n, length, out=n, where=length > 0)
+    triangles = np.arange(corners.shape[0] * 3, dtype=np.int32).reshape(-1, 3)
+    return corners.reshape(-1, 3), triangles, np.repeat(n, 3, axis=0)
+
+
+def world_part(data, matrix, flat_corners: bool):
+    """One instance in world space: (vertices, triangles, normals or None),
+    float32 / int32. flat_corners: a flat mesh in a scene that needs normals
+    gets unshared corners with its face normals."""
+    world = transform_points(matrix, data.co)
+    tris, nrm = data.triangles, data.normals
+    if flat_corners:
+        world, tris, nrm = _flat_corners(data, world)
+    elif nrm is not None:
+        nrm = transform_normals(matrix, nrm.astype(np.float64))
+    return world.astype(np.float32), tris, None if nrm is None else nrm.astype(np.float32)
+
+
+def assemble_triangles(parts, cache) -> dict:
+    """Scene arrays (vertices, triangles, normals, triangle_materials) of the
+    parts (cache key, MeshData, matrix, material lookup); each instance's
+    world-space arrays come from cache.world_part (reused while its matrix
+    is unchanged)."""
+    need_normals = any(data.normals is not None for _, data, _, _ in parts)
     vertices, triangles, normals, materials = [], [], [], []
     offset = 0
-    for data, matrix, lookup in parts:
-        world = transform_points(matrix, data.co)
-        tris, nrm = data.triangles, data.normals
-        if need_normals and nrm is None:
-            world, tris, nrm = _flat_corners(data, world)
-        elif nrm is not None:
-            nrm = transform_normals(matrix, nrm.astype(np.float64))
-        vertices.append(world.astype(np.float32))
-        triangles.append(tris + offset)
+    for key, data, matrix, lookup in parts:
+        world, tris, nrm = cache.world_part(key, data, matrix, need_normals and data.normals is None)
+        vertices.append(world)
+        triangles.append(tris + offset if offset else tris)
         if need_normals:
-            normals.append(nrm.astype(np.float32))
+            normals.append(nrm)
         materials.append(lookup[np.clip(data.material_slot, 0, len(lookup) - 1)])
         offset += world.shape[0]
     if not parts:

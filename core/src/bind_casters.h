@@ -1,5 +1,5 @@
 // nanobind type casters for the core's small value types: Vec3 from any
-// sequence of 3 numbers (to a tuple), Region from 4 integers (to a tuple).
+// sequence of 3 numbers (to a tuple; Vec3d keeps double), Region from 4 integers (to a tuple).
 // The gridwalk package checks shapes first and names the field; a caster
 // that fails makes nanobind raise TypeError.
 #pragma once
@@ -30,16 +30,17 @@ bool read_sequence(handle src, T* out, Py_ssize_t count) noexcept {
     return ok;
 }
 
-template <>
-struct type_caster<gw::Vec3> {
-    NB_TYPE_CASTER(gw::Vec3, const_name("tuple[float, float, float]"))
+// Vec3 (float) and Vec3d (double, the camera's eye and target).
+template <class T>
+struct type_caster<gw::V3<T>> {
+    NB_TYPE_CASTER(gw::V3<T>, const_name("tuple[float, float, float]"))
     bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
         double v[3];
         if (!read_sequence(src, v, 3)) return false;
-        value = gw::Vec3(float(v[0]), float(v[1]), float(v[2]));
+        value = gw::V3<T>(T(v[0]), T(v[1]), T(v[2]));
         return true;
     }
-    static handle from_cpp(const gw::Vec3& v, rv_policy, cleanup_list*) noexcept {
+    static handle from_cpp(const gw::V3<T>& v, rv_policy, cleanup_list*) noexcept {
         return make_tuple(v.x, v.y, v.z).release();
     }
 };

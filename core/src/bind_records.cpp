@@ -50,13 +50,20 @@ void bind_records(nb::module_& m) {
         .def_rw("eye", &CameraDesc::eye)
         .def_rw("target", &CameraDesc::target)
         .def_rw("up", &CameraDesc::up)
+        .def_rw("projection", &CameraDesc::projection)
         .def_rw("fov", &CameraDesc::fov)
+        .def_rw("ortho_height", &CameraDesc::ortho_height)
         .def_rw("width", &CameraDesc::width)
         .def_rw("height", &CameraDesc::height)
+        .def_rw("pixel_aspect", &CameraDesc::pixel_aspect)
         .def_rw("aperture", &CameraDesc::aperture)
         .def_rw("focus_distance", &CameraDesc::focus_distance)
         .def_rw("shift", &CameraDesc::shift)
+        .def_rw("longitude", &CameraDesc::longitude)
+        .def_rw("latitude", &CameraDesc::latitude)
         .def_rw("hither", &CameraDesc::hither)
+        .def_rw("yon", &CameraDesc::yon)
+        .def_rw("mirror", &CameraDesc::mirror)
         .def("validate", &validate_camera);
 }
 

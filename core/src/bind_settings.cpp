@@ -88,7 +88,9 @@ void bind_settings(nb::module_& m) {
     bind_enum<ShadowMode>(m);
     bind_enum<PixelFilter>(m);
     bind_enum<LightKind>(m);
+    bind_enum<Projection>(m);
     m.def("light_kinds", &enum_items<LightKind>);
+    m.def("projections", &enum_items<Projection>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");
     cls.def(nb::init<>());

@@ -170,8 +170,30 @@ NB_MODULE(_core, m) {
               return out;
           });
 
+    // The camera's own rays through image positions (px, py) in pixels from
+    // the top-left corner, lens sample (lu, lv): (origins, directions, tmin, tmax).
+    m.def("camera_rays", [](const CameraDesc& desc, In<float> px, In<float> py, float lu, float lv) {
+        validate_camera(desc);
+        if (px.size() != py.size()) throw std::invalid_argument("px and py must have the same length");
+        const Camera cam(desc);
+        const size_t n = px.size();
+        auto o = owned<float>({n, 3}), d = owned<float>({n, 3});
+        auto tmin = owned<float>({n}), tmax = owned<float>({n});
+        for (size_t i = 0; i < n; ++i) {
+            const Ray r = cam.generate(px.data()[i], py.data()[i], lu, lv);
+            for (int k = 0; k < 3; ++k) {
+                o.data()[3 * i + k] = r.o[k];
+                d.data()[3 * i + k] = r.d[k];
+            }
+            tmin.data()[i] = r.tmin;
+            tmax.data()[i] = r.tmax;
+        }
+        return nb::make_tuple(o, d, tmin, tmax);
+    }, "camera"_a, "px"_a, "py"_a, "lu"_a = 0.5f, "lv"_a = 0.5f);
+
     nb::class_<RenderJob>(m, "RenderJob")
         .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&>())
+        .def(nb::init<std::shared_ptr<const Accel>, const RenderSettings&, const CameraDesc&>())
         .def("start", &RenderJob::start)
         .def("poll", [](RenderJob& j) {
             std::vector<std::tuple<int, int, int, int>> out;

@@ -69,4 +69,11 @@ GW_ENUM(PixelFilter, GW_PIXEL_FILTERS)
     X(Spot, "spot", "Spot", "A point emitting in a cone around direction")
 GW_ENUM(LightKind, GW_LIGHT_KINDS)
 
+#define GW_PROJECTIONS(X)                                                                                   \
+    X(Perspective, "perspective", "Perspective", "A pinhole (or thin lens) camera; fov is the vertical angle") \
+    X(Orthographic, "orthographic", "Orthographic", "Parallel rays; ortho_height is the view's height")      \
+    X(Equirectangular, "equirectangular", "Equirectangular",                                                  \
+      "A panorama: x spans the longitude range, y the latitude range")
+GW_ENUM(Projection, GW_PROJECTIONS)
+
 }  // namespace gw

@@ -2,24 +2,23 @@
 #include "pixel_estimator.h"
 
 namespace gw {
-PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s)
-    : scene_(accel.scene()), s_(s), integrator_(accel, s), camera_(accel.scene().camera()) {}
+PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera)
+    : s_(s), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
 
 void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
                                   TraceContext& ctx, float out[4], FirstHit* fh) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
-    const bool lens = scene_.camera().aperture > 0;
     Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
     const float rot = lens_rng.next();
     Vec3 sum;
     float hits = 0;
     for (uint32_t j = 0; j < nd; ++j) {
         float lu = 0.5f, lv = 0.5f;
-        if (lens) strat2(j, nd, lens_rng.next(), rot, lu, lv);
+        if (lens_) strat2(j, nd, lens_rng.next(), rot, lu, lv);
         const Ray ray = camera_.generate(px, py, lu, lv);
         SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;
-        sum += integrator_.camera_ray(ray, camera_.forward(), st, ctx, &local);
+        sum += integrator_.camera_ray(ray, camera_.depth_axis(ray), st, ctx, &local);
         if (local.hit) hits += 1;
         if (fh && j == 0) *fh = local;
     }

@@ -28,7 +28,7 @@ struct PixelScratch {
 
 class PixelEstimator {
 public:
-    PixelEstimator(const Accel& accel, const RenderSettings& s);
+    PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera);
     // Call before the pixels of a tile (traces the shared corners in adaptive mode).
     void begin_tile(int x0, int y0, int w, int h, TraceContext& ctx, PixelScratch& sc) const;
     PixelValue pixel(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
@@ -40,10 +40,10 @@ private:
     PixelValue adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
     void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh) const;
 
-    const Scene& scene_;
     const RenderSettings& s_;
     Integrator integrator_;
     Camera camera_;
+    bool lens_;
 };
 
 }  // namespace gw

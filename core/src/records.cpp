@@ -1,6 +1,7 @@
 // Validation of the Material, Light and Camera records where they enter the
 // core, in the precision the core computes in (float32): a value that is
 // valid in Python's float64 but rounds to something invalid is refused here.
+#include <limits>
 #include <stdexcept>
 
 #include "camera.h"
@@ -12,13 +13,18 @@ namespace gw {
 namespace {
 
 std::string show(double v) { return format_number(v, 9); }
-std::string show(const Vec3& v) { return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")"; }
+template <class T>
+std::string show(const V3<T>& v) { return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")"; }
 
 [[noreturn]] void refuse(const std::string& where, const char* field, const std::string& what) {
     throw std::invalid_argument(where + "." + field + " " + what);
 }
 void need_finite(const std::string& where, const char* field, const Vec3& v) {
     if (!finite3(v)) refuse(where, field, "has a non-finite component: " + show(v));
+}
+void need_finite(const std::string& where, const char* field, const Vec3d& v) {
+    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)))
+        refuse(where, field, "has a non-finite component: " + show(v));
 }
 void need_finite(const std::string& where, const char* field, double v) {
     if (!std::isfinite(v)) refuse(where, field, "must be finite, got " + show(v));
@@ -72,10 +78,13 @@ void validate_camera(const CameraDesc& c) {
     need_finite(where, "eye", c.eye);
     need_finite(where, "target", c.target);
     need_finite(where, "up", c.up);
-    const Vec3 fwd = c.target - c.eye;   // as the camera computes it, in float
+    if (!finite3(Vec3(c.eye)) || !finite3(Vec3(c.target)))
+        refuse(where, !finite3(Vec3(c.eye)) ? "eye" : "target", "lies beyond the float32 range");
+    if (!enum_valid(c.projection)) refuse(where, "projection", "is not a projection");
+    const Vec3 fwd(c.target - c.eye);   // as the camera computes it: the difference in double, then float
     if (!finite3(fwd) || (fwd.x == 0 && fwd.y == 0 && fwd.z == 0))
-        refuse(where, "target", "coincides with Camera.eye in float32 " + show(c.eye) +
-                                   ": the camera has no viewing direction");
+        refuse(where, "target", "coincides with Camera.eye " + show(c.eye) + " (or lies too close to it for "
+                                "float32): the camera has no viewing direction");
     const Vec3d f(fwd), u(c.up);
     if (!(length(cross(f, u)) > 1e-12 * length(f) * length(u)))
         refuse(where, "up", "is parallel to the viewing direction (or zero): " + show(c.up));
@@ -85,19 +94,46 @@ void validate_camera(const CameraDesc& c) {
     if (int64_t(c.width) * int64_t(c.height) > (int64_t(1) << 28))
         refuse(where, "width", "x Camera.height = " + std::to_string(int64_t(c.width) * c.height) +
                                   " pixels: more than the limit of 2^28");
-    if (!(c.fov > 0 && c.fov < 180))
-        refuse(where, "fov", "must be in (0, 180) degrees after rounding to float32, got " + show(c.fov));
-    // Neighbouring pixels must get different ray directions in float32.
-    const double half = std::tan(double(c.fov) * kPi / 360.0);
-    if (!(2.0 * half / double(std::max(c.width, c.height)) >= 1e-6))
-        refuse(where, "fov", "= " + show(c.fov) + " degrees is too narrow for float32 ray directions at " +
-                             std::to_string(std::max(c.width, c.height)) + " pixels");
+    need_finite(where, "pixel_aspect", c.pixel_aspect);
+    if (!(c.pixel_aspect >= 1e-4f && c.pixel_aspect <= 1e4f))
+        refuse(where, "pixel_aspect", "must be in [1e-4, 1e4], got " + show(c.pixel_aspect));
+    const int side = std::max(c.width, c.height);
+    if (c.projection == Projection::Perspective) {
+        if (!(c.fov > 0 && c.fov < 180))
+            refuse(where, "fov", "must be in (0, 180) degrees after rounding to float32, got " + show(c.fov));
+        // Neighbouring pixels must get different ray directions in float32.
+        const double half = std::tan(double(c.fov) * kPi / 360.0);
+        if (!(2.0 * half / double(side) >= 1e-6))
+            refuse(where, "fov", "= " + show(c.fov) + " degrees is too narrow for float32 ray directions at " +
+                                 std::to_string(side) + " pixels");
+    } else if (c.projection == Projection::Orthographic) {
+        need_finite(where, "ortho_height", c.ortho_height);
+        if (!(c.ortho_height > 0)) refuse(where, "ortho_height", "must be > 0, got " + show(c.ortho_height));
+        // Neighbouring pixels must get different ray origins in float32.
+        const double reach = std::max({std::abs(c.eye.x), std::abs(c.eye.y), std::abs(c.eye.z)});
+        const double pixel = double(c.ortho_height) / double(c.height) * std::min(1.0, double(c.pixel_aspect));
+        if (!(pixel >= 2.0 * reach * double(std::numeric_limits<float>::epsilon())) || !(pixel > 1e-30))
+            refuse(where, "ortho_height", "= " + show(c.ortho_height) + " is too small for float32 ray origins " +
+                                          show(reach) + " from the origin at " + std::to_string(c.height) +
+                                          " pixels");
+    } else {
+        for (const char* field : {"longitude", "latitude"}) {
+            const auto& range = field[1] == 'o' ? c.longitude : c.latitude;
+            need_finite(where, field, range[0]);
+            need_finite(where, field, range[1]);
+            if (!(range[0] < range[1]))
+                refuse(where, field, "must be (min, max) with min < max, got (" + show(range[0]) + ", " +
+                                         show(range[1]) + ")");
+        }
+    }
     need_at_least(where, "aperture", c.aperture, 0);
     need_finite(where, "focus_distance", c.focus_distance);
     if (!(c.focus_distance > 0)) refuse(where, "focus_distance", "must be > 0, got " + show(c.focus_distance));
     need_finite(where, "shift", c.shift[0]);
     need_finite(where, "shift", c.shift[1]);
     need_at_least(where, "hither", c.hither, 0);
+    if (std::isnan(c.yon) || !(c.yon > c.hither))
+        refuse(where, "yon", "must be greater than Camera.hither (" + show(c.hither) + "), got " + show(c.yon));
 }
 
 }  // namespace gw

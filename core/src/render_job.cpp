@@ -15,12 +15,12 @@ double now_seconds() {
 }
 }  // namespace
 
-RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s)
-    : accel_(std::move(accel)), s_(s) {
+RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s, const CameraDesc& camera)
+    : accel_(std::move(accel)), s_(s), camera_(camera) {
     validate_settings(s_);
-    const CameraDesc& cam = accel_->scene().camera();
-    width = cam.width;
-    height = cam.height;
+    validate_camera(camera_);
+    width = camera_.width;
+    height = camera_.height;
     const size_t n = size_t(width) * size_t(height);
     rgba.assign(n * 4, 0.0f);
     depth.assign(n, kInf);
@@ -61,8 +61,9 @@ void RenderJob::start() {
 }
 
 void RenderJob::worker() {
+    name_this_thread();
     try {
-        PixelEstimator est(*accel_, s_);
+        PixelEstimator est(*accel_, s_, camera_);
         TraceContext ctx = make_trace_context(*accel_, s_);
         PixelScratch scratch;
         for (;;) {

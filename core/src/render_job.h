@@ -19,7 +19,11 @@ struct Tile { int x, y, w, h; };
 
 class RenderJob {
 public:
-    RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s);
+    // Renders the accel's scene through `camera` (validated here); without
+    // one, through the scene's own camera.
+    RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s, const CameraDesc& camera);
+    RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s)
+        : RenderJob(accel, s, accel->scene().camera()) {}
     ~RenderJob();
     RenderJob(const RenderJob&) = delete;
     RenderJob& operator=(const RenderJob&) = delete;
@@ -46,6 +50,7 @@ private:
 
     std::shared_ptr<const Accel> accel_;
     RenderSettings s_;
+    CameraDesc camera_;
     std::vector<Tile> tiles_;
     std::vector<std::thread> threads_;
     std::atomic<int> next_tile_{0}, tiles_done_{0}, finished_workers_{0};

@@ -1,11 +1,22 @@
-// How many worker threads a request means.
+// How many worker threads a request means, and their name.
 #pragma once
 #include <stdexcept>
 #include <string>
 #include <system_error>
 #include <thread>
+#ifdef __linux__
+#include <pthread.h>
+#endif
 
 namespace gw {
+
+// Names the calling thread "gridwalk" (Linux: /proc/<pid>/task/*/comm), so
+// hosts and tests can tell the core's render threads from their own.
+inline void name_this_thread() {
+#ifdef __linux__
+    pthread_setname_np(pthread_self(), "gridwalk");
+#endif
+}
 
 // requested > 0: that many; 0: one per hardware thread (at least 1).
 inline int resolve_threads(int requested) {

@@ -1,6 +1,7 @@
-"""A screenshot of Blender's GUI with GRIDWALK, under Xvfb (Debian's blender 3.4).
+"""Blender's GUI with GRIDWALK, under Xvfb (Debian's blender 3.4): screenshots.
 
-    python tests/blender/gui.py docs/images/blender_gridwalk.png
+    python tests/blender/gui.py docs/images/blender_gridwalk.png   # a finished render
+    python tests/blender/gui.py viewport docs/images                # the Rendered viewport
 
 Starts Xvfb on a free display, a user profile with the add-on installed and the
 splash screen off, runs scripts/gui_screenshot.py in the GUI and waits for it.
@@ -42,19 +43,48 @@ def user_profile(home: Path) -> dict:
     return env
 
 
-def screenshot(out: Path, timeout: float = 300) -> Path:
-    out = Path(out).resolve()
+def run_gui(script: str, env: dict, timeout: float = 300):
+    """Run scripts/<script> in Blender's GUI under a new Xvfb; `env` adds
+    variables. Returns the finished process (fails on a non-zero exit)."""
     xvfb, display = start_xvfb()
     try:
         with tempfile.TemporaryDirectory() as home:
-            env = dict(user_profile(Path(home)), DISPLAY=display, SHOT=str(out))
-            run(["blender", "--window-geometry", "0", "0", str(SIZE[0]), str(SIZE[1]), "-noaudio",
-                 "--python", str(SCRIPTS / "gui_screenshot.py")], env, timeout=timeout)
+            full_env = dict(user_profile(Path(home)), DISPLAY=display, **env)
+            return run(["blender", "--window-geometry", "0", "0", str(SIZE[0]), str(SIZE[1]), "-noaudio",
+                        "--python", str(SCRIPTS / script)], full_env, timeout=timeout)
     finally:
         xvfb.terminate()
         xvfb.wait(timeout=10)
+
+
+def screenshot(out: Path, timeout: float = 300) -> Path:
+    out = Path(out).resolve()
+    run_gui("gui_screenshot.py", {"SHOT": str(out)}, timeout)
     return out
 
 
+def viewport_images(folder: Path):
+    """docs/images/viewport_*.png: the Rendered viewport through the camera (the
+    whole window) and in the orthographic front view (the 3D view), from the
+    GUI test's session (scripts/gui_viewport.py)."""
+    import json
+
+    from PIL import Image
+    folder = Path(folder).resolve()
+    with tempfile.TemporaryDirectory() as out:
+        run_gui("gui_viewport.py", {"OUT": out})
+        info = json.loads((Path(out) / "gui_viewport.json").read_text())
+        x, y, w, h = info["shot_front.png"]["region"]
+        top = info["shot_front.png"]["window_height"] - (y + h)
+        for name, image in (("viewport_camera.png", Image.open(Path(out) / "shot_camera.png")),
+                            ("viewport_front.png", Image.open(Path(out) / "shot_front.png").crop(
+                                (x, top, x + w, top + h)))):
+            image.convert("RGB").quantize(256).save(folder / name, optimize=True)     # 256 colours: smaller
+    return folder
+
+
 if __name__ == "__main__":
-    print(screenshot(Path(sys.argv[1] if len(sys.argv) > 1 else "blender_gridwalk.png")))
+    if sys.argv[1:2] == ["viewport"]:
+        print(viewport_images(Path(sys.argv[2] if len(sys.argv) > 2 else ".")))
+    else:
+        print(screenshot(Path(sys.argv[1] if len(sys.argv) > 1 else "blender_gridwalk.png")))

@@ -62,6 +62,18 @@ def run_script(kind: str, name: str, *args, timeout: float = 180, blend=None, cw
     return run(argv, env, timeout, cwd)
 
 
+def script_output(kind: str, tmp_path_factory, script: str, *args, timeout: float = 180) -> Path:
+    """For module fixtures: skip when Blender `kind` is missing, else run
+    scripts/<script> OUT_DIR *args in it and return OUT_DIR (a new folder)."""
+    import pytest
+    reason = missing_reason(kind)
+    if reason:
+        pytest.skip(reason)
+    out = tmp_path_factory.mktemp(f"{Path(script).stem}_{kind}")
+    run_script(kind, script, out, *args, timeout=timeout)
+    return out
+
+
 def run(argv, env=None, timeout: float = 180, cwd=None) -> subprocess.CompletedProcess:
     try:
         proc = subprocess.run(argv, env=env, cwd=cwd, capture_output=True, text=True, timeout=timeout)

@@ -1,6 +1,7 @@
 """Debian's real `blender` binary (3.4.1): the add-on installed in a user scripts
 folder and enabled in saved preferences, then the plain headless command
-`blender -b scene.blend -E GRIDWALK -o //out_ -f 1`, and Ctrl-C during a render."""
+`blender -b scene.blend -E GRIDWALK -o //out_ -f 1` (which never enters the
+viewport's code), and Ctrl-C during a render."""
 import os
 import signal
 import subprocess
@@ -42,11 +43,16 @@ def _blend(tmp_path, *options):
     return tmp_path / "scene.blend"
 
 
+VIEWPORT_CHECK = ("import sys; print('viewport modules:', sorted(m for m in sys.modules "
+                  "if m.startswith('gridwalk_blender.viewport')))")
+
+
 def test_headless_command_line_render_writes_the_image(user_env, tmp_path):
     _blend(tmp_path, "transparent=false", 'settings={"aa": "JITTERED", "aa_samples": 2}')
-    proc = run(["blender", "-b", "scene.blend", "-E", "GRIDWALK", "-o", "//out_", "-f", "1"],
-               _in(tmp_path, user_env), timeout=180, cwd=tmp_path)
+    proc = run(["blender", "-b", "scene.blend", "-E", "GRIDWALK", "-o", "//out_", "-f", "1",
+                "--python-expr", VIEWPORT_CHECK], _in(tmp_path, user_env), timeout=180, cwd=tmp_path)
     assert "Gridwalk: finished" in proc.stdout
+    assert "viewport modules: []" in proc.stdout      # the viewport's code (and its gpu import) never ran
     rgba = exr.rgba(exr.read_exr(tmp_path / "out_0001.exr"), "ViewLayer.Combined.")
     assert rgba.shape == (72, 96, 4)
     assert np.all(rgba[..., 3] == 1.0)                 # film not transparent: opaque

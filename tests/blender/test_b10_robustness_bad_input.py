@@ -2,8 +2,9 @@
 
 One Blender session per Blender (bpy 4.5, bpy 5.0, Debian's 3.4 binary) renders
 every case of scripts/bad_input.py: an empty scene, no camera (refused by
-Blender; deleted mid-animation; the engine called directly), a camera inside
-an object, a 1 x 1 image and render borders, NaN / Inf transforms, meshes
+Blender; deleted mid-animation; the engine called directly), a camera with
+zero scale or a fisheye lens, a camera inside an object, a 1 x 1 image and
+render borders, NaN / Inf transforms, meshes
 without faces and with zero-area faces, and a scene too large for the memory
 limit. The messages are read from what Blender printed for its reports.
 """
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 import exr
-from runner import ALL_BLENDERS, missing_reason, run_script
+from runner import ALL_BLENDERS, script_output
 
 COMBINED = "ViewLayer.Combined."
 
@@ -43,16 +44,12 @@ class Results:
 
 @pytest.fixture(scope="module", params=list(ALL_BLENDERS))
 def results(request, tmp_path_factory):
-    reason = missing_reason(request.param)
-    if reason:
-        pytest.skip(reason)
-    out = tmp_path_factory.mktemp(f"bad_input_{request.param}")
-    run_script(request.param, "bad_input.py", out, timeout=240)    # exit code 0: the session survived
-    return Results(out)
+    # exit code 0: the session survived every case
+    return Results(script_output(request.param, tmp_path_factory, "bad_input.py", timeout=240))
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 21
+    assert len(results.cases()) == 23
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
@@ -77,6 +74,13 @@ def test_no_camera(results):
     assert len(direct["errors"]) == 1 and message in direct["errors"][0]
     assert "is not a camera object" in results.error("not_a_camera")
     assert "Camera 'Camera' has a non-finite transform (NaN or Inf)" in results.error("nan_camera")
+
+
+def test_camera_without_a_viewing_direction_or_with_an_unsupported_panorama(results):
+    assert ("Gridwalk: Camera 'Camera' has a zero scale (1, 0, 1 along its X, Y, Z axes): it has no viewing "
+            "direction. Give it a non-zero scale") in results.error("zero_scale_camera")
+    assert ("Gridwalk: Camera 'Camera' uses the fisheye equidistant panorama; Gridwalk renders the "
+            "equirectangular panorama only") in results.error("fisheye_camera")
 
 
 @pytest.mark.parametrize("case", ["camera_inside_cube", "camera_inside_sphere"])

@@ -18,6 +18,7 @@ import numpy as np
 from . import _core
 
 LIGHT_KINDS = tuple(kind for kind, _, _ in _core.light_kinds())
+PROJECTIONS = tuple(kind for kind, _, _ in _core.projections())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 
@@ -147,14 +148,32 @@ class Light(Record):
         return {"kind": _light_kind}
 
 
+def _projection(value, where):
+    if value not in PROJECTIONS:
+        raise ValueError(f"{where} must be one of {list(PROJECTIONS)}, got {value!r}")
+    return getattr(_core.Projection, value)
+
+
 @dataclass
 class Camera(Record):
-    """Perspective camera. fov is the vertical field of view in degrees.
+    """The camera. projection: perspective | orthographic | equirectangular.
 
+    eye, target, up: position, a point on the view axis, and the up hint; eye
+    and target are kept in double, so a camera far from the origin keeps its
+    viewing direction.
+    fov: perspective: the vertical field of view in degrees.
+    ortho_height: orthographic: the height of the view in scene units.
+    width, height: image size in pixels; pixel_aspect: a pixel's width /
+    height (2 = wide pixels: the view shows twice the width per pixel).
     shift = (sx, sy) moves the image window, in units of the image plane's
-    larger side (Blender's convention). aperture is the thin-lens radius
-    (0 = pinhole); focus_distance defaults to |target - eye|. hither: rays
-    start this far along the view axis.
+    larger side (Blender's convention; perspective and orthographic).
+    longitude, latitude: equirectangular: the (min, max) angles in radians
+    spanned by the image from left to right and from bottom to top; the
+    image centre at longitude 0, latitude 0 looks at the target.
+    aperture is the thin-lens radius (0 = pinhole); focus_distance defaults to
+    |target - eye|. hither, yon: rays start and end this far along the view
+    axis (near and far clipping; a panorama clips by distance from the eye).
+    mirror: flip the image left to right (a camera with a negative scale).
     """
     eye: tuple = _CAM.eye
     target: tuple = _CAM.target
@@ -166,6 +185,13 @@ class Camera(Record):
     focus_distance: float | None = None
     shift: tuple = tuple(_CAM.shift)
     hither: float = _CAM.hither
+    projection: str = PROJECTIONS[0]
+    ortho_height: float = _CAM.ortho_height
+    pixel_aspect: float = _CAM.pixel_aspect
+    longitude: tuple = tuple(_f32(x) for x in _CAM.longitude)
+    latitude: tuple = tuple(_f32(x) for x in _CAM.latitude)
+    yon: float = _CAM.yon
+    mirror: bool = _CAM.mirror
     CORE = _core.Camera
 
     def converters(self) -> dict:
@@ -174,4 +200,12 @@ class Camera(Record):
                 eye, target = as_floats(self.eye, 3, "Camera.eye"), as_floats(self.target, 3, "Camera.target")
                 return float(np.linalg.norm(np.subtract(target, eye)))
             return _scalar(value, float, where)
-        return {"focus_distance": focus}
+        return {"focus_distance": focus, "projection": _projection}
+
+    def rays(self, px, py, lens=(0.5, 0.5)):
+        """The core's camera rays through image positions (px, py), in pixels
+        from the image's top-left corner, for the lens sample `lens` in
+        [0, 1)^2: (origins, directions, tmin, tmax), float32."""
+        px = np.ascontiguousarray(px, np.float32).reshape(-1)
+        py = np.ascontiguousarray(py, np.float32).reshape(-1)
+        return _core.camera_rays(self.to_core(), px, py, float(lens[0]), float(lens[1]))

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
+from .model import Camera
 from .scene import Scene
 from .settings import RenderSettings
 
@@ -25,20 +26,31 @@ class RenderJob:
 
     job = RenderJob(scene, settings); job.start()
     while not job.finished: tiles = job.poll(); ...; job.cancel() to stop
+
+    camera: another view of the same scene (the viewport's); None renders
+    through the scene's own camera. The scene's acceleration structure is
+    built once and shared by every job on it.
     """
 
-    def __init__(self, scene: Scene, settings: RenderSettings | None = None, should_stop=None):
+    def __init__(self, scene: Scene, settings: RenderSettings | None = None, camera: Camera | None = None,
+                 should_stop=None):
         """Builds (or reuses) the scene's acceleration structure before the
         clock starts; should_stop() can cancel that build (see Scene.accel)."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a gridwalk.Scene, got {type(scene).__name__}")
+        if camera is not None and not isinstance(camera, Camera):
+            raise ValueError(f"camera must be a gridwalk.Camera, got {type(camera).__name__}")
         self.settings = settings or RenderSettings()
         core = self.settings.to_core()
         self.scene = scene
+        self.camera = camera or scene.camera
         t0 = time.perf_counter()
         self.accel = scene.accel(self.settings, should_stop)
         self.build_seconds = time.perf_counter() - t0
-        self._job = _core.RenderJob(self.accel, core)
+        if camera is None:
+            self._job = _core.RenderJob(self.accel, core)
+        else:
+            self._job = _core.RenderJob(self.accel, core, camera.to_core())
 
     def start(self) -> "RenderJob":
         self._job.start()

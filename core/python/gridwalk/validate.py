@@ -59,22 +59,14 @@ def embree_intersect(scene, origins, directions, tmax=None) -> dict:
 
 
 def camera_rays(camera, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """About n rays from the camera's eye through a regular grid of pixel centres."""
-    eye, target, up = (np.asarray(v, np.float64) for v in (camera.eye, camera.target, camera.up))
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
+    """About n of the camera's own rays (any projection), through a regular
+    grid of image positions at the centres of an nx x ny grid."""
     aspect = camera.width / camera.height
     ny = max(1, round(math.sqrt(n / aspect)))
     nx = max(1, round(n / ny))
-    half_h = math.tan(math.radians(camera.fov) / 2)
-    x = ((np.arange(nx) + 0.5) / nx * 2 - 1) * half_h * aspect
-    y = (1 - (np.arange(ny) + 0.5) / ny * 2) * half_h
-    gx, gy = np.meshgrid(x, y)
-    d = forward + gx.reshape(-1, 1) * right + gy.reshape(-1, 1) * true_up
-    d /= np.linalg.norm(d, axis=1, keepdims=True)
-    return np.broadcast_to(eye, d.shape).astype(np.float32), d.astype(np.float32)
+    gx, gy = np.meshgrid((np.arange(nx) + 0.5) / nx * camera.width, (np.arange(ny) + 0.5) / ny * camera.height)
+    o, d, _, _ = camera.rays(gx, gy)
+    return o, d
 
 
 def _light_targets(lights) -> list:

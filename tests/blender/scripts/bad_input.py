@@ -89,6 +89,18 @@ def case_nan_camera(bpy, s):
     bpy.context.scene.camera.location = (NAN, -10.0, 0.0)
 
 
+def case_zero_scale_camera(bpy, s):
+    s.cube_scene()
+    bpy.context.scene.camera.scale = (1.0, 0.0, 1.0)
+
+
+def case_fisheye_camera(bpy, s):
+    s.cube_scene()
+    cam = bpy.context.scene.camera.data
+    cam.type = "PANO"
+    (cam if hasattr(cam, "panorama_type") else cam.cycles).panorama_type = "FISHEYE_EQUIDISTANT"
+
+
 def case_camera_inside_cube(bpy, s):
     s.reset()
     s.link(s.cube_object("Room", size=6.0))

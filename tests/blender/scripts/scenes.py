@@ -12,8 +12,14 @@ from mathutils import Euler, Vector
 from blender_addon.scripting import principled_material
 
 
-def reset(camera=True, resolution=(64, 48)):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
+def reset(camera=True, resolution=(64, 48), factory=True):
+    """An empty scene (factory settings; factory=False keeps the preferences and
+    add-ons, as the GUI tests need, and deletes the current scene's objects)."""
+    if factory:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+    else:
+        for obj in list(bpy.data.objects):
+            bpy.data.objects.remove(obj)
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y = resolution
     scene.render.resolution_percentage = 100
@@ -248,6 +254,98 @@ def nan_scene():
     cube.data.vertices.foreach_set("co", co)
     cube.data.update()
     add_light("Key", "POINT", (0, -5, 5), energy=100.0)
+    return {}
+
+
+CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
+FAR = (1e7, 1e7, 0.0)       # whole numbers: exact in float32 (spacing 1 at 1e7)
+
+
+def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR):
+    """Cubes, a sphere and a ground plane seen by one kind of camera (the
+    CAMERA_KINDS): the scene the camera tests compare with Cycles. "far"
+    moves everything 1e7 from the origin and keeps only geometry with whole
+    coordinates, which float32 holds exactly there."""
+    far = kind == "far"
+    scene = reset(resolution=(101, 101) if far else tuple(resolution))
+    offset = Vector(far_offset if far else (0.0, 0.0, 0.0))
+    cam = scene.camera
+    cam.location = offset + Vector((0.0, -10.0, 3.0))
+    cam.rotation_euler = (math.radians(76), 0.0, math.radians(12 if far else 0))
+    data = cam.data
+    data.lens = 35.0
+    if kind == "perspective":
+        data.sensor_fit, data.sensor_height = "VERTICAL", 24.0
+        data.shift_x, data.shift_y = 0.12, -0.08
+    elif kind == "orthographic":
+        data.type, data.ortho_scale = "ORTHO", 9.0
+        data.shift_x, data.shift_y = 0.1, 0.05
+    elif kind == "panoramic":
+        data.type = "PANO"
+        pano = data if hasattr(data, "panorama_type") else data.cycles      # Blender 4.x / 3.x
+        pano.panorama_type = "EQUIRECTANGULAR"
+        pano.longitude_min, pano.longitude_max = -1.2, 2.0
+        pano.latitude_min, pano.latitude_max = -0.6, 0.9
+    elif kind == "mirrored":
+        cam.scale = (-1.0, 1.0, 1.0)
+    elif kind == "pixel_aspect":
+        scene.render.pixel_aspect_x = 2.0
+    elif kind == "clipped":
+        data.clip_start, data.clip_end = 8.8, 14.0
+    elif far:
+        # Cycles starts its rays at clip_start along each ray in float32: 1e7 from
+        # the origin that point snaps to whole units, moving the rays off their
+        # line by up to clip_start (0.1 by default: most of a pixel here)
+        data.clip_start = 1e-3
+    for name, loc, size, spin in (("Left", (-3.0, 0.0, 0.0), 2.0, 0.0), ("Back", (2.0, 4.0, 1.0), 2.0, 0.4),
+                                  ("Far", (1.0, 12.0, 1.0), 4.0, 0.0)):
+        cube = link(cube_object(name, size))
+        cube.location = offset + Vector(loc)
+        cube.rotation_euler = (0.0, 0.0, 0.0 if far else spin)
+    ground = link(bpy.data.objects.new("Ground", bpy.data.meshes.new("Ground")))
+    ground.data.from_pydata([(-5, -4, -1), (5, -4, -1), (5, 7, -1), (-5, 7, -1)], [], [(0, 1, 2, 3)])
+    ground.location = offset
+    if not far:
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(0.6, -2.0, -0.1), segments=48, ring_count=24)
+    add_light("Key", "SUN", offset + Vector((0, 0, 9)), (0.5, 0.2, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def uv_sphere_object(name, radius=1.0, segments=32, rings=16):
+    """A smooth UV sphere built with bmesh (no operator: works in GUI timers too)."""
+    import bmesh
+    mesh = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius)
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+    return bpy.data.objects.new(name, mesh)
+
+
+def viewport_scene(resolution=(480, 270), factory=True):
+    """Three coloured objects well apart on a dark world, lit from behind the
+    camera (their shadows fall behind them, out of sight): the GUI viewport
+    tests move "Sphere" and check that the image changes only around it.
+    "Near" and "Far" are equal cubes at the same height, 6 units apart in
+    depth: the same size in an orthographic front view, not in perspective."""
+    scene = reset(resolution=tuple(resolution), factory=factory)
+    scene.camera.location = (1.0, -14.0, 4.0)
+    scene.camera.rotation_euler = (math.radians(76), 0.0, math.radians(4))
+    for name, loc, color in (("Near", (-3.0, 0.0, 0.0), (0.8, 0.2, 0.1)), ("Far", (3.0, 6.0, 0.0), (0.1, 0.3, 0.8))):
+        cube = link(cube_object(name, 2.0))
+        cube.location = loc
+        cube.data.materials.append(principled_material(name, color, Roughness=0.6))
+    sphere = link(uv_sphere_object("Sphere", 1.0))
+    sphere.location = (0.5, 2.0, 0.0)
+    sphere.data.materials.append(principled_material("Green", (0.2, 0.7, 0.2), Roughness=0.5))
+    add_light("Key", "SUN", (0, -20, 20), (math.radians(40), 0, math.radians(5)), energy=3.0)
+    world = bpy.data.worlds.new("World")
+    world.color = (0.05, 0.05, 0.06)
+    world.use_nodes = False
+    scene.world = world
+    bpy.context.view_layer.update()
     return {}
 
 

@@ -1,0 +1,95 @@
+"""Exported meshes kept between exports (the viewport's incremental updates).
+
+A mesh is read once per evaluated mesh datablock: objects sharing a mesh
+(linked duplicates without modifiers) share the evaluated mesh, and so one
+entry; an object with modifiers has its own. Entries are keyed by the
+evaluated datablock's address and name plus a change counter: a geometry
+update of an object (depsgraph.updates: is_updated_geometry), or of a mesh
+datablock, bumps the counter of every address that object or mesh used, so
+the next lookup reads it again. (An address freed and reused by a new mesh
+belongs to an object that was just evaluated, so it is bumped too.)
+
+Each instance's world-space arrays are cached as well, keyed by its mesh
+entry and its matrix, so moving one object re-transforms only that object
+(meshes.assemble_triangles then only concatenates).
+
+The cache is a list of (mesh arrays, transform) pairs in spirit: once the
+core takes instances, `parts` can be handed over as they are.
+"""
+from __future__ import annotations
+
+from .meshes import read_object_mesh, world_part
+
+
+class MeshCache:
+    def __init__(self):
+        self.entries = {}        # (address, name, counter) -> MeshData or None
+        self.counter = {}        # address -> change counter
+        self.names = {}          # address -> datablock name (for mesh updates)
+        self.used_by = {}        # object name -> addresses it used
+        self.world = {}          # (entry key, matrix bytes, flat corners) -> world-space arrays
+        self.world_used = set()  # the world keys the current export used
+        self.reads = 0           # meshes read since the last reset_stats()
+        self.transforms = 0      # instances transformed since the last reset_stats()
+
+    def reset_stats(self):
+        self.reads = self.transforms = 0
+
+    def clear(self):
+        self.__init__()
+
+    def _bump(self, address):
+        self.counter[address] = self.counter.get(address, 0) + 1
+
+    def invalidate(self, updates) -> bool:
+        """Forget the meshes that depsgraph `updates` changed; True if any geometry changed."""
+        changed = False
+        for update in updates:
+            if not update.is_updated_geometry:
+                continue
+            changed = True
+            id_ = update.id
+            name = getattr(getattr(id_, "original", id_), "name_full", id_.name)
+            for address in self.used_by.get(name, ()):
+                self._bump(address)
+            data = getattr(id_, "data", None)
+            if data is not None and hasattr(data, "as_pointer"):
+                self._bump(data.as_pointer())
+            for address, data_name in self.names.items():   # a mesh datablock itself
+                if data_name == name:
+                    self._bump(address)
+        return changed
+
+    def key(self, obj):
+        address = obj.data.as_pointer() if obj.data is not None else id(obj)
+        name = obj.data.name_full if obj.data is not None else obj.name_full
+        return address, name, self.counter.get(address, 0)
+
+    def mesh(self, obj):
+        """(key, MeshData or None) of an evaluated object, read only when not cached."""
+        key = self.key(obj)
+        self.names[key[0]] = key[1]
+        self.used_by.setdefault(obj.original.name_full, set()).add(key[0])
+        if key not in self.entries:
+            self.entries[key] = read_object_mesh(obj)
+            self.reads += 1
+        return key, self.entries[key]
+
+    def world_part(self, key, data, matrix, flat_corners):
+        """World-space (vertices, triangles, normals) of one instance, cached by matrix."""
+        wkey = (key, matrix.tobytes(), flat_corners)
+        self.world_used.add(wkey)
+        part = self.world.get(wkey)
+        if part is None:
+            part = self.world[wkey] = world_part(data, matrix, flat_corners)
+            self.transforms += 1
+        return part
+
+    def prune(self, used_keys):
+        """Drop what the latest export did not use (deleted or changed objects)."""
+        self.entries = {k: v for k, v in self.entries.items() if k in used_keys}
+        self.world = {k: v for k, v in self.world.items() if k in self.world_used}
+        self.world_used = set()
+        live = {k[0] for k in used_keys}
+        self.names = {a: n for a, n in self.names.items() if a in live}
+        self.used_by = {o: {a for a in s if a in live} for o, s in self.used_by.items()}

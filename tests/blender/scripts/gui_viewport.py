@@ -1,0 +1,294 @@
+"""Inside Blender's GUI (Debian's blender 3.4 under Xvfb): Rendered viewport
+shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.py).
+
+ 1. scenes.viewport_scene, seen through the camera at zoom 1:1 (the camera's
+    frame is the render's size in pixels): screenshot shot_camera.png once the
+    viewport render is done; a final render of the same camera, final.png.
+ 2. "Sphere" moved from this script: screenshot shot_moved.png.
+ 3. The front numpad view (orthographic): screenshot shot_front.png.
+ 4. Rendering with many samples for 5 s: the time the engine spends in each
+    call on Blender's main thread (view_update, view_draw) is recorded; the
+    engine is switched to Workbench mid-render; back to GRIDWALK, then Solid
+    shading mid-render; Rendered again, then File > New while rendering;
+    Rendered again, then quit while rendering.
+    Render threads (named "gridwalk") and the viewport's Python thread are
+    counted after each event.
+OUT (env) is the output folder; results go to OUT/gui_viewport.json.
+"""
+import json
+import os
+import sys
+import threading
+import time
+import traceback
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+OUT = os.environ["OUT"]
+DEADLINE = time.monotonic() + 240
+RESULTS = {"log": []}
+
+
+def log(*args):
+    line = " ".join(str(a) for a in args)
+    RESULTS["log"].append(line)
+    print("gui_viewport:", line, flush=True)
+
+
+def save():
+    with open(os.path.join(OUT, "gui_viewport.json"), "w") as f:
+        json.dump(RESULTS, f, indent=1)
+
+
+def fail(message):
+    log("FAILED:", message)
+    save()
+    os._exit(1)
+
+
+def step(fn):
+    """A timer callback: any error ends Blender with exit code 1 and the traceback."""
+    def wrapped():
+        try:
+            return fn()
+        except Exception:
+            traceback.print_exc()
+            fail(traceback.format_exc())
+    return wrapped
+
+
+def after(seconds, fn):
+    bpy.app.timers.register(step(fn), first_interval=seconds, persistent=True)
+
+
+def view3d():
+    """(window, area, region, space) of the largest 3D view."""
+    win = bpy.context.window_manager.windows[0]
+    area = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    region = next(r for r in area.regions if r.type == "WINDOW")
+    return win, area, region, area.spaces.active
+
+
+def render_threads() -> int:
+    """The core's render threads in this process (named "gridwalk")."""
+    count = 0
+    for task in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{task}/comm") as f:
+                count += f.read().strip() == "gridwalk"
+        except FileNotFoundError:
+            pass
+    return count
+
+
+def threads() -> dict:
+    """The most render threads and viewport threads seen in 0.5 s (a pass may
+    be between jobs at one instant)."""
+    log("sessions:", [(s.message, s.finished, s._versions()) for s in sessions()])
+    counts = {"render": 0, "viewport": 0}
+    for _ in range(10):
+        counts["render"] = max(counts["render"], render_threads())
+        counts["viewport"] = max(counts["viewport"], sum(t.name == "gridwalk-viewport" and t.is_alive()
+                                                         for t in threading.enumerate()))
+        time.sleep(0.05)
+    return counts
+
+
+def sessions():
+    module = sys.modules.get("gridwalk_blender.viewport")
+    return list(module.SESSIONS) if module else []
+
+
+def when_done(then):
+    """Call `then` once every viewport render has finished its latest scene and
+    view (and has redrawn)."""
+    def poll():
+        if time.monotonic() > DEADLINE:
+            fail(f"the viewport render did not finish: {[s.message for s in sessions()]}")
+        live = sessions()
+        if live and all(s.idle() for s in live):
+            view3d()[1].tag_redraw()
+            after(1.0, then)
+            return None
+        return 0.25
+    bpy.app.timers.register(step(poll), first_interval=0.25, persistent=True)
+
+
+def screenshot(name):
+    win = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
+        bpy.ops.screen.screenshot(filepath=os.path.join(OUT, name))
+    _, area, region, space = view3d()
+    RESULTS[name] = {"region": [region.x, region.y, region.width, region.height], "window_height": win.height,
+                     "perspective": space.region_3d.is_perspective}
+    log("screenshot", name, RESULTS[name])
+
+
+def projected_box(obj):
+    """The object's bounding box in region pixels (x0, y0, x1, y1, origin bottom left)."""
+    from mathutils import Vector
+    _, _, region, space = view3d()
+    m = space.region_3d.perspective_matrix
+    xs, ys = [], []
+    for corner in obj.bound_box:
+        p = m @ (obj.matrix_world @ Vector(corner)).to_4d()
+        xs.append((p.x / p.w + 1) / 2 * region.width)
+        ys.append((p.y / p.w + 1) / 2 * region.height)
+    return [min(xs), min(ys), max(xs), max(ys)]
+
+
+@step
+def setup():
+    import scenes
+    scenes.viewport_scene(factory=False)
+    scene = bpy.context.scene
+    scene.render.engine = "GRIDWALK"
+    scene.render.preview_pixel_size = "1"
+    scene.gridwalk.viewport_samples = 4
+    scene.camera.data.show_passepartout = False
+    RESULTS["before"] = threads()
+    for properties in bpy.context.window_manager.windows[0].screen.areas:
+        if properties.type == "PROPERTIES":
+            properties.spaces.active.context = "RENDER"         # the Gridwalk panels, for the docs' picture
+    win, area, region, space = view3d()
+    space.shading.type = "RENDERED"
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    space.show_region_toolbar = False
+    space.show_region_tool_header = False
+    space.region_3d.view_perspective = "CAMERA"
+    space.region_3d.view_camera_offset = (0.0, 0.0)
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.view3d.zoom_camera_1_to_1()
+    log("3D view", region.width, "x", region.height)
+    when_done(camera_view)
+
+
+def camera_view():
+    screenshot("shot_camera.png")
+    from gridwalk_blender.export.viewport_camera import frame_in_region
+    scene = bpy.context.scene
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    _, _, region, space = view3d()
+    cam = scene.camera.evaluated_get(depsgraph)
+    projection = cam.calc_matrix_camera(depsgraph, x=scene.render.resolution_x, y=scene.render.resolution_y)
+    RESULTS["frame"] = list(frame_in_region(projection, space.region_3d.window_matrix, region.width, region.height))
+    RESULTS["sphere_before"] = projected_box(bpy.data.objects["Sphere"])
+    RESULTS["camera_boxes"] = {n: projected_box(bpy.data.objects[n]) for n in ("Near", "Far")}
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.filepath = os.path.join(OUT, "final.png")
+    bpy.ops.render.render(write_still=True)
+    log("final render written")
+    RESULTS["world_color"] = list(scene.world.color)
+    RESULTS["previews"] = {}
+    preview("material", bpy.data.materials["Green"], lambda: preview("world", scene.world, move_sphere))
+
+
+def preview(name, id_, then):
+    """Render the thumbnail of `id_` (one at a time: a new preview job cancels
+    the running one), record its mean colour, then call `then`."""
+    import numpy as np
+    if name == "world":
+        id_.color = (0.2, 0.3, 0.8)
+    id_.preview_ensure()
+    with bpy.context.temp_override(id=id_):
+        bpy.ops.ed.lib_id_generate_preview()
+    deadline = time.monotonic() + 30
+
+    def poll():
+        w, h = id_.preview.image_size
+        pixels = np.zeros(w * h * 4, np.float32)
+        if w * h:
+            id_.preview.image_pixels_float.foreach_get(pixels)
+        rgb = pixels.reshape(-1, 4)[:, :3]
+        if not w * h or rgb.max() == 0:
+            if time.monotonic() > deadline:
+                fail(f"no {name} preview")
+            return 0.25
+        RESULTS["previews"][name] = {"mean": rgb.mean(axis=0).tolist(), "std": rgb.std(axis=0).tolist()}
+        log("preview", name, RESULTS["previews"][name])
+        after(0.0, then)
+        return None
+    bpy.app.timers.register(step(poll), first_interval=0.25, persistent=True)
+
+
+def move_sphere():
+    bpy.context.scene.world.color = RESULTS["world_color"]
+    bpy.data.objects["Sphere"].location.x += 0.6
+    bpy.context.view_layer.update()
+    RESULTS["sphere_after"] = projected_box(bpy.data.objects["Sphere"])
+    RESULTS["edit_timings"] = None
+    after(0.5, lambda: when_done(moved))
+
+
+def moved():
+    RESULTS["edit_timings"] = [s.timings for s in sessions()]
+    screenshot("shot_moved.png")
+    win, area, region, _ = view3d()
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.view3d.view_axis(type="FRONT")
+    after(0.5, lambda: when_done(front))
+
+
+def front():
+    screenshot("shot_front.png")
+    RESULTS["front_boxes"] = {n: projected_box(bpy.data.objects[n]) for n in ("Near", "Far")}
+    bpy.context.scene.gridwalk.viewport_samples = 4000          # keeps rendering
+    for session in sessions():
+        session.main_thread.clear()
+    after(5.0, switch_engine)
+
+
+def switch_engine():
+    RESULTS["main_thread"] = [list(s.main_thread) for s in sessions()]
+    RESULTS["rendering"] = threads()
+    bpy.context.scene.render.engine = "BLENDER_WORKBENCH"
+    view3d()[1].tag_redraw()
+    after(2.0, switched)
+
+
+def switched():
+    RESULTS["after_engine_switch"] = threads()
+    bpy.context.scene.render.engine = "GRIDWALK"
+    view3d()[1].tag_redraw()
+    after(2.0, solid_shading)
+
+
+def solid_shading():
+    RESULTS["rendering_again"] = threads()
+    view3d()[3].shading.type = "SOLID"
+    after(2.0, rendered_again)
+
+
+def rendered_again():
+    RESULTS["after_solid_shading"] = threads()
+    view3d()[3].shading.type = "RENDERED"
+    after(2.0, new_file)
+
+
+def new_file():
+    RESULTS["rendering_before_new_file"] = threads()
+    bpy.ops.wm.read_homefile()
+    after(2.0, after_new_file)
+
+
+def after_new_file():
+    RESULTS["after_new_file"] = threads()
+    scene = bpy.context.scene
+    scene.render.engine = "GRIDWALK"
+    scene.gridwalk.viewport_samples = 4000
+    view3d()[3].shading.type = "RENDERED"
+    after(2.0, quit_blender)
+
+
+def quit_blender():
+    RESULTS["rendering_before_quit"] = threads()
+    RESULTS["completed"] = True
+    save()
+    log("quitting while rendering")
+    bpy.ops.wm.quit_blender()
+
+
+after(1.0, setup)

@@ -1,0 +1,167 @@
+"""The viewport's session without a GUI: depsgraph updates drive it as
+view_update does (a depsgraph_update_post handler passes the same
+depsgraph.updates), a camera built from the scene camera's matrices stands
+for the region's view.
+
+usage: <python with bpy> viewport_session.py OUT_DIR
+For each edit, OUT_DIR/viewport_session.json records: whether the render
+restarted, how many meshes were read and instances transformed, whether the
+incremental arrays equal a fresh export's, and whether the session's image
+equals a RenderJob render of a fresh export (one pass, so both are the same
+pure function of the seed). Then the session is stopped and its threads
+counted.
+"""
+import json
+import os
+import sys
+import threading
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+
+class Engine:
+    """Stands for the RenderEngine: the session only calls tag_redraw."""
+    redraws = 0
+
+    def tag_redraw(self):
+        Engine.redraws += 1
+
+
+def render_threads() -> int:
+    names = []
+    for task in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{task}/comm") as f:
+                names.append(f.read().strip())
+        except FileNotFoundError:
+            pass
+    return names.count("gridwalk")
+
+
+def build(bpy, scenes):
+    scenes.reset(resolution=(80, 60))
+    a = scenes.link(scenes.cube_object("Plain", 1.5))
+    a.location = (-2.0, 0.0, 0.0)
+    twin = scenes.link(bpy.data.objects.new("Twin", a.data))            # a linked duplicate
+    twin.location = (0.0, 2.0, 1.0)
+    smooth = scenes.link(scenes.uv_sphere_object("Smooth", 1.0, 16, 8))
+    smooth.location = (2.0, 0.0, 0.0)
+    mod = smooth.modifiers.new("Subdivision", "SUBSURF")
+    mod.levels = 1
+    red = scenes.principled_material("Red", (0.8, 0.1, 0.1))
+    a.data.materials.append(red)
+    scenes.add_light("Key", "POINT", (0, -6, 6), energy=800.0)
+    bpy.context.scene.gridwalk.viewport_samples = 1
+    bpy.context.scene.gridwalk.viewport_start_pixels = 1
+    bpy.context.view_layer.update()
+
+
+def main(out_dir):
+    import bpy
+    import gridwalk
+    import numpy as np
+
+    import blender_addon
+    import scenes
+    from blender_addon.export import export_scene
+    from blender_addon.export._matrix import to_numpy
+    from blender_addon.export.viewport_camera import view_camera
+    from blender_addon.viewport import ViewportSession
+
+    blender_addon.register()
+    build(bpy, scenes)
+    scene = bpy.context.scene
+    engine = Engine()
+    session = ViewportSession(engine)
+    results = {"threads_before": render_threads()}
+    state = {}
+
+    def handler(scene_, depsgraph):
+        session.cache.reset_stats()
+        state["restarted"] = session.update(depsgraph)
+        state["reads"], state["transforms"] = session.cache.reads, session.cache.transforms
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    session.update(depsgraph)
+    results["initial_reads"] = session.cache.reads
+    cam = scene.camera.evaluated_get(depsgraph)
+    projection = cam.calc_matrix_camera(depsgraph, x=80, y=60)
+    camera = view_camera(np.linalg.inv(to_numpy(cam.matrix_world)), projection, 80, 60,
+                         clip=(cam.data.clip_start, cam.data.clip_end))
+    session.set_view((80, 60, "view"), camera, 1)
+
+    def wait_done():
+        deadline = time.monotonic() + 60
+        while not session.idle():
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"the viewport render did not finish: {session.message}")
+            time.sleep(0.02)
+
+    def check(name):
+        wait_done()
+        fresh, _ = export_scene(bpy.context.evaluated_depsgraph_get(), camera=False)
+        ours = session.scene_kwargs
+        same = all(np.array_equal(ours[k], fresh[k]) for k in ("vertices", "triangles", "triangle_materials"))
+        same = same and (ours["normals"] is None) == (fresh["normals"] is None)
+        same = same and (ours["normals"] is None or np.array_equal(ours["normals"], fresh["normals"]))
+        settings = session.settings.replace(aa="random", aa_samples=1, threads=1)
+        image = gridwalk.RenderJob(gridwalk.Scene(**fresh), settings, camera=camera).start().wait()
+        image[..., 3] = 1.0                                  # film not transparent
+        with session.lock:
+            shown = session.display.rgba[::-1].copy()
+        results[name] = dict(state, arrays_equal_fresh_export=bool(same),
+                             image_equals_fresh_render=bool(np.array_equal(shown, image)),
+                             coverage=float((shown[..., :3].sum(axis=2) > 0).mean()))
+        print("viewport_session:", name, results[name], flush=True)
+        state.clear()
+
+    check("initial")
+    bpy.data.objects["Plain"].location.x += 0.5
+    bpy.context.view_layer.update()
+    check("move_object")
+    bpy.data.objects["Twin"].rotation_euler.z += 0.3
+    bpy.context.view_layer.update()
+    check("rotate_linked_duplicate")
+    mesh = bpy.data.objects["Plain"].data
+    mesh.vertices[0].co.z -= 0.4
+    mesh.update()
+    bpy.context.view_layer.update()
+    check("edit_shared_mesh")
+    bpy.data.objects["Smooth"].modifiers["Subdivision"].levels = 2
+    bpy.context.view_layer.update()
+    check("change_modifier")
+    bpy.data.materials["Red"].node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.1, 0.1, 0.9, 1)
+    bpy.context.view_layer.update()
+    check("change_material")
+    scene.view_settings.exposure = 1.5
+    bpy.context.view_layer.update()
+    results["colour_management"] = dict(state)
+    bpy.data.objects.remove(bpy.data.objects["Twin"])
+    bpy.context.view_layer.update()
+    check("delete_object")
+
+    # a resize (only the region's size changes) waits until it settles
+    import dataclasses
+    wait_done()
+    shown_before = session.display.version
+    t_resize = time.monotonic()
+    session.set_view((100, 60, "view"), dataclasses.replace(camera, width=100, pixel_aspect=0.8), 1)
+    time.sleep(0.15)
+    results["resize_waits"] = session.display.version == shown_before and session.job is None
+    wait_done()
+    results["resize_rendered_after"] = time.monotonic() - t_resize
+    results["resized_shape"] = list(session.display.rgba.shape)
+    results["threads_rendering_session"] = sum(t.name == "gridwalk-viewport" for t in threading.enumerate())
+    session.stop()
+    results["threads_after_stop"] = {"render": render_threads(),
+                                     "viewport": sum(t.name == "gridwalk-viewport" for t in threading.enumerate())}
+    results["redraws"] = Engine.redraws
+    with open(os.path.join(out_dir, "viewport_session.json"), "w") as f:
+        json.dump(results, f, indent=1)
+
+
+if __name__ == "__main__":
+    from blender_addon.scripting import run_main
+    run_main(main, spread=True)

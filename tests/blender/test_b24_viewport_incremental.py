@@ -1,0 +1,65 @@
+"""The viewport's incremental updates (bpy 4.5 and 5.0, no GUI).
+
+scripts/viewport_session.py drives a viewport session with real depsgraph
+updates. Moving an object reads no mesh and transforms one instance; editing
+a mesh shared by two objects reads it once; a modifier change reads that
+object only; a material change restarts without touching geometry; a
+colour-management edit does not restart; a resize waits until it settles.
+After every edit the incremental
+arrays equal a fresh export's, and the image shown equals a render of the
+fresh export. Stopping the session leaves no thread running.
+"""
+import json
+
+import pytest
+
+from runner import BPY_VENVS, script_output
+
+EDITS = {   # edit: (meshes read, instances transformed)
+    "move_object": (0, 1),
+    "rotate_linked_duplicate": (0, 1),
+    "edit_shared_mesh": (1, 2),
+    "change_modifier": (1, 1),
+    "change_material": (0, 0),
+    "delete_object": (0, 0),
+}
+
+
+@pytest.fixture(scope="module", params=list(BPY_VENVS))
+def session(request, tmp_path_factory):
+    out = script_output(request.param, tmp_path_factory, "viewport_session.py", timeout=240)
+    return json.loads((out / "viewport_session.json").read_text())
+
+
+def test_linked_duplicates_share_one_exported_mesh(session):
+    assert session["initial_reads"] == 2            # Plain and its Twin share a mesh; Smooth has its own
+
+
+@pytest.mark.parametrize("edit", list(EDITS))
+def test_an_edit_reexports_only_what_it_changed(session, edit):
+    result = session[edit]
+    assert result["restarted"]
+    assert (result["reads"], result["transforms"]) == EDITS[edit]
+
+
+@pytest.mark.parametrize("edit", ["initial", *EDITS])
+def test_incremental_scene_and_image_equal_a_fresh_export(session, edit):
+    result = session[edit]
+    assert result["arrays_equal_fresh_export"]
+    assert result["image_equals_fresh_render"] and result["coverage"] > 0.1
+
+
+def test_colour_management_edit_does_not_restart(session):
+    assert session["colour_management"] == {"restarted": False, "reads": 0, "transforms": 0}
+
+
+def test_a_resize_is_debounced(session):
+    assert session["resize_waits"]                          # nothing rendered in the first 0.15 s
+    assert session["resize_rendered_after"] >= 0.3          # RESIZE_DEBOUNCE_SECONDS
+    assert session["resized_shape"] == [60, 100, 4]
+
+
+def test_stopping_leaves_no_thread(session):
+    assert session["threads_before"] == 0 and session["threads_rendering_session"] == 1
+    assert session["threads_after_stop"] == {"render": 0, "viewport": 0}
+    assert session["redraws"] > 0

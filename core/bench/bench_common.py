@@ -35,7 +35,8 @@ class Sizes:
     none_budget: float = 12.0            # seconds of single-core brute force per scene
     seed_scenes: tuple = ("balls_s4", "mount_s8", "suzanne", "distant")
     distant_dof: int = 32
-    embree_scenes: tuple = ("balls_s4", "mount_s6", "mount_s8", "suzanne")
+    embree_scenes: tuple = ("scan_on_plane", "scans_on_floor", "balls_s4", "balls_s4_analytic", "mount_s6",
+                            "mount_s8", "suzanne")
     embree_rays: int = 512 * 512
     sphere_subdiv: int = 2               # icosphere level: 2 -> 320 triangles a sphere
     cycles_scene: str = "balls_s3"
@@ -54,7 +55,7 @@ class Sizes:
         if not quick:
             return cls(quick=False)
         return cls(quick=True, res=48, none_budget=0.3, seed_scenes=("balls_s2", "mount_s4", "suzanne", "distant"),
-                   distant_dof=4, embree_scenes=("balls_s2", "mount_s4", "suzanne"), embree_rays=4096,
+                   distant_dof=4, embree_scenes=("scan_on_plane", "balls_s2", "balls_s2_analytic", "mount_s4", "suzanne"), embree_rays=4096,
                    sphere_subdiv=1, cycles_scene="balls_s1", cycles_size=(40, 30), cycles_spp=(1, 4, 9),
                    cycles_ref_spp=16, havran_scenes=("balls_s2", "mount_s4"), sweep=(1.0, 2.0, 4.0),
                    soups=(1_000, 4_000, 16_000), suzanne_levels=(1, 2), reps=1)

@@ -165,7 +165,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         gridwalk = dependencies.import_gridwalk()
         import numpy as np
 
-        from .export import Export, ExportError, render_region, resolution
+        from .export import Export, ExportCancelled, ExportError, render_region, resolution
 
         scene = depsgraph.scene
         settings = render_settings(gridwalk, scene.gridwalk)
@@ -180,7 +180,12 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         if self._cancelled("before the export", writer):
             return
         self.update_stats("", "Gridwalk: exporting scene")
-        export = Export(depsgraph)
+        try:                               # Esc is honoured between objects
+            export = Export(depsgraph, should_stop=lambda: streaming.break_requested(self))
+        except ExportCancelled:
+            writer.ensure_written()
+            print(f"Gridwalk: cancelled during the export, after {time.perf_counter() - t0:.3f} s")
+            return
         try:
             kwargs, warnings = export.kwargs()
         except ExportError:

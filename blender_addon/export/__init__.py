@@ -13,7 +13,7 @@ from .mesh_cache import MeshCache
 from .meshes import MeshCollector, count_geometry
 from .world import background_color
 
-__all__ = ["CameraError", "Export", "ExportError", "MeshCache", "count_geometry", "export_scene", "render_region",
+__all__ = ["CameraError", "Export", "ExportCancelled", "ExportError", "MeshCache", "count_geometry", "export_scene", "render_region",
            "resolution"]
 
 
@@ -29,13 +29,20 @@ class ExportError(ValueError):
         self.warnings = list(warnings or [])
 
 
+class ExportCancelled(Exception):
+    """should_stop() said stop while the export was reading the depsgraph."""
+
+
 class Export:
     """One export of a depsgraph, before the triangle arrays are assembled:
     meshes (MeshCollector), materials, lights, background, camera, warnings.
     signature() tells two exports of the same content apart cheaply (the
     viewport restarts only when it changes); kwargs() assembles the arrays."""
 
-    def __init__(self, depsgraph, cache: MeshCache | None = None, camera: bool = True):
+    def __init__(self, depsgraph, cache: MeshCache | None = None, camera: bool = True, should_stop=None):
+        """should_stop(), if given, is asked before every object instance; when
+        it says True the export stops with ExportCancelled (a cancel lands
+        within one object's read)."""
         scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
         self.warnings: list[str] = []
         try:
@@ -47,6 +54,8 @@ class Export:
         self.meshes = MeshCollector(self.materials, cache if cache is not None else MeshCache())
         self.lights = []
         for inst in depsgraph.object_instances:
+            if should_stop is not None and should_stop():
+                raise ExportCancelled()
             if inst.object.type == "LIGHT":
                 light = light_from_instance(inst, self.warnings)
                 if light is not None:

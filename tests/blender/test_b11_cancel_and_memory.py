@@ -83,3 +83,17 @@ def test_hundred_frames_in_one_session_grow_memory_less_than_five_percent(animat
     last = exr.rgba(exr.read_exr(out / "frame_0100.exr"), "ViewLayer.Combined.")
     assert first[..., 3].mean() > 0.05 and last[..., 3].mean() > 0.05
     assert not np.array_equal(first[..., 3], last[..., 3])             # the objects moved
+
+
+@pytest.mark.parametrize("kind", ["bpy45"])
+def test_cancel_during_the_export_takes_effect_within_100ms(kind, tmp_path_factory):
+    """1500 separate mesh objects; the cancel lands after the export has read
+    500 of them: the engine's render returns within 100 ms (Blender's own
+    saving of the empty result afterwards is not counted), without reading the rest."""
+    out, info = _run(kind, tmp_path_factory, "export", "objects=1500", "at=500")
+    assert info["full"] == "finished", info["log"]
+    assert info["full_seconds"] > 0.3, info                   # the export is long enough to cancel inside
+    assert info["stage"] == "during the export", info["log"]
+    assert not info["traceback"], info["log"]
+    assert info["added"] < 510, info                         # it stopped reading objects at once
+    assert info["latency_ms"] < 100.0, info

@@ -15,6 +15,9 @@ MODE animation: `frames` frames of an animation (a subdivided monkey and a
     cube moving) rendered by bpy.ops.render.render(animation=True); the
     resident memory (/proc/self/statm) and the thread count are read after
     every frame (render_post).
+MODE export: a scene of `objects` separate mesh objects (slow to export);
+    the cancel deadline is set when the export has read `at` of them, and the
+    time from the deadline to the end of the render is measured.
 Writes OUT_DIR/<mode>.json and the EXR files of the renders.
 """
 import ctypes
@@ -87,7 +90,7 @@ def stage(log: str) -> str:
         if line.startswith("Gridwalk: cancel stopped all workers"):
             return "while rendering"
         if line.startswith("Gridwalk: cancelled "):
-            return line[len("Gridwalk: cancelled "):].strip()
+            return line[len("Gridwalk: cancelled "):].split(",")[0].strip()
         if line.startswith("Gridwalk: finished"):
             return "finished"
     return "unknown"
@@ -150,6 +153,49 @@ def cancel_mode(bpy, scenes, streaming, out_dir, opts):
     return out
 
 
+def export_mode(bpy, scenes, streaming, out_dir, opts):
+    from blender_addon import engine, export
+    scenes.reset(resolution=(32, 24))
+    count = opts.get("objects", 3000)
+    for i in range(count):       # separate meshes: each is read on its own
+        obj = scenes.link(scenes.cube_object(f"Cube{i}", 0.6))
+        obj.location = (i % 60 - 30, (i // 60) % 60 - 30, 0.0)
+    scenes.add_light("Key", "POINT", (2, -6, 4), energy=400.0)
+    configure(bpy, out_dir, "full.exr", opts)
+    log, full = render()
+    out = {"full": stage(log), "full_seconds": full}
+    real_break, real_add = streaming.break_requested, export.MeshCollector.add_instance
+    real_render = engine.GridwalkRenderEngine._render
+    state = {"added": 0, "deadline": None, "returned": None}
+
+    def _render(self, depsgraph):          # the engine's work, without Blender's saving of the image
+        try:
+            return real_render(self, depsgraph)
+        finally:
+            state["returned"] = time.perf_counter()
+
+    def add_instance(self, inst):
+        state["added"] += 1
+        if state["added"] == opts.get("at", 1000):
+            state["deadline"] = time.perf_counter()
+        return real_add(self, inst)
+
+    def break_requested(engine):
+        return (state["deadline"] is not None) or real_break(engine)
+
+    streaming.break_requested, export.MeshCollector.add_instance = break_requested, add_instance
+    engine.GridwalkRenderEngine._render = _render
+    try:
+        configure(bpy, out_dir, "cancelled.exr", opts)
+        log, _ = render()
+    finally:
+        streaming.break_requested, export.MeshCollector.add_instance = real_break, real_add
+        engine.GridwalkRenderEngine._render = real_render
+    out.update(stage=stage(log), latency_ms=1e3 * (state["returned"] - state["deadline"]), added=state["added"],
+               traceback="Traceback" in log, log=log[-2000:])
+    return out
+
+
 def animation_mode(bpy, scenes, out_dir, opts):
     frames = opts.get("frames", 100)
     monkey, cube = build(bpy, scenes, opts.get("resolution", (32, 24)), opts.get("levels", 2))
@@ -183,6 +229,8 @@ def main(mode, out_dir, *options):
     blender_addon.register()
     if mode == "cancel":
         out = cancel_mode(bpy, scenes, streaming, out_dir, opts)
+    elif mode == "export":
+        out = export_mode(bpy, scenes, streaming, out_dir, opts)
     else:
         out = animation_mode(bpy, scenes, out_dir, opts)
     out["blender"] = list(bpy.app.version)

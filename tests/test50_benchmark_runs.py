@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from md_tables import table_rows
+
 ROOT = Path(__file__).resolve().parents[1]
 SPD_DIR = ROOT.parent / "shared" / "scenes" / "spd"
 HAVE_BPY = (ROOT / ".venv-bpy45" / "bin" / "python").exists()
@@ -37,6 +39,15 @@ def test_quick_benchmark_writes_every_section(tmp_path):
     needles += ["Equal-error time", "Suzanne PLY"] if HAVE_BPY else []
     for needle in needles:
         assert needle in md, f"missing {needle!r}"
+    if HAVE_EMBREE:
+        # Every compared scene and ray kind: the two engines agree on hit/miss
+        # (to 99.99%) and on the primitive hit, so the speeds compare like with like.
+        rows = table_rows(md, "| scene | ray kind |")
+        compared = [r for r in rows if r["hit/miss agree %"] != "-"]
+        assert len(compared) >= 6, rows
+        for r in compared:
+            assert float(r["hit/miss agree %"]) >= 99.99, r
+            assert r["same prim %"] == "-" or float(r["same prim %"]) >= 99.9, r
     images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
     assert len(images) >= 3 + HAVE_EMBREE + 2 * HAVE_BPY, images
     for image in images:

@@ -66,6 +66,26 @@ def test_extreme_rays_never_crash_and_every_structure_agrees():
         assert out[accel] == out["none"], accel
 
 
+def test_rays_whose_t_cannot_resolve_the_scene_are_misses_in_every_structure():
+    """Found by the API fuzzer's brute-force oracle: from (0, 1e30, 2) with a
+    direction of -1e30 along y, every primitive the ray meets is "at t = 1"
+    in float, so which one is nearest was decided by rounding, differently by
+    each structure. A ray along which one float step of t at the scene moves
+    more than a quarter of the scene's diagonal is a miss for all of them
+    (here: the two from 1e30, and one from 1e7, where t steps by 1 and the
+    scene is 2.9 across); from 1e6 (steps of 1/16) the sphere is still hit."""
+    sc = gw.Scene(vertices=[[-1, -1, 0], [1, -1, 0], [0, 1, 0]], triangles=[[0, 1, 2]],
+                  sphere_centers=[[0.2, 0.1, 0.5]], sphere_radii=[0.2])
+    o = np.array([[0.0, 1e30, 2.0], [0.0, 1e30, 2.0], [0.2, 0.1, 1e6], [0.0, -0.5, 1e7]], np.float32)
+    d = np.array([[0.1, -1e30, -2.0], [0.2, -1e30, -1.5], [0.0, 0.0, -1.0], [0.0, 0.0, -1.0]], np.float32)
+    for accel in STRUCTURES:
+        st = gw.RenderSettings(accel=accel, threads=1)
+        h = sc.intersect(o, d, settings=st)
+        assert np.isinf(h.t[[0, 1, 3]]).all() and (h.prim[[0, 1, 3]] == -1).all(), (accel, h.t, h.prim)
+        assert h.kind[2] == 2 and abs(h.t[2] - (1e6 - 0.7)) <= 0.0625, (accel, h.t[2], h.kind[2])   # the sphere's top
+        assert sc.occluded(o, d, settings=st).tolist() == [False, False, True, False], accel
+
+
 def test_worst_case_distributions_build_small_structures():
     """Every primitive at one point; one huge triangle beside 100k tiny ones; a
     tiny cluster with one primitive 1e5 away; long thin triangles across the

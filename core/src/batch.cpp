@@ -11,6 +11,8 @@
 namespace gw {
 namespace {
 
+inline double sq(double x) { return x * x; }
+
 // Runs body(i, ctx) for i in [0, n) on fixed chunks, one per thread. An
 // exception in any chunk (e.g. bad_alloc for the mailbox) is caught in its
 // thread and rethrown here after every thread has been joined, so it reaches
@@ -50,6 +52,33 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 // into [1, 2) when its largest component lies outside [2^-64, 2^64], and its
 // tmin, tmax by the inverse: the walks' reciprocals then stay finite.
 // scale_exp receives e such that the caller's t = ldexp(the rescaled ray's t, e).
+//
+// A ray that comes from so far away that float t cannot tell the scene's
+// points apart (one float step of t at the scene moves the ray by more than a
+// quarter of the scene box's diagonal) is a documented miss, for every
+// structure alike: its hits could only be ordered by rounding (origin
+// (0, 1e30, 2), direction (1, -1e30, -2): everything it meets is "at t = 1").
+bool resolvable(const Ray& r, const Bounds& box) {
+    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        const double o = r.o[a], d = r.d[a], lo = box.lo[a], hi = box.hi[a];
+        if (d == 0) {
+            if (o < lo || o > hi) return true;   // never meets the box: an ordinary miss
+            continue;
+        }
+        double tn = (lo - o) / d, tf = (hi - o) / d;
+        if (tn > tf) std::swap(tn, tf);
+        t0 = std::max(t0, tn);
+        t1 = std::min(t1, tf);
+    }
+    if (!(t0 <= t1) || t0 == 0) return true;   // misses the box, or starts inside it
+    const double step = (double(next_up(float(t0))) - double(float(t0))) *
+                        std::sqrt(double(r.d.x) * r.d.x + double(r.d.y) * r.d.y + double(r.d.z) * r.d.z);
+    const double diagonal = std::sqrt(sq(double(box.hi.x) - box.lo.x) + sq(double(box.hi.y) - box.lo.y) +
+                                      sq(double(box.hi.z) - box.lo.z));
+    return 4.0 * step <= diagonal;
+}
+
 Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
     Ray r;
     r.spawned = b.spawned;
@@ -71,17 +100,25 @@ Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
     return r;
 }
 
+// make_ray; false for a ray resolvable() turns into a miss.
+bool traceable_ray(const RayBatch& b, size_t i, const Bounds& box, Ray& r, int& scale_exp) {
+    r = make_ray(b, i, scale_exp);
+    return resolvable(r, box);
+}
+
 }  // namespace
 
 Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, const BatchOut& out) {
     const Scene& sc = accel.scene();
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         int scale_exp;
-        const RayPre r(make_ray(rays, i, scale_exp));
+        Ray ray;
+        const bool traceable = traceable_ray(rays, i, sc.bounds(), ray, scale_exp);
+        const RayPre r(ray);
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
         hit.t = r.ray.tmax;
-        const bool found = accel.closest(r, hit, ctx);
+        const bool found = traceable && accel.closest(r, hit, ctx);
         const float t = std::ldexp(hit.t, scale_exp);   // the caller's t (overflow: beyond float range, a miss)
         if (found && std::isfinite(t)) {
             const Vec3 n = sc.geometric_normal(r, hit);
@@ -105,7 +142,9 @@ Stats occluded_batch(const Accel& accel, const RayBatch& rays, const RenderSetti
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
         int scale_exp;
-        out[i] = accel.occluded(RayPre(make_ray(rays, i, scale_exp)), ctx) ? 1 : 0;
+        Ray ray;
+        out[i] = traceable_ray(rays, i, accel.scene().bounds(), ray, scale_exp) && accel.occluded(RayPre(ray), ctx)
+                     ? 1 : 0;
     });
 }
 

@@ -28,11 +28,27 @@ inline DdaDirection dda_direction(const Vec3& d) {
 // Clips [t0, t1] to the box [lo, hi] (the far side relaxed by the rounding of
 // its own computation); false when nothing is left. A ray that does not move
 // along an axis keeps its segment when its origin lies within that slab.
+//
+// An axis the DDA direction dropped (a component below 2^-40 of the largest)
+// is still clipped with the ray's own component, in double: inside the box it
+// moves the ray by less than 2^-40 of the box, but a ray from far away may
+// travel so far before reaching the box that it moves by the box's size or
+// more (origin (0, 1e30, 2), direction (1, -1e30, -2) reaches (1, 0, 0) at t = 1).
 inline bool clip_to_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const DdaDirection& dd, float& t0,
                         float& t1) {
     for (int a = 0; a < 3; ++a) {
         if (dd.d[a] == 0) {
-            if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return false;
+            if (ray.d[a] == 0) {
+                if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return false;
+                continue;
+            }
+            double tn = (double(lo[a]) - double(ray.o[a])) / double(ray.d[a]);
+            double tf = (double(hi[a]) - double(ray.o[a])) / double(ray.d[a]);
+            if (tn > tf) std::swap(tn, tf);
+            const float n = next_down(float(tn)), f = next_up(float(tf));   // rounded outwards
+            t0 = n > t0 ? n : t0;
+            t1 = f < t1 ? f : t1;
+            if (!(t0 <= t1)) return false;
             continue;
         }
         float tn = (lo[a] - ray.o[a]) * dd.inv[a];

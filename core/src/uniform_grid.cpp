@@ -191,7 +191,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
                 const int face = step[a] > 0 ? cell[a] + k : cell[a] - (k - 1);
                 t_exit = std::min(t_exit, (lo_[a] + float(face) * cell_[a] - ray.o[a]) * inv[a]);
             }
-            if (hit.t <= t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
+            if (hit.t < t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
             if (t_exit > t_jump) {
                 t_jump = t_exit;
                 for (int a = 0; a < 3; ++a) {
@@ -216,7 +216,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
         // cell's exit may hide a nearer one in a later cell, so keep walking,
         // but keep the candidate (it may belong to no later cell at all).
         const int axis = tnext[0] < tnext[1] ? (tnext[0] < tnext[2] ? 0 : 2) : (tnext[1] < tnext[2] ? 1 : 2);
-        if (hit.t <= tnext[axis]) break;
+        if (hit.t < tnext[axis]) break;
         cell[axis] += step[axis];
         if (cell[axis] == out[axis]) break;
         c += step[axis] * stride[axis];

@@ -17,13 +17,22 @@ and each byte can push one value, shape or dtype to an extreme:
 
 ValueError (and RuntimeError for calls out of order, BuildCancelled) is a
 clean refusal; anything else escaping, a crash, a hang or a sanitizer report
-is a finding.
+is a finding. So is a silently wrong answer: every intersect / occluded call
+that is answered is asked again with brute force (accel="none", same rays,
+limits and flags), and the two must agree exactly (WrongResult).
+
+COUNTS tallies, per entry point, the calls answered and refused; with
+GRIDWALK_FUZZ_COUNTS=FILE set, run_bytes writes them there as JSON every 200
+inputs (for the counts in docs/robustness.md).
 """
 from __future__ import annotations
 
 import dataclasses
+import json
+import os
 import struct
 import threading
+from collections import Counter
 
 import numpy as np
 
@@ -35,6 +44,23 @@ SPECIAL = (0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 1e-45, -1e-45, 1e-40, 1e-38, 1e-20, 1
 INTS = (0, 1, -1, 2, 3, 7, 8, 255, 256, 4096, 2**16, 2**24 + 1, 2**31 - 1, 2**31, 2**32, -2**31 - 1, 2**63, 2**64)
 DTYPES = (np.float16, np.uint8, np.int64, np.float64, object, np.complex64, np.bool_)
 REFUSALS = (ValueError, RuntimeError, gw.BuildCancelled)
+COUNTS: Counter = Counter()
+COUNTS_FILE = os.environ.get("GRIDWALK_FUZZ_COUNTS")
+
+
+class WrongResult(AssertionError):
+    """A ray query answered differently by an acceleration structure and by brute force."""
+
+
+def counted(entry: str, fn, *args, **kwargs):
+    """fn(*args, **kwargs), tallied in COUNTS as entry answered / refused."""
+    try:
+        out = fn(*args, **kwargs)
+    except REFUSALS:
+        COUNTS[f"{entry}: refused"] += 1
+        raise
+    COUNTS[f"{entry}: answered"] += 1
+    return out
 
 
 class Input:
@@ -199,13 +225,23 @@ def draw_rays(inp: Input, scene: gw.Scene):
     settings = draw_settings(inp)
     spawned = inp.byte() > 200
     op = inp.below(3)
+    limits = dict(tmin=tmin, tmax=tmax, spawned=spawned)
     if op == 0:
-        scene.intersect(o32, d32, tmin=tmin, tmax=tmax, settings=settings, spawned=spawned)
+        hits = counted("Scene.intersect", scene.intersect, o32, d32, settings=settings, **limits)
+        ref = scene.intersect(o32, d32, settings=settings.replace(accel="none"), **limits)
+        if not (np.array_equal(hits.t, ref.t) and np.array_equal(hits.prim, ref.prim)
+                and np.array_equal(hits.kind, ref.kind)):
+            raise WrongResult(f"{settings.accel} and brute force differ: t {hits.t} vs {ref.t}, "
+                              f"prim {hits.prim} vs {ref.prim}; o={o32.tolist()} d={d32.tolist()} {limits}")
     elif op == 1:
-        scene.occluded(o32, d32, tmin=tmin, tmax=tmax, settings=settings, spawned=spawned)
+        occ = counted("Scene.occluded", scene.occluded, o32, d32, settings=settings, **limits)
+        ref = scene.occluded(o32, d32, settings=settings.replace(accel="none"), **limits)
+        if not np.array_equal(occ, ref):
+            raise WrongResult(f"{settings.accel} and brute force differ: occluded {occ} vs {ref}; "
+                              f"o={o32.tolist()} d={d32.tolist()} {limits}")
     else:
         hits = scene.intersect(o32, d32, settings=gw.RenderSettings(threads=1))
-        scene.spawn_origins(o32, d32, hits, d32[::-1].copy())
+        counted("Scene.spawn_origins", scene.spawn_origins, o32, d32, hits, d32[::-1].copy())
 
 
 def _quiet(fn):
@@ -220,7 +256,8 @@ def _quiet(fn):
 def drive_job(inp: Input, scene: gw.Scene):
     if scene.camera.width * scene.camera.height > 64:   # keep each input fast: small images only
         return
-    job = gw.RenderJob(scene, draw_settings(inp))
+    job = counted("RenderJob()", gw.RenderJob, scene, draw_settings(inp))
+    COUNTS["RenderJob call sequences"] += 1
     helper = None
     for _ in range(1 + inp.below(8)):
         op = inp.below(8)
@@ -261,13 +298,17 @@ def run_bytes(data: bytes) -> int:
         op = inp.below(5)
         try:
             if op == 0:
-                draw_settings(inp).to_core()
+                counted("RenderSettings", lambda: draw_settings(inp).to_core())
             elif op == 1 or scene is None:
-                scene = draw_scene(inp)
+                scene = counted("Scene() with Camera/Light/Material", draw_scene, inp)
             elif op in (2, 3):
                 draw_rays(inp, scene)
             else:
                 drive_job(inp, scene)
         except REFUSALS:
             refused += 1
+    COUNTS["inputs"] += 1
+    if COUNTS_FILE and COUNTS["inputs"] % 200 == 0:
+        with open(COUNTS_FILE, "w") as f:
+            json.dump(dict(COUNTS), f, indent=1, sort_keys=True)
     return refused

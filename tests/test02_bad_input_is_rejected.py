@@ -88,6 +88,19 @@ def test_degenerate_cylinder_is_rejected():
                  cylinder_apex_radius=[1])
 
 
+def test_cone_too_flat_for_its_radii_is_rejected_and_a_flat_cylinder_is_not():
+    """Found by the API fuzzer: a cone 1e-45 high with radii 0.3 and 0.1 has a
+    slope of 2e44, and its quadratic reported a hit 4 units from the cone."""
+    with pytest.raises(ValueError, match=r"cylinder_apex\[0\] coincides with cylinder_base within 1.4013e-45, "
+                                         r"too close for radii 0.3 and 0.1"):
+        gw.Scene(cylinder_base=[[0, -2, 0]], cylinder_apex=[[0, -2, -1e-45]], cylinder_base_radius=[0.3],
+                 cylinder_apex_radius=[0.1])
+    ring = gw.Scene(cylinder_base=[[0, 0, 0]], cylinder_apex=[[0, 0, 1e-6]], cylinder_base_radius=[0.3],
+                    cylinder_apex_radius=[0.3])           # equal radii: no slope, any height
+    h = ring.intersect([[1, 0, 5e-7]], [[-1, 0, 0]])
+    assert h.t[0] == pytest.approx(0.7) and h.kind[0] == 3
+
+
 def test_bad_rays_are_rejected_not_crashing():
     sc = make()
     with pytest.raises(ValueError, match="directions must have the shape of origins"):

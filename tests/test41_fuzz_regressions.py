@@ -19,6 +19,7 @@ import pytest
 
 FUZZ = Path(__file__).resolve().parent / "fuzz"
 REGRESSIONS = sorted(p for p in (FUZZ / "regressions").iterdir() if p.suffix in (".nff", ".ply"))
+API_REGRESSIONS = sorted((FUZZ / "regressions").glob("api_*.bin"))
 SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer")
 
 
@@ -50,6 +51,28 @@ EXPECTED = {
 
 def test_every_regression_input_states_its_expected_outcome():
     assert {p.name for p in REGRESSIONS} == set(EXPECTED)
+
+
+# Inputs of the API fuzzer (tests/fuzz/api_harness.py) that found a wrong
+# answer: the structure and brute force disagreed. Replayed, every ray query
+# in them must agree with brute force again (the harness raises WrongResult
+# otherwise), with no crash.
+#   api_ray_from_1e30_unresolved_t.bin: rays from 1e30 whose float t cannot
+#       order the scene's hits (now misses for every structure)
+#   api_cone_flatter_than_its_radii.bin: a 1e-45-high cone whose quadratic
+#       reported a hit 4 units away (now refused)
+@pytest.mark.parametrize("path", API_REGRESSIONS, ids=[p.name for p in API_REGRESSIONS])
+def test_api_fuzz_regression_agrees_with_brute_force(path):
+    out = run_isolated(textwrap.dedent(f"""
+        import api_harness
+        from pathlib import Path
+        print("refused", api_harness.run_bytes(Path({str(path)!r}).read_bytes()))
+    """))
+    assert out.strip().splitlines()[-1].startswith("refused ")
+
+
+def test_there_are_api_regression_inputs():
+    assert len(API_REGRESSIONS) >= 2
 
 
 @pytest.mark.parametrize("path", REGRESSIONS, ids=[p.name for p in REGRESSIONS])

@@ -53,17 +53,20 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 // tmin, tmax by the inverse: the walks' reciprocals then stay finite.
 // scale_exp receives e such that the caller's t = ldexp(the rescaled ray's t, e).
 //
-// A ray that comes from so far away that float t cannot tell the scene's
-// points apart (one float step of t at the scene moves the ray by more than a
-// quarter of the scene box's diagonal) is a documented miss, for every
-// structure alike: its hits could only be ordered by rounding (origin
-// (0, 1e30, 2), direction (1, -1e30, -2): everything it meets is "at t = 1").
-bool resolvable(const Ray& r, const Bounds& box) {
-    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+// Whether the ray can meet the scene at all, in double: false when its
+// [tmin, tmax] misses the scene's (conservative) box, and false when float t
+// cannot tell the scene's points apart along it (one float step of t there
+// moves the ray by more than a quarter of the box's diagonal). Such a ray is
+// a documented miss for every structure alike: its hits could only be ordered
+// by rounding (origin (0, 1e30, 2), direction (1, -1e30, -2): everything it
+// meets is "at t = 1"), and far outside the box the quadratic shapes' tests
+// lose all their digits and may report hits that are not there.
+bool may_hit(const Ray& r, const Bounds& box) {
+    double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
         const double o = r.o[a], d = r.d[a], lo = box.lo[a], hi = box.hi[a];
         if (d == 0) {
-            if (o < lo || o > hi) return true;   // never meets the box: an ordinary miss
+            if (o < lo || o > hi) return false;
             continue;
         }
         double tn = (lo - o) / d, tf = (hi - o) / d;
@@ -71,8 +74,9 @@ bool resolvable(const Ray& r, const Bounds& box) {
         t0 = std::max(t0, tn);
         t1 = std::min(t1, tf);
     }
-    if (!(t0 <= t1) || t0 == 0) return true;   // misses the box, or starts inside it
-    const double step = (double(next_up(float(t0))) - double(float(t0))) *
+    if (!(t0 <= t1)) return false;
+    const float far = float(std::max(std::abs(t0), std::abs(t1)));
+    const double step = (double(next_up(far)) - double(far)) *
                         std::sqrt(double(r.d.x) * r.d.x + double(r.d.y) * r.d.y + double(r.d.z) * r.d.z);
     const double diagonal = std::sqrt(sq(double(box.hi.x) - box.lo.x) + sq(double(box.hi.y) - box.lo.y) +
                                       sq(double(box.hi.z) - box.lo.z));
@@ -100,10 +104,10 @@ Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
     return r;
 }
 
-// make_ray; false for a ray resolvable() turns into a miss.
+// make_ray; false for a ray that may_hit() turns into a miss.
 bool traceable_ray(const RayBatch& b, size_t i, const Bounds& box, Ray& r, int& scale_exp) {
     r = make_ray(b, i, scale_exp);
-    return resolvable(r, box);
+    return may_hit(r, box);
 }
 
 }  // namespace

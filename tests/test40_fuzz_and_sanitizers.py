@@ -120,13 +120,16 @@ def sanitizer_reports(env):
 
 def run_fuzzer(kind, runs, workdir: Path, env=None):
     """Run tests/fuzz/fuzz_<kind>.py over the checked-in corpus; new inputs go
-    to a scratch directory so the checked-in corpus is never modified."""
+    to a scratch directory so the checked-in corpus is never modified. The
+    seed is fixed (GRIDWALK_FUZZ_SEED, default 1) so that CI repeats one
+    exploration; longer runs by hand use other seeds (docs/robustness.md)."""
     _require_atheris()
     workdir.mkdir(parents=True, exist_ok=True)
     new = workdir / "new"
     new.mkdir(parents=True, exist_ok=True)
     cmd = [sys.executable, "-W", "ignore", str(FUZZ / f"fuzz_{kind}.py"),
            f"-atheris_runs={runs}", f"-max_total_time={FUZZ_MAX_SECONDS}", "-timeout=30",
+           f"-seed={os.environ.get('GRIDWALK_FUZZ_SEED', '1')}",
            "-rss_limit_mb=4096", f"-artifact_prefix={workdir}/", "-print_final_stats=1",
            str(new), str(FUZZ / "corpus" / kind)]
     t0 = time.perf_counter()

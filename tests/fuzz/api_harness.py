@@ -162,7 +162,7 @@ def mutate_array(inp: Input, a):
         try:
             with np.errstate(all="ignore"):
                 return a.astype(inp.pick(DTYPES))
-        except (TypeError, ValueError):
+        except (OverflowError, TypeError, ValueError):   # e.g. an object array holding -1, to uint8
             return a
     if kind == 3:                                   # empty
         return a[:0]

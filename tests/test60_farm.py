@@ -11,6 +11,7 @@ import subprocess
 import sys
 import threading
 import time
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 import numpy as np
 import pytest
@@ -141,6 +142,37 @@ def test_a_bad_scheduler_address_fails_within_seconds_with_a_clear_message(tmp_p
         with pytest.raises(FarmError, match=expected):
             gridwalk.farm(SPD_DIR / "balls_s1.nff", tmp_path / "x.png", scheduler=address)
         assert time.monotonic() - t0 < 10
+
+
+def test_a_server_that_is_not_a_scheduler_fails_within_its_timeout_with_a_clear_message(tmp_path):
+    """The dashboard's HTTP port, or a server that speaks first (SSH): Dask alone would wait
+    for a handshake forever, or read the banner as a frame length and raise MemoryError."""
+    http = ThreadingHTTPServer(("127.0.0.1", 0), BaseHTTPRequestHandler)
+    banner = socket.create_server(("127.0.0.1", 0))
+
+    def greet():
+        while True:
+            try:
+                conn, _ = banner.accept()
+            except OSError:               # closed at the end of the test
+                return
+            conn.sendall(b"SSH-2.0-OpenSSH_9.2p1 Debian-2\r\n")
+
+    threading.Thread(target=http.serve_forever, daemon=True).start()
+    threading.Thread(target=greet, daemon=True).start()
+    try:
+        for port, expected in [(http.server_address[1], "no Dask scheduler answers there within 2 s"),
+                               (banner.getsockname()[1], "what answers is not a Dask scheduler")]:
+            t0 = time.monotonic()
+            with pytest.raises(FarmError, match=expected) as info:
+                gridwalk.farm(SPD_DIR / "balls_s1.nff", tmp_path / "x.png", scheduler=f"tcp://127.0.0.1:{port}",
+                              connect_timeout=2)
+            assert "a scheduler listens on 8786 by default" in str(info.value)
+            assert time.monotonic() - t0 < 8
+    finally:
+        http.shutdown()
+        http.server_close()
+        banner.close()
 
 
 def test_ctrl_c_stops_every_task_and_a_rerun_renders_only_the_missing_tiles(cluster, heavy_reference, tmp_path):

@@ -75,7 +75,8 @@ def farm_once(client, job_args: dict, **options) -> tuple[float, driver.FarmRepo
     report = driver.run(client, job, threads=1, quiet=True)
     dt = time.perf_counter() - t0
     after = client.run(cpu_seconds)
-    report.cores = sum(after[w] - before[w] for w in before if w in after) / dt
+    report.cpu = sum(after[w] - before[w] for w in before if w in after)
+    report.cores = report.cpu / dt
     return dt, report
 
 
@@ -89,13 +90,15 @@ def heavy_frame(s: dict, clients: dict, work: Path) -> dict:
     plain_scene = gw.Scene(**kwargs)
     reference = None
     runs = {0: [], 1: [], 2: []}                       # 0: the plain render
+    plain_cpu = []                                     # CPU seconds of each plain render
     for r in range(s["reps"]):
         for workers in (0, 1, 2):
             cores = parallel_capacity(0.2)
             if workers == 0:
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), cpu_seconds()
                 image = gw.render(plain_scene, settings.replace(threads=1))
                 dt, report = time.perf_counter() - t0, None
+                plain_cpu.append(cpu_seconds() - c0)
                 reference = image if reference is None else reference
             else:
                 out = work / f"heavy_{workers}_{r}.npy"
@@ -111,6 +114,7 @@ def heavy_frame(s: dict, clients: dict, work: Path) -> dict:
     ratios = [one[0] / two[0] for one, two in zip(runs[1], runs[2])]
     return dict(scene=s["scene"], res=s["res"], settings=settings, tiles=s["tiles"], runs=runs, rays=rays,
                 image=reference, best={n: min(run[0] for run in runs[n]) for n in runs},
+                cpu={0: min(plain_cpu), **{n: min(run[1].cpu for run in runs[n]) for n in (1, 2)}},
                 round_ratio=float(np.median(ratios)))
 
 
@@ -223,8 +227,12 @@ def markdown(info, cap_before, cap_after, h, c, b, quick) -> str:
               f"{h['round_ratio']:.2f}x). In the best runs the workers got {got[1]:.2f} and {got[2]:.2f} "
               "cores of CPU (other work on the machine took the rest); the speed-up divided by the ratio of "
               f"the CPU they got is {speedup * got[1] / got[2]:.2f} (1.00: a core given to 2 workers does as "
-              f"much as one given to 1 worker). The farm on 1 worker costs {h['best'][1] / h['best'][0] - 1:+.1%} "
-              "against the plain render (sending the job, tasks, keeping tiles on disk, putting them together).",
+              f"much as one given to 1 worker). CPU time, which other work on the machine does not change much: the "
+              f"plain render took {h['cpu'][0]:.2f} CPU seconds, the farm's workers {h['cpu'][1]:.2f} on 1 worker "
+              f"and {h['cpu'][2]:.2f} on 2 (least of the runs): the farm's own work (tasks, keeping tiles on "
+              f"disk; the client's is not counted) costs {h['cpu'][1] / h['cpu'][0] - 1:+.1%} of CPU over the "
+              f"plain render. In wall time the farm on 1 worker took {h['best'][1] / h['best'][0] - 1:+.1%} "
+              "against the plain render, best against best.",
               "",
               "### 2. The fixed cost of a task", "",
               f"One worker renders the same {c['res']} x {c['res']} image (SPD balls_s2, one ray per pixel) in "

@@ -21,6 +21,8 @@ from contextlib import contextmanager
 CONNECT_TIMEOUT = 10.0
 START_HINT = ("start one with `dask scheduler` (it listens on tcp://HOST:8786) and workers with "
               "`dask worker tcp://HOST:8786`, or leave out --scheduler to run a local cluster")
+NOT_A_SCHEDULER = ("check the port: a scheduler listens on 8786 by default (8787 is its dashboard, "
+                   "which is HTTP)")
 
 
 class FarmError(RuntimeError):
@@ -56,14 +58,21 @@ def check_scheduler(address: str, timeout: float) -> None:
         raise FarmError(f"cannot reach the Dask scheduler at {address}: {reason}; {START_HINT}") from None
 
     async def handshake():
-        comm = await connect(address, timeout=timeout)
+        # Dask's connect() bounds the TCP connection by `timeout` but waits for
+        # the peer's handshake without a limit: a server that is not Dask's
+        # (an HTTP dashboard port, SSH, ...) would hang it, or send bytes that
+        # it reads as a huge frame length.
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
         await comm.close()
 
     try:
         asyncio.run(handshake())
     except (OSError, TimeoutError) as exc:
         raise FarmError(f"{address} accepts connections but no Dask scheduler answers there within "
-                        f"{timeout:g} s ({exc})") from None
+                        f"{timeout:g} s{f' ({exc})' if str(exc) else ''}; {NOT_A_SCHEDULER}") from None
+    except Exception as exc:      # garbage from another kind of server: MemoryError, decode errors, ...
+        raise FarmError(f"{address} accepts connections but what answers is not a Dask scheduler "
+                        f"({type(exc).__name__}); {NOT_A_SCHEDULER}") from None
 
 
 def start_local_cluster(LocalCluster, workers: int):

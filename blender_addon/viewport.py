@@ -365,8 +365,9 @@ def view_from_context(engine, context, depsgraph):
     """(key, Camera, pixel size) of the region being drawn. The camera renders
     the region at 1 / pixel size of its resolution. Looking through the scene
     camera, its clipping and lens come from it, and a panorama is stretched
-    from the camera's frame over the region."""
-    from .export.camera import CameraError, convert_camera
+    from the camera's frame over the region; a camera with a zero scale or a
+    non-finite transform raises CameraError naming it."""
+    from .export.camera import CameraError, camera_frame, convert_camera
     from .export._matrix import to_numpy
     from .export.viewport_camera import frame_in_region, stretch_panorama, view_camera
     region, rv3d, space = context.region, context.region_data, context.space_data
@@ -377,6 +378,7 @@ def view_from_context(engine, context, depsgraph):
     clip, extra, lens = (space.clip_start, space.clip_end), {}, None
     if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
         cam_obj = scene.camera.evaluated_get(depsgraph)
+        camera_frame(cam_obj)          # a camera without a view (zero scale, NaN) raises CameraError, named
         try:
             lens = convert_camera(cam_obj, scene.render, scene.unit_settings.scale_length)
         except CameraError:            # (an unsupported panorama: its frame, in perspective)

@@ -2,7 +2,8 @@
 
 Final renders in bpy 4.5 and 5.0, and in Debian's blender 3.4 (`blender -b`,
 where the panorama's settings are Cycles' camera settings), of cubes, a sphere and a ground pad seen by
-a perspective camera with a vertical sensor fit and lens shift, an
+a perspective camera with a vertical sensor fit and lens shift, portrait
+images with the automatic and the horizontal sensor fit (and shift), an
 orthographic camera with shift, an equirectangular panorama with
 asymmetric ranges, a mirrored camera (scale -1), 2:1 pixels, near and far
 clipping through the scene, and a camera 1e7 from the origin. Coverage
@@ -20,7 +21,8 @@ import pytest
 import exr
 from runner import ALL_BLENDERS, script_output
 
-KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
+KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far", "portrait_auto",
+         "portrait_horizontal")
 
 
 @pytest.fixture(scope="module", params=list(ALL_BLENDERS))

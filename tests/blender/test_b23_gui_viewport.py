@@ -48,14 +48,17 @@ def rows_top_down(box, height):
     return int(height - y1), int(np.ceil(height - y0)), int(x0), int(np.ceil(x1))
 
 
-def test_camera_view_matches_a_final_render_of_the_same_camera(gui):
+@pytest.mark.parametrize("shot, final, frame", [("shot_camera.png", "final.png", "frame"),
+                                                ("shot_panorama.png", "final_panorama.png", "frame_panorama")])
+def test_camera_view_matches_a_final_render_of_the_same_camera(gui, shot, final, frame):
     """At zoom 1:1 the camera's frame is the render's size; the frame's part of
-    the screenshot must be the final render (both colour managed by Blender)."""
-    final = gui.shot("final.png")
-    view = gui.region("shot_camera.png")
-    x0, y0, x1, y1 = gui.info["frame"]
+    the screenshot must be the final render (both colour managed by Blender).
+    A panoramic camera's ranges are stretched from its frame over the region."""
+    final = gui.shot(final)
+    view = gui.region(shot)
+    x0, y0, x1, y1 = gui.info[frame]
     assert (round(x1 - x0), round(y1 - y0)) == (final.shape[1], final.shape[0])
-    r0, _, c0, _ = rows_top_down(gui.info["frame"], view.shape[0])
+    r0, _, c0, _ = rows_top_down(gui.info[frame], view.shape[0])
     crop = view[r0:r0 + final.shape[0], c0:c0 + final.shape[1]]
     assert crop.std() > 20                                  # the objects are there
     diff = np.abs(crop - final).max(axis=2)

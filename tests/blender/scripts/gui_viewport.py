@@ -6,6 +6,8 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
     viewport render is done; a final render of the same camera, final.png.
  2. "Sphere" moved from this script: screenshot shot_moved.png. The
     camera's scale set to (1, 0, 1), the message shown recorded; scale restored.
+    The camera made an equirectangular panorama: screenshot shot_panorama.png
+    and a final render of it, final_panorama.png; the camera made perspective again.
  3. The front numpad view (orthographic): screenshot shot_front.png.
  4. Rendering with many samples for 5 s: the time the engine spends in each
     call on Blender's main thread (view_update, view_draw) is recorded; the
@@ -168,15 +170,21 @@ def setup():
     when_done(camera_view)
 
 
-def camera_view():
-    screenshot("shot_camera.png")
+def camera_frame():
+    """The camera's frame in the 3D view's region (x0, y0, x1, y1, origin bottom left)."""
     from gridwalk_blender.export.viewport_camera import frame_in_region
     scene = bpy.context.scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     _, _, region, space = view3d()
     cam = scene.camera.evaluated_get(depsgraph)
     projection = cam.calc_matrix_camera(depsgraph, x=scene.render.resolution_x, y=scene.render.resolution_y)
-    RESULTS["frame"] = list(frame_in_region(projection, space.region_3d.window_matrix, region.width, region.height))
+    return list(frame_in_region(projection, space.region_3d.window_matrix, region.width, region.height))
+
+
+def camera_view():
+    screenshot("shot_camera.png")
+    scene = bpy.context.scene
+    RESULTS["frame"] = camera_frame()
     RESULTS["sphere_before"] = projected_box(bpy.data.objects["Sphere"])
     RESULTS["camera_boxes"] = {n: projected_box(bpy.data.objects[n]) for n in ("Near", "Far")}
     scene.render.image_settings.file_format = "PNG"
@@ -238,7 +246,24 @@ def moved():
 def zero_scale_camera():
     RESULTS["zero_scale_camera_messages"] = [s.message for s in sessions()]
     log("zero scale camera:", RESULTS["zero_scale_camera_messages"])
-    bpy.context.scene.camera.scale = (1.0, 1.0, 1.0)
+    scene = bpy.context.scene
+    scene.camera.scale = (1.0, 1.0, 1.0)
+    cam = scene.camera.data
+    cam.type = "PANO"
+    pano = cam if hasattr(cam, "panorama_type") else cam.cycles        # Blender 4.x / 3.x (Cycles' settings)
+    pano.panorama_type = "EQUIRECTANGULAR"
+    pano.longitude_min, pano.longitude_max = -0.4, 0.4     # the frame's 16:9, about the perspective lens' angles
+    pano.latitude_min, pano.latitude_max = -0.25, 0.2
+    after(0.5, lambda: when_done(panorama_view))
+
+
+def panorama_view():
+    screenshot("shot_panorama.png")
+    scene = bpy.context.scene
+    RESULTS["frame_panorama"] = camera_frame()
+    scene.render.filepath = os.path.join(OUT, "final_panorama.png")
+    bpy.ops.render.render(write_still=True)
+    scene.camera.data.type = "PERSP"
     win, area, region, _ = view3d()
     with bpy.context.temp_override(window=win, area=area, region=region):
         bpy.ops.view3d.view_axis(type="FRONT")

@@ -8,6 +8,8 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
     camera's scale set to (1, 0, 1), the message shown recorded; scale restored.
     The camera made an equirectangular panorama: screenshot shot_panorama.png
     and a final render of it, final_panorama.png; the camera made perspective again.
+    Everything moved 1e7 from the origin: screenshot shot_far.png and a final
+    render, final_far.png; moved back.
  3. The front numpad view (orthographic): screenshot shot_front.png.
  4. Rendering with many samples for 5 s: the time the engine spends in each
     call on Blender's main thread (view_update, view_draw) is recorded; the
@@ -264,6 +266,35 @@ def panorama_view():
     scene.render.filepath = os.path.join(OUT, "final_panorama.png")
     bpy.ops.render.render(write_still=True)
     scene.camera.data.type = "PERSP"
+    move_everything(FAR)
+    after(0.5, lambda: when_done(far_view))
+
+
+FAR = (1e7, 1e7, 0.0)        # whole numbers: the camera and the cubes' corners stay exact in float32
+
+
+def move_everything(offset):
+    """Every object moved by `offset`; the sphere (whose vertices float32 would
+    snap to whole units 1e7 from the origin) hidden while away."""
+    from mathutils import Vector
+    for obj in bpy.context.scene.objects:
+        obj.location += Vector(offset)
+    sphere = bpy.data.objects["Sphere"]
+    sphere.hide_viewport = sphere.hide_render = offset[0] > 0
+    bpy.context.view_layer.update()
+
+
+def far_view():
+    screenshot("shot_far.png")
+    scene = bpy.context.scene
+    RESULTS["frame_far"] = camera_frame()
+    scene.render.filepath = os.path.join(OUT, "final_far.png")
+    bpy.ops.render.render(write_still=True)
+    move_everything(tuple(-x for x in FAR))
+    after(0.5, lambda: when_done(front_view))
+
+
+def front_view():
     win, area, region, _ = view3d()
     with bpy.context.temp_override(window=win, area=area, region=region):
         bpy.ops.view3d.view_axis(type="FRONT")

@@ -40,8 +40,14 @@ class Texture:
 
 def draw(engine, session, context, depsgraph):
     """view_draw: follow the region's view, then draw the latest image."""
+    from .export.camera import CameraError
     from .viewport import view_from_context
-    key, camera, pixel = view_from_context(engine, context, depsgraph)
+    try:
+        key, camera, pixel = view_from_context(engine, context, depsgraph)
+    except CameraError as exc:        # looking through a camera without a view (zero scale, NaN): say why
+        session.message = f"Gridwalk: {exc}"
+        engine.update_stats("", session.message)
+        return
     session.follow_settings(depsgraph.scene)
     session.set_view(key, camera, pixel)
     texture = engine.__dict__.setdefault("viewport_texture", Texture())

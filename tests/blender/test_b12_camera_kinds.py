@@ -1,7 +1,9 @@
 """Every kind of Blender camera renders as Cycles renders it (issue 12).
 
-Final renders in bpy 4.5 and 5.0 of cubes, a sphere and a ground pad seen by
-a perspective camera with a vertical sensor fit and lens shift, an
+Final renders in bpy 4.5 and 5.0, and in Debian's blender 3.4 (`blender -b`,
+where the panorama's settings are Cycles' camera settings), of cubes, a sphere and a ground pad seen by
+a perspective camera with a vertical sensor fit and lens shift, portrait
+images with the automatic and the horizontal sensor fit (and shift), an
 orthographic camera with shift, an equirectangular panorama with
 asymmetric ranges, a mirrored camera (scale -1), 2:1 pixels, near and far
 clipping through the scene, and a camera 1e7 from the origin. Coverage
@@ -17,12 +19,13 @@ import json
 import pytest
 
 import exr
-from runner import BPY_VENVS, script_output
+from runner import ALL_BLENDERS, script_output
 
-KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
+KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far", "portrait_auto",
+         "portrait_horizontal")
 
 
-@pytest.fixture(scope="module", params=list(BPY_VENVS))
+@pytest.fixture(scope="module", params=list(ALL_BLENDERS))
 def renders(request, tmp_path_factory):
     return script_output(request.param, tmp_path_factory, "camera_kinds.py", *KINDS, timeout=300)
 

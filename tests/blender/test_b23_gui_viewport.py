@@ -3,7 +3,8 @@
 One GUI session (scripts/gui_viewport.py) screenshots the 3D view: through the
 camera, after moving an object from a script, in the orthographic front
 view; then, while rendering, it switches the engine, switches to Solid
-shading, loads a new file and quits, counting threads after each event.
+shading, toggles a quad view on and off, closes the view (its area becomes an
+Image Editor), loads a new file and quits, counting threads after each event.
 """
 import json
 import shutil
@@ -47,14 +48,19 @@ def rows_top_down(box, height):
     return int(height - y1), int(np.ceil(height - y0)), int(x0), int(np.ceil(x1))
 
 
-def test_camera_view_matches_a_final_render_of_the_same_camera(gui):
+@pytest.mark.parametrize("shot, final, frame", [("shot_camera.png", "final.png", "frame"),
+                                                ("shot_panorama.png", "final_panorama.png", "frame_panorama"),
+                                                ("shot_far.png", "final_far.png", "frame_far")])
+def test_camera_view_matches_a_final_render_of_the_same_camera(gui, shot, final, frame):
     """At zoom 1:1 the camera's frame is the render's size; the frame's part of
-    the screenshot must be the final render (both colour managed by Blender)."""
-    final = gui.shot("final.png")
-    view = gui.region("shot_camera.png")
-    x0, y0, x1, y1 = gui.info["frame"]
+    the screenshot must be the final render (both colour managed by Blender).
+    A panoramic camera's ranges are stretched from its frame over the region;
+    a camera 1e7 from the origin keeps its place and direction."""
+    final = gui.shot(final)
+    view = gui.region(shot)
+    x0, y0, x1, y1 = gui.info[frame]
     assert (round(x1 - x0), round(y1 - y0)) == (final.shape[1], final.shape[0])
-    r0, _, c0, _ = rows_top_down(gui.info["frame"], view.shape[0])
+    r0, _, c0, _ = rows_top_down(gui.info[frame], view.shape[0])
     crop = view[r0:r0 + final.shape[0], c0:c0 + final.shape[1]]
     assert crop.std() > 20                                  # the objects are there
     diff = np.abs(crop - final).max(axis=2)
@@ -73,6 +79,13 @@ def test_moving_an_object_changes_the_image_only_where_it_moved(gui):
         where[max(r0 - 3, 0):r1 + 3, max(c0 - 3, 0):c1 + 3] = True
     assert changed[where].sum() > 1000, "the sphere's old and new places must change"
     assert changed[~where].sum() <= 0.001 * (~where).sum(), "nothing else may change"
+
+
+def test_a_zero_scale_camera_seen_through_is_named_with_its_cause(gui):
+    camera = gui.info["camera_name"]
+    messages = gui.info["zero_scale_camera_messages"]
+    assert messages and all(m.startswith(f"Gridwalk: Camera {camera!r} has a zero scale (1, 0, 1 along its X, Y, Z "
+                                         "axes): it has no viewing direction") for m in messages), messages
 
 
 def test_orthographic_front_view_keeps_equal_cubes_equal(gui):
@@ -123,12 +136,22 @@ def test_ui_stays_responsive_while_rendering(gui):
     assert max(calls) < 0.25, sorted(calls)[-5:]
 
 
-def test_threads_stop_on_engine_switch_shading_switch_file_load_and_quit(gui):
+def test_a_quad_view_renders_in_four_sessions_and_stops_three_when_it_ends(gui):
+    """Engine state lives per instance: each of the four views has its own
+    engine, session and worker; leaving the quad view stops three of them."""
+    info = gui.info
+    assert info["quad_view_regions"] == 4
+    assert info["quad_view"]["viewport"] == 4 and info["quad_view"]["render"] >= 1, info["quad_view"]
+    assert info["after_quad_view"]["viewport"] == 1, info["after_quad_view"]
+
+
+def test_threads_stop_on_engine_switch_shading_switch_closing_the_view_file_load_and_quit(gui):
     info = gui.info
     assert info["before"] == {"render": 0, "viewport": 0}
-    for rendering in ("rendering", "rendering_again", "rendering_before_new_file", "rendering_before_quit"):
+    for rendering in ("rendering", "rendering_again", "rendering_before_quad_view", "rendering_before_new_file",
+                      "rendering_before_quit"):
         assert info[rendering]["render"] >= 1 and info[rendering]["viewport"] == 1, (rendering, info[rendering])
-    for event in ("after_engine_switch", "after_solid_shading", "after_new_file"):
+    for event in ("after_engine_switch", "after_solid_shading", "after_closing_the_view", "after_new_file"):
         assert info[event] == {"render": 0, "viewport": 0}, (event, info[event])
     assert info["completed"]
     output = gui.proc.stdout + gui.proc.stderr

@@ -3,8 +3,8 @@
 scripts/viewport_session.py drives a viewport session with real depsgraph
 updates. Moving an object reads no mesh and transforms one instance; editing
 a mesh shared by two objects reads it once; a modifier change reads that
-object only; a material change restarts without touching geometry; a
-colour-management edit does not restart; a resize waits until it settles.
+object only; a material, light, world or render-setting change restarts
+without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
 After every edit the incremental
 arrays equal a fresh export's, and the image shown equals a render of the
 fresh export. Stopping the session leaves no thread running.
@@ -21,6 +21,9 @@ EDITS = {   # edit: (meshes read, instances transformed)
     "edit_shared_mesh": (1, 2),
     "change_modifier": (1, 1),
     "change_material": (0, 0),
+    "change_light": (0, 0),
+    "change_world": (0, 0),
+    "change_render_setting": (0, 0),
     "delete_object": (0, 0),
 }
 
@@ -63,3 +66,13 @@ def test_stopping_leaves_no_thread(session):
     assert session["threads_before"] == 0 and session["threads_rendering_session"] == 1
     assert session["threads_after_stop"] == {"render": 0, "viewport": 0}
     assert session["redraws"] > 0
+
+
+def test_first_pixels_after_an_edit_do_not_wait_for_the_full_structure(session):
+    """A move in a scene of 250k triangles: the coarse pass traces the quick
+    uniform grid, so its first pixels arrive before the render settings'
+    structure (the adaptive grid) has been built for the full passes."""
+    edit = session["large_edit"]
+    assert edit["triangles"] > 240_000
+    assert edit["edit_to_pixels"] < edit["edit_to_full_grid"], edit
+    assert edit["grid"] < edit["full_grid"], edit

@@ -4,12 +4,19 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
  1. scenes.viewport_scene, seen through the camera at zoom 1:1 (the camera's
     frame is the render's size in pixels): screenshot shot_camera.png once the
     viewport render is done; a final render of the same camera, final.png.
- 2. "Sphere" moved from this script: screenshot shot_moved.png.
+ 2. "Sphere" moved from this script: screenshot shot_moved.png. The
+    camera's scale set to (1, 0, 1), the message shown recorded; scale restored.
+    The camera made an equirectangular panorama: screenshot shot_panorama.png
+    and a final render of it, final_panorama.png; the camera made perspective again.
+    Everything moved 1e7 from the origin: screenshot shot_far.png and a final
+    render, final_far.png; moved back.
  3. The front numpad view (orthographic): screenshot shot_front.png.
  4. Rendering with many samples for 5 s: the time the engine spends in each
     call on Blender's main thread (view_update, view_draw) is recorded; the
     engine is switched to Workbench mid-render; back to GRIDWALK, then Solid
-    shading mid-render; Rendered again, then File > New while rendering;
+    shading mid-render; Rendered again, then Toggle Quad View (four views,
+    four renders) and back; the 3D view's area switched to the Image Editor
+    (the view closes); back to a Rendered 3D view, then File > New while rendering;
     Rendered again, then quit while rendering.
     Render threads (named "gridwalk") and the viewport's Python thread are
     counted after each event.
@@ -165,15 +172,21 @@ def setup():
     when_done(camera_view)
 
 
-def camera_view():
-    screenshot("shot_camera.png")
+def camera_frame():
+    """The camera's frame in the 3D view's region (x0, y0, x1, y1, origin bottom left)."""
     from gridwalk_blender.export.viewport_camera import frame_in_region
     scene = bpy.context.scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     _, _, region, space = view3d()
     cam = scene.camera.evaluated_get(depsgraph)
     projection = cam.calc_matrix_camera(depsgraph, x=scene.render.resolution_x, y=scene.render.resolution_y)
-    RESULTS["frame"] = list(frame_in_region(projection, space.region_3d.window_matrix, region.width, region.height))
+    return list(frame_in_region(projection, space.region_3d.window_matrix, region.width, region.height))
+
+
+def camera_view():
+    screenshot("shot_camera.png")
+    scene = bpy.context.scene
+    RESULTS["frame"] = camera_frame()
     RESULTS["sphere_before"] = projected_box(bpy.data.objects["Sphere"])
     RESULTS["camera_boxes"] = {n: projected_box(bpy.data.objects[n]) for n in ("Near", "Far")}
     scene.render.image_settings.file_format = "PNG"
@@ -219,13 +232,69 @@ def move_sphere():
     bpy.data.objects["Sphere"].location.x += 0.6
     bpy.context.view_layer.update()
     RESULTS["sphere_after"] = projected_box(bpy.data.objects["Sphere"])
+    RESULTS["camera_name"] = bpy.context.scene.camera.name
     RESULTS["edit_timings"] = None
     after(0.5, lambda: when_done(moved))
 
 
 def moved():
-    RESULTS["edit_timings"] = [s.timings for s in sessions()]
+    RESULTS["edit_timings"] = [dict(s.timings) for s in sessions()]
     screenshot("shot_moved.png")
+    bpy.context.scene.camera.scale = (1.0, 0.0, 1.0)      # looking through a camera without a view
+    view3d()[1].tag_redraw()
+    after(1.5, zero_scale_camera)
+
+
+def zero_scale_camera():
+    RESULTS["zero_scale_camera_messages"] = [s.message for s in sessions()]
+    log("zero scale camera:", RESULTS["zero_scale_camera_messages"])
+    scene = bpy.context.scene
+    scene.camera.scale = (1.0, 1.0, 1.0)
+    cam = scene.camera.data
+    cam.type = "PANO"
+    pano = cam if hasattr(cam, "panorama_type") else cam.cycles        # Blender 4.x / 3.x (Cycles' settings)
+    pano.panorama_type = "EQUIRECTANGULAR"
+    pano.longitude_min, pano.longitude_max = -0.4, 0.4     # the frame's 16:9, about the perspective lens' angles
+    pano.latitude_min, pano.latitude_max = -0.25, 0.2
+    after(0.5, lambda: when_done(panorama_view))
+
+
+def panorama_view():
+    screenshot("shot_panorama.png")
+    scene = bpy.context.scene
+    RESULTS["frame_panorama"] = camera_frame()
+    scene.render.filepath = os.path.join(OUT, "final_panorama.png")
+    bpy.ops.render.render(write_still=True)
+    scene.camera.data.type = "PERSP"
+    move_everything(FAR)
+    after(0.5, lambda: when_done(far_view))
+
+
+FAR = (1e7, 1e7, 0.0)        # whole numbers: the camera and the cubes' corners stay exact in float32
+
+
+def move_everything(offset):
+    """Every object moved by `offset`; the sphere (whose vertices float32 would
+    snap to whole units 1e7 from the origin) hidden while away."""
+    from mathutils import Vector
+    for obj in bpy.context.scene.objects:
+        obj.location += Vector(offset)
+    sphere = bpy.data.objects["Sphere"]
+    sphere.hide_viewport = sphere.hide_render = offset[0] > 0
+    bpy.context.view_layer.update()
+
+
+def far_view():
+    screenshot("shot_far.png")
+    scene = bpy.context.scene
+    RESULTS["frame_far"] = camera_frame()
+    scene.render.filepath = os.path.join(OUT, "final_far.png")
+    bpy.ops.render.render(write_still=True)
+    move_everything(tuple(-x for x in FAR))
+    after(0.5, lambda: when_done(front_view))
+
+
+def front_view():
     win, area, region, _ = view3d()
     with bpy.context.temp_override(window=win, area=area, region=region):
         bpy.ops.view3d.view_axis(type="FRONT")
@@ -264,6 +333,40 @@ def solid_shading():
 
 def rendered_again():
     RESULTS["after_solid_shading"] = threads()
+    view3d()[3].shading.type = "RENDERED"
+    after(2.0, quad_view)
+
+
+def toggle_quad_view():
+    win, area, region, _ = view3d()
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.screen.region_quadview()
+    area.tag_redraw()
+
+
+def quad_view():
+    RESULTS["rendering_before_quad_view"] = threads()
+    toggle_quad_view()
+    after(3.0, quad_view_rendering)
+
+
+def quad_view_rendering():
+    RESULTS["quad_view"] = threads()
+    RESULTS["quad_view_regions"] = len(view3d()[3].region_quadviews)
+    toggle_quad_view()
+    after(2.0, close_view)
+
+
+def close_view():
+    RESULTS["after_quad_view"] = threads()
+    view3d()[1].type = "IMAGE_EDITOR"          # the 3D view closes (its area shows another editor)
+    after(2.0, reopen_view)
+
+
+def reopen_view():
+    RESULTS["after_closing_the_view"] = threads()
+    area = next(a for a in bpy.context.window_manager.windows[0].screen.areas if a.type == "IMAGE_EDITOR")
+    area.type = "VIEW_3D"
     view3d()[3].shading.type = "RENDERED"
     after(2.0, new_file)
 

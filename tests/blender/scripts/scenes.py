@@ -257,7 +257,8 @@ def nan_scene():
     return {}
 
 
-CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far")
+CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far",
+                "portrait_auto", "portrait_horizontal")
 FAR = (1e7, 1e7, 0.0)       # whole numbers: exact in float32 (spacing 1 at 1e7)
 
 
@@ -267,7 +268,8 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR)
     moves everything 1e7 from the origin and keeps only geometry with whole
     coordinates, which float32 holds exactly there."""
     far = kind == "far"
-    scene = reset(resolution=(101, 101) if far else tuple(resolution))
+    portrait = kind.startswith("portrait")      # a tall image: AUTO fits the sensor to the height
+    scene = reset(resolution=(101, 101) if far else tuple(resolution)[::-1] if portrait else tuple(resolution))
     offset = Vector(far_offset if far else (0.0, 0.0, 0.0))
     cam = scene.camera
     cam.location = offset + Vector((0.0, -10.0, 3.0))
@@ -290,6 +292,11 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR)
         cam.scale = (-1.0, 1.0, 1.0)
     elif kind == "pixel_aspect":
         scene.render.pixel_aspect_x = 2.0
+    elif kind == "portrait_auto":
+        data.shift_x = -0.1
+    elif kind == "portrait_horizontal":
+        data.sensor_fit, data.sensor_width = "HORIZONTAL", 30.0
+        data.shift_y = 0.1
     elif kind == "clipped":
         data.clip_start, data.clip_end = 8.8, 14.0
     elif far:

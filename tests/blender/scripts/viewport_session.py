@@ -52,6 +52,7 @@ def build(bpy, scenes):
     red = scenes.principled_material("Red", (0.8, 0.1, 0.1))
     a.data.materials.append(red)
     scenes.add_light("Key", "POINT", (0, -6, 6), energy=800.0)
+    bpy.context.scene.world = bpy.data.worlds.new("World")
     bpy.context.scene.gridwalk.viewport_samples = 1
     bpy.context.scene.gridwalk.viewport_start_pixels = 1
     bpy.context.view_layer.update()
@@ -79,7 +80,9 @@ def main(out_dir):
 
     def handler(scene_, depsgraph):
         session.cache.reset_stats()
-        state["restarted"] = session.update(depsgraph)
+        before = session._versions()
+        session.update(depsgraph)
+        state["restarted"] = session._versions() != before      # the scene or the settings changed
         state["reads"], state["transforms"] = session.cache.reads, session.cache.transforms
     bpy.app.handlers.depsgraph_update_post.append(handler)
 
@@ -135,12 +138,41 @@ def main(out_dir):
     bpy.data.materials["Red"].node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.1, 0.1, 0.9, 1)
     bpy.context.view_layer.update()
     check("change_material")
+    bpy.data.lights["Key"].energy = 300.0
+    bpy.context.view_layer.update()
+    check("change_light")
+    tree = scene.world.node_tree if getattr(scene.world, "use_nodes", True) else None    # 5.0: always nodes
+    if tree is not None:
+        tree.nodes["Background"].inputs["Color"].default_value = (0.3, 0.1, 0.05, 1.0)
+    else:
+        scene.world.color = (0.3, 0.1, 0.05)
+    bpy.context.view_layer.update()
+    check("change_world")
+    scene.gridwalk.max_depth = 1
+    bpy.context.view_layer.update()
+    check("change_render_setting")
     scene.view_settings.exposure = 1.5
     bpy.context.view_layer.update()
     results["colour_management"] = dict(state)
     bpy.data.objects.remove(bpy.data.objects["Twin"])
     bpy.context.view_layer.update()
     check("delete_object")
+
+    # a large mesh, a coarse pass: its first pixels come from the quick structure, before the
+    # render settings' structure is built
+    bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(0.0, -3.0, 0.0))   # Suzanne, 250k triangles
+    big = bpy.context.object
+    big.modifiers.new("Subdivision", "SUBSURF").levels = 4
+    scene.gridwalk.viewport_start_pixels = 4
+    bpy.context.view_layer.update()
+    wait_done()
+    big.location.x += 0.2
+    bpy.context.view_layer.update()
+    wait_done()
+    results["large_edit"] = {k: session.timings.get(k) for k in ("edit_to_pixels", "edit_to_full_grid", "grid",
+                                                                  "full_grid")}
+    results["large_edit"]["triangles"] = len(session.scene_kwargs["triangles"])
+    print("viewport_session: large_edit", results["large_edit"], flush=True)
 
     # a resize (only the region's size changes) waits until it settles
     import dataclasses

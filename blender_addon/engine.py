@@ -107,7 +107,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         self._viewport().main_thread.append(("view_draw", time.perf_counter() - t0))
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        for p in passes.enabled(renderlayer):
+        for p in passes.enabled(renderlayer, scene):
             self.register_pass(scene, renderlayer, p.name, p.channels, p.chanid, p.kind)
 
     def render(self, depsgraph):

@@ -40,7 +40,13 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
         const Material& m = scene_.materials()[size_t(sp.material)];
         if (!m.lets_light_through()) return 0;
         const float alpha = scene_.alpha_at(m, hit);
-        through *= (1 - alpha) + alpha * std::min(std::max(m.transmittance, 0.0f), 1.0f);
+        float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
+        if (passed > 0) {   // less what the surface reflects (Schlick's Fresnel at the ray's angle)
+            const float r0 = ((m.ior - 1) / (m.ior + 1)) * ((m.ior - 1) / (m.ior + 1));
+            const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);
+            passed *= 1.0f - (r0 + (1.0f - r0) * c * c * c * c * c);
+        }
+        through *= (1 - alpha) + alpha * passed;
         if (through <= 1e-4f) return 0;
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, r.d);
         if (!std::isinf(dist)) r.tmax = std::max(dot(target - r.o, r.d), 0.0f) * (1.0f - 1e-5f);

@@ -34,13 +34,15 @@ def _image_node(mat, image, socket="Base Color", output="Color", interpolation="
     return tex
 
 
-def _filled_image(name, pixels, non_color=False):
-    """A generated image holding `pixels` ((h, w, 4) floats, row 0 at the BOTTOM, Blender's order)."""
+def _filled_image(name, pixels, float_buffer, non_color=False):
+    """A packed image holding `pixels` ((h, w, 4) in [0, 1] for 8-bit, row 0 at
+    the BOTTOM, Blender's order). The colour space is set first: setting it
+    later reloads the image and loses the pixels."""
     h, w = pixels.shape[:2]
-    img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=pixels.dtype == np.float64)
-    img.pixels.foreach_set(np.ascontiguousarray(pixels, np.float32).reshape(-1))
+    img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=float_buffer)
     if non_color:
         img.colorspace_settings.name = "Non-Color"
+    img.pixels.foreach_set(np.ascontiguousarray(pixels, np.float32).reshape(-1))
     img.pack()
     return img
 
@@ -69,7 +71,7 @@ def roughness_map_scene(resolution=(64, 48), value=128, textured=True):
     if textured:
         px = np.full((8, 8, 4), value / 255.0)
         px[..., 3] = 1.0
-        img = _filled_image("Roughness", px, non_color=True)
+        img = _filled_image("Roughness", px, float_buffer=False, non_color=True)
         _image_node(mat, img, "Roughness")
     plane.data.materials.append(mat)
     add_light("Key", "POINT", (0, -6, 3), energy=800.0, shadow_soft_size=0.0)
@@ -102,7 +104,7 @@ def environment_scene(resolution=(64, 48)):
         world.use_nodes = True
     nodes = world.node_tree.nodes
     env = nodes.new("ShaderNodeTexEnvironment")
-    env.image = _filled_image("SkyHDR", sky_pixels())
+    env.image = _filled_image("SkyHDR", sky_pixels(), float_buffer=True)
     world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
     bpy.context.view_layer.update()
     return {}
@@ -144,15 +146,23 @@ def pane_shadow_scene(pane="glass", resolution=(64, 64)):
     return {}
 
 
+def _file_image(name, path):
+    """An image datablock reading `path`, as a .blend that points at a file would have it."""
+    img = bpy.data.images.new(name, 4, 4)
+    img.source, img.filepath = "FILE", path
+    img.reload()
+    return img
+
+
 def bad_materials_scene(resolution=(48, 36)):
     """Five planes, each with one problem: a missing image file, a 0 x 0 image,
     a 16k x 16k image, a textured mesh without UVs, and a node Gridwalk does
     not understand (a Noise Texture on Base Color)."""
     reset(resolution=tuple(resolution))
-    missing = bpy.data.images.load("/nonexistent/gridwalk_missing_texture.png", check_existing=False)
+    missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
     zero_file = os.path.join(tempfile.mkdtemp(prefix="gridwalk_"), "zero_size.png")
     open(zero_file, "wb").close()          # a file Blender cannot decode: a 0 x 0 image
-    zero = bpy.data.images.load(zero_file, check_existing=False)
+    zero = _file_image("ZeroSizeImage", zero_file)
     small = bpy.data.images.new("SmallImage", 4, 4)
     huge = bpy.data.images.new("HugeImage", 16384, 16384)
     cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Noise": None}

@@ -88,6 +88,32 @@ def _mean_rgb(px, srgb: bool) -> tuple:
     return tuple(float(x) for x in (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * rgb.shape[1]))
 
 
+def _stored_bytes(img) -> int:
+    w, h = (int(x) for x in img.size)
+    return w * h * max(int(getattr(img, "channels", 4)), 1) * (4 if img.is_float else 1)
+
+
+def scene_texture_bytes(depsgraph) -> int:
+    """Memory of the images the depsgraph's materials and world sample (each
+    once; those too large to read count as the 1-pixel magenta stand-in), and
+    the largest image's float32 read buffer: for the memory estimate, before
+    anything is read."""
+    seen, stored, largest = set(), 0, 0
+    for id_ in depsgraph.ids:
+        tree = getattr(id_, "node_tree", None)
+        if tree is None or type(id_).__name__ not in ("Material", "World"):
+            continue
+        for node in tree.nodes:
+            img = getattr(node, "image", None) if node.type in ("TEX_IMAGE", "TEX_ENVIRONMENT") else None
+            if img is None or img.name_full in seen:
+                continue
+            seen.add(img.name_full)
+            if 0 < image_read_bytes(img) <= MAX_IMAGE_BYTES:
+                stored += _stored_bytes(img)
+                largest = max(largest, image_read_bytes(img) - _stored_bytes(img))
+    return stored + largest
+
+
 class TextureTable:
     """The scene's images (each once) and textures (each distinct node setting once)."""
 

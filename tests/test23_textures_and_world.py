@@ -224,3 +224,17 @@ def test_bad_images_are_refused(pixels, message):
     assert message in str(info.value)
     with pytest.raises(ValueError, match="colorspace must be one of"):
         gw.Image(np.zeros((1, 1)), colorspace="rec709")
+
+
+def test_a_textured_scene_pickles_and_renders_the_same():
+    """Render farms pickle the scene's keyword arguments for their workers."""
+    import pickle
+    verts, tris, uvs = _square(-0.3, 1.2)
+    kwargs = dict(vertices=verts, triangles=tris, uvs=uvs, camera=_ortho(),
+                  materials=[gw.Material(kd=0, emission=1.0, color_texture=0)],
+                  textures=[gw.Texture(gw.Image(BYTES, name="noise"), extension="extend")],
+                  world=gw.World(ambient=(0.1, 0.2, 0.3)))
+    copy = pickle.loads(pickle.dumps(kwargs))
+    assert copy["textures"][0].image.name == "noise"
+    np.testing.assert_array_equal(copy["textures"][0].image.pixels(), BYTES)
+    np.testing.assert_array_equal(gw.render(gw.Scene(**copy)), gw.render(gw.Scene(**kwargs)))

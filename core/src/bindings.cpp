@@ -126,7 +126,18 @@ NB_MODULE(_core, m) {
         .def_prop_ro("width", &Image::width)
         .def_prop_ro("height", &Image::height)
         .def_prop_ro("channels", &Image::channels)
-        .def_prop_ro("memory_bytes", &Image::memory_bytes);
+        .def_prop_ro("memory_bytes", &Image::memory_bytes)
+        .def("pixels", [](const Image& img) {   // a copy, (H, W, C), as given
+            const size_t h = size_t(img.height()), w = size_t(img.width()), c = size_t(img.channels());
+            if (img.is_float()) {
+                auto out = owned<float>({h, w, c});
+                std::copy(img.floats().begin(), img.floats().end(), out.data());
+                return nb::object(nb::cast(out));
+            }
+            auto out = owned<uint8_t>({h, w, c});
+            std::copy(img.bytes().begin(), img.bytes().end(), out.data());
+            return nb::object(nb::cast(out));
+        });
 
     nb::class_<Accel>(m, "Accel")
         .def_prop_ro("grid", [](const Accel& a) { return accel_dict(a.info()); });

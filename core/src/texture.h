@@ -35,6 +35,8 @@ public:
     bool is_float() const { return !floats_.empty(); }
     bool srgb() const { return srgb_; }
     size_t memory_bytes() const { return bytes_.size() + floats_.size() * sizeof(float); }
+    const std::vector<uint8_t>& bytes() const { return bytes_; }
+    const std::vector<float>& floats() const { return floats_; }
     // The texel in column x, row y counted from the BOTTOM (in range), linear.
     Rgba texel(int x, int y) const;
 

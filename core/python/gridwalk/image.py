@@ -59,5 +59,12 @@ class Image:
     def memory_bytes(self) -> int:
         return self._native.memory_bytes
 
+    def pixels(self) -> np.ndarray:
+        """A copy of the stored pixels, (H, W, C) uint8 or float32, row 0 at the top."""
+        return self._native.pixels()
+
+    def __reduce__(self):   # pickled with its pixels (render farms ship scenes to workers)
+        return (Image, (self.pixels(), self.colorspace, self.name))
+
     def __repr__(self) -> str:
         return f"gridwalk.Image({self.name!r}, {self.width} x {self.height} x {self.channels}, {self.colorspace})"

@@ -238,3 +238,43 @@ def test_a_textured_scene_pickles_and_renders_the_same():
     assert copy["textures"][0].image.name == "noise"
     np.testing.assert_array_equal(copy["textures"][0].image.pixels(), BYTES)
     np.testing.assert_array_equal(gw.render(gw.Scene(**copy)), gw.render(gw.Scene(**kwargs)))
+
+
+def _lit_square(material, textures=()):
+    verts, tris, uvs = _square()
+    cam = gw.Camera(eye=(0.5, -3, 3), target=(0, 0, 0), up=(0, 0, 1), fov=50, width=N, height=N)
+    return gw.render(gw.Scene(verts, tris, uvs=uvs, camera=cam, materials=[material], textures=list(textures),
+                              lights=[gw.Light(position=(-1, -2, 3), color=(4, 4, 4))],
+                              background=(0.2, 0.3, 0.4)))
+
+
+@pytest.mark.parametrize("roughness, metallic", [(0.3, 0.0), (0.7, 1.0), (0.45, 0.4)])
+def test_roughness_and_metallic_maps_redo_the_principled_mapping_per_hit(roughness, metallic):
+    """A constant roughness / metallic map renders as the Principled mapping of
+    those constants (blender_addon/export/materials.py) does."""
+    from blender_addon.export.materials import principled_material
+
+    def constant(value):
+        return gw.Texture(gw.Image(np.full((2, 2), value, np.float32), colorspace="data"))
+
+    args = dict(color=(0.8, 0.5, 0.2), transmission=0.0, ior=1.45, f0=0.04)
+    expected = _lit_square(principled_material(metallic=metallic, roughness=roughness, **args))
+    mapped = principled_material(metallic=0.0, roughness=0.9, **args)   # the record's own values are replaced
+    mapped.roughness_texture, mapped.metallic_texture = 0, 1
+    got = _lit_square(mapped, [constant(roughness), constant(metallic)])
+    np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-5)
+    assert np.abs(got - _lit_square(principled_material(metallic=0.0, roughness=0.9, **args))).max() > 0.01
+
+
+def test_alpha_map_cuts_out_where_its_alpha_channel_is_zero():
+    rgba = np.zeros((2, 2, 4), np.uint8)
+    rgba[0, :, 3] = 255                       # top row opaque, bottom row cut out
+    rgba[..., :3] = 200
+    verts, tris, uvs = _square()
+    scene = gw.Scene(verts, tris, uvs=uvs, camera=_ortho(), background=(0.0, 0.0, 1.0),
+                     materials=[gw.Material(kd=0, emission_color=(1, 0, 0), alpha_texture=0)],
+                     textures=[gw.Texture(gw.Image(rgba), interpolation="closest", use_alpha=True)])
+    out = gw.render(scene)
+    np.testing.assert_array_equal(out[: N // 2, :, :3], np.broadcast_to([1.0, 0, 0], (N // 2, N, 3)))
+    np.testing.assert_array_equal(out[N // 2:, :, :3], np.broadcast_to([0, 0, 1.0], (N // 2, N, 3)))
+    assert np.all(out[N // 2:, :, 3] == 0) and np.all(out[: N // 2, :, 3] == 1)   # cut-outs are see-through

@@ -278,3 +278,15 @@ def test_alpha_map_cuts_out_where_its_alpha_channel_is_zero():
     np.testing.assert_array_equal(out[: N // 2, :, :3], np.broadcast_to([1.0, 0, 0], (N // 2, N, 3)))
     np.testing.assert_array_equal(out[N // 2:, :, :3], np.broadcast_to([0, 0, 1.0], (N // 2, N, 3)))
     assert np.all(out[N // 2:, :, 3] == 0) and np.all(out[: N // 2, :, 3] == 1)   # cut-outs are see-through
+
+
+def test_transparent_film_hides_the_world_from_camera_rays_only():
+    cam = gw.Camera(eye=(0, -6, 0), target=(0, 0, 0), up=(0, 0, 1), fov=40, width=N, height=N)
+    sky = gw.Texture(gw.Image(np.full((2, 4, 3), 0.5, np.float32)))
+    scene = gw.Scene(sphere_centers=[[0, 0, 0]], sphere_radii=[1.0], camera=cam, textures=[sky],
+                     materials=[gw.Material(kd=0, mirror=1.0)],
+                     world=gw.World(environment=0, environment_strength=2.0, transparent=True))
+    rgba = gw.render(scene)
+    miss = rgba[..., 3] == 0
+    assert miss.mean() > 0.3 and np.all(rgba[miss] == 0)              # premultiplied: nothing behind
+    np.testing.assert_allclose(rgba[N // 2, N // 2], [1.0, 1.0, 1.0, 1.0], atol=1e-6)   # the mirror sees the sky

@@ -44,9 +44,10 @@ class Export:
                 if camera else None
         except CameraError as exc:
             raise ExportError(str(exc)) from None
-        self.textures = TextureTable()
+        cache = cache if cache is not None else MeshCache()
+        self.textures = TextureTable(cache.images)
         self.materials = MaterialTable(self.textures)
-        self.meshes = MeshCollector(self.materials, cache if cache is not None else MeshCache())
+        self.meshes = MeshCollector(self.materials, cache)
         self.lights = []
         for inst in depsgraph.object_instances:
             if inst.object.type == "LIGHT":
@@ -57,6 +58,7 @@ class Export:
                 self.meshes.add_instance(inst)
         self.world_warnings: list[str] = []
         self.background, self.world = convert_world(scene.world, self.textures, self.world_warnings)
+        self.world.transparent = bool(scene.render.film_transparent)   # camera misses: RGB 0, alpha 0
 
     def signature(self) -> tuple:
         """What the scene arrays and records are made of: each instance's mesh
@@ -87,6 +89,7 @@ class Export:
             kwargs.update(images=self.textures.images, textures=self.textures.textures)
         warnings.extend(self.materials.warnings())
         warnings.extend(self.textures.warnings())
+        self.textures.prune()
         warnings.extend(self.meshes.warnings())
         return kwargs, warnings
 

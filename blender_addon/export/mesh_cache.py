@@ -31,7 +31,7 @@ class MeshCache:
         self.world_used = set()  # the world keys the current export used
         self.reads = 0           # meshes read since the last reset_stats()
         self.transforms = 0      # instances transformed since the last reset_stats()
-
+        self.images = {}         # image signature -> (gridwalk.Image, problem): textures.TextureTable
     def reset_stats(self):
         self.reads = self.transforms = 0
 

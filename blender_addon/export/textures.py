@@ -114,10 +114,23 @@ def scene_texture_bytes(depsgraph) -> int:
     return stored + largest
 
 
-class TextureTable:
-    """The scene's images (each once) and textures (each distinct node setting once)."""
+def _signature(img):
+    """What an image's pixels depend on; None for an image being edited (always read)."""
+    if img is None or getattr(img, "is_dirty", False):
+        return None
+    return (img.name_full, tuple(img.size), img.source, img.filepath, img.is_float,
+            img.colorspace_settings.name, getattr(img, "generated_type", ""), img.packed_file is not None)
 
-    def __init__(self):
+
+class TextureTable:
+    """The scene's images (each once) and textures (each distinct node setting once).
+
+    cache: a dict kept between exports (the viewport's MeshCache.images):
+    images whose signature is unchanged are not read again."""
+
+    def __init__(self, cache: dict | None = None):
+        self.cache = cache if cache is not None else {}
+        self._used: set = set()
         self.images: list = []
         self.textures: list = []
         self._image_index: dict = {}
@@ -128,7 +141,12 @@ class TextureTable:
     def _image(self, img) -> int:
         key = img.name_full if img is not None else None
         if key not in self._image_index:
-            image, problem = read_image(img)
+            signature = _signature(img)
+            image, problem = self.cache.get(signature) if signature is not None and signature in self.cache \
+                else read_image(img)
+            if signature is not None:
+                self.cache[signature] = (image, problem)
+                self._used.add(signature)
             if image is None:
                 self.problems[key or "(none)"] = problem
                 image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {key}")
@@ -150,6 +168,11 @@ class TextureTable:
             self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
                                          use_alpha=output == "Alpha"))
         return self._texture_index[key]
+
+    def prune(self):
+        """Forget the cached images this export did not use."""
+        for signature in [k for k in self.cache if k not in self._used]:
+            del self.cache[signature]
 
     def mean_color(self, index: int) -> tuple:
         """The average colour of a texture's image (linear RGB): the ambient of an environment."""

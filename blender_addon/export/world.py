@@ -13,8 +13,9 @@ makes the environment what missing rays see (times Strength), and its
 average colour (cos-latitude weighted) x Strength the ambient term. Any other
 linked Color or Strength falls back to the world's viewport colour, with a
 warning naming the node. Without nodes: world.color, both as background and
-ambient. No world: black, as in Blender. Film Transparent still makes the
-background transparent (alpha 0) in the image.
+ambient. No world: black, as in Blender. Film Transparent (World.transparent, set by the
+export) makes camera rays that miss see nothing: RGB 0 and alpha 0, as
+Cycles writes them; mirror and refraction rays still see the world.
 """
 from __future__ import annotations
 

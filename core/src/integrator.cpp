@@ -152,7 +152,8 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     const RayPre r(ray);
     Hit hit;
     hit.t = ray.tmax;
-    if (!accel_.closest(r, hit, ctx)) return scene_.miss(ray.d);
+    if (!accel_.closest(r, hit, ctx))
+        return type == RayType::Primary && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
     const SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
     Material textured;
@@ -167,9 +168,10 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
             if (fh) fh->hit = false;
-            return continue_through(sp, ray, depth, weight, split, st, ctx, fh, view_axis);
+            return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
         }
-        const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, st, ctx, nullptr, Vec3());
+        const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
+                                             nullptr, Vec3());
         Material opaque = m;
         opaque.alpha = 1;
         const Vec3 front = shade_hit(sp, ray, opaque, depth, weight * m.alpha, split, st, ctx);
@@ -180,7 +182,8 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
 
 // Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
 Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
-                                  SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const {
+                                  RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
+                                  const Vec3& view_axis) const {
     if (depth >= s_.max_depth + 16) return scene_.miss(ray.d);   // a stack of cut-outs
     Ray next = ray;
     next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
@@ -188,7 +191,7 @@ Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int de
     if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
     // The passes measure depth from the camera: the offset origin moved it along ray.d.
     FirstHit behind;
-    const Vec3 c = trace(next, depth + 1, weight, split, RayType::Secondary, st, ctx, fh ? &behind : nullptr, view_axis);
+    const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
     if (fh && behind.hit) {
         *fh = behind;
         fh->depth += dot(next.o - ray.o, view_axis);

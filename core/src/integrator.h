@@ -40,7 +40,7 @@ private:
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                   TraceContext& ctx) const;
     float transmission(Ray r, float dist, TraceContext& ctx) const;
-    Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
+    Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
                           SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     Vec3 shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth, float weight, bool split,
                    SampleState& st, TraceContext& ctx) const;

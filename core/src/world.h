@@ -8,6 +8,9 @@
 // the surface sees the whole sky.
 // environment: a texture (equirectangular) that rays which miss everything see,
 // times environment_strength; -1 = none (they see the background colour).
+// transparent: camera rays that miss see nothing (RGB 0 with alpha 0, a
+// premultiplied transparent film, Blender's Film > Transparent); mirror and
+// refraction rays still see the background or environment.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -20,6 +23,7 @@ struct World {
     Vec3 ambient{0, 0, 0};
     int32_t environment = -1;
     float environment_strength = 1;
+    bool transparent = false;
 };
 
 // Throws std::invalid_argument naming the field (the texture index is checked by the scene).

@@ -39,6 +39,7 @@ def renders(request, tmp_path_factory):
     opaque = "transparent=false"
     r["environment"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque)
     r["environment_cycles"] = _render(kind, out, "environment", "CYCLES", "samples=32", opaque)
+    r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
     r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
@@ -79,6 +80,15 @@ def test_hdr_environment_in_a_mirror_sphere_matches_cycles(renders):
     assert corr >= 0.95
     assert abs(ours[..., :3].mean() / cycles[..., :3].mean() - 1) < 0.05
     assert "no lights" not in renders["environment"]["stdout"]
+
+
+def test_film_transparent_hides_the_environment_but_not_its_reflection(renders):
+    film, opaque = renders["environment_film"]["rgba"], renders["environment"]["rgba"]
+    background = film[..., 3] == 0
+    assert 0.2 < background.mean() < 0.8
+    assert np.all(film[background] == 0)                       # RGB 0 with alpha 0, as Cycles writes it
+    sphere = film[..., 3] == 1
+    assert film[sphere][:, :3].mean() > 0.5                   # the sphere still mirrors the sky
 
 
 def test_emissive_object_is_seen_in_a_mirror(renders):

@@ -177,10 +177,13 @@ class World(Record):
     occlusion: a crease gets as much as a roof). environment: an index into
     Scene(textures=...) of an equirectangular image (Z up; its centre looks
     along +X) that rays which miss everything see, times
-    environment_strength; -1: they see the background colour."""
+    environment_strength; -1: they see the background colour. transparent:
+    camera rays that miss see nothing (RGB 0, alpha 0: a premultiplied
+    transparent film); reflections still see the environment."""
     ambient: tuple = _WORLD.ambient
     environment: int = _WORLD.environment
     environment_strength: float = _WORLD.environment_strength
+    transparent: bool = _WORLD.transparent
     CORE = _core.World
 
 

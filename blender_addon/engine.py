@@ -107,7 +107,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         self._viewport().main_thread.append(("view_draw", time.perf_counter() - t0))
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        for p in passes.enabled(renderlayer):
+        for p in passes.enabled(renderlayer, scene):
             self.register_pass(scene, renderlayer, p.name, p.channels, p.chanid, p.kind)
 
     def render(self, depsgraph):
@@ -149,11 +149,14 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         from gridwalk import memory
 
         from .export import count_geometry, resolution
+        from .export.textures import scene_texture_bytes
         scene = depsgraph.scene
         counts = count_geometry(depsgraph)
         width, height = resolution(scene.render)
+        texture_bytes = scene_texture_bytes(depsgraph)
         estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"],
-                                   width=width, height=height, settings=settings, normals=counts["normals"])
+                                   width=width, height=height, settings=settings, normals=counts["normals"],
+                                   texture_bytes=texture_bytes, uvs=texture_bytes > 0)
         limit, source = memory_limit(scene.gridwalk, memory)
         print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
               f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")

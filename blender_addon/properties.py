@@ -64,6 +64,9 @@ ADDON_PROPERTIES = {
                                 description="Refuse to render when the estimated memory exceeds this "
                                             "(0 = 75% of physical memory; GRIDWALK_MEMORY_LIMIT_MB "
                                             "also sets a limit, the lower wins)"),
+    "denoising_data": BoolProperty(name="Denoising Data", default=False,
+                                   description="Write the Denoising Albedo and Denoising Normal passes "
+                                               "(Cycles' names) for the compositor's Denoise node"),
     "viewport_samples": IntProperty(name="Viewport Samples", default=16, min=1, max=4096, update=changed,
                                     description="Rendered viewport shading: full-resolution passes of one random "
                                                 "camera sample per pixel, averaged; refining stops after these"),

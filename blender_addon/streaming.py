@@ -5,7 +5,7 @@ finished tiles every POLL_SECONDS and writes each into the render result
 (begin_result / end_result per tile, so the image appears as it renders),
 reports progress and statistics, and cancels the job as soon as Blender asks
 to stop (test_break): cancel() returns only when no worker thread is left.
-The Depth and Normal passes are written once, for the whole frame, at the end.
+Every pass (Depth, Normal, Denoising Albedo / Normal) is written with its tile.
 
 A border render (RenderSettings.region) gets a render result the size of the
 border from Blender, so tiles are written relative to the region's corner.
@@ -59,13 +59,6 @@ class ResultWriter:
         self.region = tuple(region) if region is not None else (0, 0, width, height)
         self.written = False
 
-    def write_frame(self, arrays: dict):
-        """Write the whole frame (the region only, for a border render): every
-        pass of passes.PASSES whose source array is in `arrays` (full-image
-        arrays keyed by source, row 0 at the top)."""
-        x, y, w, h = self.region
-        self.write(x, y, {k: v[y:y + h, x:x + w] for k, v in arrays.items()})
-
     def ensure_written(self):
         """After a cancel: if no tile was written, write the (empty) result for the
         whole frame. Blender 4.5 crashes saving a multilayer EXR of a render
@@ -107,7 +100,7 @@ def run(engine, job, writer: ResultWriter) -> bool:
         while True:
             finished = job.finished
             for tile in job.poll():
-                writer.write(tile.x, tile.y, {"rgba": tile.rgba})
+                writer.write(tile.x, tile.y, {"rgba": tile.rgba, **(tile.passes or {})})
             engine.update_progress(job.progress)
             now = time.monotonic()
             if finished or now - last_stats > STATS_SECONDS:
@@ -121,12 +114,13 @@ def run(engine, job, writer: ResultWriter) -> bool:
                 print(f"Gridwalk: cancel stopped all workers in "
                       f"{(time.perf_counter() - t_break) * 1e3:.1f} ms")
                 for tile in job.poll():         # tiles finished before the workers stopped
-                    writer.write(tile.x, tile.y, {"rgba": tile.rgba})
+                    writer.write(tile.x, tile.y, {"rgba": tile.rgba, **(tile.passes or {})})
                 writer.ensure_written()
                 return False
             time.sleep(POLL_SECONDS)
-        image = job.wait()          # rethrows a worker's error
-        writer.write_frame({"rgba": image, "depth": job.depth, "normal": job.normal})
+        job.wait()                  # rethrows a worker's error
+        for tile in job.poll():     # the last tiles, if any finished after the final poll
+            writer.write(tile.x, tile.y, {"rgba": tile.rgba, **(tile.passes or {})})
         return True
     except BaseException:
         job.cancel()

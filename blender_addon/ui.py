@@ -73,6 +73,7 @@ class GRIDWALK_RENDER_PT_performance(SettingsPanel, bpy.types.Panel):
     def draw(self, context):
         super().draw(context)
         self.layout.prop(context.scene.gridwalk, "memory_limit")
+        self.layout.prop(context.scene.gridwalk, "denoising_data")
 
 
 class GRIDWALK_RENDER_PT_viewport(GridwalkPanel, bpy.types.Panel):

@@ -54,6 +54,33 @@ def mesh_scene():
                     materials=mats, lights=lights, camera=cam, background=(0.1, 0.2, 0.3))
 
 
+def textured_scene():
+    """A floor with an 8-bit sRGB checker (closest, repeat), a cut-out pane
+    (alpha from a texture's alpha channel, bilinear, clip) and an emissive
+    sphere in an HDR environment with ambient light."""
+    checker = ((np.indices((8, 8)).sum(axis=0) % 2) * 200 + 40).astype(np.uint8)
+    floor_img = gw.Image(np.dstack([checker, checker // 2, 255 - checker]), name="checker")
+    alpha = np.zeros((4, 4, 4), np.float32)
+    alpha[..., :3], alpha[1:3, 1:3, 3] = 0.7, 1.0
+    sky = np.dstack([*np.meshgrid(np.linspace(0, 2, 16), np.linspace(1, 0, 8)), np.full((8, 16), 0.5)])
+    textures = [gw.Texture(floor_img, interpolation="closest"),
+                gw.Texture(gw.Image(alpha, name="cutout"), extension="clip", use_alpha=True),
+                gw.Texture(gw.Image(sky.astype(np.float32), name="sky"))]
+    verts = np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0],
+                      [-1, 0, 0.2], [1, 0, 0.2], [1, 0, 2.2], [-1, 0, 2.2]], np.float32)
+    tris = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]])
+    uvs = np.array([[[0, 0], [4, 0], [4, 4]], [[0, 0], [4, 4], [0, 4]],
+                    [[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]], np.float32)
+    mats = [gw.Material(color_texture=0, kd=0.9), gw.Material(alpha_texture=1, color=(0.2, 0.6, 0.9)),
+            gw.Material(kd=0, emission_color=(2.0, 1.5, 0.5))]
+    cam = gw.Camera(eye=(0.5, -6, 3), target=(0, 0, 0.8), fov=50, width=RES, height=RES)
+    return gw.Scene(vertices=verts, triangles=tris, triangle_materials=[0, 0, 1, 1], uvs=uvs,
+                    sphere_centers=[[1.5, 1.5, 0.6]], sphere_radii=[0.5], sphere_materials=[2],
+                    materials=mats, textures=textures, camera=cam,
+                    lights=[gw.Light(position=(-2, -3, 4), color=(12, 12, 12), inverse_square=True)],
+                    world=gw.World(ambient=(0.1, 0.1, 0.15), environment=2, environment_strength=1.5))
+
+
 def distant_scene():
     kw = distant()
     kw["camera"].width = kw["camera"].height = RES
@@ -74,6 +101,7 @@ CASES = {
                                             glossy_samples=2, max_depth=6)),
     "mesh-uniform-m1": (mesh_scene, dict(accel="grid", grid_density=1.0, skip_empty=False, mailboxes=False)),
     "distant-dof": (distant_scene, dict(dof_samples=4, aa="jittered", aa_samples=2)),
+    "textured-jittered": (textured_scene, dict(aa="jittered", aa_samples=2)),
 }
 
 

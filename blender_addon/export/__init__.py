@@ -1,7 +1,7 @@
 """Export an evaluated Blender depsgraph to gridwalk.Scene keyword arguments.
 
 One module per datablock kind: meshes (and instances), lights, camera,
-materials, world. Nothing here touches bpy.context: everything comes from the
+materials, textures (images), world. Nothing here touches bpy.context: everything comes from the
 depsgraph, so it works inside RenderEngine.render().
 """
 from __future__ import annotations
@@ -11,7 +11,8 @@ from .lights import light_from_instance
 from .materials import MaterialTable
 from .mesh_cache import MeshCache
 from .meshes import MeshCollector, count_geometry
-from .world import background_color
+from .textures import TextureTable
+from .world import convert_world
 
 __all__ = ["CameraError", "Export", "ExportCancelled", "ExportError", "MeshCache", "count_geometry", "export_scene", "render_region",
            "resolution"]
@@ -50,8 +51,10 @@ class Export:
                 if camera else None
         except CameraError as exc:
             raise ExportError(str(exc)) from None
-        self.materials = MaterialTable()
-        self.meshes = MeshCollector(self.materials, cache if cache is not None else MeshCache())
+        cache = cache if cache is not None else MeshCache()
+        self.textures = TextureTable(cache.images)
+        self.materials = MaterialTable(self.textures)
+        self.meshes = MeshCollector(self.materials, cache)
         self.lights = []
         for inst in depsgraph.object_instances:
             if should_stop is not None and should_stop():
@@ -63,14 +66,16 @@ class Export:
             else:
                 self.meshes.add_instance(inst)
         self.world_warnings: list[str] = []
-        self.background = background_color(scene.world, self.world_warnings)
+        self.background, self.world = convert_world(scene.world, self.textures, self.world_warnings)
+        self.world.transparent = bool(scene.render.film_transparent)   # camera misses: RGB 0, alpha 0
 
     def signature(self) -> tuple:
         """What the scene arrays and records are made of: each instance's mesh
         entry, matrix and materials, the spheres, materials, lights, background."""
         parts = tuple((key, matrix.tobytes(), lookup.tobytes()) for key, _, matrix, lookup in self.meshes.parts)
         spheres = tuple((tuple(c), r, m) for c, r, m in self.meshes.spheres)
-        return (parts, spheres, repr(self.materials.materials), repr(self.lights), self.background)
+        return (parts, spheres, repr(self.materials.materials), repr(self.lights), self.background,
+                repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
 
     def kwargs(self) -> tuple[dict, list[str]]:
         """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
@@ -82,13 +87,18 @@ class Export:
         kwargs = self.meshes.arrays()
         if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0:
             raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
-        if not self.lights:
-            warnings.append("The scene has no lights: only emissive materials will be visible")
+        if not self.lights and not any(self.world.ambient) and self.world.environment < 0:
+            warnings.append("The scene has no lights and a black world: only emissive materials will be visible")
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
-        kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background)
+        kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background,
+                      world=self.world)
+        if self.textures.textures:
+            kwargs.update(images=self.textures.images, textures=self.textures.textures)
         warnings.extend(self.materials.warnings())
+        warnings.extend(self.textures.warnings())
+        self.textures.prune()
         warnings.extend(self.meshes.warnings())
         return kwargs, warnings
 

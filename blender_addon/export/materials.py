@@ -3,9 +3,17 @@
 Supported surface shaders (the node linked to the active Material Output):
 Principled BSDF, Diffuse BSDF, Glossy BSDF, Glass BSDF and Emission. Anything
 else, and materials without nodes, use the viewport display settings
-(diffuse_color, metallic, roughness). Linked (textured) inputs use their
-unlinked default value. Unsupported graphs and textured inputs are reported
-as ONE warning per export, naming the materials.
+(diffuse_color, metallic, roughness).
+
+Linked inputs the core evaluates per hit (textures.py reads the images):
+  Image Texture (Color or Alpha output) -> Principled Base Color, Roughness,
+      Metallic, Alpha, and the Color of the other shaders; its Vector input
+      unlinked (the mesh's active render UV map) or linked from a UV Map
+      node (that layer);
+  Color Attribute -> Base Color (the named layer, or the active render one).
+Any other linked input (a Mapping node, a procedural texture, a Mix...) uses
+the socket's unlinked default value; unsupported graphs and inputs are
+reported as ONE warning per export, naming the materials and the nodes.
 
 Principled BSDF -> Whitted model (our shading has no 1/pi in the BRDF: that
 factor is folded into the light intensities, see lights.py):
@@ -17,7 +25,11 @@ factor is folded into the light intensities, see lights.py):
   ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Blinn-Phong lobe)
   mirror        = m,  roughness = r  (glossy when r > 0)
   transmittance = t,  ior = IOR
-  emission      = Emission Strength * max(Emission Color)
+  emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength)
+  alpha         = Alpha
+With a Metallic texture the record holds the metallic = 0 mapping and the
+core blends towards the metal per hit; with a Roughness texture the core
+recomputes shininess and ks per hit from the same formulas.
 """
 from __future__ import annotations
 
@@ -39,12 +51,69 @@ def _socket(node, *names):
     return None
 
 
-def _value(node, names, default, textured):
+def _source(socket):
+    """(node, output socket) linked into `socket`, through reroutes; (None, None) if unlinked."""
+    if not socket.is_linked:
+        return None, None
+    link = socket.links[0]
+    node, out = link.from_node, link.from_socket
+    while node.type == "REROUTE" and node.inputs[0].is_linked:
+        link = node.inputs[0].links[0]
+        node, out = link.from_node, link.from_socket
+    return (None, None) if node.type == "REROUTE" else (node, out)
+
+
+class Links:
+    """What a material's linked inputs turn into: texture indices, the UV and
+    colour layers they need, and the inputs left at their default (`textured`)."""
+
+    def __init__(self, textures):
+        self.textures = textures
+        self.fields = {}           # Material field -> value
+        self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
+        self.color_layer = None    # likewise for the colour attribute
+        self.textured = []         # "input (node)" left at its default value
+
+    def take(self, socket, field, colour: bool = True) -> bool:
+        """Turn a linked input into `field` (a texture index); True if it did."""
+        node, out = _source(socket)
+        if node is None:
+            return False
+        if node.type == "TEX_IMAGE" and self.textures is not None and self._uv(node):
+            self.fields[field] = self.textures.texture(node, out.name)
+            return True
+        if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
+            self.fields["vertex_color"] = True
+            self.color_layer = getattr(node, "layer_name", "") or ""
+            return True
+        self.textured.append(f"{socket.name} ({node.bl_idname})")
+        return False
+
+    def _uv(self, node) -> bool:
+        vector = node.inputs.get("Vector")
+        src, _ = _source(vector) if vector is not None else (None, None)
+        if src is None:
+            layer = ""
+        elif src.type == "UVMAP":
+            layer = src.uv_map
+        else:
+            self.textured.append(f"Vector of {node.name!r} ({src.bl_idname}: only UV Map nodes are read)")
+            layer = ""
+        if self.uv_layer and layer and layer != self.uv_layer:
+            self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
+        self.uv_layer = self.uv_layer or layer
+        return True
+
+
+def _value(node, names, default, links: Links, field=None):
+    """The input's value; a linked input becomes `field` (a texture) when the
+    core can evaluate it, else its default value is used and named in `links`."""
     socket = _socket(node, *names) if isinstance(names, tuple) else _socket(node, names)
     if socket is None:
         return default
-    if socket.is_linked:
-        textured.append(socket.name)
+    if socket.is_linked and not (field and links.take(socket, field, True)) and not field:
+        src, _ = _source(socket)
+        links.textured.append(f"{socket.name} ({src.bl_idname if src is not None else 'link'})")
     value = socket.default_value
     if hasattr(value, "__len__"):
         return tuple(float(c) for c in value)[:3]
@@ -52,7 +121,8 @@ def _value(node, names, default, textured):
 
 
 def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0):
-    """The documented Principled -> Whitted mapping (also used for viewport colours)."""
+    """The documented Principled -> Whitted mapping (also used for viewport colours).
+    emission: a strength (colour * emission) or an RGB emitted colour."""
     m = min(max(metallic, 0.0), 1.0)
     t = min(max(transmission, 0.0), 1.0) * (1.0 - m)
     r = min(max(roughness, 0.0), 1.0)
@@ -61,13 +131,22 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
     return Material(color=tuple(color[:3]), kd=(1.0 - m) * (1.0 - t), ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, roughness=r, emission=max(emission, 0.0))
+                    mirror=m, roughness=r, **_emission(emission))
+
+
+def _emission(emission) -> dict:
+    if hasattr(emission, "__len__"):
+        rgb = tuple(max(float(c), 0.0) for c in emission[:3])
+        return {"emission_color": rgb} if any(rgb) else {}
+    return {"emission": max(float(emission), 0.0)}
 
 
 def _from_principled(node, textured):
-    color = _value(node, "Base Color", (0.8, 0.8, 0.8), textured)
-    metallic = _value(node, "Metallic", 0.0, textured)
-    roughness = _value(node, "Roughness", 0.5, textured)
+    color = _value(node, "Base Color", (0.8, 0.8, 0.8), textured, "color_texture")
+    metallic = _value(node, "Metallic", 0.0, textured, "metallic_texture")
+    if "metallic_texture" in textured.fields:
+        metallic = 0.0                    # the core blends towards the metal per hit
+    roughness = _value(node, "Roughness", 0.5, textured, "roughness_texture")
     transmission = _value(node, ("Transmission Weight", "Transmission"), 0.0, textured)
     ior = _value(node, "IOR", 1.45, textured)
     if _socket(node, "Specular IOR Level") is not None:          # Blender 4.0+
@@ -77,13 +156,15 @@ def _from_principled(node, textured):
         f0 = 0.08 * _value(node, "Specular", 0.5, textured)
     strength = _value(node, "Emission Strength", 1.0, textured)
     emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured)
-    return principled_material(color, metallic, roughness, transmission, ior, f0,
-                               strength * max(emission_color))
+    material = principled_material(color, metallic, roughness, transmission, ior, f0,
+                                   tuple(c * strength for c in emission_color))
+    material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
+    return material
 
 
 def _from_other_bsdf(node, textured):
     kind = node.type
-    color = _value(node, "Color", (0.8, 0.8, 0.8), textured)
+    color = _value(node, "Color", (0.8, 0.8, 0.8), textured, "color_texture")
     if kind == "BSDF_DIFFUSE":
         return principled_material(color, 0.0, 1.0, 0.0, 1.45, 0.0)
     if kind in ("BSDF_GLOSSY", "BSDF_ANISOTROPIC"):
@@ -93,7 +174,9 @@ def _from_other_bsdf(node, textured):
                                    _value(node, "IOR", 1.45, textured), 0.04)
     if kind == "EMISSION":
         strength = _value(node, "Strength", 1.0, textured)
-        return Material(color=color, kd=0.0, ks=0.0, emission=strength)
+        if "color_texture" in textured.fields:
+            return Material(color=color, kd=0.0, ks=0.0, emission=strength)   # texture x strength
+        return Material(color=color, kd=0.0, ks=0.0, emission_color=tuple(c * strength for c in color))
     return None
 
 
@@ -121,37 +204,44 @@ def viewport_material(mat) -> Material:
                                0.0, 1.45, 0.08 * getattr(mat, "specular_intensity", 0.5))
 
 
-def convert_material(mat):
-    """(Material, problem) for one Blender material; problem is None or a short reason."""
+def convert_material(mat, textures=None):
+    """(Material, problem, links) for one Blender material; problem is None or
+    a short reason; links (a Links, or None) says which UV and colour layers
+    its textures need. textures: the scene's TextureTable (None: every linked
+    input uses its default value)."""
     stored = mat.get(GRIDWALK_MATERIAL) if hasattr(mat, "get") else None
     if stored is not None:   # set by the NFF importer: the exact Whitted material
         fields = stored.to_dict() if hasattr(stored, "to_dict") else dict(stored)
         fields["color"] = tuple(float(c) for c in fields["color"])
-        return Material(**fields), None
+        return Material(**fields), None, None
     tree = getattr(mat, "node_tree", None)
     use_nodes = getattr(mat, "use_nodes", True)
     if tree is None or not use_nodes:
-        return viewport_material(mat), None
+        return viewport_material(mat), None, None
     node = _surface_node(tree)
     if node is None:
-        return viewport_material(mat), "no surface shader"
-    textured = []
+        return viewport_material(mat), "no surface shader", None
+    links = Links(textures)
     if node.type == "BSDF_PRINCIPLED":
-        result = _from_principled(node, textured)
+        result = _from_principled(node, links)
     else:
-        result = _from_other_bsdf(node, textured)
+        result = _from_other_bsdf(node, links)
     if result is None:
-        return viewport_material(mat), f"unsupported shader {node.bl_idname}"
-    if textured:
-        return result, "linked inputs (" + ", ".join(sorted(set(textured))) + ") use default values"
-    return result, None
+        return viewport_material(mat), f"unsupported shader {node.bl_idname}: its viewport colour is used", None
+    for field, value in links.fields.items():
+        setattr(result, field, value)
+    if links.textured:
+        return result, "inputs " + ", ".join(sorted(set(links.textured))) + " use their default values", links
+    return result, None, links
 
 
 class MaterialTable:
     """Collects the scene's materials; index 0 is the default (objects without material)."""
 
-    def __init__(self):
+    def __init__(self, textures=None):
         self.materials = [DEFAULT_MATERIAL]
+        self.textures = textures
+        self.links = [None]          # per material: Links (UV / colour layers it needs) or None
         self._index = {None: 0}
         self._problems = {}
 
@@ -159,12 +249,24 @@ class MaterialTable:
         key = None if mat is None else mat.original.name_full
         index = self._index.get(key)
         if index is None:
-            material, problem = convert_material(mat)
+            material, problem, links = convert_material(mat, self.textures)
             if problem:
                 self._problems[key] = problem
             index = self._index[key] = len(self.materials)
             self.materials.append(material)
+            self.links.append(links)
         return index
+
+    def layers(self, indices) -> tuple:
+        """(uv layer, colour layer) the materials `indices` need: None when none
+        does, "" for the active render layer, else the first layer named."""
+        uv = color = None
+        for i in indices:
+            links = self.links[i]
+            if links is not None:
+                uv = uv if uv else links.uv_layer if links.uv_layer is not None else uv
+                color = color if color else links.color_layer if links.color_layer is not None else color
+        return uv, color
 
     def slot_indices(self, obj):
         """Global material index for each material slot of `obj` (at least one entry)."""
@@ -175,5 +277,4 @@ class MaterialTable:
         if not self._problems:
             return []
         items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
-        return [f"{len(self._problems)} material(s) only partly supported, "
-                f"approximated by their viewport/default values ({items})"]
+        return [f"{len(self._problems)} material(s) only partly supported ({items})"]

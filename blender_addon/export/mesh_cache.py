@@ -31,7 +31,7 @@ class MeshCache:
         self.world_used = set()  # the world keys the current export used
         self.reads = 0           # meshes read since the last reset_stats()
         self.transforms = 0      # instances transformed since the last reset_stats()
-
+        self.images = {}         # image signature -> (gridwalk.Image, problem): textures.TextureTable
     def reset_stats(self):
         self.reads = self.transforms = 0
 
@@ -60,18 +60,19 @@ class MeshCache:
                     self._bump(address)
         return changed
 
-    def key(self, obj):
+    def key(self, obj, layers=(None, None)):
         address = obj.data.as_pointer() if obj.data is not None else id(obj)
         name = obj.data.name_full if obj.data is not None else obj.name_full
-        return address, name, self.counter.get(address, 0)
+        return address, name, self.counter.get(address, 0), tuple(layers)
 
-    def mesh(self, obj):
-        """(key, MeshData or None) of an evaluated object, read only when not cached."""
-        key = self.key(obj)
+    def mesh(self, obj, layers=(None, None)):
+        """(key, MeshData or None) of an evaluated object, read only when not cached;
+        layers: the (uv, colour) layers its materials need (meshes.read_mesh)."""
+        key = self.key(obj, layers)
         self.names[key[0]] = key[1]
         self.used_by.setdefault(obj.original.name_full, set()).add(key[0])
         if key not in self.entries:
-            self.entries[key] = read_object_mesh(obj)
+            self.entries[key] = read_object_mesh(obj, layers)
             self.reads += 1
         return key, self.entries[key]
 

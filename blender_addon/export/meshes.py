@@ -41,8 +41,10 @@ MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 exte
 class MeshData:
     """One evaluated mesh in object space (float32 / int32 arrays)."""
 
-    def __init__(self, co, triangles, normals, material_slot):
+    def __init__(self, co, triangles, normals, material_slot, uvs=None, colors=None):
         self.co = co                   # (V, 3) positions; one per corner for CORNER meshes
+        self.uvs = uvs                 # (T, 3, 2) corner UVs, or None (not asked for, or no UV map)
+        self.colors = colors           # (T, 3, 3) corner colours (linear RGB), or None
         self.triangles = triangles     # (T, 3) indices into co
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
@@ -134,12 +136,45 @@ def _corner_normals(mesh, n_loops):
     return _get(mesh.loops, "normal", n_loops, 3, np.float32)
 
 
-def read_mesh(mesh) -> MeshData:
+def _corner_uvs(mesh, layer_name: str, n_loops):
+    """(corners, 2) UVs of the named layer (else the active render one), or None without UV maps."""
+    layers = mesh.uv_layers
+    if not len(layers):
+        return None
+    layer = layers.get(layer_name) if layer_name else None
+    if layer is None:
+        layer = next((l for l in layers if l.active_render), None) or layers.active or layers[0]
+    if hasattr(layer, "uv"):                                    # Blender 3.5+
+        return _get(layer.uv, "vector", n_loops, 2, np.float32)
+    return _get(layer.data, "uv", n_loops, 2, np.float32)
+
+
+def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
+    """(corners, 3) linear RGB of the named colour attribute (else the render one), or None."""
+    attributes = getattr(mesh, "color_attributes", None)       # Blender 3.2+
+    if attributes is None or not len(attributes):
+        return None
+    attr = attributes.get(layer_name) if layer_name else None
+    if attr is None:
+        index = getattr(attributes, "render_color_index", 0)
+        attr = attributes[index] if 0 <= index < len(attributes) else attributes[0]
+    count = n_verts if attr.domain == "POINT" else n_loops
+    if attr.domain not in ("POINT", "CORNER") or len(attr.data) != count:
+        return None
+    rgba = _get(attr.data, "color", count, 4, np.float32)
+    if attr.domain == "POINT":
+        rgba = rgba[_corner_verts(mesh, n_loops)]
+    return rgba[:, :3]
+
+
+def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
     """Triangulate an evaluated mesh into numpy arrays (no per-element Python loops).
 
     Uses Blender's own triangulation (loop_triangles) and, where Blender has
     them, the generic attributes, whose foreach_get is much faster than the
-    per-element RNA collections (~0.3 s for 1M triangles).
+    per-element RNA collections (~0.3 s for 1M triangles). Corner UVs and
+    colours are read only when a material needs them (uv_layer / color_layer
+    not None; "" = the active render layer).
     """
     if hasattr(mesh, "calc_loop_triangles"):
         mesh.calc_loop_triangles()
@@ -149,11 +184,19 @@ def read_mesh(mesh) -> MeshData:
     tri_loops = _get(tris, "loops", n_tris, 3, np.int32)
     slots = _material_slots(mesh, tris, n_tris)
     domain = _domain(mesh, tris, n_tris) if n_tris else "FACE"
+    uvs = colors = None
+    if uv_layer is not None:
+        corner = _corner_uvs(mesh, uv_layer, n_loops)
+        uvs = None if corner is None else corner[tri_loops]
+    if color_layer is not None:
+        corner = _corner_colors(mesh, color_layer, n_loops, n_verts)
+        colors = None if corner is None else corner[tri_loops]
     if domain == "CORNER":
-        return MeshData(co[_corner_verts(mesh, n_loops)], tri_loops, _corner_normals(mesh, n_loops), slots)
+        return MeshData(co[_corner_verts(mesh, n_loops)], tri_loops, _corner_normals(mesh, n_loops), slots,
+                        uvs, colors)
     tri_verts = _corner_verts(mesh, n_loops)[tri_loops]
     normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
-    return MeshData(co, tri_verts, normals, slots)
+    return MeshData(co, tri_verts, normals, slots, uvs, colors)
 
 
 def sphere_from_bounds(bound_box, matrix):
@@ -180,11 +223,12 @@ def _in_range(points) -> bool:
     return bool(np.isfinite(points).all() and np.abs(points).max(initial=0.0) <= MAX_COORDINATE)
 
 
-def read_object_mesh(obj) -> MeshData | None:
-    """The evaluated object's mesh (modifiers applied), read into arrays."""
+def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
+    """The evaluated object's mesh (modifiers applied), read into arrays;
+    layers = (uv layer, colour layer) as read_mesh takes them."""
     mesh = obj.to_mesh()
     try:
-        return read_mesh(mesh) if mesh is not None else None
+        return read_mesh(mesh, *layers) if mesh is not None else None
     finally:
         obj.to_mesh_clear()
 
@@ -205,6 +249,7 @@ class MeshCollector:
         self.invalid = {}          # object name -> why it was skipped
         self.faceless = set()      # mesh objects without faces
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
+        self.without_uvs = set()   # textured objects whose mesh has no UV map
 
     def add_instance(self, inst):
         if not renders(inst):
@@ -225,7 +270,8 @@ class MeshCollector:
                 self.non_uniform_spheres.append(obj.name)
             self.spheres.append((centre, radius, int(lookup[0])))
             return
-        key, data = self.cache.mesh(obj)
+        layers = self.materials.layers(lookup)
+        key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):
             if obj.type == "MESH":         # (curves without bevel are paths, not mistakes)
@@ -240,6 +286,8 @@ class MeshCollector:
             return
         if data.degenerate:
             self.degenerate[obj.name] = (data.degenerate, len(data.triangles))
+        if layers[0] is not None and data.uvs is None:
+            self.without_uvs.add(obj.name)
         self.parts.append((key, data, matrix, lookup))
 
     def warnings(self) -> list[str]:
@@ -249,6 +297,9 @@ class MeshCollector:
                        + ", ".join(f"'{name}'" for name in sorted(self.faceless)))
         for name, (zero, total) in sorted(self.degenerate.items()):
             out.append(f"Object '{name}': {zero} of {total} triangles have zero area and are invisible")
+        if self.without_uvs:
+            out.append("Objects with image textures but no UV map show each texture's corner at UV (0, 0): "
+                       + ", ".join(f"'{name}'" for name in sorted(self.without_uvs)))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append(f"'Render as sphere' objects with non-uniform scale use their largest axis ({names})")
@@ -345,7 +396,9 @@ def assemble_triangles(parts, cache) -> dict:
     world-space arrays come from cache.world_part (reused while its matrix
     is unchanged)."""
     need_normals = any(data.normals is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials = [], [], [], []
+    need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
+    need_colors = any(data.colors is not None for _, data, _, _ in parts)
+    vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
     offset = 0
     for key, data, matrix, lookup in parts:
         world, tris, nrm = cache.world_part(key, data, matrix, need_normals and data.normals is None)
@@ -354,10 +407,20 @@ def assemble_triangles(parts, cache) -> dict:
         if need_normals:
             normals.append(nrm)
         materials.append(lookup[np.clip(data.material_slot, 0, len(lookup) - 1)])
+        n = len(data.triangles)
+        if need_uvs:
+            uvs.append(data.uvs if data.uvs is not None else np.zeros((n, 3, 2), np.float32))
+        if need_colors:
+            colors.append(data.colors if data.colors is not None else np.ones((n, 3, 3), np.float32))
         offset += world.shape[0]
     if not parts:
         return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
                 "normals": None, "triangle_materials": np.zeros(0, np.int32)}
-    return {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32),
-            "normals": np.concatenate(normals) if need_normals else None,
-            "triangle_materials": np.concatenate(materials).astype(np.int32)}
+    out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32),
+           "normals": np.concatenate(normals) if need_normals else None,
+           "triangle_materials": np.concatenate(materials).astype(np.int32)}
+    if need_uvs:
+        out["uvs"] = np.concatenate(uvs)
+    if need_colors:
+        out["colors"] = np.concatenate(colors)
+    return out

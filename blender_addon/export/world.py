@@ -1,12 +1,27 @@
-"""The world -> a constant background colour.
+"""The world -> the background colour and a gridwalk.World.
 
-With nodes: the Background node linked to the active World Output gives
-Color * Strength (a linked Color, e.g. a sky or HDRI texture, falls back to the
-world's viewport colour with a warning). Without nodes: world.color. No world:
-black, as in Blender. The background is what camera rays that miss see; it does
-not light the scene (Whitted ray tracing has no environment lighting).
+With nodes: the Background node linked to the active World Output. Its
+Color x Strength is
+  - the background: what rays that miss everything see (camera rays, and
+    mirror and refraction rays);
+  - Whitted's ambient term: every surface adds base colour x diffuse weight x
+    this colour, the light a diffuse surface gets from a uniform sky that it
+    sees whole (Cycles' answer for an unoccluded surface; there is no
+    occlusion, so creases are as bright as roofs).
+A Color linked from an Environment Texture (equirectangular, HDR/EXR or 8-bit)
+makes the environment what missing rays see (times Strength), and its
+average colour (cos-latitude weighted) x Strength the ambient term. Any other
+linked Color or Strength falls back to the world's viewport colour, with a
+warning naming the node. Without nodes: world.color, both as background and
+ambient. No world: black, as in Blender. Film Transparent (World.transparent, set by the
+export) makes camera rays that miss see nothing: RGB 0 and alpha 0, as
+Cycles writes them; mirror and refraction rays still see the world.
 """
 from __future__ import annotations
+
+from gridwalk import World
+
+from .materials import _source
 
 
 def _background_node(tree):
@@ -17,24 +32,44 @@ def _background_node(tree):
     return active[0].inputs["Surface"].links[0].from_node
 
 
-def background_color(world, warnings: list) -> tuple:
+def convert_world(world, textures, warnings: list) -> tuple:
+    """(background RGB, gridwalk.World) of a Blender world (None: black, no light)."""
     if world is None:
-        return (0.0, 0.0, 0.0)
+        return (0.0, 0.0, 0.0), World()
     viewport = tuple(float(c) for c in world.color)[:3]
     tree = getattr(world, "node_tree", None)
     if tree is None or not getattr(world, "use_nodes", True):
-        return viewport
+        return viewport, World(ambient=viewport)
     node = _background_node(tree)
     if node is None:
-        return (0.0, 0.0, 0.0)
+        return (0.0, 0.0, 0.0), World()
     if node.type != "BACKGROUND":
         warnings.append(f"World {world.name!r}: unsupported shader {node.bl_idname}, "
-                        "using the world viewport colour as background")
-        return viewport
-    color_in, strength_in = node.inputs["Color"], node.inputs["Strength"]
-    if color_in.is_linked or strength_in.is_linked:
-        warnings.append(f"World {world.name!r}: textured background is not supported, "
                         "using the world viewport colour")
-        return viewport
+        return viewport, World(ambient=viewport)
+    color_in, strength_in = node.inputs["Color"], node.inputs["Strength"]
+    if strength_in.is_linked:
+        warnings.append(f"World {world.name!r}: a linked Strength is not supported, using the world viewport colour")
+        return viewport, World(ambient=viewport)
     strength = float(strength_in.default_value)
-    return tuple(float(c) * strength for c in tuple(color_in.default_value)[:3])
+    source, _ = _source(color_in)
+    if source is not None and source.type == "TEX_ENVIRONMENT" and textures is not None:
+        if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
+            warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
+        if source.inputs["Vector"].is_linked:
+            warnings.append(f"World {world.name!r}: the environment's Vector input (rotation) is ignored")
+        index = textures.texture(source)
+        mean = textures.mean_color(index)
+        return (tuple(c * strength for c in mean),
+                World(ambient=tuple(c * strength for c in mean), environment=index, environment_strength=strength))
+    if color_in.is_linked:
+        name = source.bl_idname if source is not None else "link"
+        warnings.append(f"World {world.name!r}: a Color from {name} is not supported, using the world viewport colour")
+        return viewport, World(ambient=viewport)
+    color = tuple(float(c) * strength for c in tuple(color_in.default_value)[:3])
+    return color, World(ambient=color)
+
+
+def background_color(world, warnings: list) -> tuple:
+    """The background colour alone (world previews)."""
+    return convert_world(world, None, warnings)[0]

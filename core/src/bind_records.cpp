@@ -10,6 +10,8 @@
 #include "camera.h"
 #include "lights.h"
 #include "material.h"
+#include "texture.h"
+#include "world.h"
 
 namespace nb = nanobind;
 
@@ -27,7 +29,30 @@ void bind_records(nb::module_& m) {
         .def_rw("mirror", &Material::mirror)
         .def_rw("roughness", &Material::roughness)
         .def_rw("emission", &Material::emission)
+        .def_rw("emission_color", &Material::emission_color)
+        .def_rw("alpha", &Material::alpha)
+        .def_rw("color_texture", &Material::color_texture)
+        .def_rw("roughness_texture", &Material::roughness_texture)
+        .def_rw("metallic_texture", &Material::metallic_texture)
+        .def_rw("alpha_texture", &Material::alpha_texture)
+        .def_rw("vertex_color", &Material::vertex_color)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
+
+    nb::class_<Texture>(m, "Texture")
+        .def(nb::init<>())
+        .def_rw("image", &Texture::image)
+        .def_rw("interpolation", &Texture::interpolation)
+        .def_rw("extension", &Texture::extension)
+        .def_rw("use_alpha", &Texture::use_alpha)
+        .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
+
+    nb::class_<World>(m, "World")
+        .def(nb::init<>())
+        .def_rw("ambient", &World::ambient)
+        .def_rw("environment", &World::environment)
+        .def_rw("environment_strength", &World::environment_strength)
+        .def_rw("transparent", &World::transparent)
+        .def("validate", &validate_world);
 
     nb::class_<Light>(m, "Light")
         .def(nb::init<>())

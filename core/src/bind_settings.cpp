@@ -89,8 +89,12 @@ void bind_settings(nb::module_& m) {
     bind_enum<PixelFilter>(m);
     bind_enum<LightKind>(m);
     bind_enum<Projection>(m);
+    bind_enum<Interpolation>(m);
+    bind_enum<Extension>(m);
     m.def("light_kinds", &enum_items<LightKind>);
     m.def("projections", &enum_items<Projection>);
+    m.def("interpolations", &enum_items<Interpolation>);
+    m.def("extensions", &enum_items<Extension>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");
     cls.def(nb::init<>());

@@ -84,11 +84,15 @@ NB_MODULE(_core, m) {
              [](Scene* self, In<float> vertices, In<int32_t> triangles, In<float> normals, In<int32_t> tri_mat,
                 In<float> centers, In<float> radii, In<int32_t> sph_mat, In<float> cb, In<float> ca, In<float> cbr,
                 In<float> car, In<int32_t> cmat, std::vector<Material> materials, std::vector<Light> lights,
-                const CameraDesc& camera, Vec3 background) {
+                const CameraDesc& camera, Vec3 background, In<float> uvs, In<float> colors,
+                std::vector<std::shared_ptr<Image>> images, std::vector<Texture> textures, const World& world) {
+                 std::vector<std::shared_ptr<const Image>> shared(images.begin(), images.end());
                  new (self) Scene(vec(vertices), vec(triangles), vec(normals), vec(tri_mat), vec(centers), vec(radii),
                                   vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), std::move(materials),
-                                  std::move(lights), camera, background);
+                                  std::move(lights), camera, background, vec(uvs), vec(colors), std::move(shared),
+                                  std::move(textures), world);
              })
+        .def_prop_ro("texture_bytes", &Scene::texture_bytes)
         .def_prop_ro("num_triangles", &Scene::num_triangles)
         .def_prop_ro("num_spheres", &Scene::num_spheres)
         .def_prop_ro("num_cylinders", &Scene::num_cones)
@@ -97,6 +101,42 @@ NB_MODULE(_core, m) {
         .def_prop_ro("bounds", [](const Scene& s) {
             const Bounds& b = s.bounds();
             return nb::make_tuple(nb::make_tuple(b.lo.x, b.lo.y, b.lo.z), nb::make_tuple(b.hi.x, b.hi.y, b.hi.z));
+        });
+
+    // An image's pixels, (H, W, C) uint8 or float32 with row 0 at the top,
+    // copied once into the core; textures refer to it by index.
+    nb::class_<Image>(m, "Image")
+        .def("__init__",
+             [](Image* self, nb::ndarray<nb::c_contig, nb::device::cpu> pixels, bool srgb, const std::string& where) {
+                 if (pixels.ndim() != 3) throw std::invalid_argument(where + " must have shape (H, W, C)");
+                 const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
+                 std::vector<uint8_t> bytes;
+                 std::vector<float> floats;
+                 if (pixels.dtype() == nb::dtype<uint8_t>()) {
+                     const auto* p = static_cast<const uint8_t*>(pixels.data());
+                     bytes.assign(p, p + pixels.size());
+                 } else if (pixels.dtype() == nb::dtype<float>()) {
+                     const auto* p = static_cast<const float*>(pixels.data());
+                     floats.assign(p, p + pixels.size());
+                 } else {
+                     throw std::invalid_argument(where + " must be uint8 or float32");
+                 }
+                 new (self) Image(w, h, c, srgb, std::move(bytes), std::move(floats), where);
+             })
+        .def_prop_ro("width", &Image::width)
+        .def_prop_ro("height", &Image::height)
+        .def_prop_ro("channels", &Image::channels)
+        .def_prop_ro("memory_bytes", &Image::memory_bytes)
+        .def("pixels", [](const Image& img) {   // a copy, (H, W, C), as given
+            const size_t h = size_t(img.height()), w = size_t(img.width()), c = size_t(img.channels());
+            if (img.is_float()) {
+                auto out = owned<float>({h, w, c});
+                std::copy(img.floats().begin(), img.floats().end(), out.data());
+                return nb::object(nb::cast(out));
+            }
+            auto out = owned<uint8_t>({h, w, c});
+            std::copy(img.bytes().begin(), img.bytes().end(), out.data());
+            return nb::object(nb::cast(out));
         });
 
     nb::class_<Accel>(m, "Accel")
@@ -216,5 +256,8 @@ NB_MODULE(_core, m) {
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("normal", [](RenderJob& j) {
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.normal.data(), {size_t(j.height), size_t(j.width), 3});
+        }, nb::rv_policy::reference_internal)
+        .def_prop_ro("albedo", [](RenderJob& j) {
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.height), size_t(j.width), 3});
         }, nb::rv_policy::reference_internal);
 }

@@ -76,4 +76,15 @@ GW_ENUM(LightKind, GW_LIGHT_KINDS)
       "A panorama: x spans the longitude range, y the latitude range")
 GW_ENUM(Projection, GW_PROJECTIONS)
 
+#define GW_INTERPOLATIONS(X)                                                                  \
+    X(Linear, "linear", "Linear", "Bilinear interpolation of the four nearest texels")        \
+    X(Closest, "closest", "Closest", "The nearest texel (pixel art, data maps)")
+GW_ENUM(Interpolation, GW_INTERPOLATIONS)
+
+#define GW_EXTENSIONS(X)                                                                      \
+    X(Repeat, "repeat", "Repeat", "Tile the image in both directions")                        \
+    X(Extend, "extend", "Extend", "Repeat the edge texels outside the image")                 \
+    X(Clip, "clip", "Clip", "Transparent black outside the image")
+GW_ENUM(Extension, GW_EXTENSIONS)
+
 }  // namespace gw

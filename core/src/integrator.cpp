@@ -11,8 +11,10 @@ Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& 
     return trace(ray, 1, 1.0f, false, RayType::Primary, st, ctx, fh, view_axis);
 }
 
-bool Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
-                         TraceContext& ctx) const {
+// 1 where the light is seen, 0 where it is blocked; in between behind
+// surfaces that let light through (only scenes with such materials pay for it).
+float Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
+                          TraceContext& ctx) const {
     Ray r;
     r.o = offset_origin(p, p_err, ng, wi);
     r.d = wi;
@@ -20,7 +22,37 @@ bool Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
     r.tmax = std::isinf(dist) ? kInf : dist * (1.0f - 1e-5f);
     r.spawned = true;
     ++ctx.stats.rays[int(RayType::Shadow)];
-    return !accel_.occluded(RayPre(r), ctx);
+    if (scene_.transparent_shadows()) return transmission(r, dist, ctx);
+    return accel_.occluded(RayPre(r), ctx) ? 0.0f : 1.0f;
+}
+
+// Whitted's transparent shadows: each surface on the way passes (1 - alpha)
+// of the light uncovered plus its transmittance of the covered part.
+float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
+    const Vec3 target = r.o + r.d * (std::isinf(dist) ? 0.0f : dist);
+    float through = 1;
+    for (int crossings = 0; crossings < 64; ++crossings) {
+        const RayPre rp(r);
+        Hit hit;
+        hit.t = r.tmax;
+        if (!accel_.closest(rp, hit, ctx)) return through;
+        const SurfacePoint sp = scene_.surface(rp, hit);
+        const Material& m = scene_.materials()[size_t(sp.material)];
+        if (!m.lets_light_through()) return 0;
+        const float alpha = scene_.alpha_at(m, hit);
+        float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
+        if (passed > 0) {   // less what the surface reflects (Schlick's Fresnel at the ray's angle)
+            const float r0 = ((m.ior - 1) / (m.ior + 1)) * ((m.ior - 1) / (m.ior + 1));
+            const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);
+            passed *= 1.0f - (r0 + (1.0f - r0) * c * c * c * c * c);
+        }
+        through *= (1 - alpha) + alpha * passed;
+        if (through <= 1e-4f) return 0;
+        r.o = offset_origin(sp.p, sp.p_err, sp.ng, r.d);
+        if (!std::isinf(dist)) r.tmax = std::max(dot(target - r.o, r.d), 0.0f) * (1.0f - 1e-5f);
+        ++ctx.stats.rays[int(RayType::Shadow)];
+    }
+    return 0;
 }
 
 Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
@@ -71,7 +103,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             }
             const Vec3 c = f * ls.intensity;
             if (c.x <= 0 && c.y <= 0 && c.z <= 0) continue;
-            if (visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx)) sum += c;
+            if (const float vis = visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx); vis > 0)
+                sum += vis == 1 ? c : c * vis;
         }
         total += sum * (1.0f / float(count));
     }
@@ -119,20 +152,64 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     const RayPre r(ray);
     Hit hit;
     hit.t = ray.tmax;
-    if (!accel_.closest(r, hit, ctx)) return scene_.background();
+    if (!accel_.closest(r, hit, ctx))
+        return type == RayType::Primary && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
     const SurfacePoint sp = scene_.surface(r, hit);
-    const Material& m = scene_.materials()[size_t(sp.material)];
+    const Material& stored = scene_.materials()[size_t(sp.material)];
+    Material textured;
+    if (stored.varies()) textured = scene_.shade(stored, hit);
+    const Material& m = stored.varies() ? textured : stored;
     if (fh) {
         fh->hit = true;
         fh->depth = hit.t * dot(ray.d, view_axis);
         fh->normal = sp.ns;
+        fh->albedo = m.color;
     }
+    if (m.alpha < 1) {   // partly covered: blend with what lies behind
+        if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
+            if (fh) fh->hit = false;
+            return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
+        }
+        const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
+                                             nullptr, Vec3());
+        Material opaque = m;
+        opaque.alpha = 1;
+        const Vec3 front = shade_hit(sp, ray, opaque, depth, weight * m.alpha, split, st, ctx);
+        return front * m.alpha + behind * (1 - m.alpha);
+    }
+    return shade_hit(sp, ray, m, depth, weight, split, st, ctx);
+}
+
+// Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
+Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
+                                  RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
+                                  const Vec3& view_axis) const {
+    if (depth >= s_.max_depth + 16) return scene_.miss(ray.d);   // a stack of cut-outs
+    Ray next = ray;
+    next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
+    next.spawned = true;
+    if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
+    // The passes measure depth from the camera: the offset origin moved it along ray.d.
+    FirstHit behind;
+    const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
+    if (fh && behind.hit) {
+        *fh = behind;
+        fh->depth += dot(next.o - ray.o, view_axis);
+    }
+    return c;
+}
+
+Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth,
+                           float weight, bool split, SampleState& st, TraceContext& ctx) const {
     const Vec3 d = ray.d, wo = -d;
     const bool entering = dot(d, sp.ng) < 0;
     const Vec3 ng = entering ? sp.ng : -sp.ng;   // both normals face the incoming ray
     Vec3 ns = entering ? sp.ns : -sp.ns;
     if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: use the true one
     Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, st, ctx);
+    if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
+    const Vec3& ambient = scene_.world().ambient;
+    if (ambient.x != 0 || ambient.y != 0 || ambient.z != 0) color += m.color * ambient * m.kd;
     if (depth >= s_.max_depth) return color;
 
     float refl = m.mirror, trans = 0;

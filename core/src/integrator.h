@@ -22,6 +22,7 @@ struct FirstHit {
     bool hit = false;
     float depth = kInf;   // distance along the camera's view axis
     Vec3 normal;          // world-space shading normal (outward)
+    Vec3 albedo;          // the surface's base colour (the Denoising Albedo pass)
 };
 
 class Integrator {
@@ -36,8 +37,13 @@ private:
                 int depth, SampleState& st, TraceContext& ctx) const;
     Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
                         float weight, bool split, SampleState& st, TraceContext& ctx) const;
-    bool visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
-                 TraceContext& ctx) const;
+    float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
+                  TraceContext& ctx) const;
+    float transmission(Ray r, float dist, TraceContext& ctx) const;
+    Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
+                          SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
+    Vec3 shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth, float weight, bool split,
+                   SampleState& st, TraceContext& ctx) const;
 
     const Accel& accel_;
     const Scene& scene_;

@@ -1,6 +1,9 @@
 // The Whitted material record (NFF's `f r g b Kd Ks Shine T ior`, plus a
-// mirror weight, a glossy roughness and an emission strength). Bound to
-// Python field by field as gridwalk._core.Material.
+// mirror weight, a glossy roughness and an emission strength), with what
+// Blender's artists set on top: an emitted colour, an alpha (coverage), and
+// textures (indices into the scene's textures, -1 = none) or the mesh's
+// colour attribute for the inputs they drive. Bound to Python field by field
+// as gridwalk._core.Material.
 #pragma once
 #include <string>
 
@@ -11,6 +14,19 @@ namespace gw {
 struct Material {
     Vec3 color{1, 1, 1};
     float kd = 0.8f, ks = 0, shininess = 32, transmittance = 0, ior = 1, mirror = 0, roughness = 0, emission = 0;
+    Vec3 emission_color{0, 0, 0};   // emitted radiance, added to color * emission
+    float alpha = 1;                // coverage: 1 opaque, 0 invisible (see-through to every ray)
+    int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
+    bool vertex_color = false;      // the base colour is the mesh's per-corner colour (colour attribute)
+
+    // Whether anything varies over the surface (textures, colour attribute):
+    // only such materials are re-evaluated per hit.
+    bool varies() const {
+        return color_texture >= 0 || roughness_texture >= 0 || metallic_texture >= 0 || alpha_texture >= 0 ||
+               vertex_color;
+    }
+    // Whether it lets light through (shadow rays are attenuated, not stopped).
+    bool lets_light_through() const { return transmittance > 0 || alpha < 1 || alpha_texture >= 0; }
 };
 
 // Throws std::invalid_argument naming `where` (e.g. "materials[2]") and the field.

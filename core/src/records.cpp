@@ -7,6 +7,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "material.h"
+#include "world.h"
 #include "text.h"
 
 namespace gw {
@@ -47,6 +48,22 @@ void validate_material(const Material& m, const std::string& where) {
     need_at_least(where, "roughness", m.roughness, 0);
     need_finite(where, "ior", m.ior);
     if (!(m.ior > 0)) refuse(where, "ior", "must be > 0, got " + show(m.ior));
+    need_finite(where, "emission_color", m.emission_color);
+    need_finite(where, "alpha", m.alpha);
+    if (!(m.alpha >= 0 && m.alpha <= 1)) refuse(where, "alpha", "must be in [0, 1], got " + show(m.alpha));
+    // Texture indices are checked against the scene's textures by the scene.
+    const std::pair<const char*, int32_t> textures[] = {{"color_texture", m.color_texture},
+        {"roughness_texture", m.roughness_texture}, {"metallic_texture", m.metallic_texture},
+        {"alpha_texture", m.alpha_texture}};
+    for (const auto& [field, index] : textures)
+        if (index < -1) refuse(where, field, "must be a texture index or -1 (none), got " + std::to_string(index));
+}
+
+void validate_world(const World& w) {
+    need_finite("World", "ambient", w.ambient);
+    need_finite("World", "environment_strength", w.environment_strength);
+    if (w.environment < -1)
+        refuse("World", "environment", "must be a texture index or -1 (none), got " + std::to_string(w.environment));
 }
 
 void prepare_light(Light& l, const std::string& where) {

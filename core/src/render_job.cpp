@@ -25,6 +25,7 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     rgba.assign(n * 4, 0.0f);
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
+    albedo.assign(n * 3, 0.0f);
     int x0 = 0, y0 = 0, x1 = width, y1 = height;
     if (s_.region.w > 0) {   // render only a region (border render, sparse timing)
         x0 = s_.region.x;
@@ -86,6 +87,9 @@ void RenderJob::worker() {
                     normal[3 * k + 0] = pv.first.normal.x;
                     normal[3 * k + 1] = pv.first.normal.y;
                     normal[3 * k + 2] = pv.first.normal.z;
+                    albedo[3 * k + 0] = pv.first.albedo.x;
+                    albedo[3 * k + 1] = pv.first.albedo.y;
+                    albedo[3 * k + 2] = pv.first.albedo.z;
                 }
             }
             std::lock_guard<std::mutex> lock(mu_);

@@ -42,7 +42,7 @@ public:
     int width, height;
     // (H, W, 4), (H, W), (H, W, 3); row 0 is the top. Complete after wait();
     // before that, only tiles returned by poll() are final.
-    std::vector<float> rgba, depth, normal;
+    std::vector<float> rgba, depth, normal, albedo;
 
 private:
     void worker();

@@ -32,11 +32,14 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
              std::vector<float> cone_base, std::vector<float> cone_apex, std::vector<float> cone_base_radius,
              std::vector<float> cone_apex_radius, std::vector<int32_t> cone_materials,
              std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
-             Vec3 background)
+             Vec3 background, std::vector<float> uvs, std::vector<float> colors,
+             std::vector<std::shared_ptr<const Image>> images, std::vector<Texture> textures, const World& world)
     : verts_(std::move(vertices)), normals_(std::move(normals)), tris_(std::move(triangles)),
       tri_mat_(std::move(tri_materials)), radii_(std::move(sphere_radii)),
       sphere_mat_(std::move(sphere_materials)), cone_mat_(std::move(cone_materials)),
-      materials_(std::move(materials)), lights_(std::move(lights)), camera_(camera), background_(background) {
+      materials_(std::move(materials)), lights_(std::move(lights)), camera_(camera), background_(background),
+      uvs_(std::move(uvs)), colors_(std::move(colors)), images_(std::move(images)), textures_(std::move(textures)),
+      world_(world) {
     // --- shapes -------------------------------------------------------------
     if (verts_.size() % 3) bad("vertices must have shape (N, 3)");
     if (tris_.size() % 3) bad("triangles must have shape (M, 3)");
@@ -96,6 +99,7 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     for (size_t i = 0; i < nm; ++i) validate_material(materials_[i], "materials[" + std::to_string(i) + "]");
     for (size_t i = 0; i < lights_.size(); ++i) prepare_light(lights_[i], "lights[" + std::to_string(i) + "]");
     if (!finite3(background_)) bad("background has a non-finite component");
+    check_textures();
     validate_camera(camera_);
 
     // Coordinates (and extents) within +-1e30 keep every box, distance and
@@ -176,7 +180,7 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 }
 
 size_t Scene::memory_bytes() const {
-    return verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
+    return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
            cone_mat_.size() * 4;
 }

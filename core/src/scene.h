@@ -1,7 +1,9 @@
 // The scene as the core sees it: flat arrays of triangles, spheres and cones,
-// the material, light and camera records, and the background. Primitives share one global index space:
+// the material, light and camera records, the background and the world, and
+// the textures with their images and the triangles' corner UVs and colours. Primitives share one global index space:
 // [0, T) triangles, [T, T+S) spheres, [T+S, T+S+C) cones.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,7 +14,9 @@
 #include "ray.h"
 #include "sphere.h"
 #include "surface_point.h"
+#include "texture.h"
 #include "triangle.h"
+#include "world.h"
 
 namespace gw {
 
@@ -28,7 +32,9 @@ public:
           std::vector<float> cone_base, std::vector<float> cone_apex, std::vector<float> cone_base_radius,
           std::vector<float> cone_apex_radius, std::vector<int32_t> cone_materials,
           std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
-          Vec3 background);
+          Vec3 background, std::vector<float> uvs = {}, std::vector<float> colors = {},
+          std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
+          const World& world = World());
 
     size_t num_triangles() const { return tris_.size() / 3; }
     size_t num_spheres() const { return radii_.size(); }
@@ -61,7 +67,24 @@ public:
     const std::vector<Light>& lights() const { return lights_; }
     const CameraDesc& camera() const { return camera_; }
     Vec3 background() const { return background_; }
+    const World& world() const { return world_; }
+    // What a ray that misses everything sees: the environment texture, else the background.
+    Vec3 miss(const Vec3& d) const {
+        if (world_.environment < 0) return background_;
+        float u, v;
+        equirect_uv(d, u, v);
+        const Texture& t = textures_[size_t(world_.environment)];
+        return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
+    }
+    // Whether some material lets light through: shadow rays then look at what they hit.
+    bool transparent_shadows() const { return transparent_shadows_; }
+    // The material at a hit with its textures and colour attribute applied
+    // (call only when materials()[sp.material].varies()).
+    Material shade(const Material& m, const Hit& hit) const;
+    // The material's alpha at a hit (its alpha texture applied).
+    float alpha_at(const Material& m, const Hit& hit) const;
     size_t memory_bytes() const;
+    size_t texture_bytes() const;   // the images, each counted once
 
 private:
     Vec3 vert(int32_t i) const {
@@ -85,7 +108,19 @@ private:
     std::vector<Light> lights_;
     CameraDesc camera_;
     Vec3 background_;
+    std::vector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
+    std::vector<std::shared_ptr<const Image>> images_;
+    std::vector<Texture> textures_;
+    World world_;
+    bool transparent_shadows_ = false;
     Bounds bounds_;
+
+    Rgba lookup(int32_t texture, float u, float v) const {
+        const Texture& t = textures_[size_t(texture)];
+        return sample_image(*images_[size_t(t.image)], t, u, v);
+    }
+    void hit_uv(const Hit& hit, float& u, float& v) const;
+    void check_textures();   // scene_textures.cpp
 };
 
 // A hit at exactly the current hit's t wins when its primitive index is

@@ -1,12 +1,13 @@
 """Gridwalk: a grid-accelerated (Amanatides & Woo) Whitted and distribution
 ray tracer. The native core is private (gridwalk._core); this package is the API.
 """
-from .model import Camera, Light, Material
+from .image import Image
+from .model import Camera, Light, Material, Texture, World
 from .render import RenderJob, TileResult, render
 from .renderfarm import FarmError, farm
 from .scene import BuildCancelled, Hits, Scene
 from .settings import RenderSettings
 
-__all__ = ["Camera", "Light", "Material", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
+__all__ = ["Camera", "Light", "Material", "Image", "Texture", "World", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
            "BuildCancelled", "farm", "FarmError"]
 __version__ = "0.1.0"

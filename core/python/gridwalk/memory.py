@@ -28,9 +28,13 @@ What is counted (bytes):
                 spheres and triangle soups) and capped at the core's 2^27.
   mailboxes     one 4-byte stamp per primitive per worker thread (uniform
                 grid with mailboxes on).
-  images        the core's RGBA, depth and normal buffers (32 per pixel), the
+  textures      the images textures sample, each once (1 byte per channel
+                for 8-bit images, 4 for float ones: the caller passes their
+                total), and the corner UVs (24 bytes per triangle, x2) and
+                colours (36, x2) when a material uses them.
+  images        the core's RGBA, depth, normal and albedo buffers (44 per pixel), the
                 copies read back at the end (36) and the host's render result
-                (Combined + Depth + Normal, 32): 100 per pixel.
+                (Combined + Depth + Normal, 32): 112 per pixel.
 Checked against the resident memory of renders of 0.16M - 1.3M-triangle
 spheres (tests/test16_memory_estimate.py): the estimate is 1.25 - 1.35 times
 the measured figure, on the safe side. Long thin triangles spanning many cells
@@ -58,7 +62,7 @@ ADAPTIVE_BUILD_BYTES = 24     # the build's box per primitive
 ADAPTIVE_MAX_CELLS = 1 << 26  # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = 1 << 28
 STAMP_BYTES = 4
-PIXEL_BYTES = 32 + 36 + 32
+PIXEL_BYTES = 44 + 36 + 32
 
 
 class SceneTooLarge(MemoryError):
@@ -71,14 +75,15 @@ class MemoryEstimate:
     grid: int
     mailboxes: int
     images: int
+    textures: int = 0
 
     @property
     def total(self) -> int:
-        return self.scene_arrays + self.grid + self.mailboxes + self.images
+        return self.scene_arrays + self.grid + self.mailboxes + self.images + self.textures
 
     def breakdown(self) -> str:
         parts = (("scene arrays", self.scene_arrays), ("grid", self.grid),
-                 ("mailboxes", self.mailboxes), ("images", self.images))
+                 ("mailboxes", self.mailboxes), ("images", self.images), ("textures", self.textures))
         return ", ".join(f"{name} {format_bytes(n)}" for name, n in parts if n)
 
 
@@ -109,7 +114,8 @@ def grid_refs(primitives: int, density: float) -> int:
 
 
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,
-             width: int = 1, height: int = 1, settings=None, normals: bool = True) -> MemoryEstimate:
+             width: int = 1, height: int = 1, settings=None, normals: bool = True,
+             texture_bytes: int = 0, uvs: bool = False, colors: bool = False) -> MemoryEstimate:
     """Bytes needed to render a scene with these counts (see the module docstring).
 
     vertices defaults to 3 per triangle (unshared corners, the worst case).
@@ -120,7 +126,7 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
         from .settings import RenderSettings
         settings = RenderSettings()
     for name, value in (("triangles", triangles), ("spheres", spheres), ("cylinders", cylinders),
-                        ("width", width), ("height", height)):
+                        ("width", width), ("height", height), ("texture_bytes", texture_bytes)):
         if int(value) < 0:
             raise ValueError(f"{name} must be >= 0, got {value}")
     triangles, spheres, cylinders = int(triangles), int(spheres), int(cylinders)
@@ -142,7 +148,8 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
             threads = int(settings.threads) or (os.cpu_count() or 1)
             mailboxes = prims * STAMP_BYTES * threads
     images = int(width) * int(height) * PIXEL_BYTES
-    return MemoryEstimate(scene_arrays, grid, mailboxes, images)
+    textures = int(texture_bytes) + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0))
+    return MemoryEstimate(scene_arrays, grid, mailboxes, images, textures)
 
 
 def physical_memory() -> int | None:

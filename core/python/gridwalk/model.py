@@ -19,8 +19,11 @@ from . import _core
 
 LIGHT_KINDS = tuple(kind for kind, _, _ in _core.light_kinds())
 PROJECTIONS = tuple(kind for kind, _, _ in _core.projections())
+INTERPOLATIONS = tuple(kind for kind, _, _ in _core.interpolations())
+EXTENSIONS = tuple(kind for kind, _, _ in _core.extensions())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
+_TEX, _WORLD = _core.Texture(), _core.World()
 
 
 def _f32(x: float) -> float:
@@ -96,7 +99,19 @@ class Material(Record):
     """Whitted / NFF material. NFF's `f r g b Kd Ks Shine T ior` maps to
     color, kd, ks, shininess, transmittance, ior, with mirror = Ks.
     roughness: 0 = exact mirror, > 0 glossy. emission: self-lit strength
-    (added to the shaded colour)."""
+    (color * emission is added to the shaded colour); emission_color: emitted
+    radiance added as it is. alpha: coverage in [0, 1] (< 1 lets camera,
+    secondary and shadow rays through the uncovered part).
+
+    Textures (indices into Scene(textures=...), -1 = none) replace an input
+    per hit, sampled at the triangle's corner UVs (Scene(uvs=...)):
+    color_texture the colour; roughness_texture the roughness (shininess and
+    ks follow, as the Principled mapping does); metallic_texture the metallic
+    weight (give the record's non-metal values: kd, ks, transmittance are
+    scaled towards a mirror); alpha_texture the alpha. A texture feeding a
+    scalar gives its alpha channel when its use_alpha is set, else its
+    luminance. vertex_color: the colour is the triangle's corner colours
+    (Scene(colors=...)) interpolated, unless a color_texture is set."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -106,7 +121,70 @@ class Material(Record):
     mirror: float = _MAT.mirror
     roughness: float = _MAT.roughness
     emission: float = _MAT.emission
+    emission_color: tuple = _MAT.emission_color
+    alpha: float = _MAT.alpha
+    color_texture: int = _MAT.color_texture
+    roughness_texture: int = _MAT.roughness_texture
+    metallic_texture: int = _MAT.metallic_texture
+    alpha_texture: int = _MAT.alpha_texture
+    vertex_color: bool = _MAT.vertex_color
     CORE = _core.Material
+
+    def texture_indices(self) -> dict:
+        """Field -> texture index of the textures this material uses."""
+        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture")
+        return {n: getattr(self, n) for n in names if getattr(self, n) != -1}
+
+
+def _choice(choices, enum):
+    def convert(value, where):
+        if value not in choices:
+            raise ValueError(f"{where} must be one of {list(choices)}, got {value!r}")
+        return getattr(enum, value)
+    return convert
+
+
+@dataclass
+class Texture(Record):
+    """How a material (or the world) samples an image. image: a gridwalk.Image,
+    or an index into Scene(images=...); an Image used by several textures is
+    stored once. interpolation: linear | closest. extension: repeat | extend
+    | clip (transparent black outside). use_alpha: a scalar input takes the
+    image's alpha channel (Blender's Alpha output) instead of its luminance."""
+    image: object = None
+    interpolation: str = INTERPOLATIONS[0]
+    extension: str = EXTENSIONS[0]
+    use_alpha: bool = _TEX.use_alpha
+    CORE = _core.Texture
+
+    def converters(self) -> dict:
+        def image(value, where):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+                raise ValueError(f"{where} must be a gridwalk.Image or an index into Scene(images=...), "
+                                 f"got {type(value).__name__}")
+            return _scalar(value, int, where)
+        return {"image": image, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
+                "extension": _choice(EXTENSIONS, _core.Extension)}
+
+
+@dataclass
+class World(Record):
+    """What surrounds the scene besides the background colour.
+
+    ambient: Whitted's ambient light I_a: every surface adds
+    color * kd * ambient, the light a diffuse surface gets from a uniform
+    world of that radiance when nothing blocks its view of it (there is no
+    occlusion: a crease gets as much as a roof). environment: an index into
+    Scene(textures=...) of an equirectangular image (Z up; its centre looks
+    along +X) that rays which miss everything see, times
+    environment_strength; -1: they see the background colour. transparent:
+    camera rays that miss see nothing (RGB 0, alpha 0: a premultiplied
+    transparent film); reflections still see the environment."""
+    ambient: tuple = _WORLD.ambient
+    environment: int = _WORLD.environment
+    environment_strength: float = _WORLD.environment_strength
+    transparent: bool = _WORLD.transparent
+    CORE = _core.World
 
 
 def _light_kind(value, where):

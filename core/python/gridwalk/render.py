@@ -19,6 +19,7 @@ class TileResult:
     width: int
     height: int
     rgba: np.ndarray  # (height, width, 4) float32 copy of the finished pixels
+    passes: dict = None   # "depth", "normal", "albedo": copies of the tile's pixels in those passes
 
 
 class RenderJob:
@@ -57,9 +58,13 @@ class RenderJob:
         return self
 
     def poll(self) -> list[TileResult]:
-        """Tiles finished since the previous poll, with copies of their pixels."""
-        img = self._job.rgba
-        return [TileResult(x, y, w, h, img[y:y + h, x:x + w].copy()) for x, y, w, h in self._job.poll()]
+        """Tiles finished since the previous poll, with copies of their pixels
+        (rgba, and depth, normal and albedo in TileResult.passes)."""
+        job = self._job
+        arrays = {"depth": job.depth, "normal": job.normal, "albedo": job.albedo}
+        return [TileResult(x, y, w, h, job.rgba[y:y + h, x:x + w].copy(),
+                           {k: v[y:y + h, x:x + w].copy() for k, v in arrays.items()})
+                for x, y, w, h in job.poll()]
 
     def cancel(self) -> None:
         """Stop the workers; returns when no worker thread is left running."""
@@ -103,6 +108,12 @@ class RenderJob:
     def normal(self) -> np.ndarray:
         """(H, W, 3) world-space shading normal at the first hit (0 on a miss)."""
         return self._job.normal.copy()
+
+    @property
+    def albedo(self) -> np.ndarray:
+        """(H, W, 3) base colour at the first hit, textures applied (0 on a miss):
+        Blender's Denoising Albedo pass."""
+        return self._job.albedo.copy()
 
     @property
     def stats(self) -> dict:

@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import threading
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from . import _core
-from .model import Camera, Light, Material, as_floats
+from .image import Image
+from .model import Camera, Light, Material, Texture, World, as_floats
 from .settings import SCHEMA, RenderSettings
 
 
@@ -45,6 +46,41 @@ def _array(value, name, dtype, width):
             raise ValueError(f"{name}[{bad}] does not fit in int32")
     with np.errstate(over="ignore", invalid="ignore"):
         return np.ascontiguousarray(a, dtype=dtype)
+
+
+def _corners(value, name, width, n_tris):
+    """Per-corner values: (M, 3, width) (or (3M, width)) float32, flattened; empty if None."""
+    if value is None:
+        return np.zeros(0, np.float32)
+    a = np.asarray(value)
+    if a.ndim == 3 and a.shape[1:] == (3, width):
+        a = a.reshape(-1, width)
+    if a.ndim != 2 or a.shape[1] != width or a.shape[0] != 3 * n_tris:
+        raise ValueError(f"{name} must have shape ({n_tris}, 3, {width}): one value per triangle corner, "
+                         f"got {np.shape(value)}")
+    return _array(a, name, np.float32, width).reshape(-1)
+
+
+def _textures(images, textures):
+    """(images, core textures): the images list extended by the distinct
+    gridwalk.Image objects the textures hold, each texture pointing at its index."""
+    images = list(images or [])
+    for i, image in enumerate(images):
+        if not isinstance(image, Image):
+            raise ValueError(f"images[{i}] must be a gridwalk.Image, got {type(image).__name__}")
+    index = {id(image): i for i, image in enumerate(images)}
+    out = []
+    for i, tex in enumerate(textures or []):
+        if not isinstance(tex, Texture):
+            raise ValueError(f"textures[{i}] must be a gridwalk.Texture, got {type(tex).__name__}")
+        core = tex.to_core() if not isinstance(tex.image, Image) else None
+        if core is None:
+            if id(tex.image) not in index:
+                index[id(tex.image)] = len(images)
+                images.append(tex.image)
+            core = replace(tex, image=index[id(tex.image)]).to_core()
+        out.append(core)
+    return images, out
 
 
 @dataclass
@@ -108,7 +144,14 @@ class Scene:
                  sphere_centers=None, sphere_radii=None, sphere_materials=None,
                  cylinder_base=None, cylinder_apex=None, cylinder_base_radius=None,
                  cylinder_apex_radius=None, cylinder_materials=None,
-                 materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0)):
+                 materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0),
+                 uvs=None, colors=None, images=None, textures=None, world=None):
+        """uvs: (M, 3, 2) texture coordinates per triangle corner; colors:
+        (M, 3, 3) RGB per triangle corner (Material.vertex_color); images:
+        gridwalk.Image list that textures may refer to by index; textures:
+        gridwalk.Texture list that materials and the world refer to by index
+        (a Texture's image may also be a gridwalk.Image: each distinct Image
+        is stored once); world: gridwalk.World (ambient light, environment)."""
         f32, i32 = np.float32, np.int32
         self.materials = list(materials) if materials else [Material()]
         self.lights = list(lights) if lights else []
@@ -122,6 +165,12 @@ class Scene:
         if not isinstance(self.camera, Camera):
             raise ValueError(f"camera must be a gridwalk.Camera, got {type(self.camera).__name__}")
         self.background = as_floats(background, 3, "background")
+        self.world = world if world is not None else World()
+        if not isinstance(self.world, World):
+            raise ValueError(f"world must be a gridwalk.World, got {type(self.world).__name__}")
+        self.images, core_textures = _textures(images, textures)
+        self.textures = list(textures or [])
+        n_tris = len(triangles) if triangles is not None else 0
         self._native = _core.Scene(
             _array(vertices, "vertices", f32, 3), _array(triangles, "triangles", i32, 3),
             _array(normals, "normals", f32, 3), _array(triangle_materials, "triangle_materials", i32, 0),
@@ -132,8 +181,14 @@ class Scene:
             _array(cylinder_apex_radius, "cylinder_apex_radius", f32, 0),
             _array(cylinder_materials, "cylinder_materials", i32, 0),
             [m.to_core() for m in self.materials], [l.to_core() for l in self.lights], self.camera.to_core(),
-            self.background)
+            self.background, _corners(uvs, "uvs", 2, n_tris), _corners(colors, "colors", 3, n_tris),
+            [image._native for image in self.images], core_textures, self.world.to_core())
         self._accels = {}
+
+    @property
+    def texture_bytes(self) -> int:
+        """Memory of the images (each stored once)."""
+        return self._native.texture_bytes
 
     # -- counts ---------------------------------------------------------------
     @property

@@ -1,0 +1,183 @@
+"""Blender images and Image / Environment Texture nodes -> gridwalk.Image and gridwalk.Texture.
+
+Each Blender image is read once (img.pixels.foreach_get, rows flipped to put
+row 0 at the top) however many nodes use it:
+  8-bit images stay 8-bit, tagged "srgb" (decoded to linear by the core)
+  unless their colour space is data (Non-Color) or linear; float images
+  (HDR, EXR) are already scene-linear in Blender and stay float32.
+Packed and generated images read like any other. A missing or unreadable
+image (size 0 x 0, no pixels), an image too large to read within
+MAX_IMAGE_BYTES, and UDIM tiles become a 1 x 1 magenta image, as Blender
+shows them, with one warning naming each.
+
+Node settings: interpolation Closest stays closest, every other mode is
+bilinear; extension REPEAT / EXTEND / CLIP as set (MIRROR is read as REPEAT,
+with a warning). A texture is (image, interpolation, extension, output):
+the Color and Alpha outputs of one node are two textures of one image.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from gridwalk import Image, Texture
+
+MAGENTA = (1.0, 0.0, 1.0)
+# The largest image read: foreach_get needs a float32 copy of every channel
+# (4 bytes per value) besides the stored image. 16k x 16k RGBA is 4 GiB.
+MAX_IMAGE_BYTES = 2 << 30
+INTERPOLATION = {"Closest": "closest"}
+EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip"}
+
+
+def image_read_bytes(img) -> int:
+    """Memory to read and store one image: the float32 copy plus what is kept."""
+    w, h = (int(x) for x in img.size)
+    c = max(int(getattr(img, "channels", 4)), 1)
+    return w * h * c * (4 + (4 if img.is_float else 1))
+
+
+def _colorspace(img) -> str:
+    settings = img.colorspace_settings
+    if settings.is_data:
+        return "data"
+    if img.is_float:
+        return "linear"
+    return "srgb" if "srgb" in settings.name.lower() else "linear"
+
+
+def read_image(img, limit: int = MAX_IMAGE_BYTES):
+    """(gridwalk.Image, problem): problem is None, or why the image is magenta."""
+    if img is None:
+        return None, "no image is set"
+    if getattr(img, "source", "") == "TILED":
+        return None, "UDIM tiles are not supported"
+    try:
+        w, h = (int(x) for x in img.size)
+        if w == 0 or h == 0:
+            return None, "it has no pixels (0 x 0: missing or unreadable file)"
+        need = image_read_bytes(img)
+        if need > limit:
+            return None, (f"{w} x {h} pixels need an estimated {need / 2**30:.1f} GiB to read, "
+                          f"more than the limit of {limit / 2**30:.1f} GiB")
+        c = int(img.channels)
+        px = np.empty(w * h * c, np.float32)
+        img.pixels.foreach_get(px)
+    except (RuntimeError, ValueError, MemoryError) as exc:
+        return None, f"it cannot be read ({exc})"
+    px = px.reshape(h, w, c)[::-1]
+    mean = _mean_rgb(px, _colorspace(img) == "srgb")
+    if not img.is_float:
+        px = np.rint(np.clip(px, 0.0, 1.0) * 255.0).astype(np.uint8)
+    else:
+        px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
+    image = Image(px, _colorspace(img), name=img.name)
+    image.mean_rgb = mean
+    return image, None
+
+
+def _mean_rgb(px, srgb: bool) -> tuple:
+    """Average linear RGB of (h, w, c) float pixels in [0, 1] (sRGB-encoded when srgb),
+    weighted by cos(latitude) as an equirectangular environment spreads over the sphere."""
+    rgb = px[..., :3] if px.shape[2] >= 3 else np.repeat(px[..., :1], 3, axis=2)
+    step = max(1, int(np.sqrt(rgb.shape[0] * rgb.shape[1] / 65536)))
+    rgb = np.asarray(rgb[::step, ::step], np.float64)
+    if srgb:
+        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    rows = rgb.shape[0]
+    weight = np.cos((np.arange(rows) + 0.5) / rows * np.pi - np.pi / 2)[:, None, None]
+    return tuple(float(x) for x in (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * rgb.shape[1]))
+
+
+def _stored_bytes(img) -> int:
+    w, h = (int(x) for x in img.size)
+    return w * h * max(int(getattr(img, "channels", 4)), 1) * (4 if img.is_float else 1)
+
+
+def scene_texture_bytes(depsgraph) -> int:
+    """Memory of the images the depsgraph's materials and world sample (each
+    once; those too large to read count as the 1-pixel magenta stand-in), and
+    the largest image's float32 read buffer: for the memory estimate, before
+    anything is read."""
+    seen, stored, largest = set(), 0, 0
+    for id_ in depsgraph.ids:
+        tree = getattr(id_, "node_tree", None)
+        if tree is None or type(id_).__name__ not in ("Material", "World"):
+            continue
+        for node in tree.nodes:
+            img = getattr(node, "image", None) if node.type in ("TEX_IMAGE", "TEX_ENVIRONMENT") else None
+            if img is None or img.name_full in seen:
+                continue
+            seen.add(img.name_full)
+            if 0 < image_read_bytes(img) <= MAX_IMAGE_BYTES:
+                stored += _stored_bytes(img)
+                largest = max(largest, image_read_bytes(img) - _stored_bytes(img))
+    return stored + largest
+
+
+def _signature(img):
+    """What an image's pixels depend on; None for an image being edited (always read)."""
+    if img is None or getattr(img, "is_dirty", False):
+        return None
+    return (img.name_full, tuple(img.size), img.source, img.filepath, img.is_float,
+            img.colorspace_settings.name, getattr(img, "generated_type", ""), img.packed_file is not None)
+
+
+class TextureTable:
+    """The scene's images (each once) and textures (each distinct node setting once).
+
+    cache: a dict kept between exports (the viewport's MeshCache.images):
+    images whose signature is unchanged are not read again."""
+
+    def __init__(self, cache: dict | None = None):
+        self.cache = cache if cache is not None else {}
+        self._used: set = set()
+        self.images: list = []
+        self.textures: list = []
+        self._image_index: dict = {}
+        self._texture_index: dict = {}
+        self.problems: dict = {}         # image name -> why it renders magenta
+        self.notes: set = set()          # other one-line remarks
+
+    def _image(self, img) -> int:
+        key = img.name_full if img is not None else None
+        if key not in self._image_index:
+            signature = _signature(img)
+            image, problem = self.cache.get(signature) if signature is not None and signature in self.cache \
+                else read_image(img)
+            if signature is not None:
+                self.cache[signature] = (image, problem)
+                self._used.add(signature)
+            if image is None:
+                self.problems[key or "(none)"] = problem
+                image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {key}")
+                image.mean_rgb = MAGENTA
+            self._image_index[key] = len(self.images)
+            self.images.append(image)
+        return self._image_index[key]
+
+    def texture(self, node, output: str = "Color") -> int:
+        """Index of the texture an Image or Environment Texture node's `output` gives."""
+        image = self._image(node.image)
+        interpolation = INTERPOLATION.get(node.interpolation, "linear")
+        extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
+        if getattr(node, "extension", "REPEAT") not in EXTENSION:
+            self.notes.add(f"image extension {node.extension} is read as Repeat")
+        key = (image, interpolation, extension, output == "Alpha")
+        if key not in self._texture_index:
+            self._texture_index[key] = len(self.textures)
+            self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
+                                         use_alpha=output == "Alpha"))
+        return self._texture_index[key]
+
+    def prune(self):
+        """Forget the cached images this export did not use."""
+        for signature in [k for k in self.cache if k not in self._used]:
+            del self.cache[signature]
+
+    def mean_color(self, index: int) -> tuple:
+        """The average colour of a texture's image (linear RGB): the ambient of an environment."""
+        return self.images[self.textures[index].image].mean_rgb
+
+    def warnings(self) -> list[str]:
+        out = [f"Image '{name}' renders magenta: {why}" for name, why in sorted(self.problems.items())]
+        return out + sorted(self.notes)

@@ -1,0 +1,84 @@
+"""Pictures for docs/blender.md: the materials test scenes (issue 13) rendered
+by GRIDWALK and by Cycles in bpy 4.5, side by side, with the normalized
+cross-correlation of their luminance. A script that writes docs, not a test:
+
+    .venv/bin/python core/bench/material_pictures.py [--out docs/images/materials.png]
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests" / "blender"))
+import exr  # noqa: E402
+from runner import run_script  # noqa: E402
+
+AA = '{"aa": "JITTERED", "aa_samples": 4}'
+SCENES = (   # (scene, label, options for both engines)
+    ("checker", "Image Texture on UVs", ["resolution"]),
+    ("environment", "HDR Environment, mirror sphere", ["transparent=false"]),
+    ("emission_mirror", "Emission seen in a mirror", ["transparent=false"]),
+    ("pane_shadow", "Glass pane: transparent shadow", ['scene={"pane": "glass", "resolution": [128, 128]}',
+                                                      "transparent=false"]),
+)
+SIZE = '[128, 96]'
+
+
+def render(scene, engine, options, out: Path) -> np.ndarray:
+    folder = out / f"{scene}_{engine}"
+    folder.mkdir()
+    opts = [o if o != "resolution" else f'scene={{"resolution": {SIZE}}}' for o in options]
+    if scene in ("environment", "emission_mirror"):
+        opts.append(f'scene={{"resolution": {SIZE}}}')
+    opts += [f"settings={AA}"] if engine == "GRIDWALK" else ["samples=128"]
+    run_script("bpy45", "render_scene.py", scene, folder, engine, *opts, timeout=600)
+    return exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")
+
+
+def to_srgb(rgba) -> np.ndarray:
+    c = np.clip(rgba[..., :3], 0.0, 1.0)
+    c = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+    return (c * 255 + 0.5).astype(np.uint8)
+
+
+def ncc(a, b) -> float:
+    w = np.array([0.2126, 0.7152, 0.0722])
+    a, b = a[..., :3] @ w, b[..., :3] @ w
+    a, b = a - a.mean(), b - b.mean()
+    return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--out", default=str(ROOT / "docs" / "images" / "materials.png"))
+    args = parser.parse_args()
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene, label, options in SCENES:
+            ours, cycles = (render(scene, e, options, Path(tmp)) for e in ("GRIDWALK", "CYCLES"))
+            rows.append((label, to_srgb(ours), to_srgb(cycles), ncc(ours, cycles)))
+            print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")
+    scale, pad, head = 2, 8, 18
+    width = max(r[1].shape[1] for r in rows) * scale
+    sheet = Image.new("RGB", (2 * width + 3 * pad, sum(r[1].shape[0] * scale + head + pad for r in rows) + pad),
+                      (255, 255, 255))
+    draw, y = ImageDraw.Draw(sheet), pad
+    for label, ours, cycles, score in rows:
+        draw.text((pad, y), f"{label}   (left GRIDWALK, right Cycles; NCC {score:.3f})", fill=(0, 0, 0))
+        y += head
+        for i, img in enumerate((ours, cycles)):
+            pic = Image.fromarray(img).resize((img.shape[1] * scale, img.shape[0] * scale), Image.NEAREST)
+            sheet.paste(pic, (pad + i * (width + pad), y))
+        y += ours.shape[0] * scale + pad
+    sheet.save(args.out)
+    print("wrote", args.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,115 @@
+// Image storage and texture lookups. See texture.h.
+#include "texture.h"
+
+#include <array>
+#include <stdexcept>
+
+namespace gw {
+namespace {
+
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+const std::array<float, 256>& srgb_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.0f);
+        return t;
+    }();
+    return table;
+}
+
+// Texel index along one axis for extension modes that wrap or clamp; -1 = outside (Clip).
+int wrap(int i, int n, Extension e) {
+    switch (e) {
+    case Extension::Repeat: {
+        const int m = i % n;
+        return m < 0 ? m + n : m;
+    }
+    case Extension::Extend: return std::min(std::max(i, 0), n - 1);
+    default: return i >= 0 && i < n ? i : -1;
+    }
+}
+
+// floor() as an int, saturated: texture coordinates can be huge or NaN.
+int ifloor(float x) {
+    if (!(x > -1e9f)) return -1000000000;
+    if (!(x < 1e9f)) return 1000000000;
+    return int(std::floor(x));
+}
+
+}  // namespace
+
+Image::Image(int width, int height, int channels, bool srgb, std::vector<uint8_t> bytes, std::vector<float> floats,
+             const std::string& where)
+    : w_(width), h_(height), c_(channels), srgb_(srgb), bytes_(std::move(bytes)), floats_(std::move(floats)) {
+    if (w_ < 1 || h_ < 1)
+        throw std::invalid_argument(where + " is " + std::to_string(w_) + " x " + std::to_string(h_) +
+                                    " pixels: an image needs at least one pixel");
+    if (c_ < 1 || c_ > 4) throw std::invalid_argument(where + " must have 1 to 4 channels, got " + std::to_string(c_));
+    const size_t n = size_t(w_) * size_t(h_) * size_t(c_);
+    if (bytes_.empty() == floats_.empty() || (bytes_.empty() ? floats_.size() : bytes_.size()) != n)
+        throw std::invalid_argument(where + ": the pixel array must hold width x height x channels = " +
+                                    std::to_string(n) + " values");
+    for (size_t i = 0; i < floats_.size(); ++i)
+        if (!std::isfinite(floats_[i]))
+            throw std::invalid_argument(where + " has a non-finite pixel value at index " + std::to_string(i / size_t(c_)));
+}
+
+Rgba Image::texel(int x, int y) const {
+    const size_t k = (size_t(h_ - 1 - y) * size_t(w_) + size_t(x)) * size_t(c_);
+    float v[4];
+    if (floats_.empty()) {
+        const auto& lut = srgb_table();
+        for (int i = 0; i < c_; ++i) {
+            const uint8_t b = bytes_[k + size_t(i)];
+            const bool colour = c_ >= 3 ? i < 3 : i == 0;
+            v[i] = srgb_ && colour ? lut[b] : float(b) * (1.0f / 255.0f);
+        }
+    } else {
+        for (int i = 0; i < c_; ++i) {
+            const float f = floats_[k + size_t(i)];
+            const bool colour = c_ >= 3 ? i < 3 : i == 0;
+            v[i] = srgb_ && colour ? srgb_to_linear(f) : f;
+        }
+    }
+    Rgba out;
+    if (c_ >= 3) {
+        out.rgb = Vec3(v[0], v[1], v[2]);
+        if (c_ == 4) out.a = v[3];
+    } else {
+        out.rgb = Vec3(v[0], v[0], v[0]);
+        if (c_ == 2) out.a = v[1];
+    }
+    return out;
+}
+
+void validate_texture(const Texture& t, const std::string& where) {
+    if (!enum_valid(t.interpolation)) throw std::invalid_argument(where + ".interpolation is not an interpolation");
+    if (!enum_valid(t.extension)) throw std::invalid_argument(where + ".extension is not an extension");
+}
+
+Rgba sample_image(const Image& img, const Texture& t, float u, float v) {
+    const int w = img.width(), h = img.height();
+    if (t.extension == Extension::Clip && !(u >= 0 && u <= 1 && v >= 0 && v <= 1)) return Rgba{Vec3(), 0};
+    auto fetch = [&](int x, int y) {
+        const int xi = wrap(x, w, t.extension), yi = wrap(y, h, t.extension);
+        return xi < 0 || yi < 0 ? Rgba{Vec3(), 0} : img.texel(xi, yi);
+    };
+    const float x = u * float(w), y = v * float(h);
+    if (t.interpolation == Interpolation::Closest) return fetch(ifloor(x), ifloor(y));
+    const float xs = x - 0.5f, ys = y - 0.5f;
+    const int x0 = ifloor(xs), y0 = ifloor(ys);
+    const float fx = std::isfinite(xs) ? xs - std::floor(xs) : 0, fy = std::isfinite(ys) ? ys - std::floor(ys) : 0;
+    const Rgba a = fetch(x0, y0), b = fetch(x0 + 1, y0), c = fetch(x0, y0 + 1), d = fetch(x0 + 1, y0 + 1);
+    const float wa = (1 - fx) * (1 - fy), wb = fx * (1 - fy), wc = (1 - fx) * fy, wd = fx * fy;
+    return Rgba{a.rgb * wa + b.rgb * wb + c.rgb * wc + d.rgb * wd, a.a * wa + b.a * wb + c.a * wc + d.a * wd};
+}
+
+void equirect_uv(const Vec3& d, float& u, float& v) {
+    u = 0.5f - std::atan2(d.y, d.x) * float(0.5 / kPi);
+    v = 0.5f + std::atan2(d.z, std::hypot(d.x, d.y)) * float(1 / kPi);
+}
+
+}  // namespace gw

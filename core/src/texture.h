@@ -1,0 +1,76 @@
+// Images and the textures that sample them. An Image is a pixel array stored
+// once however many textures use it: 8-bit images stay 8-bit (decoded from
+// sRGB through a table at lookup), float images stay float. A Texture is the
+// record a material (or the world) points at: which image, how to filter it,
+// what lies outside it, and whether it gives the colour or the alpha channel
+// (Blender's Image Texture node: Color and Alpha outputs). Row 0 of the pixel
+// array is the TOP of the image; v = 0 is its bottom edge (UV convention).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "enums.h"
+#include "math.h"
+
+namespace gw {
+
+struct Rgba {
+    Vec3 rgb;
+    float a = 1;
+};
+
+class Image {
+public:
+    // Exactly one of bytes / floats holds width * height * channels values
+    // (channels 1: grey, 2: grey + alpha, 3: RGB, 4: RGBA). srgb: the colour
+    // channels are sRGB-encoded (decoded to linear at lookup); alpha never is.
+    // Throws std::invalid_argument naming `where`.
+    Image(int width, int height, int channels, bool srgb, std::vector<uint8_t> bytes, std::vector<float> floats,
+          const std::string& where);
+
+    int width() const { return w_; }
+    int height() const { return h_; }
+    int channels() const { return c_; }
+    bool is_float() const { return !floats_.empty(); }
+    bool srgb() const { return srgb_; }
+    size_t memory_bytes() const { return bytes_.size() + floats_.size() * sizeof(float); }
+    const std::vector<uint8_t>& bytes() const { return bytes_; }
+    const std::vector<float>& floats() const { return floats_; }
+    // The texel in column x, row y counted from the BOTTOM (in range), linear.
+    Rgba texel(int x, int y) const;
+
+private:
+    int w_, h_, c_;
+    bool srgb_;
+    std::vector<uint8_t> bytes_;
+    std::vector<float> floats_;
+};
+
+// The texture record, bound to Python field by field as gridwalk._core.Texture.
+struct Texture {
+    int32_t image = -1;                                  // index into the scene's images
+    Interpolation interpolation = Interpolation::Linear;
+    Extension extension = Extension::Repeat;
+    bool use_alpha = false;                              // the Alpha output instead of Color
+};
+
+// Checks the enums (the image index is checked by the scene, which knows the
+// images); throws std::invalid_argument naming `where` and the field.
+void validate_texture(const Texture& t, const std::string& where);
+
+// The image under texture coordinates (u, v), filtered and extended as `t` says.
+Rgba sample_image(const Image& img, const Texture& t, float u, float v);
+
+// Scalar value of a texture feeding a scalar input: its alpha (use_alpha), else
+// the colour's luminance (Rec. 709 weights, Blender's colour-to-float conversion).
+inline float scalar_of(const Texture& t, const Rgba& c) {
+    return t.use_alpha ? c.a : 0.2126f * c.rgb.x + 0.7152f * c.rgb.y + 0.0722f * c.rgb.z;
+}
+
+// Equirectangular coordinates of a direction, as Blender's Environment
+// Texture maps them (Z up): the image's centre (u = 0.5) lies along +X,
+// u = 0.25 along +Y; v = 1 straight up, v = 0.5 on the horizon.
+void equirect_uv(const Vec3& d, float& u, float& v);
+
+}  // namespace gw

@@ -1,0 +1,32 @@
+// The world record: what the scene's surroundings contribute besides the
+// background colour. Bound to Python field by field as gridwalk._core.World.
+//
+// ambient: Whitted's ambient term I_a. Every surface adds color * kd * ambient,
+// the light a diffuse surface receives from a uniform world if nothing blocked
+// it (no occlusion: Whitted's model has no ambient occlusion). Blender's world
+// colour x strength lights a diffuse surface with exactly that in Cycles when
+// the surface sees the whole sky.
+// environment: a texture (equirectangular) that rays which miss everything see,
+// times environment_strength; -1 = none (they see the background colour).
+// transparent: camera rays that miss see nothing (RGB 0 with alpha 0, a
+// premultiplied transparent film, Blender's Film > Transparent); mirror and
+// refraction rays still see the background or environment.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "math.h"
+
+namespace gw {
+
+struct World {
+    Vec3 ambient{0, 0, 0};
+    int32_t environment = -1;
+    float environment_strength = 1;
+    bool transparent = false;
+};
+
+// Throws std::invalid_argument naming the field (the texture index is checked by the scene).
+void validate_world(const World& w);
+
+}  // namespace gw

@@ -1,0 +1,183 @@
+"""Test scenes for materials and the world (issue 13), built with bpy.
+
+Imported by scenes.py, whose BUILDERS list every *_scene function: render
+them with render_scene.py. Images are generated or filled in memory (no files
+are read), except the missing one of bad_materials_scene.
+"""
+import math
+import os
+import tempfile
+
+import bpy
+import numpy as np
+
+from blender_addon.scripting import principled_material
+from scenes import add_light, link, reset
+
+
+def _plane(name, size, location=(0, 0, 0), rotation=(0, 0, 0)):
+    bpy.ops.mesh.primitive_plane_add(size=size, location=location, rotation=rotation)
+    obj = bpy.context.object
+    obj.name = name
+    return obj
+
+
+def _image_node(mat, image, socket="Base Color", output="Color", interpolation="Linear", uv_map=None):
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = image, interpolation
+    links.new(tex.outputs[output], nodes["Principled BSDF"].inputs[socket])
+    if uv_map is not None:
+        uv = nodes.new("ShaderNodeUVMap")
+        uv.uv_map = uv_map
+        links.new(uv.outputs["UV"], tex.inputs["Vector"])
+    return tex
+
+
+def _filled_image(name, pixels, float_buffer, non_color=False):
+    """A packed image holding `pixels` ((h, w, 4) in [0, 1] for 8-bit, row 0 at
+    the BOTTOM, Blender's order). The colour space is set first: setting it
+    later reloads the image and loses the pixels."""
+    h, w = pixels.shape[:2]
+    img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=float_buffer)
+    if non_color:
+        img.colorspace_settings.name = "Non-Color"
+    img.pixels.foreach_set(np.ascontiguousarray(pixels, np.float32).reshape(-1))
+    img.pack()
+    return img
+
+
+def checker_scene(resolution=(64, 48)):
+    """A UV-mapped plane facing the camera with Blender's generated colour grid
+    (an 8-bit sRGB image) on its Base Color, lit by a sun from the camera's side."""
+    reset(resolution=tuple(resolution))
+    plane = _plane("Plane", 7.0, rotation=(math.pi / 2, 0, 0))
+    img = bpy.data.images.new("Grid", 256, 256)
+    img.generated_type = "COLOR_GRID"
+    mat = principled_material("Textured", (0.8, 0.8, 0.8), Roughness=1.0)
+    _image_node(mat, img)
+    plane.data.materials.append(mat)
+    add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def roughness_map_scene(resolution=(64, 48), value=128, textured=True):
+    """A glossy plane under a point light; its roughness comes from a Non-Color
+    8-bit image of constant `value` (textured) or is set to value / 255."""
+    reset(resolution=tuple(resolution))
+    plane = _plane("Plane", 7.0, rotation=(math.pi / 2 - 0.3, 0, 0))
+    mat = principled_material("Glossy", (0.2, 0.3, 0.8), Roughness=value / 255.0)
+    if textured:
+        px = np.full((8, 8, 4), value / 255.0)
+        px[..., 3] = 1.0
+        img = _filled_image("Roughness", px, float_buffer=False, non_color=True)
+        _image_node(mat, img, "Roughness")
+    plane.data.materials.append(mat)
+    add_light("Key", "POINT", (0, -6, 3), energy=800.0, shadow_soft_size=0.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def sky_pixels(w=64, h=32):
+    """An HDR equirectangular sky: colour varies with longitude, brightness with latitude."""
+    lon = (np.arange(w) + 0.5) / w * 2 * np.pi
+    lat = ((np.arange(h) + 0.5) / h - 0.5) * np.pi         # row 0 = bottom (Blender's order)
+    px = np.ones((h, w, 4))
+    px[..., 0] = 0.2 + 1.5 * (0.5 + 0.5 * np.cos(lon))[None, :]
+    px[..., 1] = 0.2 + 1.5 * (0.5 + 0.5 * np.sin(lon))[None, :]
+    px[..., 2] = 0.3 + 2.0 * np.clip(np.sin(lat), 0, 1)[:, None]
+    return px
+
+
+def environment_scene(resolution=(64, 48)):
+    """A mirror sphere in an HDR environment (a float image on an Environment Texture)."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=2.5, segments=64, ring_count=32)
+    sphere = bpy.context.object
+    sphere.data.polygons.foreach_set("use_smooth", [True] * len(sphere.data.polygons))
+    sphere.data.update()
+    sphere.data.materials.append(principled_material("Mirror", (1.0, 1.0, 1.0), Metallic=1.0, Roughness=0.0))
+    world = bpy.data.worlds.new("Sky")
+    bpy.context.scene.world = world
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    nodes = world.node_tree.nodes
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.image = _filled_image("SkyHDR", sky_pixels(), float_buffer=True)
+    world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
+    bpy.context.view_layer.update()
+    return {}
+
+
+def emission_mirror_scene(resolution=(64, 48)):
+    """A mirror facing the camera; a green emissive sphere behind the camera
+    (out of view) is seen only in the mirror. No lights."""
+    reset(resolution=tuple(resolution))
+    mirror = _plane("Mirror", 6.0, rotation=(math.pi / 2, 0, 0))
+    mirror.data.materials.append(principled_material("Mirror", (1.0, 1.0, 1.0), Metallic=1.0, Roughness=0.0))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=2.0, location=(0, -14, 0))
+    glow = bpy.context.object
+    mat = principled_material("Glow", (0.0, 0.0, 0.0))
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Emission Color" if "Emission Color" in bsdf.inputs else "Emission"].default_value = (0, 1, 0, 1)
+    bsdf.inputs["Emission Strength"].default_value = 3.0
+    glow.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def pane_shadow_scene(pane="glass", resolution=(64, 64)):
+    """A white floor seen from straight above (orthographic) and a pane 2 units
+    above it, lit by a slanted sun: the pane's shadow falls at x = 2, y = 0,
+    pixel (48, 32). pane: glass (Transmission 1), alpha (Alpha 0.5) or opaque."""
+    reset(resolution=tuple(resolution))
+    cam = bpy.context.scene.camera
+    cam.location, cam.rotation_euler = (0, 0, 10), (0, 0, 0)
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 8.0
+    floor = _plane("Floor", 20.0)
+    floor.data.materials.append(principled_material("White", (0.8, 0.8, 0.8), Roughness=1.0))
+    glass = _plane("Pane", 1.0, location=(0, 0, 2))
+    inputs = {"glass": {"Transmission": 1.0, "Roughness": 0.0, "IOR": 1.45}, "alpha": {"Alpha": 0.5},
+              "opaque": {}}[pane]
+    glass.data.materials.append(principled_material("Pane", (0.8, 0.8, 0.8), **inputs))
+    add_light("Sun", "SUN", (0, 0, 5), (0, math.pi / 4, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def _file_image(name, path):
+    """An image datablock reading `path`, as a .blend that points at a file would have it."""
+    img = bpy.data.images.new(name, 4, 4)
+    img.source, img.filepath = "FILE", path
+    img.reload()
+    return img
+
+
+def bad_materials_scene(resolution=(48, 36)):
+    """Five planes, each with one problem: a missing image file, a 0 x 0 image,
+    a 16k x 16k image, a textured mesh without UVs, and a node Gridwalk does
+    not understand (a Noise Texture on Base Color)."""
+    reset(resolution=tuple(resolution))
+    missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
+    zero_file = os.path.join(tempfile.mkdtemp(prefix="gridwalk_"), "zero_size.png")
+    open(zero_file, "wb").close()          # a file Blender cannot decode: a 0 x 0 image
+    zero = _file_image("ZeroSizeImage", zero_file)
+    small = bpy.data.images.new("SmallImage", 4, 4)
+    huge = bpy.data.images.new("HugeImage", 16384, 16384)
+    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Noise": None}
+    for i, (name, image) in enumerate(cases.items()):
+        plane = _plane(name, 1.5, location=(-4 + 2 * i, 0, 0), rotation=(math.pi / 2, 0, 0))
+        mat = principled_material(name, (0.5, 0.5, 0.5))
+        if name == "Noise":
+            noise = mat.node_tree.nodes.new("ShaderNodeTexNoise")
+            mat.node_tree.links.new(noise.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+        else:
+            _image_node(mat, image)
+        if name == "NoUVs":
+            while plane.data.uv_layers:
+                plane.data.uv_layers.remove(plane.data.uv_layers[0])
+        plane.data.materials.append(mat)
+    add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}

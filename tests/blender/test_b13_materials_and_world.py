@@ -1,0 +1,126 @@
+"""Materials and the world as artists set them (issue 13), through real Blender
+(bpy 4.5, bpy 5.0, Debian's 3.4), compared with Cycles where the issue asks:
+image textures on UVs, a Non-Color roughness map, an HDR environment in a
+mirror sphere, emission seen in a mirror, transparent shadows, and bad input
+that warns and still finishes the image."""
+import json
+
+import numpy as np
+import pytest
+
+import exr
+from runner import ALL_BLENDERS, missing_reason, run_script
+
+AA = '{"aa": "JITTERED", "aa_samples": 4}'
+
+
+def _render(kind, out, scene, engine, *options):
+    folder = out / f"{scene}_{engine.lower()}_{len(list(out.iterdir()))}"
+    folder.mkdir()
+    proc = run_script(kind, "render_scene.py", scene, folder, engine, *options)
+    info = json.loads((folder / f"{engine.lower()}.json").read_text())
+    rgba = exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")
+    return {"rgba": rgba, "info": info, "stdout": proc.stdout}
+
+
+@pytest.fixture(scope="module", params=ALL_BLENDERS)
+def renders(request, tmp_path_factory):
+    kind = request.param
+    reason = missing_reason(kind)
+    if reason:
+        pytest.skip(reason)
+    out = tmp_path_factory.mktemp(f"materials_{kind}")
+    r = {"kind": kind}
+    r["checker"] = _render(kind, out, "checker", "GRIDWALK", f"settings={AA}")
+    r["checker_cycles"] = _render(kind, out, "checker", "CYCLES", "samples=64")
+    for key, value, textured in (("map", 128, "true"), ("constant", 128, "false"), ("decoded", 55, "false")):
+        r[f"roughness_{key}"] = _render(kind, out, "roughness_map", "GRIDWALK",
+                                        f'scene={{"value": {value}, "textured": {textured}}}')
+    opaque = "transparent=false"
+    r["environment"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque)
+    r["environment_cycles"] = _render(kind, out, "environment", "CYCLES", "samples=32", opaque)
+    r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
+    r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
+    for pane in ("glass", "alpha", "opaque"):
+        r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
+    r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
+    return r
+
+
+def _luminance(rgba):
+    return rgba[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+
+
+def _ncc(a, b) -> float:
+    a, b = a - a.mean(), b - b.mean()
+    return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
+
+
+def test_image_texture_on_uvs_matches_cycles(renders):
+    ours, cycles = renders["checker"]["rgba"], renders["checker_cycles"]["rgba"]
+    plane = (ours[..., 3] > 0.99) & (cycles[..., 3] > 0.99)
+    assert plane.mean() > 0.9
+    lum = _luminance(ours)[plane]
+    assert lum.std() > 0.05 * lum.mean(), "the texture's pattern is missing"
+    assert _ncc(lum, _luminance(cycles)[plane]) >= 0.95
+    assert "Textured" not in renders["checker"]["stdout"], "the textured material was reported as unsupported"
+
+
+def test_non_color_roughness_map_is_read_as_data(renders):
+    textured = renders["roughness_map"]["rgba"]
+    # 8-bit value 128 in a Non-Color image is roughness 128/255, not sRGB-decoded (55/255)
+    np.testing.assert_allclose(textured, renders["roughness_constant"]["rgba"], atol=1e-4)
+    assert np.abs(textured - renders["roughness_decoded"]["rgba"]).max() > 0.1
+
+
+def test_hdr_environment_in_a_mirror_sphere_matches_cycles(renders):
+    ours, cycles = renders["environment"]["rgba"], renders["environment_cycles"]["rgba"]
+    assert np.all(ours[..., 3] == 1.0)
+    corr = np.corrcoef(ours[..., :3].reshape(-1), cycles[..., :3].reshape(-1))[0, 1]
+    assert corr >= 0.95
+    assert abs(ours[..., :3].mean() / cycles[..., :3].mean() - 1) < 0.05
+    assert "no lights" not in renders["environment"]["stdout"]
+
+
+def test_film_transparent_hides_the_environment_but_not_its_reflection(renders):
+    film, opaque = renders["environment_film"]["rgba"], renders["environment"]["rgba"]
+    background = film[..., 3] == 0
+    assert 0.2 < background.mean() < 0.8
+    assert np.all(film[background] == 0)                       # RGB 0 with alpha 0, as Cycles writes it
+    sphere = film[..., 3] == 1
+    assert film[sphere][:, :3].mean() > 0.5                   # the sphere still mirrors the sky
+
+
+def test_emissive_object_is_seen_in_a_mirror(renders):
+    rgba = renders["emission"]["rgba"]
+    h, w = rgba.shape[:2]
+    centre = rgba[h // 2 - 2:h // 2 + 2, w // 2 - 2:w // 2 + 2, :3].mean(axis=(0, 1))
+    assert centre[1] > 1.5 and centre[0] < 0.05 and centre[2] < 0.05   # green x strength 3, mirrored
+    assert rgba[2, 2, :3].max() < 0.05                                  # elsewhere: the black world
+
+
+def _shadow(render):
+    return float(_luminance(render["rgba"])[30:35, 14:19].mean())
+
+
+def test_glass_and_alpha_panes_cast_lighter_shadows_than_an_opaque_pane(renders):
+    lit = float(_luminance(renders["pane_opaque"]["rgba"])[30:35, 40:45].mean())
+    opaque, alpha, glass = (_shadow(renders[f"pane_{p}"]) for p in ("opaque", "alpha", "glass"))
+    assert opaque < 0.01 * lit
+    assert alpha == pytest.approx(0.5 * lit, rel=0.02)
+    assert 0.8 * lit < glass < lit            # the glass reflects a little (Fresnel), passes the rest
+
+
+def test_bad_textures_warn_and_the_image_finishes(renders):
+    bad = renders["bad"]
+    assert "error" not in bad["info"]
+    rgba = bad["rgba"]
+    assert np.isfinite(rgba).all() and (rgba[..., 3] > 0.99).mean() > 0.1
+    out = bad["stdout"]
+    assert "Image 'MissingImage' renders magenta" in out
+    assert "Image 'ZeroSizeImage' renders magenta" in out
+    assert "Image 'HugeImage' renders magenta: 16384 x 16384 pixels need an estimated" in out
+    assert "no UV map" in out and "'NoUVs'" in out
+    assert "Noise: inputs Base Color (ShaderNodeTexNoise) use their default values" in out
+    magenta = (rgba[..., 0] > 0.1) & (np.abs(rgba[..., 2] - rgba[..., 0]) < 0.01) & (rgba[..., 1] < 0.3 * rgba[..., 0])
+    assert magenta.mean() > 0.05, "missing images must render magenta"

@@ -13,6 +13,7 @@
 #include "bind_casters.h"
 #include "bindings.h"
 #include "render_job.h"
+#include "uniform_grid.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -154,6 +155,14 @@ NB_MODULE(_core, m) {
               return build_accel(std::move(scene), s, cancel.get());
           },
           "scene"_a, "settings"_a, "cancel"_a.none() = nb::none());
+
+    m.def("uniform_grid_budget",
+          [](uint64_t prims, double density, uint64_t max_cells) {
+              const GridBudget b = uniform_grid_budget(prims, density, max_cells, GridParams{}.max_refs);
+              return nb::make_tuple(b.cells, b.refs);
+          },
+          "prims"_a, "density"_a, "max_cells"_a,
+          "The most (cells, primitive references) a uniform grid of this size and density holds.");
 
     m.def("intersect",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> tmin, In<float> tmax,

@@ -14,6 +14,16 @@ namespace gw {
 // (a jump then crosses up to 2 * cap + 1 cells).
 constexpr int kEmptyCap = 16;
 
+GridBudget uniform_grid_budget(uint64_t prims, double density, uint64_t max_cells, uint64_t max_refs) {
+    const double n = double(prims);
+    const double cap_cells = double(std::min<uint64_t>(std::max<uint64_t>(max_cells, 1), 1ull << 31));
+    const double side = density * std::cbrt(n) + 1.0;   // cells along an axis of a cube-shaped box
+    const double cells = std::min(cap_cells, 2.0 * std::ceil(side * side * side) + 64.0);
+    const double refs = std::ceil(n * std::pow(density + 1.0, 3) + 4.0 * side * side) + 64.0;
+    const uint64_t cap_refs = std::min<uint64_t>(std::max<uint64_t>(max_refs, prims), 0xFFFFFFF0ull);
+    return {uint64_t(cells), std::max<uint64_t>(prims, refs >= double(cap_refs) ? cap_refs : uint64_t(refs))};
+}
+
 UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel)
     : Accel(std::move(s)) {
     uint64_t step = 0;
@@ -48,8 +58,8 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     for (int a = 0; a < 3; ++a)
         if (!flat[a]) { ++k; vol *= double(hi_[a] - lo_[a]); }
     const double side = k ? std::pow(vol / double(np), 1.0 / k) : 1.0;
-    const uint64_t max_cells = std::min<uint64_t>(std::max<uint64_t>(p.max_cells, 1), 1ull << 31);
-    const uint64_t max_refs = std::min<uint64_t>(std::max<uint64_t>(p.max_refs, np), 0xFFFFFFF0ull);
+    const GridBudget budget = uniform_grid_budget(np, p.density, p.max_cells, p.max_refs);
+    const uint64_t max_cells = budget.cells, max_refs = budget.refs;
     double m = p.density;
     info_.density_requested = p.density;
     std::vector<uint32_t> counts;

@@ -14,6 +14,25 @@ struct GridParams {
     uint64_t max_refs = 1ull << 27;    // cap on primitive references (4 bytes each)
 };
 
+// What a uniform grid of `prims` primitives at density M may hold; its build
+// lowers M until it fits, and gridwalk.memory's estimate reads these same
+// figures, so the estimate holds for every distribution of primitives.
+//  - cells: 2 (M cbrt(prims) + 1)^3 + 64, at most max_cells. The seed's
+//    formula gives (M cbrt(prims) + 1)^3 in a cube and up to 1.6 times that
+//    in the SPD scenes' boxes; a box thin along one axis would give many times
+//    more (the +1 per axis), and is held to the budget instead.
+//  - refs: prims (M + 1)^3 (a primitive one mean cell-side across overlaps
+//    at most that many cells; the SPD scenes take 1.8 - 4.2 per primitive at
+//    M = 1 - 2 and up to 49 at M = 8), plus four slabs of cells,
+//    4 (M cbrt(prims) + 1)^2 (a floor of two triangles spanning the box),
+//    plus 64; never below prims, at most max_refs. Primitives far larger
+//    than their cells everywhere (long thin triangles across the scene)
+//    would exceed it.
+struct GridBudget {
+    uint64_t cells, refs;
+};
+GridBudget uniform_grid_budget(uint64_t prims, double density, uint64_t max_cells, uint64_t max_refs);
+
 class UniformGrid final : public Accel {
 public:
     UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel = nullptr);

@@ -21,11 +21,14 @@ What is counted (bytes):
                 mount and balls), plus the build's per-primitive boxes (24).
                 The uniform grid (accel "grid"): per cell 4 (offsets) + 1
                 (empty-space distance) + 4 (the count array of the build);
-                per primitive reference 4. Cells follow the resolution formula
-                (about M^3 per primitive, capped at settings.max_cells);
-                references are estimated at 1 + M^2 per primitive (measured:
-                1.7 - 3.3 for M = 1, 2.7 - 7.5 for M = 2 on tessellated
-                spheres and triangle soups) and capped at the core's 2^27.
+                per primitive reference 4. Cells and references are the
+                budget the core's build keeps by lowering M (grid_budget,
+                uniform_grid.h): 2 (M cbrt N + 1)^3 + 64 cells and
+                N (M + 1)^3 + 4 (M cbrt N + 1)^2 + 64 references, capped at
+                max_cells and 2^27. It is an upper bound for every
+                distribution (long thin triangles across the scene, a box
+                thin along one axis), 1.7 - 70 times the actual structure
+                (core/bench/bench_builds.py).
   mailboxes     one 4-byte stamp per primitive per worker thread (uniform
                 grid with mailboxes on).
   textures      the images textures sample, each once (1 byte per channel
@@ -35,10 +38,10 @@ What is counted (bytes):
   images        the core's RGBA, depth, normal and albedo buffers (44 per pixel), the
                 copies read back at the end (36) and the host's render result
                 (Combined + Depth + Normal, 32): 112 per pixel.
-Checked against the resident memory of renders of 0.16M - 1.3M-triangle
-spheres (tests/test16_memory_estimate.py): the estimate is 1.25 - 1.35 times
-the measured figure, on the safe side. Long thin triangles spanning many cells
-can need more references, up to the 2^27 cap (512 MiB).
+Checked against the resident memory of a render of a 1M-triangle sphere
+(tests/test16_memory_estimate.py): with the adaptive grid the estimate is
+within 0.8 - 1.6 of the measured figure; with the uniform grid, whose budget
+is an upper bound, about 2.5 times.
 """
 from __future__ import annotations
 
@@ -46,7 +49,6 @@ import math
 import os
 from dataclasses import dataclass
 
-MAX_REFS = 1 << 27            # the core's cap on grid references (GridParams.max_refs)
 DEFAULT_FRACTION = 0.75       # default limit: this fraction of physical memory
 
 VERTEX_BYTES = 2 * 24         # position + normal, float32, ours and the core's
@@ -97,20 +99,14 @@ def format_bytes(n: float) -> str:
     raise AssertionError("unreachable")
 
 
-def grid_cells(primitives: int, density: float, max_cells: int) -> int:
-    """Cells of the uniform grid: about (M * cbrt(N) + 1)^3, capped at max_cells."""
+def grid_budget(primitives: int, density: float, max_cells: int) -> tuple[int, int]:
+    """(cells, references) the uniform grid holds at most: the core's own
+    budget (uniform_grid.h), which its build keeps by lowering M."""
     if primitives <= 0:
-        return 0
-    cells = math.ceil((density * primitives ** (1.0 / 3.0) + 1.0) ** 3)
-    return max(1, min(int(max_cells), cells))
-
-
-def grid_refs(primitives: int, density: float) -> int:
-    """Primitive references stored in the grid (estimate). The core caps them at
-    max(MAX_REFS, primitives): every primitive keeps at least one reference."""
-    if primitives <= 0:
-        return 0
-    return max(primitives, min(MAX_REFS, math.ceil(primitives * (1.0 + density * density))))
+        return 0, 0
+    from ._core import uniform_grid_budget
+    cells, refs = uniform_grid_budget(int(primitives), float(density), int(max_cells))
+    return int(cells), int(refs)
 
 
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,
@@ -142,8 +138,8 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
         grid = cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
     elif settings.accel == "grid" and prims:
         density = float(settings.grid_density)
-        cells = grid_cells(prims, density, int(settings.max_cells))
-        grid = cells * CELL_BYTES + 4 + grid_refs(prims, density) * REF_BYTES
+        cells, refs = grid_budget(prims, density, int(settings.max_cells))
+        grid = (cells + 1) * CELL_BYTES + refs * REF_BYTES
         if settings.mailboxes:
             threads = int(settings.threads) or (os.cpu_count() or 1)
             mailboxes = prims * STAMP_BYTES * threads

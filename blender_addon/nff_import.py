@@ -184,17 +184,27 @@ def add_camera(scene, collection, name, camera, far=1000.0):
 
 
 def set_world(scene, name, color):
+    """A world that camera rays see as the NFF background colour and that
+    lights nothing (NFF has no ambient light): Mix Shader(Is Camera Ray,
+    black Background, coloured Background), as Cycles users write it."""
     world = bpy.data.worlds.new(f"{name} background")
     world.color = tuple(color)
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     tree = world.node_tree
-    background = _node(tree, "BACKGROUND") or tree.nodes.new("ShaderNodeBackground")
-    output = _node(tree, "OUTPUT_WORLD") or tree.nodes.new("ShaderNodeOutputWorld")
-    if not output.inputs["Surface"].is_linked:
-        tree.links.new(background.outputs["Background"], output.inputs["Surface"])
-    background.inputs["Color"].default_value = (*color, 1.0)
-    background.inputs["Strength"].default_value = 1.0
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    output = tree.nodes.new("ShaderNodeOutputWorld")
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    path = tree.nodes.new("ShaderNodeLightPath")
+    dark, seen = tree.nodes.new("ShaderNodeBackground"), tree.nodes.new("ShaderNodeBackground")
+    dark.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    seen.inputs["Color"].default_value = (*color, 1.0)
+    seen.inputs["Strength"].default_value = 1.0
+    tree.links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    tree.links.new(dark.outputs["Background"], mix.inputs[1])
+    tree.links.new(seen.outputs["Background"], mix.inputs[2])
+    tree.links.new(mix.outputs["Shader"], output.inputs["Surface"])
     scene.world = world
 
 

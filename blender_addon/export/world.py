@@ -13,7 +13,10 @@ makes the environment what missing rays see (times Strength), and its
 average colour (cos-latitude weighted) x Strength the ambient term. Any other
 linked Color or Strength falls back to the world's viewport colour, with a
 warning naming the node. Without nodes: world.color, both as background and
-ambient. No world: black, as in Blender. Film Transparent (World.transparent, set by the
+ambient. A Mix Shader whose Fac is Light Path's Is Camera Ray, between two
+plain Background nodes (the NFF importer's world): the camera side is the
+background and the other side the ambient term (Cycles' mirror rays would see
+the other side; here they see the background). No world: black, as in Blender. Film Transparent (World.transparent, set by the
 export) makes camera rays that miss see nothing: RGB 0 and alpha 0, as
 Cycles writes them; mirror and refraction rays still see the world.
 """
@@ -32,6 +35,31 @@ def _background_node(tree):
     return active[0].inputs["Surface"].links[0].from_node
 
 
+def _camera_ray_mix(node):
+    """(camera rays' node, other rays' node) of a Mix Shader whose Fac is Light
+    Path's Is Camera Ray (a background that camera rays see and that lights
+    nothing, or lights in another colour); None for any other node."""
+    if node.type != "MIX_SHADER" or not node.inputs["Fac"].is_linked:
+        return None
+    link = node.inputs["Fac"].links[0]
+    if link.from_node.type != "LIGHT_PATH" or link.from_socket.name != "Is Camera Ray":
+        return None
+    other, camera = (n.links[0].from_node if n.is_linked else None for n in (node.inputs[1], node.inputs[2]))
+    return camera, other
+
+
+def _plain_background(world, node, warnings) -> tuple:
+    """Color x Strength of an unlinked Background node; black for no node."""
+    if node is None:
+        return (0.0, 0.0, 0.0)
+    if node.type != "BACKGROUND" or node.inputs["Color"].is_linked or node.inputs["Strength"].is_linked:
+        warnings.append(f"World {world.name!r}: only a plain Background node is read on each side of the "
+                        f"Is Camera Ray mix ({node.bl_idname} read as black)")
+        return (0.0, 0.0, 0.0)
+    strength = float(node.inputs["Strength"].default_value)
+    return tuple(float(c) * strength for c in tuple(node.inputs["Color"].default_value)[:3])
+
+
 def convert_world(world, textures, warnings: list) -> tuple:
     """(background RGB, gridwalk.World) of a Blender world (None: black, no light)."""
     if world is None:
@@ -43,6 +71,10 @@ def convert_world(world, textures, warnings: list) -> tuple:
     node = _background_node(tree)
     if node is None:
         return (0.0, 0.0, 0.0), World()
+    camera_only = _camera_ray_mix(node)
+    if camera_only is not None:
+        seen, lit = (_plain_background(world, n, warnings) for n in camera_only)
+        return seen, World(ambient=lit)
     if node.type != "BACKGROUND":
         warnings.append(f"World {world.name!r}: unsupported shader {node.bl_idname}, "
                         "using the world viewport colour")

@@ -24,7 +24,9 @@ def import_and_render(kind, path, out) -> dict:
     """The import rendered by GRIDWALK in Blender (rgba) and the core's render of the file (core)."""
     info, arrays = import_nff(kind, path, out, "render=" + json.dumps(SETTINGS))
     nff = load_nff(path)
-    core = gridwalk.render(gridwalk.Scene(**nff), gridwalk.RenderSettings(**info["render_settings"]))
+    # the import is rendered with Film Transparent (camera misses RGB 0, alpha 0, as Cycles)
+    core = gridwalk.render(gridwalk.Scene(**nff, world=gridwalk.World(transparent=True)),
+                           gridwalk.RenderSettings(**info["render_settings"]))
     rgba = exr.rgba(exr.read_exr(out / "gridwalk.exr"), "ViewLayer.Combined.")
     return {"kind": kind, "info": info, "arrays": arrays, "nff": nff, "core": core, "rgba": rgba, "out": out}
 

@@ -87,6 +87,8 @@ SLOW_UNDER_ASAN = [
 # many small per-cell allocations came out at 1.8x the estimate).
 MEASURES_RESIDENT_MEMORY = [
     "tests/test16_memory_estimate.py::test_estimate_is_close_to_the_memory_a_render_uses",
+    "tests/test18_ply_scanner_files.py::test_a_large_file_is_read_in_bounded_memory",
+    "tests/test19_scene_file_findings.py::test_junk_is_refused_in_bounded_memory_with_a_short_message",
 ]
 
 

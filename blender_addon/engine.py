@@ -13,6 +13,7 @@ is honoured between the stages and, through streaming.run, while rendering.
 """
 import os
 import sys
+import threading
 import time
 
 import bpy
@@ -80,6 +81,14 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         session = self.__dict__.get("viewport")
         if session is not None:
             session.stop()
+        # The viewport's worker briefly holds the engine to tag a redraw; if
+        # Blender frees the engine meanwhile, this runs on that worker, and a
+        # GPU texture freed off the main thread crashes Blender (seen when a
+        # quad view ended in Blender 3.4). The texture waits for the main thread.
+        texture = self.__dict__.pop("viewport_texture", None)
+        if texture is not None and threading.current_thread() is not threading.main_thread():
+            from .viewport_draw import free_on_main_thread
+            free_on_main_thread(texture)
 
     # -- Rendered viewport shading (viewport.py; never called in `blender -b`) --
     def _viewport(self):
@@ -101,6 +110,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         t0 = time.perf_counter()
         try:
             from . import viewport_draw
+            viewport_draw.free_kept()
             viewport_draw.draw(self, self._viewport(), context, depsgraph)
         except Exception as exc:
             print(f"Gridwalk viewport: {exc}")

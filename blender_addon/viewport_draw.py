@@ -14,6 +14,21 @@ import gpu
 from gpu_extras.presets import draw_texture_2d
 
 
+KEPT = []   # textures of engines freed off the main thread: freed by the next view_draw
+
+
+def free_on_main_thread(texture):
+    """Keep `texture` alive until free_kept() runs on the main thread (a list
+    append is atomic under the GIL)."""
+    KEPT.append(texture)
+
+
+def free_kept():
+    """Free the kept textures (main thread, in view_draw: a GPU context is current)."""
+    while KEPT:
+        KEPT.pop()
+
+
 class Texture:
     """The display image on the GPU, uploaded again only when it changed."""
 

@@ -100,6 +100,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
     def view_update(self, context, depsgraph):
         t0 = time.perf_counter()
         try:
+            from . import viewport_draw
+            viewport_draw.free_kept()          # main thread: textures of engines freed on a worker
             self._viewport().update(depsgraph)
         except Exception as exc:           # shown in the viewport, never raised into Blender
             print(f"Gridwalk viewport: {exc}")

@@ -168,9 +168,12 @@ class ViewportSession:
         with self.lock:
             view, settings = self.view, self.settings
         width, height = (view[1].width, view[1].height) if view is not None else (1, 1)
+        images = kwargs.get("images") or []
         estimate = memory.estimate(len(kwargs["triangles"]), len(kwargs["vertices"]), len(kwargs["sphere_radii"]),
                                    width=width, height=height, settings=settings,
-                                   normals=kwargs["normals"] is not None)
+                                   normals=kwargs["normals"] is not None,
+                                   texture_bytes=sum(image.memory_bytes for image in images),
+                                   uvs=kwargs.get("uvs") is not None, colors=kwargs.get("colors") is not None)
         limit, source = memory_limit(scene.gridwalk, memory)
         memory.check(estimate, limit, f"This scene ({len(kwargs['triangles']):,} triangles)", source)
 

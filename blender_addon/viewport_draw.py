@@ -14,7 +14,7 @@ import gpu
 from gpu_extras.presets import draw_texture_2d
 
 
-KEPT = []   # textures of engines freed off the main thread: freed by the next view_draw
+KEPT = []   # textures of engines freed off the main thread: freed by the next view_update / view_draw
 
 
 def free_on_main_thread(texture):
@@ -24,7 +24,7 @@ def free_on_main_thread(texture):
 
 
 def free_kept():
-    """Free the kept textures (main thread, in view_draw: a GPU context is current)."""
+    """Free the kept textures (main thread: view_update or view_draw, where the GPU module is usable)."""
     while KEPT:
         KEPT.pop()
 

@@ -290,3 +290,20 @@ def test_transparent_film_hides_the_world_from_camera_rays_only():
     miss = rgba[..., 3] == 0
     assert miss.mean() > 0.3 and np.all(rgba[miss] == 0)              # premultiplied: nothing behind
     np.testing.assert_allclose(rgba[N // 2, N // 2], [1.0, 1.0, 1.0, 1.0], atol=1e-6)   # the mirror sees the sky
+
+
+@pytest.mark.parametrize("transparent", [False, True])
+def test_a_partly_transparent_surface_covers_its_alpha_and_film_transparent_shows_nothing_behind(transparent):
+    """A square of alpha 0.25 (emission red) over the sky: its pixels' alpha is
+    0.25, its coverage; behind it the camera sees the sky, or with Film
+    Transparent nothing (premultiplied: RGB = 0.25 x red), as Cycles writes it."""
+    verts, tris, uvs = _square()
+    sky = gw.Texture(gw.Image(np.full((2, 4, 3), 0.5, np.float32)))
+    scene = gw.Scene(verts, tris, uvs=uvs, camera=_ortho(), textures=[sky],
+                     materials=[gw.Material(kd=0, ks=0, emission_color=(1, 0, 0), alpha=0.25)],
+                     world=gw.World(environment=0, transparent=transparent))
+    out = gw.render(scene)
+    behind = np.zeros(3) if transparent else np.full(3, 0.5)
+    np.testing.assert_allclose(out[..., :3], np.broadcast_to(0.25 * np.array([1.0, 0, 0]) + 0.75 * behind,
+                                                             (N, N, 3)), atol=1e-6)
+    np.testing.assert_allclose(out[..., 3], 0.25, atol=1e-6)

@@ -156,7 +156,8 @@ def run_fuzzer(kind, runs, workdir: Path, env=None):
         f"fuzz_{kind} failed (exit {proc.returncode}); add each input below to "
         f"tests/fuzz/regressions/:\n{shown}\n{_tail(logged)}\n{_tail(output)}")
     assert not any(m in output for m in SANITIZER_MARKS), _tail(output)
-    print(f"fuzz_{kind}: {done[-1] if done else '?'} -> {seconds:.1f} s")
+    assert done, f"fuzz_{kind} exited without running its inputs:\n{_tail(output)}"
+    print(f"fuzz_{kind}: {done[-1]} -> {seconds:.1f} s")
     return seconds
 
 

@@ -71,6 +71,26 @@ def test_tiles_cover_every_pixel_exactly_once():
             plan.parse_frames(bad)
 
 
+def test_the_kept_tiles_digest_changes_with_any_pixel_value_or_field_of_the_scene():
+    """A re-run keeps tiles only when the scene is the same: a texture's pixels,
+    one value deep in a long array and a record's field all change the digest."""
+    from gridwalk.renderfarm.core_job import _scene_digest
+    pixels = np.zeros((64, 64, 3), np.uint8)
+    base = {"images": [gridwalk.Image(pixels, name="tex")], "uvs": [np.zeros((2000, 3, 2), np.float32)],
+            "materials": [gridwalk.Material(color=(0.5, 0.5, 0.5))]}
+    edited_pixels = pixels.copy()
+    edited_pixels[40, 40, 1] = 7
+    edited_uvs = np.zeros((2000, 3, 2), np.float32)
+    edited_uvs[1000, 1, 0] = 0.25
+    variants = [{**base, "images": [gridwalk.Image(edited_pixels, name="tex")]},
+                {**base, "images": [gridwalk.Image(pixels, colorspace="linear", name="tex")]},
+                {**base, "uvs": [edited_uvs]},
+                {**base, "materials": [gridwalk.Material(color=(0.5, 0.5, 0.6))]}]
+    digest = _scene_digest(base)
+    assert _scene_digest(dict(base)) == digest
+    assert all(_scene_digest(v) != digest for v in variants)
+
+
 def test_nff_tiles_put_together_equal_the_single_machine_render(cluster, tmp_path):
     address, _ = cluster
     settings = RenderSettings(aa="adaptive", shadow="area", shadow_samples=2)   # lattice points shared by tiles

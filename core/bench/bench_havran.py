@@ -13,6 +13,7 @@ from bench_meshes import LABELS, random_soup, scene_kwargs
 from gridwalk.io import load_ply
 
 HAVRAN = {"balls": (41.5, 17.3), "mount": (13.3, 15.0)}   # tests per ray, cells per ray at their best grid
+SCALING_GOAL = 0.95           # speed-up per thread (issue 10: at least 1.9x on 2 threads)
 TESTS_GOAL = {"balls_s4": 10.0, "mount_s8": 8.0}           # issue 10: the adaptive grid at default settings
 
 
@@ -101,7 +102,7 @@ def run(sizes, suzanne, out) -> Section:
                             f"uniform grid's {default['time']:.2f} s at M = 2"
                             + (f" (goal: at most {goal:g} tests per ray)" if goal else ""))
         if goal and ad["tests_per_ray"] > goal:
-            sec.gaps.append(f"Tests per ray, {LABELS.get(name, name)}: {ad['tests_per_ray']:.1f} with the adaptive "
+            sec.gaps.append(f"Tests per ray, {LABELS.get(name, name)}: {ad['tests_per_ray']:.2f} with the adaptive "
                             f"grid at default settings, above the goal of {goal:g}.")
         sec.headline.append(f"{LABELS.get(name, name)}: {default['tests']:.1f} tests / {default['walked']:.1f} cells "
                             f"per ray at M = 2, {best['tests']:.1f} / {best['walked']:.1f} at the fastest M = "
@@ -155,7 +156,7 @@ def run(sizes, suzanne, out) -> Section:
         fig_ax[1][0].plot(threads, [ts[0] / t for t in ts], "o-", label=LABELS.get(name, name))
         scale_rows += [[LABELS.get(name, name), t, f"{s:.2f} s", f"{ts[0] / s:.2f}x", f"{ts[0] / s / t:.0%}",
                         f"{r[1]['cpu_seconds'] / s:.2f}"] for t, s, r in zip(threads, ts, runs)]
-        if NPROC > 1 and ts[0] / ts[-1] < 0.8 * NPROC:
+        if NPROC > 1 and ts[0] / ts[-1] < SCALING_GOAL * NPROC:
             cpu = runs[-1][1]["cpu_seconds"] / ts[-1]
             sec.gaps.append(
                 f"Thread scaling, {LABELS.get(name, name)}: {ts[0] / ts[-1]:.2f}x on {NPROC} threads "
@@ -169,7 +170,7 @@ def run(sizes, suzanne, out) -> Section:
     fig_ax[1][0].set_ylabel("speed-up over 1 thread")
     fig_ax[1][0].legend(fontsize=8)
     sec.lines += [f"**Thread scaling** (adaptive grid, 1 to `nproc` = {NPROC} threads, mailboxes on, best of "
-                  f"{sizes.reps} rounds taking turns; goal: at least 1.9x on 2 threads):", ""]
+                  f"{sizes.reps} rounds taking turns; goal: at least {SCALING_GOAL * 2:g}x on 2 threads):", ""]
     sec.lines += table(["scene", "threads", "render time", "speed-up", "efficiency", "CPU/wall"], scale_rows)
     sec.lines += [save(fig_ax[0], out, "havran_threads"), ""]
 

@@ -153,7 +153,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     Hit hit;
     hit.t = ray.tmax;
     if (!accel_.closest(r, hit, ctx))
-        return type == RayType::Primary && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
+        return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);   // fh: the camera's own path
     const SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
     Material textured;
@@ -161,17 +161,23 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     const Material& m = stored.varies() ? textured : stored;
     if (fh) {
         fh->hit = true;
+        fh->alpha = 1;
         fh->depth = hit.t * dot(ray.d, view_axis);
         fh->normal = sp.ns;
         fh->albedo = m.color;
     }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
-            if (fh) fh->hit = false;
+            if (fh) fh->hit = false, fh->alpha = 0;
             return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
         }
+        // On the camera's path what lies behind is traced with a FirstHit of its
+        // own: with Film Transparent its misses are transparent, and its
+        // coverage makes this sample's alpha (the passes keep this surface).
+        FirstHit beyond;
         const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
-                                             nullptr, Vec3());
+                                             fh ? &beyond : nullptr, view_axis);
+        if (fh) fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
         Material opaque = m;
         opaque.alpha = 1;
         const Vec3 front = shade_hit(sp, ray, opaque, depth, weight * m.alpha, split, st, ctx);
@@ -184,7 +190,8 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
 Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
                                   RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
                                   const Vec3& view_axis) const {
-    if (depth >= s_.max_depth + 16) return scene_.miss(ray.d);   // a stack of cut-outs
+    if (depth >= s_.max_depth + 16)   // a stack of cut-outs: seen as a miss
+        return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
     Ray next = ray;
     next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
     next.spawned = true;
@@ -192,6 +199,7 @@ Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int de
     // The passes measure depth from the camera: the offset origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
+    if (fh) fh->alpha = behind.alpha;
     if (fh && behind.hit) {
         *fh = behind;
         fh->depth += dot(next.o - ray.o, view_axis);

@@ -23,6 +23,7 @@ struct FirstHit {
     float depth = kInf;   // distance along the camera's view axis
     Vec3 normal;          // world-space shading normal (outward)
     Vec3 albedo;          // the surface's base colour (the Denoising Albedo pass)
+    float alpha = 0;      // coverage: 1 opaque, a partly covered surface's alpha over what lies behind, 0 a miss
 };
 
 class Integrator {

@@ -19,7 +19,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
         SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;
         sum += integrator_.camera_ray(ray, camera_.depth_axis(ray), st, ctx, &local);
-        if (local.hit) hits += 1;
+        hits += local.alpha;
         if (fh && j == 0) *fh = local;
     }
     const float inv = 1.0f / float(nd);

@@ -58,6 +58,9 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     for (int a = 0; a < 3; ++a)
         if (!flat[a]) { ++k; vol *= double(hi_[a] - lo_[a]); }
     const double side = k ? std::pow(vol / double(np), 1.0 / k) : 1.0;
+    if (uint64_t(np) > 0xFFFFFFF0ull)   // offsets and primitive indices are 32-bit
+        throw std::invalid_argument("the uniform grid holds at most 4,294,967,280 primitives, got " +
+                                    std::to_string(np));
     const GridBudget budget = uniform_grid_budget(np, p.density, p.max_cells, p.max_refs);
     const uint64_t max_cells = budget.cells, max_refs = budget.refs;
     double m = p.density;

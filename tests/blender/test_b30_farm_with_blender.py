@@ -146,7 +146,10 @@ def test_ctrl_c_stops_blender_on_every_worker(animation, scheduler, tmp_path):
 
 def flamenco_tasks(settings: dict) -> dict:
     if shutil.which("node") is None:
-        pytest.skip("node is missing: run .ci/setup_blender.sh (apt-get install nodejs)")
+        message = "node is missing: run .ci/setup_blender.sh (apt-get install nodejs)"
+        if os.environ.get("CI"):             # .ci/setup installs it: in CI a missing node is a failure
+            pytest.fail(message)
+        pytest.skip(message)
     proc = subprocess.run(["node", str(FLAMENCO_HOST), str(JOB_TYPE), json.dumps(settings)],
                           capture_output=True, text=True, timeout=30)
     assert proc.returncode == 0, proc.stderr

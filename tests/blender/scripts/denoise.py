@@ -71,7 +71,8 @@ def main(argv):
     scene.render.use_compositing = True
     render(bpy, scene, os.path.join(out_dir, "denoised.exr"), 2, False)
     with open(os.path.join(out_dir, "info.json"), "w") as f:
-        json.dump({"blender": list(bpy.app.version)}, f)
+        json.dump({"blender": list(bpy.app.version),
+                   "oidn": bool(__import__("_cycles").with_openimagedenoise)}, f)   # Cycles' module
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import __version__, io
 from ..cli import check_output, write_image
+from ..image import Image
 from ..render import RenderJob
 from ..scene import Scene
 from ..settings import RenderSettings
@@ -66,13 +67,33 @@ class CoreTiles(JobPlugin):
 
 
 def _scene_digest(kwargs: dict) -> str:
+    """What the tiles were rendered from: every array's bytes, every image's
+    pixels, every record's fields, however deeply nested (a repr would
+    shorten long arrays with "..." and names only an Image's size)."""
     parts = []
-    for name in sorted(kwargs):
-        value = kwargs[name]
+
+    def add(value):
         if isinstance(value, np.ndarray):
-            parts += [name, value.dtype.str, value.shape, np.ascontiguousarray(value).tobytes()]
+            parts.extend([value.dtype.str, value.shape, np.ascontiguousarray(value).tobytes()])
+        elif isinstance(value, Image):
+            parts.extend(["Image", value.colorspace])
+            add(value.pixels())
+        elif isinstance(value, dict):
+            parts.append(("dict", len(value)))
+            for key in sorted(value, key=repr):
+                parts.append(key)
+                add(value[key])
+        elif isinstance(value, (list, tuple)):
+            parts.append((type(value).__name__, len(value)))
+            for item in value:
+                add(item)
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            parts.append(type(value).__name__)
+            add(dataclasses.asdict(value))
         else:
-            parts += [name, value]
+            parts.append(value)
+
+    add(kwargs)
     return plan.digest(*parts)
 
 

@@ -70,7 +70,8 @@ def test_structures_stay_within_their_estimate_on_worst_case_distributions(accel
         est = memory.estimate(len(kw["triangles"]), len(kw["vertices"]), settings=gw.RenderSettings(accel=accel))
         assert info["bytes"] <= est.grid, (name, info["bytes"], est.grid, info.get("note"))
         if accel == "grid":
-            cells, refs = memory.grid_budget(scene.num_primitives, 2.0, 1 << 24)
+            defaults = gw.RenderSettings()
+            cells, refs = memory.grid_budget(scene.num_primitives, defaults.grid_density, defaults.max_cells)
             assert info["cells"] <= cells and info["refs"] <= refs, (name, info)
 
 

@@ -18,8 +18,8 @@ constexpr int kMaxGridDepth = 7;   // refining levels the traversal's stack hold
 struct AdaptiveParams {
     double root_density = 1.0;   // root grid: cells per primitive
     double sub_density = 2.0;    // refining grids: cells per primitive of their cell
-    int leaf_size = 8;           // a cell with more primitives than this is refined (deeper: x 4 per level)
-    int max_depth = 2;           // refining levels below the root
+    int leaf_size = RenderSettings{}.leaf_size;     // a cell with more primitives than this is refined (deeper: x 4 per level)
+    int max_depth = RenderSettings{}.grid_levels;   // refining levels below the root
     double max_refs_per_prim = 3.0;   // a grid's references per primitive (its resolution is lowered past it)
     int big_cells = 64;          // a primitive covering more cells of a grid than this is "large" there ...
     int big_max = 16;            // ... and up to this many large ones per grid are tested once per ray

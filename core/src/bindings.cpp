@@ -13,6 +13,7 @@
 #include "bind_casters.h"
 #include "bindings.h"
 #include "render_job.h"
+#include "adaptive_grid.h"
 #include "uniform_grid.h"
 
 namespace nb = nanobind;
@@ -155,6 +156,9 @@ NB_MODULE(_core, m) {
               return build_accel(std::move(scene), s, cancel.get());
           },
           "scene"_a, "settings"_a, "cancel"_a.none() = nb::none());
+
+    m.attr("ADAPTIVE_MAX_CELLS") = AdaptiveParams{}.max_cells;   // the adaptive grid's caps, for gridwalk.memory
+    m.attr("ADAPTIVE_MAX_REFS") = AdaptiveParams{}.max_refs;
 
     m.def("uniform_grid_budget",
           [](uint64_t prims, double density, uint64_t max_cells) {

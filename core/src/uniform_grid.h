@@ -9,8 +9,8 @@
 namespace gw {
 
 struct GridParams {
-    double density = 2.0;              // the seed's M
-    uint64_t max_cells = 1ull << 24;   // cap on nx*ny*nz
+    double density = RenderSettings{}.grid_density;   // the seed's M
+    uint64_t max_cells = RenderSettings{}.max_cells;  // cap on nx*ny*nz
     uint64_t max_refs = 1ull << 27;    // cap on primitive references (4 bytes each)
 };
 

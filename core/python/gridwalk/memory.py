@@ -49,6 +49,8 @@ import math
 import os
 from dataclasses import dataclass
 
+from . import _core
+
 DEFAULT_FRACTION = 0.75       # default limit: this fraction of physical memory
 
 VERTEX_BYTES = 2 * 24         # position + normal, float32, ours and the core's
@@ -61,8 +63,8 @@ ADAPTIVE_CELL_BYTES = 8
 ADAPTIVE_CELLS = 2.0          # cells per primitive, all levels
 ADAPTIVE_REFS = 6.0           # references per primitive, all levels
 ADAPTIVE_BUILD_BYTES = 24     # the build's box per primitive
-ADAPTIVE_MAX_CELLS = 1 << 26  # the core's caps (AdaptiveParams)
-ADAPTIVE_MAX_REFS = 1 << 28
+ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
+ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4
 PIXEL_BYTES = 44 + 36 + 32
 
@@ -104,8 +106,7 @@ def grid_budget(primitives: int, density: float, max_cells: int) -> tuple[int, i
     budget (uniform_grid.h), which its build keeps by lowering M."""
     if primitives <= 0:
         return 0, 0
-    from ._core import uniform_grid_budget
-    cells, refs = uniform_grid_budget(int(primitives), float(density), int(max_cells))
+    cells, refs = _core.uniform_grid_budget(int(primitives), float(density), int(max_cells))
     return int(cells), int(refs)
 
 

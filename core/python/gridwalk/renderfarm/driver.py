@@ -148,7 +148,8 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
         store = ResultStore(job.folder, job.digest)
         report = FarmReport(what=job.what)
         report.reused = [item for item in job.items if store.find(job.stem(item)) is not None]
-        todo = [item for item in job.items if item not in set(report.reused)]
+        reused = set(report.reused)
+        todo = [item for item in job.items if item not in reused]
         if not quiet:
             kept = f"; {len(report.reused)} {job.what}s kept from an earlier run" if report.reused else ""
             print(f"gridwalk farm: {job.describe()} on {len(client.scheduler_info()['workers'])} workers{kept}",

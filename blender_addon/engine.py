@@ -81,10 +81,10 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         session = self.__dict__.get("viewport")
         if session is not None:
             session.stop()
-        # The viewport's worker briefly holds the engine to tag a redraw; if
-        # Blender frees the engine meanwhile, this runs on that worker, and a
-        # GPU texture freed off the main thread crashes Blender (seen when a
-        # quad view ended in Blender 3.4). The texture waits for the main thread.
+        # Should Blender free the engine off the main thread, a GPU texture
+        # freed there would crash it (seen in Blender 3.4 when a quad view
+        # ended, while a Python worker could hold the engine): the texture
+        # waits for the main thread.
         texture = self.__dict__.pop("viewport_texture", None)
         if texture is not None and threading.current_thread() is not threading.main_thread():
             from .viewport_draw import free_on_main_thread

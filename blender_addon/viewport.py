@@ -2,28 +2,37 @@
 
 One ViewportSession per engine instance (a quad view has four). On the main
 thread, view_update exports the depsgraph into a MeshCache kept between
-updates (only changed meshes are read, only moved instances transformed)
-and compares the export's signature with the last one: geometry,
-transforms, materials, lights, world or render settings restart the render;
-anything else (colour management, selection) only redraws. view_draw turns
-the region's matrices into a camera (export/viewport_camera.py) and
-restarts the render when the view, projection or region size changes
-(resizes are debounced).
+updates (only changed meshes are read, only moved instances transformed),
+compares the export's signature with the last one and builds the
+gridwalk.Scene: geometry, transforms, materials, lights, world or render
+settings restart the render; anything else (colour management, selection)
+only redraws. view_draw turns the region's matrices into a camera
+(export/viewport_camera.py) and restarts the render when the view,
+projection or region size changes (a resize waits RESIZE_DEBOUNCE_SECONDS
+for the size to settle).
 
-A Python worker thread builds the gridwalk.Scene and its grid (the grid
-build releases the GIL) and runs the passes as gridwalk.RenderJobs (native
-threads, GIL released): a coarse pass (blocks of start_pixels x the pixel
-size), then full-resolution passes of one random camera sample per pixel,
-averaged, up to the viewport sample count. Until the render settings'
-acceleration structure is built for the latest scene, the coarse pass traces a quick structure (a coarse uniform grid, QUICK_GRID: it builds
-in a fraction of the render settings' structure's time, about 0.09 s
-against 1 - 3 s for 1M triangles), so the first new pixels do not wait for
-the full build; the full-resolution passes use the render settings' own
-structure, whose build a new request cancels. With Threads = 0 it renders on
-all cores but one, which Blender's main loop keeps. A new request cancels the
-running job, which returns once its threads have stopped; stop() joins the
-worker. It calls the engine's tag_redraw (through a weak reference, so the
-engine can still be freed) when new tiles arrive.
+The render runs in a gridwalk.ProgressiveRenderer (one native controller
+thread per session, named "gridwalk-view", plus the render threads): it
+builds the structures, runs the passes and accumulates their tiles into the
+display image, and never runs Python. No Python thread is started here:
+Blender (3.4 - 5.0, on Python 3.11) crashes when a Python thread runs while
+the main thread is inside an operator called from Python with a context
+override, because it then touches Python objects without the GIL (seen when
+a script generated a material preview while the viewport rendered).
+
+The passes: a coarse one (blocks of start_pixels x the pixel size), then
+full-resolution passes of one random camera sample per pixel, averaged, up
+to the viewport sample count. Until the render settings' acceleration
+structure is built for the latest scene, the coarse pass traces a quick
+structure (a coarse uniform grid, QUICK_GRID: it builds in a fraction of
+the render settings' structure's time, about 0.09 s against 1 - 3 s for 1M
+triangles), so the first new pixels do not wait for the full build. With
+Threads = 0 it renders on all cores but one, which Blender's main loop keeps.
+A new request cancels the running one without waiting for it.
+
+A timer on Blender's main thread (tick) collects the progress: it copies the
+image when it changed (at most every REDRAW_SECONDS, and at once for the
+first pixels of a request or its end) and tags the engine's redraw.
 
 Nothing here imports gpu: drawing lives in viewport_draw.py.
 """
@@ -38,11 +47,13 @@ import weakref
 
 import numpy as np
 
-POLL_SECONDS = 0.01
-REDRAW_SECONDS = 0.25          # at most 4 redraws a second from the worker (and one per pass)
+TICK_SECONDS = 0.02            # the main-thread timer, while a session renders
+IDLE_TICK_SECONDS = 0.25       # ... while every session is done
+REDRAW_SECONDS = 0.25          # at most 4 image copies and redraws a second (and one per request's start and end)
 RESIZE_DEBOUNCE_SECONDS = 0.3
 QUICK_GRID = dict(accel="grid", grid_density=0.3)   # ~0.03 cells per primitive: the coarse pass's structure
 SESSIONS = weakref.WeakSet()   # every live session, stopped on file load and at exit
+HALF_LIMIT = 65000.0           # below the half-float maximum (65504): beyond it the view turns black
 
 
 def stop_all():
@@ -53,89 +64,87 @@ def stop_all():
 atexit.register(stop_all)
 
 
-HALF_LIMIT = 65000.0            # below the half-float maximum (65504): beyond it the view turns black
+def tick():
+    """bpy.app.timers callback (main thread): every session collects its
+    progress and redraws when its image changed."""
+    live = list(SESSIONS)
+    if not live:
+        return None                    # unregistered; the next session registers it again
+    busy = False
+    for session in live:
+        if session.poll():
+            session._redraw()
+        busy = busy or session.busy
+    return TICK_SECONDS if busy else IDLE_TICK_SECONDS
+
+
+def _ensure_timer():
+    try:
+        import bpy
+    except ImportError:                # outside Blender (tests drive poll() themselves)
+        return
+    if not bpy.app.timers.is_registered(tick):
+        bpy.app.timers.register(tick, first_interval=TICK_SECONDS, persistent=True)
 
 
 class Display:
-    """The image the viewport shows: (h, w, 4) float32, scene-linear, rows
-    bottom-up (as the GPU texture wants them), values finite and within
-    +-HALF_LIMIT (tiles are cleaned as they arrive, off the main thread).
-    Coarse tiles are stretched over their block of pixels until
-    full-resolution tiles arrive; full-resolution passes are averaged."""
+    """The image the viewport shows, as last copied from the renderer:
+    (h, w, 4) float32, scene-linear, rows bottom-up (as the GPU texture wants
+    them), values finite and within +-HALF_LIMIT. Coarse tiles are stretched
+    over their block of pixels until full-resolution tiles arrive;
+    full-resolution passes are averaged (in the core)."""
 
     def __init__(self):
         self.rgba = np.zeros((1, 1, 4), np.float32)
-        self.accum = np.zeros((1, 1, 4), np.float32)
-        self.count = np.zeros((1, 1, 1), np.float32)
         self.version = 0
-
-    def reset(self, width: int, height: int):
-        """A new render of width x height: keep the last image (resized) on show."""
-        if self.rgba.shape[:2] != (height, width):
-            rows = np.minimum(np.arange(height) * self.rgba.shape[0] // height, self.rgba.shape[0] - 1)
-            cols = np.minimum(np.arange(width) * self.rgba.shape[1] // width, self.rgba.shape[1] - 1)
-            self.rgba = np.ascontiguousarray(self.rgba[rows][:, cols])
-        self.accum = np.zeros((height, width, 4), np.float32)
-        self.count = np.zeros((height, width, 1), np.float32)
-        self.version += 1
-
-    def add_tile(self, x: int, y: int, rgba: np.ndarray, block: int):
-        """A finished tile whose top-left pixel is (x, y), row 0 at the top, of a
-        pass rendered at 1/block of the resolution."""
-        rgba = np.clip(np.nan_to_num(rgba[::-1], nan=0.0), -HALF_LIMIT, HALF_LIMIT)
-        height = self.rgba.shape[0]
-        if block == 1:
-            h, w = rgba.shape[:2]
-            rows = slice(height - y - h, height - y)
-            self.accum[rows, x:x + w] += rgba
-            self.count[rows, x:x + w] += 1.0
-            self.rgba[rows, x:x + w] = self.accum[rows, x:x + w] / self.count[rows, x:x + w]
-        else:
-            big = np.repeat(np.repeat(rgba, block, axis=0), block, axis=1)
-            y1, x0 = height - y * block, x * block                 # the block's bottom edge, bottom-up
-            h, w = min(big.shape[0], y1), min(big.shape[1], self.rgba.shape[1] - x0)
-            if h > 0 and w > 0:
-                self.rgba[y1 - h:y1, x0:x0 + w] = big[big.shape[0] - h:, :w]
-        self.version += 1
 
 
 class Pass:
-    def __init__(self, block: int, settings, camera, index: int):
-        self.block, self.settings, self.camera, self.index = block, settings, camera, index
+    """`repeat` renders of `camera` at 1/block of the view's resolution."""
+    def __init__(self, block: int, settings, camera, repeat: int = 1):
+        self.block, self.settings, self.camera, self.repeat = block, settings, camera, repeat
 
 
 class ViewportSession:
-    """The render behind one viewport; see the module docstring."""
+    """The render behind one viewport; see the module docstring. Every method
+    runs on Blender's main thread."""
 
     def __init__(self, engine):
+        import gridwalk
+
         from .export import MeshCache
         self._engine = weakref.ref(engine)
         self.cache = MeshCache()
-        self.lock = threading.Condition()
+        self.lock = threading.RLock()
         self.display = Display()
         self.signature = None
         self.scene_kwargs = None       # the latest export (None: nothing to render)
+        self.gw_scene = None           # its gridwalk.Scene
         self.scene_version = 0
         self.settings = None           # gridwalk.RenderSettings for the viewport
         self.samples, self.start_pixels, self.opaque = 1, 1, True
         self.view = None               # (key, Camera at full resolution, pixel size)
         self.view_version = 0
         self.settings_version = 0
-        self.not_before = 0.0          # a debounced resize waits until then
         self.message = ""              # status for the viewport's header
         self.timings = {}              # of the latest scene: export, scene, grid, first pixels
         self.main_thread = collections.deque(maxlen=256)   # (call, seconds) of view_update / view_draw
-        self.job = None
-        self.finished = None           # the (scene, view) versions whose render completed
+        self.finished = None           # the (scene, view, settings) versions whose render completed
         self.full_built = None         # the (scene, settings) versions whose full structure is built
         self.stopping = False
-        self.thread = threading.Thread(target=self._run, name="gridwalk-viewport", daemon=True)
-        self.thread.start()
+        self.busy = False              # a request is submitted and not finished
+        self.renderer = gridwalk.ProgressiveRenderer()
+        self.request = None            # (id, versions, passes, full structure index, submit time)
+        self.shown = (-1, -1, 0.0)     # (request id, image version, time) of the last copy
+        self.reported = None           # (request id, pass, done, error) the message reflects
         SESSIONS.add(self)
+        _ensure_timer()
 
-    # -- main thread ----------------------------------------------------------
+    # -- the scene, settings and view -------------------------------------
     def update(self, depsgraph):
         """From view_update: export what changed; restart if the scene did."""
+        import gridwalk
+
         from .export import Export, ExportError
         t0 = time.perf_counter()
         self.cache.invalidate(depsgraph.updates)
@@ -147,16 +156,18 @@ class ViewportSession:
                 return False
             kwargs, _ = export.kwargs()
             self._check_memory(kwargs, depsgraph.scene)
-            message = ""
-        except (ExportError, MemoryError) as exc:
-            kwargs, signature, message = None, None, f"Gridwalk: {exc}"
-        t1 = time.perf_counter()
+            t1 = time.perf_counter()
+            gw_scene, message = gridwalk.Scene(**kwargs), ""
+        except (ExportError, MemoryError, ValueError) as exc:
+            t1 = time.perf_counter()
+            kwargs, gw_scene, signature, message = None, None, None, f"Gridwalk: {exc}"
+        t2 = time.perf_counter()
         with self.lock:
             self.signature = signature
-            self.scene_kwargs, self.message = kwargs, message
+            self.scene_kwargs, self.gw_scene, self.message = kwargs, gw_scene, message
             self.scene_version += 1
-            self.timings = {"edit": t0, "export": t1 - t0}
-            self.lock.notify_all()
+            self.timings = {"edit": t0, "export": t1 - t0, "scene": t2 - t1}
+        self._restart()
         return True
 
     def _check_memory(self, kwargs, scene):
@@ -192,7 +203,7 @@ class ViewportSession:
             self.settings = settings
             self.samples, self.start_pixels, self.opaque = options
             self.settings_version += 1
-            self.lock.notify_all()
+        self._restart()
 
     def set_view(self, key, camera, pixel_size: int):
         """From view_draw: the region's view (`key` tells views apart; its first
@@ -202,70 +213,33 @@ class ViewportSession:
                 return
             resized = self.view is not None and self.view[0][2:] == key[2:]
             self.view = (key, camera, pixel_size)
-            self.not_before = time.monotonic() + (RESIZE_DEBOUNCE_SECONDS if resized else 0.0)
             self.view_version += 1
-            self.lock.notify_all()
+        self._restart(delay=RESIZE_DEBOUNCE_SECONDS if resized else 0.0)
 
-    def idle(self) -> bool:
-        """Whether the latest scene and view are rendered completely."""
-        with self.lock:
-            return self.finished == self._versions()
-
-    def stop(self):
-        """Cancel the running job and join the worker. Safe to call twice and
-        from any thread (from the worker itself it only asks it to stop)."""
-        with self.lock:
-            self.stopping = True
-            job = self.job
-            self.lock.notify_all()
-        if job is not None:
-            job.cancel()                       # returns once its threads have stopped
-        if threading.current_thread() is not self.thread and self.thread.is_alive():
-            self.thread.join()
-            print("Gridwalk: viewport render stopped")
-        SESSIONS.discard(self)
-
-    # -- worker thread --------------------------------------------------------
+    # -- the render -------------------------------------------------------
     def _versions(self):
         return self.scene_version, self.view_version, self.settings_version
 
-    def _restart_requested(self, versions) -> bool:
-        return self.stopping or self._versions() != versions
-
-    def _run(self):
-        import gridwalk
-        built, gw_scene, done = None, None, None
-        while True:
-            with self.lock:
-                while True:
-                    if self.stopping:
-                        return
-                    if self.view is None or self.scene_version == 0 or self._versions() == done:
-                        self.lock.wait()
-                        continue
-                    delay = self.not_before - time.monotonic()      # a resize settles first
-                    if delay <= 0:
-                        break
-                    self.lock.wait(delay)
-                versions = done = self._versions()
-                kwargs, settings, view = self.scene_kwargs, self.settings, self.view
-                samples, start, opaque = self.samples, self.start_pixels, self.opaque
-            try:
-                if kwargs is None:
-                    self._show_background(view)
-                    continue
-                if built != versions[0]:
-                    t0 = time.perf_counter()
-                    gw_scene = gridwalk.Scene(**kwargs)
-                    built = versions[0]
-                    self.timings["scene"] = time.perf_counter() - t0
-                self._render(gridwalk, gw_scene, settings, view, samples, start, opaque, versions)
-            except gridwalk.BuildCancelled:   # a newer request: start over with it
-                continue
-            except Exception as exc:      # shown in the viewport, never raised into Blender
-                with self.lock:
-                    self.message = f"Gridwalk: {exc}"
-                self._redraw()
+    def _restart(self, delay: float = 0.0):
+        """Submit the latest scene, view and settings to the renderer (the
+        running request is cancelled; this does not wait for it)."""
+        with self.lock:
+            if self.stopping or self.view is None or self.scene_version == 0 or self.settings is None:
+                return
+            versions = self._versions()
+            if self.request is not None and self.request[1] == versions:
+                return
+            camera = self.view[1]
+            passes = []
+            if self.gw_scene is not None:
+                quick = self.full_built != (self.scene_version, self.settings_version)
+                passes = self._passes(self.settings, self.view, self.samples, self.start_pixels, quick)
+            request_id, structures = self.renderer.submit(
+                self.gw_scene, [(p.block, p.settings, p.camera, p.repeat) for p in passes], camera.width, camera.height,
+                opaque=self.opaque, limit=HALF_LIMIT, delay=delay)
+            full = next((s for p, s in zip(passes, structures) if p.block == 1), None)
+            self.request = (request_id, versions, passes, full, time.perf_counter())
+            self.busy = True
 
     def _passes(self, settings, view, samples: int, start: int, quick: bool = False):
         _, camera, pixel = view
@@ -276,81 +250,84 @@ class ViewportSession:
         if start > 1 and max(full_w, full_h) > start:
             w, h = -(-full_w // start), -(-full_h // start)
             coarse = settings.replace(aa="center", tile_size=16, region=None, **(QUICK_GRID if quick else {}))
-            out.append(Pass(start, coarse, _resized(camera, w, h), 0))
-        for i in range(samples):
-            out.append(Pass(1, settings.replace(aa="random", aa_samples=1, seed=(settings.seed + i) % 2**32,
-                                                region=None), camera, i + 1))
+            out.append(Pass(start, coarse, _resized(camera, w, h)))
+        # one random camera sample per pixel and render, seeds settings.seed + 0 ... samples - 1, averaged
+        out.append(Pass(1, settings.replace(aa="random", aa_samples=1, region=None), camera, samples))
         return out
 
-    def _render(self, gridwalk, gw_scene, settings, view, samples, start, opaque, versions):
-        """Run the passes of one request. Until the render settings' structure
-        is built for this scene and settings, the coarse pass traces the quick one."""
-        camera = view[1]
+    def poll(self) -> bool:
+        """Collect the renderer's progress: status, timings and (when it
+        changed) the image. Returns whether the image shown changed."""
         with self.lock:
-            self.display.reset(camera.width, camera.height)
-        first = True
-        full_built = (versions[0], versions[2])
-        for p in self._passes(settings, view, samples, start, quick=self.full_built != full_built):
-            t0 = time.perf_counter()
-            # each structure is built once per scene (and cached by it); a new request cancels a build
-            job = gridwalk.RenderJob(gw_scene, p.settings, camera=p.camera,
-                                     should_stop=lambda: self._restart_requested(versions))
-            with self.lock:
-                if self._restart_requested(versions):
-                    return
-                self.job = job
-                if first:
-                    self.timings["grid"] = time.perf_counter() - t0
-                if p.block == 1 and self.full_built != full_built:
-                    self.full_built = full_built
-                    now = time.perf_counter()
-                    self.timings["full_grid"] = now - t0
-                    self.timings["edit_to_full_grid"] = now - self.timings.get("edit", now)
-            job.start()
-            t_start = time.perf_counter()
-            last_redraw = 0.0
-            try:
-                while True:
-                    finished = job.finished
-                    tiles = job.poll()
-                    if tiles:
-                        with self.lock:
-                            for tile in tiles:
-                                rgba = tile.rgba
-                                if opaque:
-                                    rgba[..., 3] = 1.0
-                                self.display.add_tile(tile.x, tile.y, rgba, p.block)
-                            if first and "first_pixels" not in self.timings:
-                                now = time.perf_counter()
-                                self.timings["first_pixels"] = now - t_start
-                                self.timings["edit_to_pixels"] = now - self.timings.get("edit", now)
-                            self.message = f"Pass {p.index}/{samples}" if p.block == 1 else "Coarse pass"
-                        first = False
-                        if time.monotonic() - last_redraw > REDRAW_SECONDS or finished:
-                            self._redraw()
-                            last_redraw = time.monotonic()
-                    if finished or self._restart_requested(versions):
-                        break
-                    time.sleep(POLL_SECONDS)
-            finally:
-                job.cancel()
-                with self.lock:
-                    self.job = None
-            if self._restart_requested(versions):
-                return
-            job.wait()                       # rethrows a worker's error
-        with self.lock:
-            self.message = f"Done: {samples} samples"
-            self.finished = versions
-        self._redraw()
+            if self.request is None or self.stopping:
+                return False
+            request_id, versions, passes, full, submitted = self.request
+            status = self.renderer.status
+            if status["request"] != request_id:     # not started yet (a resize settling)
+                return False
+            done = status["finished"] == request_id
+            state = (request_id, status["pass"], done, status["error"])
+            if state != self.reported:          # the message follows changes only (view_draw sets its own)
+                self.reported = state
+                if status["error"]:
+                    self.message = f"Gridwalk: {status['error']}"
+                    self.busy = False
+                elif done:
+                    self.message = f"Done: {self.samples} samples" if passes else self.message
+                elif status["pass"] >= 0:
+                    p = passes[status["pass"]]
+                    self.message = f"Pass {status['repetition'] + 1}/{p.repeat}" if p.block == 1 else "Coarse pass"
+            self._note_timings(status, versions, full, submitted)
+            changed = False
+            last_request, last_version, last_time = self.shown
+            if status["version"] != last_version and (
+                    last_request != request_id or done or time.monotonic() - last_time > REDRAW_SECONDS):
+                version, rgba = self.renderer.image()
+                self.display.rgba = rgba
+                self.display.version += 1
+                self.shown = (request_id, version, time.monotonic())
+                changed = True
+            if done and self.shown[1] == status["version"]:
+                self.finished = versions
+                self.busy = False
+            return changed
 
-    def _show_background(self, view):
+    def _note_timings(self, status, versions, full, submitted):
+        t = self.timings
+        before = submitted - t.get("edit", submitted)      # from the edit to the request
+        if status["first_pass_started"] >= 0 and "grid" not in t:
+            t["grid"] = status["first_pass_started"]
+        if status["first_pixels"] >= 0 and "first_pixels" not in t:
+            t["first_pixels"] = status["first_pixels"] - status["first_pass_started"]
+            t["edit_to_pixels"] = before + status["first_pixels"]
+        if full is not None and status["structure_ready"][full] >= 0:
+            if "full_grid" not in t:
+                t["full_grid"] = status["structure_ready"][full]
+                t["edit_to_full_grid"] = before + status["structure_ready"][full]
+            self.full_built = (versions[0], versions[2])
+
+    def idle(self) -> bool:
+        """Whether the latest scene and view are rendered completely (and shown)."""
+        self.poll()
         with self.lock:
-            camera = view[1]
-            self.display.reset(camera.width, camera.height)
-            self.display.rgba[...] = 0.0
-            self.display.version += 1
-        self._redraw()
+            return self.finished == self._versions()
+
+    @property
+    def job(self):
+        """The running request's status (None while none renders: done, or a resize settling)."""
+        status = self.renderer.status
+        return status if status["rendering"] else None
+
+    def stop(self):
+        """Cancel the render and join its threads. Safe to call twice."""
+        with self.lock:
+            if self.stopping:
+                return
+            self.stopping = True
+            self.busy = False
+        self.renderer.stop()
+        print("Gridwalk: viewport render stopped")
+        SESSIONS.discard(self)
 
     def _redraw(self):
         engine = self._engine()

@@ -36,7 +36,7 @@ class Texture:
         self.texture, self.version = None, -1
 
     def update(self, session):
-        with session.lock:                     # the worker adds tiles meanwhile
+        with session.lock:
             display = session.display
             if display.version == self.version and self.texture is not None:
                 return
@@ -65,6 +65,7 @@ def draw(engine, session, context, depsgraph):
         return
     session.follow_settings(depsgraph.scene)
     session.set_view(key, camera, pixel)
+    session.poll()                           # the latest image, if it changed
     texture = engine.__dict__.setdefault("viewport_texture", Texture())
     texture.update(session)
     texture.draw(engine, depsgraph.scene, context.region.width, context.region.height)

@@ -273,4 +273,6 @@ NB_MODULE(_core, m) {
         .def_prop_ro("albedo", [](RenderJob& j) {
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.height), size_t(j.width), 3});
         }, nb::rv_policy::reference_internal);
+
+    bind_viewport(m);   // uses Scene, RenderSettings and CameraDesc, bound above
 }

@@ -5,4 +5,5 @@
 namespace gw {
 void bind_settings(nanobind::module_& m);   // bind_settings.cpp
 void bind_records(nanobind::module_& m);    // bind_records.cpp
+void bind_viewport(nanobind::module_& m);   // bind_viewport.cpp
 }  // namespace gw

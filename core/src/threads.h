@@ -11,10 +11,13 @@
 namespace gw {
 
 // Names the calling thread "gridwalk" (Linux: /proc/<pid>/task/*/comm), so
-// hosts and tests can tell the core's render threads from their own.
-inline void name_this_thread() {
+// hosts and tests can tell the core's render threads from their own; other
+// roles pass their own name (at most 15 characters).
+inline void name_this_thread(const char* name = "gridwalk") {
 #ifdef __linux__
-    pthread_setname_np(pthread_self(), "gridwalk");
+    pthread_setname_np(pthread_self(), name);
+#else
+    (void)name;
 #endif
 }
 

@@ -131,6 +131,13 @@ def build(native, core_settings, should_stop=None):
     return result[0]
 
 
+def structure_key(settings: RenderSettings) -> tuple:
+    """The settings that shape an acceleration structure: the acceleration
+    group's values, less its on/off traversal switches (mailboxes, skip_empty).
+    Two settings with the same key share one structure."""
+    return tuple(getattr(settings, x.name) for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
+
+
 # The keywords Scene.intersect / occluded took before they took a RenderSettings.
 DEPRECATED_QUERY_KEYWORDS = ("accel", "grid_density", "mailboxes", "threads", "skip_empty")
 
@@ -224,7 +231,7 @@ class Scene:
         (Ctrl-C) during the build stops it too, then propagates."""
         s = settings or RenderSettings()
         core = s.to_core()
-        key = tuple(getattr(s, x.name) for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
+        key = structure_key(s)
         if key not in self._accels:
             self._accels[key] = build(self._native, core, should_stop)
         return self._accels[key]

@@ -18,20 +18,20 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
     four renders) and back; the 3D view's area switched to the Image Editor
     (the view closes); back to a Rendered 3D view, then File > New while rendering;
     Rendered again, then quit while rendering.
-    Render threads (named "gridwalk") and the viewport's Python thread are
+    Render threads (named "gridwalk") and the viewport's controller threads ("gridwalk-view") are
     counted after each event.
 OUT (env) is the output folder; results go to OUT/gui_viewport.json.
 """
 import json
 import os
 import sys
-import threading
 import time
 import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import native_threads  # noqa: E402
 OUT = os.environ["OUT"]
 DEADLINE = time.monotonic() + 240
 RESULTS = {"log": []}
@@ -77,27 +77,14 @@ def view3d():
     return win, area, region, area.spaces.active
 
 
-def render_threads() -> int:
-    """The core's render threads in this process (named "gridwalk")."""
-    count = 0
-    for task in os.listdir("/proc/self/task"):
-        try:
-            with open(f"/proc/self/task/{task}/comm") as f:
-                count += f.read().strip() == "gridwalk"
-        except FileNotFoundError:
-            pass
-    return count
-
-
 def threads() -> dict:
     """The most render threads and viewport threads seen in 0.5 s (a pass may
     be between jobs at one instant)."""
     log("sessions:", [(s.message, s.finished, s._versions()) for s in sessions()])
     counts = {"render": 0, "viewport": 0}
     for _ in range(10):
-        counts["render"] = max(counts["render"], render_threads())
-        counts["viewport"] = max(counts["viewport"], sum(t.name == "gridwalk-viewport" and t.is_alive()
-                                                         for t in threading.enumerate()))
+        counts["render"] = max(counts["render"], native_threads.count(native_threads.RENDER))
+        counts["viewport"] = max(counts["viewport"], native_threads.count(native_threads.VIEWPORT))
         time.sleep(0.05)
     return counts
 

@@ -14,10 +14,10 @@ counted.
 import json
 import os
 import sys
-import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import native_threads  # noqa: E402
 
 
 class Engine:
@@ -26,17 +26,6 @@ class Engine:
 
     def tag_redraw(self):
         Engine.redraws += 1
-
-
-def render_threads() -> int:
-    names = []
-    for task in os.listdir("/proc/self/task"):
-        try:
-            with open(f"/proc/self/task/{task}/comm") as f:
-                names.append(f.read().strip())
-        except FileNotFoundError:
-            pass
-    return names.count("gridwalk")
 
 
 def build(bpy, scenes):
@@ -68,14 +57,14 @@ def main(out_dir):
     from blender_addon.export import export_scene
     from blender_addon.export._matrix import to_numpy
     from blender_addon.export.viewport_camera import view_camera
-    from blender_addon.viewport import ViewportSession
+    from blender_addon.viewport import ViewportSession, tick
 
     blender_addon.register()
     build(bpy, scenes)
     scene = bpy.context.scene
     engine = Engine()
     session = ViewportSession(engine)
-    results = {"threads_before": render_threads()}
+    results = {"threads_before": native_threads.count(native_threads.RENDER)}
     state = {}
 
     def handler(scene_, depsgraph):
@@ -96,8 +85,9 @@ def main(out_dir):
     session.set_view((80, 60, "view"), camera, 1)
 
     def wait_done():
+        # this process runs no event loop: call the main-thread timer Blender would call
         deadline = time.monotonic() + 60
-        while not session.idle():
+        while tick() is not None and not session.idle():
             if time.monotonic() > deadline:
                 raise RuntimeError(f"the viewport render did not finish: {session.message}")
             time.sleep(0.02)
@@ -181,14 +171,15 @@ def main(out_dir):
     t_resize = time.monotonic()
     session.set_view((100, 60, "view"), dataclasses.replace(camera, width=100, pixel_aspect=0.8), 1)
     time.sleep(0.15)
+    session.poll()
     results["resize_waits"] = session.display.version == shown_before and session.job is None
     wait_done()
     results["resize_rendered_after"] = time.monotonic() - t_resize
     results["resized_shape"] = list(session.display.rgba.shape)
-    results["threads_rendering_session"] = sum(t.name == "gridwalk-viewport" for t in threading.enumerate())
+    results["threads_rendering_session"] = native_threads.count(native_threads.VIEWPORT)
     session.stop()
-    results["threads_after_stop"] = {"render": render_threads(),
-                                     "viewport": sum(t.name == "gridwalk-viewport" for t in threading.enumerate())}
+    results["threads_after_stop"] = {"render": native_threads.count(native_threads.RENDER),
+                                     "viewport": native_threads.count(native_threads.VIEWPORT)}
     results["redraws"] = Engine.redraws
     with open(os.path.join(out_dir, "viewport_session.json"), "w") as f:
         json.dump(results, f, indent=1)

@@ -1,0 +1,251 @@
+// The viewport's native controller thread. See viewport_renderer.h.
+#include "viewport_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "threads.h"
+
+namespace gw {
+
+namespace {
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+constexpr auto kPoll = std::chrono::milliseconds(4);   // tiles are collected this often
+}  // namespace
+
+ViewportRenderer::ViewportRenderer() {
+    thread_ = std::thread([this] { run(); });
+}
+
+ViewportRenderer::~ViewportRenderer() { stop(); }
+
+void ViewportRenderer::submit(ViewportRequest r) {
+    if (r.width < 1 || r.height < 1) throw std::invalid_argument("viewport image must be at least 1 x 1");
+    for (const ViewportPass& p : r.passes) {
+        if (p.structure < 0 || size_t(p.structure) >= r.structures.size())
+            throw std::invalid_argument("viewport pass names a structure it does not list");
+        if (p.block < 1) throw std::invalid_argument("viewport pass block must be at least 1");
+        if (p.repeat < 1) throw std::invalid_argument("viewport pass repeat must be at least 1");
+        validate_settings(p.settings);
+        validate_camera(p.camera);
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    if (stopping_) throw std::runtime_error("the viewport renderer is stopped");
+    latest_id_ = r.id;
+    next_ = std::move(r);
+    next_submitted_ = now_seconds();
+    has_request_ = true;
+    if (build_cancel_) build_cancel_->cancel();   // a running build stops at its next check
+    cv_.notify_all();                             // a running pass is cancelled by the controller
+}
+
+void ViewportRenderer::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        stopping_ = true;
+        if (build_cancel_) build_cancel_->cancel();
+        cv_.notify_all();
+    }
+    if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+}
+
+ViewportStatus ViewportRenderer::status() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return status_;
+}
+
+std::vector<float> ViewportRenderer::image(int& width, int& height, uint64_t& version) const {
+    std::lock_guard<std::mutex> lock(mu_);
+    width = width_;
+    height = height_;
+    version = status_.version;
+    if (rgba_.empty()) return std::vector<float>(size_t(width_) * size_t(height_) * 4, 0.0f);
+    return rgba_;
+}
+
+bool ViewportRenderer::superseded(uint64_t id) const { return stopping_ || latest_id_ != id; }
+
+void ViewportRenderer::run() {
+    name_this_thread("gridwalk-view");
+    for (;;) {
+        ViewportRequest r;
+        double submitted;
+        {
+            std::unique_lock<std::mutex> lock(mu_);
+            cv_.wait(lock, [this] { return stopping_ || has_request_; });
+            if (stopping_) break;
+            r = std::move(next_);
+            submitted = next_submitted_;
+            has_request_ = false;
+            status_.request = r.id;
+            status_.pass = -1;
+            status_.repetition = 0;
+            status_.passes_done = 0;
+            status_.rendering = false;
+            status_.error.clear();
+            status_.first_pixels = status_.first_pass_started = -1;
+            status_.structure_ready.assign(r.structures.size(), -1.0);
+            // A resize settles first: a newer request (or stop) ends the wait.
+            const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::max(0.0, r.delay));
+            if (cv_.wait_until(lock, until, [this] { return stopping_ || has_request_; })) continue;
+            status_.rendering = true;
+        }
+        try {
+            render(r, submitted);
+        } catch (const BuildCancelled&) {
+            // a newer request or stop: the loop takes it
+        } catch (const std::exception& e) {
+            std::lock_guard<std::mutex> lock(mu_);
+            if (status_.request == r.id) status_.error = e.what();
+        }
+        std::lock_guard<std::mutex> lock(mu_);
+        build_cancel_ = nullptr;
+        if (status_.request == r.id) {
+            status_.rendering = false;
+            status_.pass = -1;
+        }
+    }
+}
+
+void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        reset_display(r.width, r.height);
+        if (!r.scene) std::fill(rgba_.begin(), rgba_.end(), 0.0f);
+        ++status_.version;
+    }
+    if (!r.scene) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (!superseded(r.id)) status_.finished = r.id;
+        return;
+    }
+    if (cached_scene_ != r.scene) {   // structures of an older scene are no use
+        cache_.clear();
+        cached_scene_ = r.scene;
+    }
+    int done = 0;
+    for (size_t i = 0; i < r.passes.size(); ++i) {
+        for (int rep = 0; rep < r.passes[i].repeat; ++rep) {
+            if (!render_pass(r, submitted, i, rep)) return;
+            std::lock_guard<std::mutex> lock(mu_);
+            status_.passes_done = ++done;
+        }
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!superseded(r.id)) status_.finished = r.id;
+}
+
+std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& r, int index) {
+    std::shared_ptr<const Accel>& accel = cache_[r.structures[size_t(index)].key];
+    if (accel) return accel;
+    CancelToken token;
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (superseded(r.id)) return nullptr;
+        build_cancel_ = &token;
+    }
+    try {
+        accel = build_accel(r.scene, r.structures[size_t(index)].settings, &token);
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(mu_);
+        build_cancel_ = nullptr;
+        throw;
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    build_cancel_ = nullptr;
+    return accel;
+}
+
+bool ViewportRenderer::render_pass(const ViewportRequest& r, double submitted, size_t index, int rep) {
+    const ViewportPass& p = r.passes[index];
+    const std::shared_ptr<const Accel> accel = structure(r, p.structure);
+    if (!accel) return false;
+    RenderSettings settings = p.settings;
+    settings.seed = uint32_t(uint64_t(p.settings.seed) + uint64_t(rep));   // wraps, as the library's seeds do
+    RenderJob job(accel, settings, p.camera);
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (superseded(r.id)) return false;
+        double& ready = status_.structure_ready[size_t(p.structure)];
+        if (ready < 0) ready = now_seconds() - submitted;
+        if (status_.first_pass_started < 0) status_.first_pass_started = now_seconds() - submitted;
+        status_.pass = int(index);
+        status_.repetition = rep;
+    }
+    job.start();
+    for (;;) {
+        const bool finished = job.finished();
+        const std::vector<Tile> tiles = job.poll();
+        std::unique_lock<std::mutex> lock(mu_);
+        for (const Tile& t : tiles) add_tile(job, t, p.block, r.opaque, r.limit);
+        if (!tiles.empty()) {
+            ++status_.version;
+            if (status_.first_pixels < 0) status_.first_pixels = now_seconds() - submitted;
+        }
+        if (superseded(r.id)) {
+            lock.unlock();
+            job.cancel();
+            return false;
+        }
+        if (finished) break;
+        cv_.wait_for(lock, kPoll);
+    }
+    job.wait();   // rethrows a worker's error
+    return true;
+}
+
+void ViewportRenderer::reset_display(int width, int height) {
+    // Keep the last image on show (resized, nearest pixel) until new tiles arrive.
+    if (width != width_ || height != height_ || rgba_.empty()) {
+        std::vector<float> resized(size_t(width) * size_t(height) * 4, 0.0f);
+        if (!rgba_.empty()) {
+            for (int y = 0; y < height; ++y) {
+                const int sy = std::min(int(int64_t(y) * height_ / height), height_ - 1);
+                for (int x = 0; x < width; ++x) {
+                    const int sx = std::min(int(int64_t(x) * width_ / width), width_ - 1);
+                    std::copy_n(&rgba_[(size_t(sy) * width_ + sx) * 4], 4, &resized[(size_t(y) * width + x) * 4]);
+                }
+            }
+        }
+        rgba_.swap(resized);
+        width_ = width;
+        height_ = height;
+    }
+    accum_.assign(size_t(width) * size_t(height) * 4, 0.0f);
+    count_.assign(size_t(width) * size_t(height), 0.0f);
+}
+
+void ViewportRenderer::add_tile(const RenderJob& job, const Tile& t, int block, bool opaque, float limit) {
+    auto clean = [limit](float v) { return std::isnan(v) ? 0.0f : std::min(std::max(v, -limit), limit); };
+    for (int ty = 0; ty < t.h; ++ty) {
+        const float* src_row = &job.rgba[(size_t(t.y + ty) * job.width + t.x) * 4];
+        if (block == 1) {
+            const int row = height_ - 1 - (t.y + ty);          // the display is bottom-up
+            if (row < 0) continue;
+            for (int tx = 0; tx < t.w && t.x + tx < width_; ++tx) {
+                const size_t k = size_t(row) * width_ + size_t(t.x + tx);
+                count_[k] += 1.0f;
+                for (int c = 0; c < 4; ++c) {
+                    const float v = c == 3 && opaque ? 1.0f : clean(src_row[4 * tx + c]);
+                    accum_[4 * k + c] += v;
+                    rgba_[4 * k + c] = accum_[4 * k + c] / count_[k];
+                }
+            }
+            continue;
+        }
+        // A coarse pass: each pixel covers a block x block square of the display.
+        const int y0 = (t.y + ty) * block, y1 = std::min(y0 + block, height_);
+        for (int tx = 0; tx < t.w; ++tx) {
+            const int x0 = (t.x + tx) * block, x1 = std::min(x0 + block, width_);
+            float v[4];
+            for (int c = 0; c < 4; ++c) v[c] = c == 3 && opaque ? 1.0f : clean(src_row[4 * tx + c]);
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) std::copy_n(v, 4, &rgba_[(size_t(height_ - 1 - y) * width_ + x) * 4]);
+        }
+    }
+}
+
+}  // namespace gw

@@ -116,6 +116,8 @@ def test_worst_case_distributions_build_small_structures():
 
 
 def test_build_stops_within_100ms_of_a_cancel():
+    """A cancel lands in every phase of the build (counting, filling, the
+    empty-space distance, refining): each stops within 100 ms."""
     x = np.linspace(-50, 50, 1001, dtype=np.float32)
     X, Y = np.meshgrid(x, x)
     V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size, np.float32)], -1)
@@ -123,20 +125,31 @@ def test_build_stops_within_100ms_of_a_cancel():
     q = np.stack([i[:-1, :-1], i[1:, :-1], i[1:, 1:], i[:-1, 1:]], -1).reshape(-1, 4)
     T = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]).astype(np.int32)   # a 2M-triangle plane
     for accel in ("adaptive", "grid"):
-        sc = gw.Scene(vertices=V, triangles=T)
-        asked = []
+        settings = gw.RenderSettings(accel=accel)
         start = time.perf_counter()
+        gw.Scene(vertices=V, triangles=T).accel(settings)
+        whole = time.perf_counter() - start
+        cancelled = []
+        for fraction in (0.05, 0.2, 0.35, 0.5, 0.65, 0.8):
+            sc = gw.Scene(vertices=V, triangles=T)
+            asked = []
+            start = time.perf_counter()
 
-        def stop():
-            if time.perf_counter() - start > 0.2:
-                asked.append(asked[0] if asked else time.perf_counter())
-                return True
-            return False
+            def stop():
+                if time.perf_counter() - start > fraction * whole:
+                    asked.append(asked[0] if asked else time.perf_counter())
+                    return True
+                return False
 
-        with pytest.raises(gw.BuildCancelled):
-            sc.accel(gw.RenderSettings(accel=accel), should_stop=stop)
-        assert asked, f"{accel}: the build ended before the cancel (make the scene larger)"
-        assert time.perf_counter() - asked[0] < 0.1, accel
+            try:
+                sc.accel(settings, should_stop=stop)
+            except gw.BuildCancelled:
+                latency = time.perf_counter() - asked[0]
+                assert latency < 0.1, f"{accel}: stopped {latency * 1e3:.0f} ms after a cancel at {fraction:.0%}"
+                cancelled.append(fraction)
+            else:
+                assert not asked, f"{accel}: a cancel at {fraction:.0%} of the build was ignored"
+        assert len(cancelled) >= 4, f"{accel}: only {cancelled} of the build was cancelled (make the scene larger)"
 
 
 def test_records_are_checked_in_the_cores_precision():

@@ -171,6 +171,7 @@ private:
             for (int a = 0; a < 3; ++a) cs[a] = (box.hi[a] - box.lo[a]) / n[a];
             std::vector<std::pair<uint64_t, uint32_t>> wide;
             for (uint32_t prim : prims) {
+                check_cancel(cancel_, step_);
                 int c0[3], c1[3];
                 if (!cell_range(bounds_[prim], box, cs, n, c0, c1)) continue;
                 const uint64_t covered =
@@ -198,19 +199,25 @@ private:
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         // Pass 1: count references per cell.
-        std::vector<uint32_t> count(ncells + 1, 0);
+        std::vector<uint32_t> count;
+        assign_checked(count, ncells + 1, 0u, cancel_, step_);
         uint64_t total = 0;
         for (uint32_t prim : rest) {
             check_cancel(cancel_, step_);
             int c0[3], c1[3];
             if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
-            for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int z = c0[2]; z <= c1[2]; ++z) {
+                check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
                 for (int y = c0[1]; y <= c1[1]; ++y)
                     for (int x = c0[0]; x <= c1[0]; ++x) ++count[(uint64_t(z) * n[1] + y) * n[0] + x];
+            }
             total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
         }
         uint32_t most = 0;
-        for (uint64_t c = 0; c < ncells; ++c) most = std::max(most, count[c]);
+        for (uint64_t c = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
+            most = std::max(most, count[c]);
+        }
         // Refining is useless when a cell still holds most of the primitives.
         if (depth > 0 && double(most) >= 0.75 * double(prims.size())) return -1;
         if (total + g_.refs.size() > p_.max_refs) {
@@ -218,17 +225,24 @@ private:
             throw std::invalid_argument("adaptive grid: too many primitive references for the reference cap");
         }
         // Pass 2: fill per-cell lists (CSR).
-        std::vector<uint32_t> start(ncells + 1, 0);
-        for (uint64_t c = 0; c < ncells; ++c) start[c + 1] = start[c] + count[c];
-        std::vector<uint32_t> list(total);
-        for (uint64_t c = 0; c < ncells; ++c) count[c] = start[c];
+        std::vector<uint32_t> start;
+        assign_checked(start, ncells + 1, 0u, cancel_, step_);
+        for (uint64_t c = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
+            start[c + 1] = start[c] + count[c];
+            count[c] = start[c];
+        }
+        std::vector<uint32_t> list;
+        assign_checked(list, total, 0u, cancel_, step_);
         for (uint32_t prim : rest) {
             check_cancel(cancel_, step_);
             int c0[3], c1[3];
             if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
-            for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int z = c0[2]; z <= c1[2]; ++z) {
+                check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
                 for (int y = c0[1]; y <= c1[1]; ++y)
                     for (int x = c0[0]; x <= c1[0]; ++x) list[count[(uint64_t(z) * n[1] + y) * n[0] + x]++] = prim;
+            }
         }
         // The node, and its cells (filled below; children append after them).
         const uint32_t index = uint32_t(g_.nodes.size());
@@ -248,8 +262,9 @@ private:
             nd.big_count = list_cell.b;
         }
         g_.nodes.push_back(nd);
-        g_.cells.resize(g_.cells.size() + ncells, AdaptiveGridData::Cell{0, 0});
-        std::vector<uint8_t> occupied(ncells, 0);
+        grow_checked(g_.cells, g_.cells.size() + ncells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);
+        std::vector<uint8_t> occupied;
+        assign_checked(occupied, ncells, uint8_t(0), cancel_, step_);
         std::vector<uint32_t> sub;
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
@@ -261,6 +276,7 @@ private:
             // (leaf_size x 4^depth): each level multiplies references.
             if (uint64_t(e - b) > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
                 sub.assign(list.begin() + b, list.begin() + e);
+                check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
                 const int x = int(c % uint64_t(n[0])), y = int((c / uint64_t(n[0])) % uint64_t(n[1])),
                           z = int(c / (uint64_t(n[0]) * n[1]));
                 const int idx[3] = {x, y, z};
@@ -287,8 +303,10 @@ private:
         }
         // Empty cells: the distance to the nearest non-empty one, for jumps.
         const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kEmptyCap, cancel_);
-        for (uint64_t c = 0; c < ncells; ++c)
+        for (uint64_t c = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
             if (!occupied[c]) g_.cells[nd.first + c].a = dist[c];
+        }
         return index;
     }
 
@@ -296,6 +314,7 @@ private:
     AdaptiveGridData::Cell leaf(const uint32_t* ids, uint32_t count) {
         const uint32_t at = uint32_t(g_.refs.size());
         const uint32_t nt = uint32_t(sc_.num_triangles());
+        check_cancel(cancel_, step_, 2 * uint64_t(count));
         g_.refs.push_back(0);
         uint32_t ntri = 0;
         for (uint32_t i = 0; i < count; ++i)

@@ -23,7 +23,7 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
     const int len = n[a];
     for (int j = 0; j < n[c]; ++j)
         for (int i = 0; i < n[b]; ++i) {
-            check_cancel(cancel, step);
+            check_cancel(cancel, step, uint64_t(len));
             const int64_t base = int64_t(i) * stride[b] + int64_t(j) * stride[c];
             for (int k = 0; k < len; ++k) {
                 int best = in[base + k * stride[a]];
@@ -41,8 +41,14 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
 std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
                                         const CancelToken* cancel) {
     const size_t cells = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
-    std::vector<uint8_t> a(cells), b(cells);
-    for (size_t c = 0; c < cells; ++c) a[c] = occupied[c] ? 0 : uint8_t(cap + 1);
+    uint64_t step = 0;
+    std::vector<uint8_t> a, b;
+    assign_checked(a, cells, uint8_t(0), cancel, step);
+    assign_checked(b, cells, uint8_t(0), cancel, step);
+    for (size_t c = 0; c < cells; ++c) {
+        check_cancel(cancel, step);
+        a[c] = occupied[c] ? 0 : uint8_t(cap + 1);
+    }
     // Axis x starts from "occupied here": max(|x - x'|, 0) is the 1D distance.
     pass(a, b, n, 0, cap, cancel);
     pass(b, a, n, 1, cap, cancel);
@@ -53,8 +59,13 @@ std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, co
 std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap,
                                     const CancelToken* cancel) {
     const int64_t cells = int64_t(n[0]) * n[1] * n[2];
-    std::vector<uint8_t> occupied(static_cast<size_t>(cells), 0);
-    for (int64_t c = 0; c < cells; ++c) occupied[c] = offsets[c + 1] != offsets[c];
+    uint64_t step = 0;
+    std::vector<uint8_t> occupied;
+    assign_checked(occupied, size_t(cells), uint8_t(0), cancel, step);
+    for (int64_t c = 0; c < cells; ++c) {
+        check_cancel(cancel, step);
+        occupied[c] = offsets[c + 1] != offsets[c];
+    }
     return chebyshev_distance(occupied, n, cap, cancel);
 }
 

@@ -24,6 +24,13 @@ GridBudget uniform_grid_budget(uint64_t prims, double density, uint64_t max_cell
     return {uint64_t(cells), std::max<uint64_t>(prims, refs >= double(cap_refs) ? cap_refs : uint64_t(refs))};
 }
 
+namespace {
+// The number of cells in the inclusive range c0..c1.
+uint64_t cells_in(const int c0[3], const int c1[3]) {
+    return uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+}
+}  // namespace
+
 UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel)
     : Accel(std::move(s)) {
     uint64_t step = 0;
@@ -83,14 +90,15 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
             inv_cell_[a] = float(n_[a]) / (hi_[a] - lo_[a]);
         }
         // Pass 1: count references per cell.
-        counts.assign(cells, 0);
+        assign_checked(counts, cells, 0u, cancel, step);
         uint64_t refs = 0;
         for (size_t i = 0; i < np && refs <= max_refs; ++i) {
-            check_cancel(cancel, step);
             int c0[3], c1[3];
             cell_range(sc.prim_bounds(i), c0, c1);
+            const uint64_t covered = cells_in(c0, c1);
+            check_cancel(cancel, step, covered);
             for_cells(c0, c1, [&](uint64_t c) { ++counts[c]; });
-            refs += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+            refs += covered;
         }
         if (refs > max_refs && cells > 1) {
             m *= 0.7;
@@ -106,17 +114,17 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     info_.kind = "uniform grid";
     info_.grids = 1;
     // Prefix sums, then pass 2: fill.
-    offsets_.assign(info_.cells + 1, 0);
+    assign_checked(offsets_, info_.cells + 1, 0u, cancel, step);
     for (uint64_t c = 0; c < info_.cells; ++c) {
         check_cancel(cancel, step);
         offsets_[c + 1] = offsets_[c] + counts[c];
+        counts[c] = offsets_[c];
     }
-    prims_.resize(info_.refs);
-    for (uint64_t c = 0; c < info_.cells; ++c) counts[c] = offsets_[c];
+    assign_checked(prims_, info_.refs, 0u, cancel, step);
     for (size_t i = 0; i < np; ++i) {
-        check_cancel(cancel, step);
         int c0[3], c1[3];
         cell_range(sc.prim_bounds(i), c0, c1);
+        check_cancel(cancel, step, cells_in(c0, c1));
         for_cells(c0, c1, [&](uint64_t c) { prims_[counts[c]++] = uint32_t(i); });
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "threads.h"
 
@@ -29,6 +30,13 @@ void ViewportRenderer::submit(ViewportRequest r) {
             throw std::invalid_argument("viewport pass names a structure it does not list");
         if (p.block < 1) throw std::invalid_argument("viewport pass block must be at least 1");
         if (p.repeat < 1) throw std::invalid_argument("viewport pass repeat must be at least 1");
+        const int64_t w = (int64_t(r.width) + p.block - 1) / p.block, h = (int64_t(r.height) + p.block - 1) / p.block;
+        if (int64_t(p.camera.width) != w || int64_t(p.camera.height) != h)
+            throw std::invalid_argument("a viewport pass of block " + std::to_string(p.block) + " over a " +
+                                        std::to_string(r.width) + " x " + std::to_string(r.height) +
+                                        " image needs a " + std::to_string(w) + " x " + std::to_string(h) +
+                                        " camera, got " + std::to_string(p.camera.width) + " x " +
+                                        std::to_string(p.camera.height));
         validate_settings(p.settings);
         validate_camera(p.camera);
     }

@@ -1,0 +1,151 @@
+"""gridwalk.ProgressiveRenderer, the native controller behind Blender's
+Rendered viewport: its image is exactly the average of the RenderJobs its
+passes stand for, a coarse pass paints blocks, a newer request cancels the
+running one, and stop() joins its native thread."""
+import dataclasses
+import os
+import time
+
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from gridwalk.scenes import balls
+
+W, H = 48, 32
+
+
+def thread_names() -> list[str]:
+    names = []
+    for task in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{task}/comm") as f:
+                names.append(f.read().strip())
+        except FileNotFoundError:   # the thread ended meanwhile
+            pass
+    return names
+
+
+def wait_finished(r: gw.ProgressiveRenderer, request: int, timeout: float = 60) -> dict:
+    end = time.monotonic() + timeout
+    while r.status["finished"] != request:
+        assert time.monotonic() < end, f"request {request} did not finish: {r.status}"
+        time.sleep(0.005)
+    return r.status
+
+
+@pytest.fixture(scope="module")
+def scene():
+    sc = gw.Scene(**balls(2))
+    return sc, dataclasses.replace(sc.camera, width=W, height=H)
+
+
+def averaged_reference(sc, settings, camera, n):
+    ref = np.zeros((camera.height, camera.width, 4), np.float32)
+    for i in range(n):
+        ref += gw.RenderJob(sc, settings.replace(seed=settings.seed + i), camera=camera).start().wait()
+    ref /= n
+    ref[..., 3] = 1
+    return ref
+
+
+def test_fine_passes_average_to_the_render_jobs_they_stand_for(scene):
+    sc, cam = scene
+    s = gw.RenderSettings(threads=2, aa="random", aa_samples=1, seed=7)
+    r = gw.ProgressiveRenderer()
+    try:
+        rid, structures = r.submit(sc, [(1, s, cam, 3)], W, H)
+        status = wait_finished(r, rid)
+        assert status["error"] == "" and status["passes_done"] == 3 and structures == [0]
+        version, img = r.image()
+        assert img.shape == (H, W, 4) and version == status["version"]
+        ref = averaged_reference(sc, s, cam, 3)
+        assert np.abs(img[::-1] - ref).max() <= 1e-6     # rows come bottom-up, as Blender draws them
+        assert img[..., :3].std() > 0.05                 # a picture, not a blank
+    finally:
+        r.stop()
+
+
+def test_a_coarse_pass_paints_each_pixel_over_a_block(scene):
+    sc, cam = scene
+    s = gw.RenderSettings(threads=2, aa="center")
+    small = dataclasses.replace(cam, width=-(-W // 5), height=-(-H // 5))
+    r = gw.ProgressiveRenderer()
+    try:
+        rid, _ = r.submit(sc, [(5, s, small)], W, H)
+        wait_finished(r, rid)
+        _, img = r.image()
+        coarse = gw.RenderJob(sc, s, camera=small).start().wait()
+        coarse[..., 3] = 1
+        expected = np.repeat(np.repeat(coarse, 5, 0), 5, 1)[:H, :W]
+        np.testing.assert_array_equal(img[::-1], expected)
+    finally:
+        r.stop()
+
+
+def test_a_newer_request_cancels_the_running_one(scene):
+    sc, cam = scene
+    s = gw.RenderSettings(threads=2, aa="random", aa_samples=1)
+    r = gw.ProgressiveRenderer()
+    try:
+        endless, _ = r.submit(sc, [(1, s, cam, 10**6)], W, H)      # would run for hours
+        while r.status["passes_done"] < 2:
+            time.sleep(0.005)
+        for _ in range(30):                                          # a storm of edits, none waited for
+            r.submit(sc, [(1, s, cam, 10**6)], W, H)
+        last, _ = r.submit(sc, [(1, s, cam, 2)], W, H)
+        status = wait_finished(r, last, timeout=30)
+        assert status["error"] == "" and status["request"] == last and status["passes_done"] == 2
+        assert endless != last
+        np.testing.assert_allclose(r.image()[1][::-1], averaged_reference(sc, s, cam, 2), atol=1e-6)
+    finally:
+        r.stop()
+
+
+def test_stop_joins_the_native_thread_and_refuses_later_work(scene):
+    sc, cam = scene
+    r = gw.ProgressiveRenderer()
+    assert "gridwalk-view" in thread_names()
+    r.submit(sc, [(1, gw.RenderSettings(threads=2), cam, 10**6)], W, H)
+    time.sleep(0.05)
+    r.stop()
+    r.stop()                                                         # a second stop is harmless
+    assert "gridwalk-view" not in thread_names()
+    assert "gridwalk" not in thread_names()                          # nor any render thread
+    with pytest.raises(RuntimeError, match="stopped"):
+        r.submit(sc, [(1, gw.RenderSettings(), cam)], W, H)
+
+
+def test_no_scene_clears_the_image(scene):
+    sc, cam = scene
+    r = gw.ProgressiveRenderer()
+    try:
+        rid, _ = r.submit(sc, [(1, gw.RenderSettings(threads=2), cam)], W, H)
+        wait_finished(r, rid)
+        assert r.image()[1][..., :3].max() > 0
+        rid, _ = r.submit(None, [], W, H)
+        wait_finished(r, rid)
+        assert not r.image()[1].any()
+    finally:
+        r.stop()
+
+
+def test_bad_passes_are_refused_with_a_reason(scene):
+    sc, cam = scene
+    s = gw.RenderSettings()
+    r = gw.ProgressiveRenderer()
+    try:
+        with pytest.raises(ValueError, match="block must be at least 1"):
+            r.submit(sc, [(0, s, cam)], W, H)
+        with pytest.raises(ValueError, match="repeat must be at least 1"):
+            r.submit(sc, [(1, s, cam, 0)], W, H)
+        with pytest.raises(ValueError, match=r"needs a 49 x 32 camera, got 48 x 32"):
+            r.submit(sc, [(1, s, cam)], W + 1, H)
+        with pytest.raises(ValueError, match=r"\(block, gridwalk.RenderSettings, gridwalk.Camera"):
+            r.submit(sc, [(1, cam, s)], W, H)
+        with pytest.raises(ValueError, match="gridwalk.Scene or None"):
+            r.submit("scene", [(1, s, cam)], W, H)
+        with pytest.raises(ValueError, match="at least 1 x 1"):
+            r.submit(sc, [], 0, H)
+    finally:
+        r.stop()

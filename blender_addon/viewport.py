@@ -53,7 +53,6 @@ REDRAW_SECONDS = 0.25          # at most 4 image copies and redraws a second (an
 RESIZE_DEBOUNCE_SECONDS = 0.3
 QUICK_GRID = dict(accel="grid", grid_density=0.3)   # ~0.03 cells per primitive: the coarse pass's structure
 SESSIONS = weakref.WeakSet()   # every live session, stopped on file load and at exit
-HALF_LIMIT = 65000.0           # below the half-float maximum (65504): beyond it the view turns black
 
 
 def stop_all():
@@ -90,7 +89,7 @@ def _ensure_timer():
 class Display:
     """The image the viewport shows, as last copied from the renderer:
     (h, w, 4) float32, scene-linear, rows bottom-up (as the GPU texture wants
-    them), values finite and within +-HALF_LIMIT. Coarse tiles are stretched
+    them), values finite and below the largest half float (the renderer's limit). Coarse tiles are stretched
     over their block of pixels until full-resolution tiles arrive;
     full-resolution passes are averaged (in the core)."""
 
@@ -236,7 +235,7 @@ class ViewportSession:
                 passes = self._passes(self.settings, self.view, self.samples, self.start_pixels, quick)
             request_id, structures = self.renderer.submit(
                 self.gw_scene, [(p.block, p.settings, p.camera, p.repeat) for p in passes], camera.width, camera.height,
-                opaque=self.opaque, limit=HALF_LIMIT, delay=delay)
+                opaque=self.opaque, delay=delay)
             full = next((s for p, s in zip(passes, structures) if p.block == 1), None)
             self.request = (request_id, versions, passes, full, time.perf_counter())
             self.busy = True

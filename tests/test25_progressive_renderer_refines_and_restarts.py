@@ -1,7 +1,8 @@
 """gridwalk.ProgressiveRenderer, the native controller behind Blender's
 Rendered viewport: its image is exactly the average of the RenderJobs its
-passes stand for, a coarse pass paints blocks, a newer request cancels the
-running one, and stop() joins its native thread."""
+passes stand for, rows run bottom-up, a coarse pass paints blocks, values
+stay below the half-float maximum the viewport's texture holds, a newer
+request cancels the running one, and stop() joins its native thread."""
 import dataclasses
 import os
 import time
@@ -79,6 +80,29 @@ def test_a_coarse_pass_paints_each_pixel_over_a_block(scene):
         coarse[..., 3] = 1
         expected = np.repeat(np.repeat(coarse, 5, 0), 5, 1)[:H, :W]
         np.testing.assert_array_equal(img[::-1], expected)
+    finally:
+        r.stop()
+
+
+def test_values_stay_below_the_half_float_maximum(scene):
+    sc, cam = scene
+    data = balls(2)
+    data["lights"] = [dataclasses.replace(light, color=tuple(1e9 * c for c in light.color)) for light in data["lights"]]
+    blinding = gw.Scene(**data)
+    s = gw.RenderSettings(threads=2, aa="center")
+    r = gw.ProgressiveRenderer()
+    try:
+        rid, _ = r.submit(blinding, [(1, s, cam)], W, H)
+        wait_finished(r, rid)
+        img = r.image()[1]
+        raw = gw.RenderJob(blinding, s, camera=cam).start().wait()
+        assert raw[..., :3].max() > 1e6                               # the unclamped render is far above it
+        limit = img.max()
+        assert np.isfinite(img).all() and 60000 < limit < np.finfo(np.float16).max
+        assert np.isfinite(img.astype(np.float16)).all()               # what the RGBA16F texture holds
+        assert (img[..., :3] == limit).sum() == (raw[..., :3] >= limit).sum()   # bright pixels stay bright
+        dim = raw[::-1] < limit                                        # ordinary values pass untouched
+        np.testing.assert_array_equal(img[..., :3][dim[..., :3]], raw[::-1][..., :3][dim[..., :3]])
     finally:
         r.stop()
 

@@ -18,6 +18,7 @@ using namespace nb::literals;
 namespace gw {
 
 void bind_viewport(nb::module_& m) {
+    m.attr("HALF_FLOAT_SAFE_LIMIT") = kHalfFloatSafeLimit;
     nb::class_<ViewportRenderer>(m, "ViewportRenderer")
         .def(nb::init<>())
         .def("submit",

@@ -51,7 +51,10 @@ void RenderJob::start() {
     nthreads_.store(wanted);
     threads_.reserve(size_t(wanted));
     try {
-        for (int i = 0; i < wanted; ++i) threads_.emplace_back([this] { worker(); });
+        for (int i = 0; i < wanted; ++i) {
+            threads_.emplace_back([this] { worker(); });
+            name_thread(threads_.back(), "gridwalk");   // it would carry its creator's name until it runs
+        }
     } catch (const std::system_error& e) {   // could not start every thread: stop the ones that did
         const int started = int(threads_.size());
         nthreads_.store(started);

@@ -21,6 +21,17 @@ inline void name_this_thread(const char* name = "gridwalk") {
 #endif
 }
 
+// Names another thread from its creator, so the name is in place before
+// the constructor that started it returns (no race with a caller reading it).
+inline void name_thread(std::thread& t, const char* name) {
+#ifdef __linux__
+    pthread_setname_np(t.native_handle(), name);
+#else
+    (void)t;
+    (void)name;
+#endif
+}
+
 // requested > 0: that many; 0: one per hardware thread (at least 1).
 inline int resolve_threads(int requested) {
     if (requested > 0) return requested;

@@ -19,6 +19,7 @@ constexpr auto kPoll = std::chrono::milliseconds(4);   // tiles are collected th
 
 ViewportRenderer::ViewportRenderer() {
     thread_ = std::thread([this] { run(); });
+    name_thread(thread_, "gridwalk-view");
 }
 
 ViewportRenderer::~ViewportRenderer() { stop(); }
@@ -77,7 +78,6 @@ std::vector<float> ViewportRenderer::image(int& width, int& height, uint64_t& ve
 bool ViewportRenderer::superseded(uint64_t id) const { return stopping_ || latest_id_ != id; }
 
 void ViewportRenderer::run() {
-    name_this_thread("gridwalk-view");
     for (;;) {
         ViewportRequest r;
         double submitted;

@@ -41,6 +41,10 @@ struct ViewportStructure {
     RenderSettings settings;
 };
 
+// The largest |value| a viewport image holds by default: below the largest
+// half float (65504), which the viewport's RGBA16F texture would turn to inf.
+constexpr float kHalfFloatSafeLimit = 65000.0f;
+
 struct ViewportRequest {
     uint64_t id = 0;
     std::shared_ptr<const Scene> scene;   // null: nothing to render (the image is cleared)
@@ -48,7 +52,7 @@ struct ViewportRequest {
     std::vector<ViewportPass> passes;
     int width = 1, height = 1;            // the display image
     bool opaque = true;                   // alpha 1 everywhere (no Film Transparent)
-    float limit = 65000.0f;               // |values| are clamped to it (half floats end at 65504)
+    float limit = kHalfFloatSafeLimit;    // |values| are clamped to it
     double delay = 0.0;                   // seconds to wait first (a resize settles); a newer request ends the wait
 };
 

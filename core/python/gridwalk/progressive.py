@@ -32,10 +32,11 @@ class ProgressiveRenderer:
         self._id = 0
 
     def submit(self, scene: Scene | None, passes, width: int, height: int, opaque: bool = True,
-               limit: float = 65000.0, delay: float = 0.0) -> tuple[int, list[int]]:
+               limit: float = _core.HALF_FLOAT_SAFE_LIMIT, delay: float = 0.0) -> tuple[int, list[int]]:
         """Render `passes`, a list of (block, RenderSettings, Camera[, repeat]), into a
         width x height image; scene None clears the image. opaque: alpha 1
-        everywhere; values are clamped to +-limit (NaN shows as 0); the
+        everywhere; values are clamped to +-limit (NaN shows as 0; the default
+        stays below the largest half float, which a GPU's RGBA16F texture holds); the
         request waits `delay` seconds first unless a newer one arrives.
         Returns (request id, the structure index of each pass)."""
         if scene is not None and not isinstance(scene, Scene):

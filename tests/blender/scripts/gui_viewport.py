@@ -15,7 +15,8 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
     call on Blender's main thread (view_update, view_draw) is recorded; the
     engine is switched to Workbench mid-render; back to GRIDWALK, then Solid
     shading mid-render; Rendered again, then Toggle Quad View (four views,
-    four renders) and back; the 3D view's area switched to the Image Editor
+    four renders); 400 operators called under temp_override while the sphere
+    moves (operator_storm), and back; the 3D view's area switched to the Image Editor
     (the view closes); back to a Rendered 3D view, then File > New while rendering;
     Rendered again, then quit while rendering.
     Render threads (named "gridwalk") and the viewport's controller threads ("gridwalk-view") are
@@ -54,11 +55,30 @@ def fail(message):
     os._exit(1)
 
 
+WRITE_REFUSED = "Writing to ID classes in this context is not allowed"
+
+
 def step(fn):
-    """A timer callback: any error ends Blender with exit code 1 and the traceback."""
+    """A timer callback: any error ends Blender with exit code 1 and the
+    traceback. A write to ID data that Blender refuses is tried again 0.1 s
+    later (up to 50 times): Blender's permission for Python to write is one
+    global flag, turned off around read-only callbacks, and a callback of our
+    engine running in a preview job's thread at the same moment as one on the
+    main thread can leave it off for a while (docs/blender.md)."""
+    tries = [0]
+
     def wrapped():
         try:
             return fn()
+        except AttributeError as exc:
+            if WRITE_REFUSED in str(exc) and tries[0] < 50:
+                tries[0] += 1
+                RESULTS.setdefault("write_refused", []).append(
+                    [fn.__name__, round(time.monotonic(), 2), bpy.app.is_job_running("RENDER_PREVIEW")])
+                log("write refused, trying again:", RESULTS["write_refused"][-1])
+                return 0.1
+            traceback.print_exc()
+            fail(traceback.format_exc())
         except Exception:
             traceback.print_exc()
             fail(traceback.format_exc())
@@ -78,20 +98,27 @@ def view3d():
 
 
 def threads() -> dict:
-    """The most render threads and viewport threads seen in 0.5 s (a pass may
-    be between jobs at one instant)."""
+    """Render threads and viewport threads over 0.5 s: the most render threads
+    seen (a pass may be between jobs at one instant), and the viewport's
+    controller threads seen most often (a render thread a controller has
+    just started carries the controller's name for an instant)."""
     log("sessions:", [(s.message, s.finished, s._versions()) for s in sessions()])
-    counts = {"render": 0, "viewport": 0}
+    render, viewport = 0, []
     for _ in range(10):
-        counts["render"] = max(counts["render"], native_threads.count(native_threads.RENDER))
-        counts["viewport"] = max(counts["viewport"], native_threads.count(native_threads.VIEWPORT))
+        render = max(render, native_threads.count(native_threads.RENDER))
+        viewport.append(native_threads.count(native_threads.VIEWPORT))
         time.sleep(0.05)
-    return counts
+    return {"render": render, "viewport": max(set(viewport), key=viewport.count)}
 
 
 def sessions():
     module = sys.modules.get("gridwalk_blender.viewport")
     return list(module.SESSIONS) if module else []
+
+
+def requests() -> int:
+    """Requests submitted by every viewport session so far (each restart is one)."""
+    return sum(s.request[0] for s in sessions() if s.request)
 
 
 def when_done(then):
@@ -340,6 +367,38 @@ def quad_view():
 def quad_view_rendering():
     RESULTS["quad_view"] = threads()
     RESULTS["quad_view_regions"] = len(view3d()[3].region_quadviews)
+    operator_storm(leave_quad_view)
+
+
+STORM_TICKS, CALLS_PER_TICK = 40, 10
+
+
+def operator_storm(then):
+    """Operators called from Python under temp_override, ten per timer tick,
+    while four views render and the sphere moves (each move restarts them).
+    Blender 3.4-5.0 on Python 3.11 reads the override's dict without taking
+    the GIL when another Python thread holds it, and crashed this way
+    (docs/blender.md): the viewport runs no Python thread."""
+    win, area, region, _ = view3d()
+    sphere = bpy.data.objects["Sphere"]
+    state = {"calls": 0, "requests_before": requests()}
+
+    def tick():
+        if state["calls"] >= STORM_TICKS * CALLS_PER_TICK:
+            RESULTS["operator_storm"] = dict(state, requests_after=requests(), sessions=len(sessions()))
+            log("operator storm:", RESULTS["operator_storm"])
+            after(0.5, then)
+            return None
+        for _ in range(CALLS_PER_TICK):
+            with bpy.context.temp_override(window=win, area=area, region=region):
+                bpy.ops.object.select_all(action="TOGGLE")
+            state["calls"] += 1
+        sphere.location.z += 0.001 if state["calls"] % (2 * CALLS_PER_TICK) else -0.001
+        return 0.01
+    bpy.app.timers.register(step(tick), first_interval=0.01, persistent=True)
+
+
+def leave_quad_view():
     toggle_quad_view()
     after(2.0, close_view)
 

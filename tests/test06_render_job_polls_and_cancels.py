@@ -8,6 +8,7 @@ import numpy as np
 
 import gridwalk as gw
 from gridwalk.scenes import balls
+from thread_names import thread_names
 
 
 def thread_count():
@@ -16,14 +17,7 @@ def thread_count():
 
 def render_threads():
     """The core's render threads of this process (they are named "gridwalk")."""
-    names = []
-    for task in os.listdir("/proc/self/task"):
-        try:
-            with open(f"/proc/self/task/{task}/comm") as f:
-                names.append(f.read().strip())
-        except FileNotFoundError:     # a thread that just ended
-            pass
-    return names.count("gridwalk")
+    return thread_names().count("gridwalk")
 
 
 def scene(size=2, res=128):

@@ -4,7 +4,6 @@ passes stand for, rows run bottom-up, a coarse pass paints blocks, values
 stay below the half-float maximum the viewport's texture holds, a newer
 request cancels the running one, and stop() joins its native thread."""
 import dataclasses
-import os
 import time
 
 import numpy as np
@@ -12,19 +11,9 @@ import pytest
 
 import gridwalk as gw
 from gridwalk.scenes import balls
+from thread_names import thread_names
 
 W, H = 48, 32
-
-
-def thread_names() -> list[str]:
-    names = []
-    for task in os.listdir("/proc/self/task"):
-        try:
-            with open(f"/proc/self/task/{task}/comm") as f:
-                names.append(f.read().strip())
-        except FileNotFoundError:   # the thread ended meanwhile
-            pass
-    return names
 
 
 def wait_finished(r: gw.ProgressiveRenderer, request: int, timeout: float = 60) -> dict:

@@ -5,6 +5,7 @@ import json
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 
 import numpy as np
@@ -12,6 +13,7 @@ import pytest
 
 import gridwalk as gw
 from gridwalk.scenes import balls
+from thread_names import thread_names
 
 STRUCTURES = ("none", "grid", "adaptive")
 
@@ -117,13 +119,15 @@ def test_worst_case_distributions_build_small_structures():
 
 def test_build_stops_within_100ms_of_a_cancel():
     """A cancel lands in every phase of the build (counting, filling, the
-    empty-space distance, refining): each stops within 100 ms."""
+    empty-space distance, refining): each stops within 100 ms. The build runs
+    on a native thread ("gridwalk-build"): no Python thread is started."""
     x = np.linspace(-50, 50, 1001, dtype=np.float32)
     X, Y = np.meshgrid(x, x)
     V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size, np.float32)], -1)
     i = np.arange(1001 * 1001).reshape(1001, 1001)
     q = np.stack([i[:-1, :-1], i[1:, :-1], i[1:, 1:], i[:-1, 1:]], -1).reshape(-1, 4)
     T = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]).astype(np.int32)   # a 2M-triangle plane
+    python_threads = threading.active_count()
     for accel in ("adaptive", "grid"):
         settings = gw.RenderSettings(accel=accel)
         start = time.perf_counter()
@@ -132,10 +136,11 @@ def test_build_stops_within_100ms_of_a_cancel():
         cancelled = []
         for fraction in (0.05, 0.2, 0.35, 0.5, 0.65, 0.8):
             sc = gw.Scene(vertices=V, triangles=T)
-            asked = []
+            asked, seen = [], []
             start = time.perf_counter()
 
             def stop():
+                seen.append((threading.active_count(), "gridwalk-build" in thread_names()))
                 if time.perf_counter() - start > fraction * whole:
                     asked.append(asked[0] if asked else time.perf_counter())
                     return True
@@ -149,6 +154,7 @@ def test_build_stops_within_100ms_of_a_cancel():
                 cancelled.append(fraction)
             else:
                 assert not asked, f"{accel}: a cancel at {fraction:.0%} of the build was ignored"
+            assert seen and all(s == (python_threads, True) for s in seen), seen
         assert len(cancelled) >= 4, f"{accel}: only {cancelled} of the build was cancelled (make the scene larger)"
 
 

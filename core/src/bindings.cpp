@@ -12,6 +12,7 @@
 #include "batch.h"
 #include "bind_casters.h"
 #include "bindings.h"
+#include "build_job.h"
 #include "render_job.h"
 #include "adaptive_grid.h"
 #include "uniform_grid.h"
@@ -156,6 +157,15 @@ NB_MODULE(_core, m) {
               return build_accel(std::move(scene), s, cancel.get());
           },
           "scene"_a, "settings"_a, "cancel"_a.none() = nb::none());
+
+    nb::class_<BuildJob>(m, "BuildJob")
+        .def(nb::init<std::shared_ptr<const Scene>, const RenderSettings&>(), "scene"_a, "settings"_a)
+        .def("wait", &BuildJob::wait, "seconds"_a, nb::call_guard<nb::gil_scoped_release>(),
+             "Wait up to `seconds` (negative: until done); True once the build has ended.")
+        .def("cancel", &BuildJob::cancel)
+        .def_prop_ro("cancelled", &BuildJob::cancelled)
+        .def("result", &BuildJob::result, nb::call_guard<nb::gil_scoped_release>(),
+             "The structure; raises the build's error (BuildCancelled after a cancel).");
 
     m.attr("ADAPTIVE_MAX_CELLS") = AdaptiveParams{}.max_cells;   // the adaptive grid's caps, for gridwalk.memory
     m.attr("ADAPTIVE_MAX_REFS") = AdaptiveParams{}.max_refs;

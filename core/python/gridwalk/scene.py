@@ -6,7 +6,6 @@ raises ValueError naming the array and the first bad index.
 """
 from __future__ import annotations
 
-import threading
 import warnings
 from dataclasses import dataclass, replace
 
@@ -100,35 +99,22 @@ POLL_SECONDS = 0.01
 
 
 def build(native, core_settings, should_stop=None):
-    """Build the structure in a worker thread while this thread waits, so that
-    should_stop() (polled every POLL_SECONDS) and Ctrl-C can cancel it: the
-    builder checks its cancel token well under a millisecond apart."""
-    token = _core.CancelToken()
-    result, error = [], []
-
-    def work():
-        try:
-            result.append(_core.build_accel(native, core_settings, token))
-        except BaseException as exc:   # handed to the waiting thread
-            error.append(exc)
-
-    worker = threading.Thread(target=work, name="gridwalk-build", daemon=True)
-    worker.start()
+    """Build the structure on a native thread (_core.BuildJob) while this
+    thread waits in slices of POLL_SECONDS, so that should_stop() and Ctrl-C
+    can cancel it: the builder checks its cancel token milliseconds apart. No
+    Python thread is started (inside Blender one is a hazard; docs/blender.md)."""
+    job = _core.BuildJob(native, core_settings)
     try:
-        while worker.is_alive():
-            worker.join(POLL_SECONDS)
-            if should_stop is not None and worker.is_alive() and should_stop():
-                token.cancel()
+        while not job.wait(POLL_SECONDS):
+            if should_stop is not None and should_stop():
+                job.cancel()
     except BaseException:   # KeyboardInterrupt: stop the builder, then let it propagate
-        token.cancel()
-        worker.join()
+        job.cancel()
+        job.wait(-1)
         raise
-    worker.join()
-    if token.cancelled:
+    if job.cancelled:
         raise BuildCancelled("the build was cancelled")
-    if error:
-        raise error[0]
-    return result[0]
+    return job.result()
 
 
 def structure_key(settings: RenderSettings) -> tuple:

@@ -1,0 +1,15 @@
+"""Names of this process's threads (Linux: /proc/self/task/*/comm). The core
+names its render threads "gridwalk", its build threads "gridwalk-build" and
+the viewport's controller "gridwalk-view"."""
+import os
+
+
+def thread_names() -> list[str]:
+    names = []
+    for task in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{task}/comm") as f:
+                names.append(f.read().strip())
+        except FileNotFoundError:     # the thread ended meanwhile
+            pass
+    return names

@@ -61,26 +61,42 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 // by rounding (origin (0, 1e30, 2), direction (1, -1e30, -2): everything it
 // meets is "at t = 1"), and far outside the box the quadratic shapes' tests
 // lose all their digits and may report hits that are not there.
-bool may_hit(const Ray& r, const Bounds& box) {
+// The scene's box in double, with its squared diagonal: computed once per batch.
+struct SceneBox {
+    double lo[3], hi[3], diagonal2;
+    explicit SceneBox(const Bounds& b) {
+        diagonal2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = b.lo[a];
+            hi[a] = b.hi[a];
+            diagonal2 += sq(hi[a] - lo[a]);
+        }
+    }
+};
+
+bool may_hit(const Ray& r, const SceneBox& box) {
     double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
-        const double o = r.o[a], d = r.d[a], lo = box.lo[a], hi = box.hi[a];
+        const double o = r.o[a], d = r.d[a];
         if (d == 0) {
-            if (o < lo || o > hi) return false;
+            if (o < box.lo[a] || o > box.hi[a]) return false;
             continue;
         }
-        double tn = (lo - o) / d, tf = (hi - o) / d;
-        if (tn > tf) std::swap(tn, tf);
-        t0 = std::max(t0, tn);
-        t1 = std::min(t1, tf);
+        const double inv = 1.0 / d;   // finite: |d| >= the smallest float subnormal
+        const double ta = (box.lo[a] - o) * inv, tb = (box.hi[a] - o) * inv;
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
     }
+    // Multiplying by the reciprocal rounds twice: widen by far more than that
+    // (and far less than a float step), so that the test stays conservative.
+    t0 -= std::abs(t0) * 0x1p-48;
+    t1 += std::abs(t1) * 0x1p-48;
     if (!(t0 <= t1)) return false;
+    // One float step of t at the far end, times |d|, at most a quarter of the diagonal (squared).
     const float far = float(std::max(std::abs(t0), std::abs(t1)));
-    const double step = (double(next_up(far)) - double(far)) *
-                        std::sqrt(double(r.d.x) * r.d.x + double(r.d.y) * r.d.y + double(r.d.z) * r.d.z);
-    const double diagonal = std::sqrt(sq(double(box.hi.x) - box.lo.x) + sq(double(box.hi.y) - box.lo.y) +
-                                      sq(double(box.hi.z) - box.lo.z));
-    return 4.0 * step <= diagonal;
+    const double step = double(next_up(far)) - double(far);
+    const double d2 = double(r.d.x) * r.d.x + double(r.d.y) * r.d.y + double(r.d.z) * r.d.z;
+    return 16.0 * step * step * d2 <= box.diagonal2;
 }
 
 Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
@@ -105,7 +121,7 @@ Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {
 }
 
 // make_ray; false for a ray that may_hit() turns into a miss.
-bool traceable_ray(const RayBatch& b, size_t i, const Bounds& box, Ray& r, int& scale_exp) {
+bool traceable_ray(const RayBatch& b, size_t i, const SceneBox& box, Ray& r, int& scale_exp) {
     r = make_ray(b, i, scale_exp);
     return may_hit(r, box);
 }
@@ -114,10 +130,11 @@ bool traceable_ray(const RayBatch& b, size_t i, const Bounds& box, Ray& r, int& 
 
 Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, const BatchOut& out) {
     const Scene& sc = accel.scene();
+    const SceneBox box(sc.bounds());
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         int scale_exp;
         Ray ray;
-        const bool traceable = traceable_ray(rays, i, sc.bounds(), ray, scale_exp);
+        const bool traceable = traceable_ray(rays, i, box, ray, scale_exp);
         const RayPre r(ray);
         ++ctx.stats.rays[int(RayType::Primary)];
         Hit hit;
@@ -143,11 +160,12 @@ Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSett
 }
 
 Stats occluded_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, uint8_t* out) {
+    const SceneBox box(accel.scene().bounds());
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
         int scale_exp;
         Ray ray;
-        out[i] = traceable_ray(rays, i, accel.scene().bounds(), ray, scale_exp) && accel.occluded(RayPre(ray), ctx)
+        out[i] = traceable_ray(rays, i, box, ray, scale_exp) && accel.occluded(RayPre(ray), ctx)
                      ? 1 : 0;
     });
 }

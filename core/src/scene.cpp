@@ -77,8 +77,14 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
 
     // One padding corner at the end: the SIMD triangle test reads each
     // triangle's 9 floats as three rows of 4 (triangle_simd.inc).
-    tri_verts_.assign(3 * nt + 1, Vec3());
-    for (size_t i = 0; i < 3 * nt; ++i) tri_verts_[i] = vert(tris_[i]);
+    // The triangles' bounds are their corners' bounds: gathered in the same pass.
+    Bounds tri_bounds;
+    tri_verts_.reserve(3 * nt + 1);
+    for (size_t i = 0; i < 3 * nt; ++i) {
+        tri_verts_.push_back(vert(tris_[i]));
+        tri_bounds.grow(tri_verts_.back());
+    }
+    tri_verts_.push_back(Vec3());
     centers_.resize(ns);
     for (size_t i = 0; i < ns; ++i) centers_[i] = v3(&sphere_centers[3 * i]);
     cones_.resize(nc);
@@ -105,10 +111,16 @@ Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::v
     // Coordinates (and extents) within +-1e30 keep every box, distance and
     // grid cell computation finite in float.
     constexpr float kLimit = 1e30f;
-    for (size_t i = 0; i < num_prims(); ++i) {
+    auto within = [&](const Bounds& b) {
+        return std::max(std::abs(b.lo.x), std::max(std::abs(b.lo.y), std::abs(b.lo.z))) <= kLimit &&
+               std::max(std::abs(b.hi.x), std::max(std::abs(b.hi.y), std::abs(b.hi.z))) <= kLimit;
+    };
+    // Triangles all within the limit (the common case) need no per-triangle pass.
+    const size_t first = nt > 0 && within(tri_bounds) ? nt : 0;
+    if (first) bounds_ = tri_bounds;
+    for (size_t i = first; i < num_prims(); ++i) {
         const Bounds pb = prim_bounds(i);
-        if (!(std::max(std::abs(pb.lo.x), std::max(std::abs(pb.lo.y), std::abs(pb.lo.z))) <= kLimit &&
-              std::max(std::abs(pb.hi.x), std::max(std::abs(pb.hi.y), std::abs(pb.hi.z))) <= kLimit)) {
+        if (!within(pb)) {
             const char* what = kind_of(i) == PrimKind::Triangle ? "triangles"
                              : kind_of(i) == PrimKind::Sphere   ? "sphere_radii"
                                                                  : "cylinder_base_radius";

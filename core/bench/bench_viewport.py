@@ -74,7 +74,9 @@ def view_camera_of(scene, depsgraph):
 
 def wait_first_pixels(session, timeout=120.0, key="edit_to_pixels"):
     deadline = time.monotonic() + timeout
-    while key not in session.timings:
+    # The native renderer times its own progress from the request; poll()
+    # (what view_draw calls) copies it into session.timings.
+    while session.poll() is not None and key not in session.timings:
         if time.monotonic() > deadline:
             raise RuntimeError(f"no pixels after {timeout} s: {session.message}")
         time.sleep(0.001)

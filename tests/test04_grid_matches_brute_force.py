@@ -71,6 +71,22 @@ def test_flat_scene_with_zero_extent_axis():
     assert np.isfinite(g.t).sum() > 1000
 
 
+def test_grids_of_more_than_1024_cells_along_an_axis_build_correctly():
+    """The build keeps each primitive's cell range between its two passes when
+    every axis has at most 1024 cells, and recomputes it otherwise: both ways
+    find what brute force finds."""
+    rng = np.random.default_rng(11)
+    x = rng.uniform(0, 3000, 4000)
+    V = np.stack([np.stack([x, x + 0.4, x], -1), rng.uniform(-1, 1, (4000, 3)), rng.uniform(-1, 1, (4000, 3))],
+                 -1).reshape(-1, 3).astype(np.float32)
+    sc = gw.Scene(vertices=V, triangles=np.arange(len(V), dtype=np.int32).reshape(-1, 3))
+    resolutions = [sc.grid_info(gw.RenderSettings(accel="grid", grid_density=m))["resolution"] for m in (0.5, 2.0)]
+    assert max(resolutions[0]) <= 1024 < max(resolutions[1]), resolutions
+    o, d = random_rays(20000, [0, -1, -1], [3000, 1, 1], seed=12)
+    for m in (0.5, 2.0):
+        assert np.isfinite(same_hits(sc, o, d, grid_density=m).t).sum() > 1000
+
+
 def test_mailboxes_skip_repeat_tests_without_changing_hits():
     V, F = icosphere(3, radius=4.0)
     sc = gw.Scene(vertices=V, triangles=F, sphere_centers=[[0, 0, 0], [6, 0, 0]], sphere_radii=[2.5, 3.0])

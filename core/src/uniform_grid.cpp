@@ -29,6 +29,23 @@ namespace {
 uint64_t cells_in(const int c0[3], const int c1[3]) {
     return uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
 }
+
+// A primitive's cell range in 60 bits (10 per bound), for grids of at most
+// 1024 cells per axis: the count pass keeps it so that the fill pass need not
+// recompute the primitive's bounds and cells.
+constexpr int kPackBits = 10;
+uint64_t pack_range(const int c0[3], const int c1[3]) {
+    uint64_t p = 0;
+    for (int a = 0; a < 3; ++a) p = (p << (2 * kPackBits)) | (uint64_t(c0[a]) << kPackBits) | uint64_t(c1[a]);
+    return p;
+}
+void unpack_range(uint64_t p, int c0[3], int c1[3]) {
+    constexpr uint64_t mask = (1u << kPackBits) - 1;
+    for (int a = 2; a >= 0; --a, p >>= 2 * kPackBits) {
+        c1[a] = int(p & mask);
+        c0[a] = int((p >> kPackBits) & mask);
+    }
+}
 }  // namespace
 
 UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, const CancelToken* cancel)
@@ -73,6 +90,7 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     double m = p.density;
     info_.density_requested = p.density;
     std::vector<uint32_t> counts;
+    std::vector<uint64_t> ranges;   // packed cell ranges, when the grid allows (pack_range)
     for (int attempt = 0;; ++attempt) {
         uint64_t cells = 1;
         for (int a = 0; a < 3; ++a) {
@@ -91,10 +109,14 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
         }
         // Pass 1: count references per cell.
         assign_checked(counts, cells, 0u, cancel, step);
+        const bool pack = std::max(n_[0], std::max(n_[1], n_[2])) <= (1 << kPackBits);
+        ranges.clear();
+        if (pack) ranges.reserve(np);
         uint64_t refs = 0;
         for (size_t i = 0; i < np && refs <= max_refs; ++i) {
             int c0[3], c1[3];
             cell_range(sc.prim_bounds(i), c0, c1);
+            if (pack) ranges.push_back(pack_range(c0, c1));
             const uint64_t covered = cells_in(c0, c1);
             check_cancel(cancel, step, covered);
             for_cells(c0, c1, [&](uint64_t c) { ++counts[c]; });
@@ -121,14 +143,20 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
         counts[c] = offsets_[c];
     }
     assign_checked(prims_, info_.refs, 0u, cancel, step);
+    const bool packed = ranges.size() == np;
     for (size_t i = 0; i < np; ++i) {
         int c0[3], c1[3];
-        cell_range(sc.prim_bounds(i), c0, c1);
+        if (packed) {
+            unpack_range(ranges[i], c0, c1);
+        } else {
+            cell_range(sc.prim_bounds(i), c0, c1);
+        }
         check_cancel(cancel, step, cells_in(c0, c1));
         for_cells(c0, c1, [&](uint64_t c) { prims_[counts[c]++] = uint32_t(i); });
     }
     for (int a = 0; a < 3; ++a) info_.n[a] = n_[a];
     std::vector<uint32_t>().swap(counts);   // free before the distance field's scratch
+    std::vector<uint64_t>().swap(ranges);
     empty_ = empty_distance(offsets_, n_, kEmptyCap, cancel);
     info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -88,6 +88,22 @@ def test_rays_whose_t_cannot_resolve_the_scene_are_misses_in_every_structure():
         assert sc.occluded(o, d, settings=st).tolist() == [False, False, True, False], accel
 
 
+def test_a_ray_at_the_resolution_limit_keeps_its_hit():
+    """At the limit of that rule, a ray that square roots let through stays
+    let through: the squared comparison that replaced them has slack for its
+    own rounding (found in review: the first squared version refused this ray,
+    whose point (0.25, 0, 0.25) at t = 3 * 2^20 lies inside the triangle and
+    where a float step of t is 0.25 along a direction of length sqrt(2))."""
+    sc = gw.Scene(vertices=[[0, 0, 0], [1, 0, 0], [0, 0, 1]], triangles=[[0, 1, 2]])
+    o = np.array([[-3145727.75, -0.05859375, -3145727.75]], np.float32)
+    d = np.array([[1.0, 1.25 * 2.0 ** -26, 1.0]], np.float32)
+    for accel in STRUCTURES:
+        st = gw.RenderSettings(accel=accel, threads=1)
+        h = sc.intersect(o, d, settings=st)
+        assert h.t[0] == 3 * 2 ** 20 and h.prim[0] == 0, (accel, h.t, h.prim)
+        assert sc.occluded(o, d, settings=st).tolist() == [True], accel
+
+
 def test_worst_case_distributions_build_small_structures():
     """Every primitive at one point; one huge triangle beside 100k tiny ones; a
     tiny cluster with one primitive 1e5 away; long thin triangles across the

@@ -87,16 +87,20 @@ bool may_hit(const Ray& r, const SceneBox& box) {
         t0 = std::max(t0, std::min(ta, tb));
         t1 = std::min(t1, std::max(ta, tb));
     }
-    // Multiplying by the reciprocal rounds twice: widen by far more than that
-    // (and far less than a float step), so that the test stays conservative.
+    // Multiplying by the reciprocal rounds twice where dividing rounded once.
+    // Every rounding here is met with slack far above it (and far below a float
+    // step), always in the direction that lets more rays through: the test may
+    // pass a ray that division and square roots would refuse, never the reverse.
+    // The far end of the segment, shrunk so that it cannot round up into the next binade.
+    const double reach = std::max(std::abs(t0), std::abs(t1)) * (1 - 0x1p-48);
     t0 -= std::abs(t0) * 0x1p-48;
     t1 += std::abs(t1) * 0x1p-48;
     if (!(t0 <= t1)) return false;
     // One float step of t at the far end, times |d|, at most a quarter of the diagonal (squared).
-    const float far = float(std::max(std::abs(t0), std::abs(t1)));
+    const float far = float(reach);
     const double step = double(next_up(far)) - double(far);
     const double d2 = double(r.d.x) * r.d.x + double(r.d.y) * r.d.y + double(r.d.z) * r.d.z;
-    return 16.0 * step * step * d2 <= box.diagonal2;
+    return 16.0 * step * step * d2 <= box.diagonal2 * (1 + 0x1p-44);
 }
 
 Ray make_ray(const RayBatch& b, size_t i, int& scale_exp) {

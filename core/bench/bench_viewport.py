@@ -76,10 +76,11 @@ def wait_first_pixels(session, timeout=120.0, key="edit_to_pixels"):
     deadline = time.monotonic() + timeout
     # The native renderer times its own progress from the request; poll()
     # (what view_draw calls) copies it into session.timings.
-    while session.poll() is not None and key not in session.timings:
+    while key not in session.timings:
         if time.monotonic() > deadline:
             raise RuntimeError(f"no pixels after {timeout} s: {session.message}")
         time.sleep(0.001)
+        session.poll()
     return dict(session.timings)
 
 

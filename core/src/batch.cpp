@@ -48,19 +48,6 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     return total;
 }
 
-// Ray i of the batch, with its direction rescaled by a power of two (exactly)
-// into [1, 2) when its largest component lies outside [2^-64, 2^64], and its
-// tmin, tmax by the inverse: the walks' reciprocals then stay finite.
-// scale_exp receives e such that the caller's t = ldexp(the rescaled ray's t, e).
-//
-// Whether the ray can meet the scene at all, in double: false when its
-// [tmin, tmax] misses the scene's (conservative) box, and false when float t
-// cannot tell the scene's points apart along it (one float step of t there
-// moves the ray by more than a quarter of the box's diagonal). Such a ray is
-// a documented miss for every structure alike: its hits could only be ordered
-// by rounding (origin (0, 1e30, 2), direction (1, -1e30, -2): everything it
-// meets is "at t = 1"), and far outside the box the quadratic shapes' tests
-// lose all their digits and may report hits that are not there.
 // The scene's box in double, with its squared diagonal: computed once per batch.
 struct SceneBox {
     double lo[3], hi[3], diagonal2;
@@ -74,6 +61,19 @@ struct SceneBox {
     }
 };
 
+// Ray i of the batch, with its direction rescaled by a power of two (exactly)
+// into [1, 2) when its largest component lies outside [2^-64, 2^64], and its
+// tmin, tmax by the inverse: the walks' reciprocals then stay finite.
+// scale_exp receives e such that the caller's t = ldexp(the rescaled ray's t, e).
+//
+// Whether the ray can meet the scene at all, in double: false when its
+// [tmin, tmax] misses the scene's (conservative) box, and false when float t
+// cannot tell the scene's points apart along it (one float step of t there
+// moves the ray by more than a quarter of the box's diagonal). Such a ray is
+// a documented miss for every structure alike: its hits could only be ordered
+// by rounding (origin (0, 1e30, 2), direction (1, -1e30, -2): everything it
+// meets is "at t = 1"), and far outside the box the quadratic shapes' tests
+// lose all their digits and may report hits that are not there.
 bool may_hit(const Ray& r, const SceneBox& box) {
     double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {

@@ -65,7 +65,6 @@ void RenderJob::start() {
 }
 
 void RenderJob::worker() {
-    name_this_thread();
     try {
         PixelEstimator est(*accel_, s_, camera_);
         TraceContext ctx = make_trace_context(*accel_, s_);

@@ -10,19 +10,10 @@
 
 namespace gw {
 
-// Names the calling thread "gridwalk" (Linux: /proc/<pid>/task/*/comm), so
-// hosts and tests can tell the core's render threads from their own; other
-// roles pass their own name (at most 15 characters).
-inline void name_this_thread(const char* name = "gridwalk") {
-#ifdef __linux__
-    pthread_setname_np(pthread_self(), name);
-#else
-    (void)name;
-#endif
-}
-
-// Names another thread from its creator, so the name is in place before
-// the constructor that started it returns (no race with a caller reading it).
+// Names a thread from its creator, so the name is in place before the
+// constructor that started it returns (no race with a caller reading it).
+// Linux: /proc/<pid>/task/*/comm, so hosts and tests can tell the core's
+// threads ("gridwalk", "gridwalk-build", "gridwalk-view") from their own.
 inline void name_thread(std::thread& t, const char* name) {
 #ifdef __linux__
     pthread_setname_np(t.native_handle(), name);

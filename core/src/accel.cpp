@@ -8,7 +8,7 @@
 namespace gw {
 
 std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s,
-                                         const CancelToken* cancel) {
+                                         const CancelToken* cancel, double grid_margin) {
     validate_settings(s);
     switch (s.accel) {
     case AccelKind::None: return std::make_shared<BruteForce>(std::move(scene));
@@ -23,6 +23,7 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
     GridParams p;
     p.density = s.grid_density;
     p.max_cells = s.max_cells;
+    p.margin = grid_margin;
     return std::make_shared<UniformGrid>(std::move(scene), p, cancel);
 }
 

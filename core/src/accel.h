@@ -41,8 +41,10 @@ protected:
 
 // The structure s.accel names, built over `scene` (validates s first). A
 // cancelled `cancel` token (may be null) stops the build with BuildCancelled.
+// grid_margin: a uniform grid's GridParams::margin (the viewport's, so that
+// its grids can be updated as objects move).
 std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, const RenderSettings& s,
-                                         const CancelToken* cancel = nullptr);
+                                         const CancelToken* cancel = nullptr, double grid_margin = 0.0);
 
 // Per-thread state for tracing with `accel` under settings `s`: mailboxes are
 // sized only where the structure uses them and s.mailboxes asks for them.

@@ -61,6 +61,7 @@ void bind_viewport(nb::module_& m) {
             d["first_pixels"] = s.first_pixels;
             d["first_pass_started"] = s.first_pass_started;
             d["structure_ready"] = s.structure_ready;
+            d["structure_updated"] = std::vector<bool>(s.structure_updated);
             return d;
         })
         .def("image", [](const ViewportRenderer& v) {

@@ -28,6 +28,8 @@ using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 
 template <class T>
 std::vector<T> vec(const In<T>& a) { return std::vector<T>(a.data(), a.data() + a.size()); }
+template <class T>
+PooledVector<T> pooled(const In<T>& a) { return PooledVector<T>(a.data(), a.data() + a.size()); }
 
 nb::dict stats_dict(const Stats& s) {
     nb::dict d;
@@ -90,9 +92,10 @@ NB_MODULE(_core, m) {
                 const CameraDesc& camera, Vec3 background, In<float> uvs, In<float> colors,
                 std::vector<std::shared_ptr<Image>> images, std::vector<Texture> textures, const World& world) {
                  std::vector<std::shared_ptr<const Image>> shared(images.begin(), images.end());
-                 new (self) Scene(vec(vertices), vec(triangles), vec(normals), vec(tri_mat), vec(centers), vec(radii),
+                 new (self) Scene(pooled(vertices), pooled(triangles), pooled(normals), pooled(tri_mat), vec(centers),
+                                  vec(radii),
                                   vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), std::move(materials),
-                                  std::move(lights), camera, background, vec(uvs), vec(colors), std::move(shared),
+                                  std::move(lights), camera, background, pooled(uvs), pooled(colors), std::move(shared),
                                   std::move(textures), world);
              })
         .def_prop_ro("texture_bytes", &Scene::texture_bytes)
@@ -152,11 +155,21 @@ NB_MODULE(_core, m) {
         .def_prop_ro("cancelled", &CancelToken::cancelled);
 
     m.def("build_accel",
-          [](std::shared_ptr<Scene> scene, const RenderSettings& s, std::shared_ptr<CancelToken> cancel) {
+          [](std::shared_ptr<Scene> scene, const RenderSettings& s, std::shared_ptr<CancelToken> cancel,
+             double grid_margin) {
+              if (!(grid_margin >= 0 && grid_margin <= 1)) throw std::invalid_argument("grid_margin must be in [0, 1]");
               nb::gil_scoped_release release;
-              return build_accel(std::move(scene), s, cancel.get());
+              return build_accel(std::move(scene), s, cancel.get(), grid_margin);
           },
-          "scene"_a, "settings"_a, "cancel"_a.none() = nb::none());
+          "scene"_a, "settings"_a, "cancel"_a.none() = nb::none(), "grid_margin"_a = 0.0);
+    m.def("pool_bytes", &pool_bytes, "Bytes of freed buffers the buffer pool keeps for reuse (buffer_pool.h).");
+    // The viewport's grid update (UniformGrid::update), for tests: None where it does not apply.
+    m.def("update_grid", [](std::shared_ptr<const Accel> previous, std::shared_ptr<const Scene> scene) {
+        const auto* grid = dynamic_cast<const UniformGrid*>(previous.get());
+        if (!grid) throw std::invalid_argument("update_grid: the previous structure is not a uniform grid");
+        nb::gil_scoped_release release;
+        return std::shared_ptr<const Accel>(UniformGrid::update(*grid, std::move(scene)));
+    }, "previous"_a, "scene"_a);
 
     nb::class_<BuildJob>(m, "BuildJob")
         .def(nb::init<std::shared_ptr<const Scene>, const RenderSettings&>(), "scene"_a, "settings"_a)

@@ -9,13 +9,15 @@ namespace {
 
 [[noreturn]] void bad(const std::string& msg) { throw std::invalid_argument(msg); }
 
-void check_finite(const std::vector<float>& a, int width, const char* name) {
+template <class Array>
+void check_finite(const Array& a, int width, const char* name) {
     for (size_t i = 0; i < a.size(); ++i)
         if (!std::isfinite(a[i]))
             bad(std::string(name) + "[" + std::to_string(i / width) + "] has a non-finite value (NaN or Inf)");
 }
 
-void check_ids(const std::vector<int32_t>& ids, size_t limit, int width, const char* name, const char* what) {
+template <class Array>
+void check_ids(const Array& ids, size_t limit, int width, const char* name, const char* what) {
     for (size_t i = 0; i < ids.size(); ++i)
         if (ids[i] < 0 || size_t(ids[i]) >= limit)
             bad(std::string(name) + "[" + std::to_string(i / width) + "] = " + std::to_string(ids[i]) +
@@ -26,13 +28,13 @@ Vec3 v3(const float* p) { return {p[0], p[1], p[2]}; }
 
 }  // namespace
 
-Scene::Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::vector<float> normals,
-             std::vector<int32_t> tri_materials, std::vector<float> sphere_centers,
+Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, PooledVector<float> normals,
+             PooledVector<int32_t> tri_materials, std::vector<float> sphere_centers,
              std::vector<float> sphere_radii, std::vector<int32_t> sphere_materials,
              std::vector<float> cone_base, std::vector<float> cone_apex, std::vector<float> cone_base_radius,
              std::vector<float> cone_apex_radius, std::vector<int32_t> cone_materials,
              std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
-             Vec3 background, std::vector<float> uvs, std::vector<float> colors,
+             Vec3 background, PooledVector<float> uvs, PooledVector<float> colors,
              std::vector<std::shared_ptr<const Image>> images, std::vector<Texture> textures, const World& world)
     : verts_(std::move(vertices)), normals_(std::move(normals)), tris_(std::move(triangles)),
       tri_mat_(std::move(tri_materials)), radii_(std::move(sphere_radii)),

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "buffer_pool.h"
 #include "camera.h"
 #include "cone.h"
 #include "lights.h"
@@ -26,13 +27,13 @@ public:
     // may be freed afterwards. Every value is validated here, where it enters
     // the core: throws std::invalid_argument naming the array or record and
     // the first bad index.
-    Scene(std::vector<float> vertices, std::vector<int32_t> triangles, std::vector<float> normals,
-          std::vector<int32_t> tri_materials, std::vector<float> sphere_centers,
+    Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, PooledVector<float> normals,
+          PooledVector<int32_t> tri_materials, std::vector<float> sphere_centers,
           std::vector<float> sphere_radii, std::vector<int32_t> sphere_materials,
           std::vector<float> cone_base, std::vector<float> cone_apex, std::vector<float> cone_base_radius,
           std::vector<float> cone_apex_radius, std::vector<int32_t> cone_materials,
           std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
-          Vec3 background, std::vector<float> uvs = {}, std::vector<float> colors = {},
+          Vec3 background, PooledVector<float> uvs = {}, PooledVector<float> colors = {},
           std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
           const World& world = World());
 
@@ -96,9 +97,11 @@ private:
         return {normals_[k], normals_[k + 1], normals_[k + 2]};
     }
 
-    std::vector<float> verts_, normals_;
-    std::vector<Vec3> tri_verts_;   // 3 per triangle: the hot loop reads one contiguous record
-    std::vector<int32_t> tris_, tri_mat_;
+    // The arrays that grow with the mesh are pooled (buffer_pool.h): a viewport's
+    // next scene version reuses them.
+    PooledVector<float> verts_, normals_;
+    PooledVector<Vec3> tri_verts_;   // 3 per triangle: the hot loop reads one contiguous record
+    PooledVector<int32_t> tris_, tri_mat_;
     std::vector<Vec3> centers_;
     std::vector<float> radii_;
     std::vector<int32_t> sphere_mat_;
@@ -108,7 +111,7 @@ private:
     std::vector<Light> lights_;
     CameraDesc camera_;
     Vec3 background_;
-    std::vector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
+    PooledVector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
     std::vector<std::shared_ptr<const Image>> images_;
     std::vector<Texture> textures_;
     World world_;

@@ -1,6 +1,8 @@
 // The uniform grid: build (the seed's resolution formula, compact CSR storage)
 // and Amanatides & Woo 3D-DDA traversal with optional per-thread mailboxes.
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <stdexcept>
 
 #include "uniform_grid.h"
@@ -70,23 +72,25 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     // has a non-empty slab. An axis is flat when its extent is below 1e-4 of
     // the scale: it gets one cell and is left out of the cell-size formula.
     bool flat[3];
+    Vec3 tight_lo, tight_hi;
     for (int a = 0; a < 3; ++a) {
         flat[a] = !(ext[a] > 1e-4 * scale);
         const double pad = (flat[a] ? 1e-3 : 1e-5) * scale;
-        lo_[a] = next_down(float(double(b.lo[a]) - pad - std::abs(double(b.lo[a])) * 1e-6));
-        hi_[a] = next_up(float(double(b.hi[a]) + pad + std::abs(double(b.hi[a])) * 1e-6));
+        tight_lo[a] = next_down(float(double(b.lo[a]) - pad - std::abs(double(b.lo[a])) * 1e-6));
+        tight_hi[a] = next_up(float(double(b.hi[a]) + pad + std::abs(double(b.hi[a])) * 1e-6));
     }
     // N_ax = floor(M * dim_ax / cbrt(V / N)) + 1, generalised to k non-flat axes.
     int k = 0;
     double vol = 1;
     for (int a = 0; a < 3; ++a)
-        if (!flat[a]) { ++k; vol *= double(hi_[a] - lo_[a]); }
+        if (!flat[a]) { ++k; vol *= double(tight_hi[a] - tight_lo[a]); }
     const double side = k ? std::pow(vol / double(np), 1.0 / k) : 1.0;
     if (uint64_t(np) > 0xFFFFFFF0ull)   // offsets and primitive indices are 32-bit
         throw std::invalid_argument("the uniform grid holds at most 4,294,967,280 primitives, got " +
                                     std::to_string(np));
     const GridBudget budget = uniform_grid_budget(np, p.density, p.max_cells, p.max_refs);
     const uint64_t max_cells = budget.cells, max_refs = budget.refs;
+    max_refs_ = max_refs;
     double m = p.density;
     info_.density_requested = p.density;
     std::vector<uint32_t> counts;
@@ -94,8 +98,14 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     for (int attempt = 0;; ++attempt) {
         uint64_t cells = 1;
         for (int a = 0; a < 3; ++a) {
-            const double na = flat[a] ? 1.0 : std::floor(m * double(hi_[a] - lo_[a]) / side) + 1.0;
+            const double na = flat[a] ? 1.0 : std::floor(m * double(tight_hi[a] - tight_lo[a]) / side) + 1.0;
             n_[a] = int(std::min(na, double(1 << 20)));
+            // The margin: whole cells of the same size on both sides (none on a flat axis).
+            const int extra = flat[a] ? 0 : int(std::min(std::ceil(p.margin * double(n_[a])), double(1 << 20)));
+            const double size = (double(tight_hi[a]) - double(tight_lo[a])) / double(n_[a]);
+            lo_[a] = extra ? next_down(float(double(tight_lo[a]) - extra * size)) : tight_lo[a];
+            hi_[a] = extra ? next_up(float(double(tight_hi[a]) + extra * size)) : tight_hi[a];
+            n_[a] += 2 * extra;
             cells *= uint64_t(n_[a]);
         }
         if (cells > max_cells) {   // shrink M towards the cap and try again
@@ -164,6 +174,135 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
         info_.note = "grid density reduced from " + std::to_string(p.density) + " to " + std::to_string(m) +
                      " to respect the cap of " + std::to_string(max_cells) + " cells / " +
                      std::to_string(max_refs) + " references";
+}
+
+namespace {
+// Primitives whose bounds may differ between two scenes of the same counts
+// (ascending): triangles whose corners differ, quadrics whose bounds do.
+// Null when more than `limit` do.
+bool changed_prims(const Scene& a, const Scene& b, size_t limit, std::vector<uint32_t>& out,
+                   const CancelToken* cancel, uint64_t& step) {
+    const size_t nt = a.num_triangles(), np = a.num_prims();
+    const Vec3 *va = a.triangle_vertices(), *vb = b.triangle_vertices();
+    constexpr size_t kBlock = 64;   // triangles compared at once: one memcmp per unchanged block
+    for (size_t i = 0; i < nt; i += kBlock) {
+        const size_t e = std::min(nt, i + kBlock);
+        check_cancel(cancel, step, e - i);
+        if (std::memcmp(va + 3 * i, vb + 3 * i, (e - i) * 3 * sizeof(Vec3)) == 0) continue;
+        for (size_t t = i; t < e; ++t)
+            if (std::memcmp(va + 3 * t, vb + 3 * t, 3 * sizeof(Vec3)) != 0) out.push_back(uint32_t(t));
+        if (out.size() > limit) return false;
+    }
+    for (size_t i = nt; i < np; ++i) {
+        const Bounds x = a.prim_bounds(i), y = b.prim_bounds(i);
+        bool same = true;
+        for (int k = 0; k < 3; ++k) same &= x.lo[k] == y.lo[k] && x.hi[k] == y.hi[k];
+        if (!same) out.push_back(uint32_t(i));
+        if (out.size() > limit) return false;
+    }
+    return true;
+}
+
+struct Move {   // one primitive entering or leaving one cell
+    uint64_t cell;
+    uint32_t prim;
+    bool operator<(const Move& o) const { return cell != o.cell ? cell < o.cell : prim < o.prim; }
+};
+}  // namespace
+
+std::shared_ptr<const UniformGrid> UniformGrid::update(const UniformGrid& prev, std::shared_ptr<const Scene> s,
+                                                       const CancelToken* cancel) {
+    const Scene &old_sc = prev.scene(), &sc = *s;
+    if (old_sc.num_triangles() != sc.num_triangles() || old_sc.num_spheres() != sc.num_spheres() ||
+        old_sc.num_cones() != sc.num_cones())
+        return nullptr;
+    // Every primitive must lie inside the box, with at least half the room a
+    // fresh build leaves (it pads the scene's box by 1e-5 of its largest side).
+    const Bounds& b = sc.bounds();
+    double scale = 1e-12;
+    for (int a = 0; a < 3; ++a) scale = std::max(scale, double(b.hi[a]) - double(b.lo[a]));
+    for (int a = 0; a < 3; ++a)
+        if (!(double(b.lo[a]) - 0.5e-5 * scale >= double(prev.lo_[a]) &&
+              double(b.hi[a]) + 0.5e-5 * scale <= double(prev.hi_[a])))
+            return nullptr;
+    uint64_t step = 0;
+    std::vector<uint32_t> changed;
+    // Past a quarter of the primitives a fresh build costs about the same.
+    if (!changed_prims(old_sc, sc, sc.num_prims() / 4, changed, cancel, step)) return nullptr;
+    return std::shared_ptr<const UniformGrid>(new UniformGrid(prev, std::move(s), changed, cancel));
+}
+
+UniformGrid::UniformGrid(const UniformGrid& prev, std::shared_ptr<const Scene> s, const std::vector<uint32_t>& changed,
+                         const CancelToken* cancel)
+    : Accel(std::move(s)), lo_(prev.lo_), hi_(prev.hi_), cell_(prev.cell_), inv_cell_(prev.inv_cell_),
+      max_refs_(prev.max_refs_), info_(prev.info_) {
+    const auto t_start = std::chrono::steady_clock::now();
+    uint64_t step = 0;
+    for (int a = 0; a < 3; ++a) n_[a] = prev.n_[a];
+    const Scene &old_sc = prev.scene(), &sc = *scene_;
+    // The cells each changed primitive leaves and enters.
+    std::vector<Move> gone, added;
+    uint32_t moved = 0;
+    for (const uint32_t i : changed) {
+        int a0[3], a1[3], b0[3], b1[3];
+        cell_range(old_sc.prim_bounds(i), a0, a1);
+        cell_range(sc.prim_bounds(i), b0, b1);
+        if (std::equal(a0, a0 + 3, b0) && std::equal(a1, a1 + 3, b1)) continue;   // the same cells
+        ++moved;
+        check_cancel(cancel, step, cells_in(a0, a1) + cells_in(b0, b1));
+        for_cells(a0, a1, [&](uint64_t c) { gone.push_back({c, i}); });
+        for_cells(b0, b1, [&](uint64_t c) { added.push_back({c, i}); });
+    }
+    std::sort(gone.begin(), gone.end());
+    std::sort(added.begin(), added.end());
+    const uint64_t refs = prev.prims_.size() - gone.size() + added.size();
+    if (refs > max_refs_) throw std::invalid_argument("scene has too many primitive references for the grid");
+    // Offsets: the previous counts, less what left, plus what entered.
+    const uint64_t cells = info_.cells;
+    assign_checked(offsets_, cells + 1, 0u, cancel, step);
+    size_t g = 0, d = 0;
+    bool emptiness_changed = false;
+    for (uint64_t c = 0; c < cells; ++c) {
+        check_cancel(cancel, step);
+        const uint32_t before = prev.offsets_[c + 1] - prev.offsets_[c];
+        uint32_t count = before;
+        for (; g < gone.size() && gone[g].cell == c; ++g) --count;
+        for (; d < added.size() && added[d].cell == c; ++d) ++count;
+        emptiness_changed |= (before == 0) != (count == 0);
+        offsets_[c + 1] = offsets_[c] + count;
+    }
+    // Lists: untouched cells' runs copied whole; a touched cell's list merged
+    // in ascending primitive order, as a fresh build's fill pass leaves it.
+    prims_.resize(refs);
+    uint64_t copied_to = 0;   // cells before this one are in place
+    auto copy_until = [&](uint64_t c) {   // the untouched cells [copied_to, c)
+        const uint32_t from = prev.offsets_[copied_to], to = prev.offsets_[c];
+        check_cancel(cancel, step, to - from);
+        std::copy(prev.prims_.begin() + from, prev.prims_.begin() + to, prims_.begin() + offsets_[copied_to]);
+    };
+    g = d = 0;
+    while (g < gone.size() || d < added.size()) {
+        const uint64_t c = std::min(g < gone.size() ? gone[g].cell : cells, d < added.size() ? added[d].cell : cells);
+        copy_until(c);
+        uint32_t out = offsets_[c];
+        const size_t g_end = std::find_if(gone.begin() + g, gone.end(), [&](const Move& m) { return m.cell != c; }) -
+                             gone.begin();
+        for (uint32_t k = prev.offsets_[c]; k < prev.offsets_[c + 1]; ++k) {
+            const uint32_t prim = prev.prims_[k];
+            if (g < g_end && gone[g].prim == prim) { ++g; continue; }   // (both ascending)
+            for (; d < added.size() && added[d].cell == c && added[d].prim < prim; ++d) prims_[out++] = added[d].prim;
+            prims_[out++] = prim;
+        }
+        for (; d < added.size() && added[d].cell == c; ++d) prims_[out++] = added[d].prim;
+        g = g_end;
+        copied_to = c + 1;
+    }
+    copy_until(cells);
+    empty_ = emptiness_changed ? empty_distance(offsets_, n_, kEmptyCap, cancel) : prev.empty_;
+    info_.refs = refs;
+    info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
+    info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    info_.note = "updated from the previous scene version: " + std::to_string(moved) + " primitives changed cells";
 }
 
 // Cells overlapped by a box (in double: the difference of two floats is

@@ -2,6 +2,7 @@
 // seed's formula in M), compact CSR storage, Amanatides & Woo 3D-DDA
 // traversal with per-thread mailboxes and empty-space jumps.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "accel.h"
@@ -12,6 +13,10 @@ struct GridParams {
     double density = RenderSettings{}.grid_density;   // the seed's M
     uint64_t max_cells = RenderSettings{}.max_cells;  // cap on nx*ny*nz
     uint64_t max_refs = 1ull << 27;    // cap on primitive references (4 bytes each)
+    // Empty cells added on each side of the scene's box, as a fraction of the
+    // cells along that axis (the viewport's grids: room for objects to move
+    // without leaving the box, so that update() applies).
+    double margin = 0.0;
 };
 
 // What a uniform grid of `prims` primitives at density M may hold; its build
@@ -41,7 +46,17 @@ public:
     AccelInfo info() const override { return info_; }
     bool uses_mailboxes() const override { return true; }
 
+    // The grid of `s` (a later version of previous's scene) over previous's
+    // box and resolution, reusing its lists: only the primitives whose cells
+    // differ are moved, and the lists come out as a fresh build over that box
+    // would leave them. Null when that does not apply: other primitive counts,
+    // a primitive outside the box, or more than a quarter of them changed.
+    static std::shared_ptr<const UniformGrid> update(const UniformGrid& previous, std::shared_ptr<const Scene> s,
+                                                     const CancelToken* cancel = nullptr);
+
 private:
+    UniformGrid(const UniformGrid& previous, std::shared_ptr<const Scene> s, const std::vector<uint32_t>& changed,
+                const CancelToken* cancel);
     template <class F>
     void for_cells(const int c0[3], const int c1[3], F&& f) const {   // f(linear cell index)
         for (int z = c0[2]; z <= c1[2]; ++z)
@@ -55,6 +70,7 @@ private:
 
     Vec3 lo_, hi_, cell_, inv_cell_;
     int n_[3] = {1, 1, 1};
+    uint64_t max_refs_ = 0;           // the reference budget of the build
     std::vector<uint32_t> offsets_;   // per cell: start in prims_ (size cells + 1)
     std::vector<uint32_t> prims_;     // flat primitive index list
     std::vector<uint8_t> empty_;      // per cell: Chebyshev distance to the nearest non-empty cell

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "threads.h"
+#include "uniform_grid.h"
 
 namespace gw {
 
@@ -15,6 +16,10 @@ double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 constexpr auto kPoll = std::chrono::milliseconds(4);   // tiles are collected this often
+// The viewport's uniform grids extend this fraction of their cells beyond the
+// scene on each side, so that an object moved a little stays inside and the
+// grid is updated instead of rebuilt (UniformGrid::update).
+constexpr double kGridMargin = 0.1;
 }  // namespace
 
 ViewportRenderer::ViewportRenderer() {
@@ -96,6 +101,7 @@ void ViewportRenderer::run() {
             status_.error.clear();
             status_.first_pixels = status_.first_pass_started = -1;
             status_.structure_ready.assign(r.structures.size(), -1.0);
+            status_.structure_updated.assign(r.structures.size(), false);
             // A resize settles first: a newer request (or stop) ends the wait.
             const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::max(0.0, r.delay));
             if (cv_.wait_until(lock, until, [this] { return stopping_ || has_request_; })) continue;
@@ -130,7 +136,12 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
         if (!superseded(r.id)) status_.finished = r.id;
         return;
     }
-    if (cached_scene_ != r.scene) {   // structures of an older scene are no use
+    if (cached_scene_ != r.scene) {
+        // An older scene's uniform grids are kept to be updated (objects moved);
+        // its other structures are rebuilt.
+        previous_.clear();
+        for (auto& [key, accel] : cache_)
+            if (std::dynamic_pointer_cast<const UniformGrid>(accel)) previous_[key] = std::move(accel);
         cache_.clear();
         cached_scene_ = r.scene;
     }
@@ -142,6 +153,7 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
             status_.passes_done = ++done;
         }
     }
+    previous_.clear();   // every structure this scene needs is built: the older scene can go
     std::lock_guard<std::mutex> lock(mu_);
     if (!superseded(r.id)) status_.finished = r.id;
 }
@@ -155,8 +167,15 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
         if (superseded(r.id)) return nullptr;
         build_cancel_ = &token;
     }
+    bool updated = false;
     try {
-        accel = build_accel(r.scene, r.structures[size_t(index)].settings, &token);
+        const auto prev = previous_.find(r.structures[size_t(index)].key);
+        if (prev != previous_.end()) {
+            accel = UniformGrid::update(static_cast<const UniformGrid&>(*prev->second), r.scene, &token);
+            updated = accel != nullptr;
+            previous_.erase(prev);   // its scene (and that scene's pooled buffers) can go
+        }
+        if (!accel) accel = build_accel(r.scene, r.structures[size_t(index)].settings, &token, kGridMargin);
     } catch (...) {
         std::lock_guard<std::mutex> lock(mu_);
         build_cancel_ = nullptr;
@@ -164,6 +183,7 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
     }
     std::lock_guard<std::mutex> lock(mu_);
     build_cancel_ = nullptr;
+    if (status_.request == r.id) status_.structure_updated[size_t(index)] = updated;
     return accel;
 }
 

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "accel.h"
+#include "buffer_pool.h"
 #include "cancel.h"
 #include "render_job.h"
 #include "settings.h"
@@ -70,6 +71,9 @@ struct ViewportStatus {
     double first_pixels = -1;
     double first_pass_started = -1;
     std::vector<double> structure_ready;
+    // Per structure: whether it was updated from the previous scene's (a
+    // uniform grid whose moved primitives were moved) rather than built.
+    std::vector<bool> structure_updated;
 };
 
 class ViewportRenderer {
@@ -113,7 +117,10 @@ private:
     // Built structures of the latest scene (controller thread only).
     std::shared_ptr<const Scene> cached_scene_;
     std::map<std::string, std::shared_ptr<const Accel>> cache_;
+    // The previous scene's uniform grids, by key: UniformGrid::update starts from them.
+    std::map<std::string, std::shared_ptr<const Accel>> previous_;
 
+    BufferPoolUse pool_use_;   // while the viewport is open, a new scene version reuses the last one's buffers
     std::thread thread_;
 };
 

@@ -14,7 +14,12 @@ pixel over a b x b square; passes of block 1 are averaged. A pass with a
 repeat count n renders n times, with seeds settings.seed + 0 ... n - 1. Each distinct
 acceleration structure the passes' settings need is built once per scene
 (in the controller thread; a newer request cancels the build) and kept
-while the scene stays the same. A submit replaces the waiting request and
+while the scene stays the same. When a new scene differs from the last only
+in where some primitives are (objects moved), a uniform grid of the last
+one is updated instead of rebuilt: only the moved primitives are re-listed
+(its box has a margin of empty cells so that they stay inside). While a
+renderer exists, a new Scene reuses the large buffers of freed ones of the
+same size (the pages are already mapped). A submit replaces the waiting request and
 cancels the running one without waiting for it. No Python runs off the
 caller's thread.
 """
@@ -63,7 +68,9 @@ class ProgressiveRenderer:
         pass (-1: none), its repetition, and passes_done (renders completed); rendering: past its delay and not
         done; error: why it failed; version: of the image. Seconds after the
         submit (-1: not yet): first_pass_started, first_pixels, and
-        structure_ready (one per structure)."""
+        structure_ready (one per structure); structure_updated (one per
+        structure): whether it was updated from the previous scene's uniform
+        grid (only moved primitives re-listed) instead of built."""
         return self._native.status
 
     def image(self):

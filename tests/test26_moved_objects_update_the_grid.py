@@ -15,7 +15,7 @@ import pytest
 import gridwalk as gw
 from gridwalk import _core
 
-GRID = gw.RenderSettings(threads=1, accel="grid", grid_density=0.5)
+GRID = gw.RenderSettings(threads=1, accel="grid", grid_density=1.0)
 BRUTE = gw.RenderSettings(threads=1, accel="none")
 N = 4000                      # small triangles in (1, 9)^3
 FRAME = np.float32([[0, 0, 0], [10, 10, 10], [0, 10, 0]])   # one triangle that fixes the scene's box
@@ -110,6 +110,8 @@ def test_the_update_refuses_what_it_cannot_do():
     assert _core.update_grid(base, most._native) is None
     same = _core.update_grid(base, scene(v)._native)            # nothing moved: an update with nothing to do
     assert same is not None and same.grid["refs"] == base.grid["refs"]
+    with pytest.raises(ValueError, match="margin must be in"):
+        grid(scene(v), margin=1.5)
     adaptive = scene(v).accel(gw.RenderSettings(accel="adaptive"))
     with pytest.raises(ValueError, match="not a uniform grid"):
         _core.update_grid(adaptive, scene(v)._native)
@@ -174,3 +176,24 @@ def test_scene_buffers_are_reused_only_while_a_renderer_is_open():
         del r
         gc.collect()
     assert _core.pool_bytes() == 0                            # the last renderer gone: nothing kept
+
+
+@pytest.mark.parametrize("margin", [0.1, 0.5, 1.0])
+def test_grids_with_a_margin_build_for_every_density_and_find_what_brute_force_finds(margin):
+    cube = np.float32([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    faces = np.int32([[0, 1, 3], [0, 3, 2], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4],
+                      [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 3, 7], [1, 7, 5]])
+    floor = np.float32([[-50, -50, -1], [50, -50, -1], [50, 50, -1], [-50, 50, -1]])
+    scenes = {"cube": gw.Scene(vertices=cube, triangles=faces),
+              "cube on a floor": gw.Scene(vertices=np.concatenate([cube, floor]),
+                                          triangles=np.concatenate([faces, [[8, 9, 10], [8, 10, 11]]])),
+              "random": scene(corners())}
+    o, d = np.float32([[0.3, 0.2, 9.0]] * 3), np.float32([[0, 0, -1], [0.1, 0, -1], [0.01, 0.3, -1]])
+    for name, sc in scenes.items():
+        expect = sc.intersect(o, d, settings=BRUTE)
+        for density in (0.01, 0.3, 2.0, 8.0, 30.0):
+            s = GRID.replace(grid_density=density)
+            accel = _core.build_accel(sc._native, s.to_core(), None, margin)   # (an endless sizing loop hangs here)
+            t, prim, *_ = _core.intersect(accel, o, d, np.zeros(3, np.float32), np.full(3, np.inf, np.float32),
+                                          s.to_core(), False)
+            assert np.array_equal(t, expect.t) and np.array_equal(prim, expect.prim), (name, density)

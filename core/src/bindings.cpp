@@ -157,7 +157,6 @@ NB_MODULE(_core, m) {
     m.def("build_accel",
           [](std::shared_ptr<Scene> scene, const RenderSettings& s, std::shared_ptr<CancelToken> cancel,
              double grid_margin) {
-              if (!(grid_margin >= 0 && grid_margin <= 1)) throw std::invalid_argument("grid_margin must be in [0, 1]");
               nb::gil_scoped_release release;
               return build_accel(std::move(scene), s, cancel.get(), grid_margin);
           },

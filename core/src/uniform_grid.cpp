@@ -55,6 +55,7 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     uint64_t step = 0;
     const auto t_start = std::chrono::steady_clock::now();
     if (!(p.density > 0) || !std::isfinite(p.density)) throw std::invalid_argument("grid_density must be > 0");
+    if (!(p.margin >= 0 && p.margin <= 1)) throw std::invalid_argument("the grid margin must be in [0, 1]");
     const Scene& sc = *scene_;
     const size_t np = sc.num_prims();
     const Bounds b = sc.bounds();
@@ -95,18 +96,34 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
     info_.density_requested = p.density;
     std::vector<uint32_t> counts;
     std::vector<uint64_t> ranges;   // packed cell ranges, when the grid allows (pack_range)
+    bool margin_on = p.margin > 0;
     for (int attempt = 0;; ++attempt) {
-        uint64_t cells = 1;
+        uint64_t cells = 1, tight_cells = 1;
         for (int a = 0; a < 3; ++a) {
             const double na = flat[a] ? 1.0 : std::floor(m * double(tight_hi[a] - tight_lo[a]) / side) + 1.0;
             n_[a] = int(std::min(na, double(1 << 20)));
-            // The margin: whole cells of the same size on both sides (none on a flat axis).
-            const int extra = flat[a] ? 0 : int(std::min(std::ceil(p.margin * double(n_[a])), double(1 << 20)));
-            const double size = (double(tight_hi[a]) - double(tight_lo[a])) / double(n_[a]);
-            lo_[a] = extra ? next_down(float(double(tight_lo[a]) - extra * size)) : tight_lo[a];
-            hi_[a] = extra ? next_up(float(double(tight_hi[a]) + extra * size)) : tight_hi[a];
-            n_[a] += 2 * extra;
+            // The margin: extra + 1/2 cells of the same size on both sides, so that
+            // the scene's sides fall inside cells, not on the faces between them
+            // (a floor would be listed in the cells below it too). None on a flat
+            // axis or below 1 / margin cells, and dropped when even one cell
+            // inside it is too many (so the loop below still ends, at one cell).
+            tight_cells *= uint64_t(n_[a]);
+            const int extra = flat[a] || !margin_on ? 0
+                            : int(std::min(std::floor(p.margin * double(n_[a])), double(1 << 19)));
+            if (extra > 0) {
+                const double size = (double(tight_hi[a]) - double(tight_lo[a])) / double(n_[a]);
+                lo_[a] = next_down(float(double(tight_lo[a]) - (extra + 0.5) * size));
+                hi_[a] = next_up(float(double(tight_hi[a]) + (extra + 0.5) * size));
+                n_[a] += 2 * extra + 1;
+            } else {
+                lo_[a] = tight_lo[a];
+                hi_[a] = tight_hi[a];
+            }
             cells *= uint64_t(n_[a]);
+        }
+        if (cells > max_cells && tight_cells == 1) {
+            margin_on = false;
+            continue;
         }
         if (cells > max_cells) {   // shrink M towards the cap and try again
             m *= std::pow(double(max_cells) / double(cells), 1.0 / std::max(k, 1)) * 0.999;
@@ -133,7 +150,8 @@ UniformGrid::UniformGrid(std::shared_ptr<const Scene> s, const GridParams& p, co
             refs += covered;
         }
         if (refs > max_refs && cells > 1) {
-            m *= 0.7;
+            if (tight_cells == 1) margin_on = false;
+            else m *= 0.7;
             info_.reduced = true;
             continue;
         }

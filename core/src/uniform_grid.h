@@ -14,8 +14,8 @@ struct GridParams {
     uint64_t max_cells = RenderSettings{}.max_cells;  // cap on nx*ny*nz
     uint64_t max_refs = 1ull << 27;    // cap on primitive references (4 bytes each)
     // Empty cells added on each side of the scene's box, as a fraction of the
-    // cells along that axis (the viewport's grids: room for objects to move
-    // without leaving the box, so that update() applies).
+    // cells along that axis, rounded down (the viewport's grids: room for
+    // objects to move without leaving the box, so that update() applies).
     double margin = 0.0;
 };
 

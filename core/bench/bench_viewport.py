@@ -170,7 +170,8 @@ def write(results: dict, out: str):
     lines += ["",
               f"For comparison, in the same run: a full export of the scene without the cache took "
               f"{results['full_export'] * 1e3:.0f} ms; the first view (full export, Scene, grid, first pixels) "
-              f"{results['first_view'] * 1e3:.0f} ms, of which the quick grid {results['first_view_grid'] * 1e3:.0f} ms "
+              f"{results['first_view'] * 1e3:.0f} ms, of which the quick grid "
+              f"{results['first_view_grid'] * 1e3:.0f} ms "
               f"(the full structure was ready {results['first_view_full_grid'] * 1e3:.0f} ms after the request).",
               "",
               "The last row is the cube's move with the coarse pass on the render settings' structure, as "

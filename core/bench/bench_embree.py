@@ -223,7 +223,7 @@ def run(sizes, suzanne, out) -> Section:
                   "Embree on all; goal: at most 2x Embree's build time and 64 bytes per triangle):", ""]
     sec.lines += table(["scene", "primitives", "adaptive grid", "adaptive bytes/prim", "uniform bytes/prim",
                         "Gridwalk Scene + adaptive grid", "Embree BVH", "time ratio"], builds)
-    fig, axes = figure(3, 4.2, 3.6)
+    fig, axes = figure(3, 4.2, 4.4)
     x = np.arange(len(names))
     for ax, kind in zip(axes, KINDS):
         ax.bar(x - 0.2, [results[n][kind]["gw"] / 1e6 for n in names], 0.4, label="Gridwalk")
@@ -231,8 +231,8 @@ def run(sizes, suzanne, out) -> Section:
         for i, n in enumerate(names):
             ax.text(i, max(results[n][kind]["gw"], results[n][kind]["em"]) / 1e6,
                     f"{results[n][kind]['gw'] / results[n][kind]['em']:.2f}x", ha="center", va="bottom", fontsize=8)
-        ax.set_xticks(x, [LABELS.get(n, n).replace(" (", "\n(").replace(" on ", "\non ") for n in names],
-                      fontsize=6)
+        ax.set_xticks(x, [LABELS.get(n, n) for n in names], fontsize=7, rotation=35, ha="right",
+                      rotation_mode="anchor")
         ax.set_title(f"{kind} rays (1 thread)")
         ax.set_ylabel("Mrays/s")
         ax.legend(fontsize=8)

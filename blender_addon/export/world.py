@@ -16,11 +16,15 @@ warning naming the node. Without nodes: world.color, both as background and
 ambient. A Mix Shader whose Fac is Light Path's Is Camera Ray, between two
 plain Background nodes (the NFF importer's world): the camera side is the
 background and the other side the ambient term (Cycles' mirror rays would see
-the other side; here they see the background). No world: black, as in Blender. Film Transparent (World.transparent, set by the
+the other side; here they see the background). A world whose Ray Visibility
+> Diffuse is off (Cycles' switch) gives no ambient term, as Cycles' diffuse
+surfaces then get no light from it. No world: black, as in Blender. Film Transparent (World.transparent, set by the
 export) makes camera rays that miss see nothing: RGB 0 and alpha 0, as
 Cycles writes them; mirror and refraction rays still see the world.
 """
 from __future__ import annotations
+
+import dataclasses
 
 from gridwalk import World
 
@@ -61,7 +65,17 @@ def _plain_background(world, node, warnings) -> tuple:
 
 
 def convert_world(world, textures, warnings: list) -> tuple:
-    """(background RGB, gridwalk.World) of a Blender world (None: black, no light)."""
+    """(background RGB, gridwalk.World) of a Blender world (None: black, no light).
+    A world made invisible to diffuse rays (World > Ray Visibility > Diffuse,
+    Cycles' switch) lights nothing: its ambient term is 0."""
+    background, out = _convert_world(world, textures, warnings)
+    visibility = getattr(world, "cycles_visibility", None)
+    if visibility is not None and not getattr(visibility, "diffuse", True):
+        out = dataclasses.replace(out, ambient=(0.0, 0.0, 0.0))
+    return background, out
+
+
+def _convert_world(world, textures, warnings: list) -> tuple:
     if world is None:
         return (0.0, 0.0, 0.0), World()
     viewport = tuple(float(c) for c in world.color)[:3]

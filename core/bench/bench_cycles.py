@@ -141,8 +141,9 @@ def run(sizes, suzanne, out) -> Section:
         f"Cycles is therefore set to max bounces {MAX_DEPTH - 1} with diffuse bounces 0 (direct light at "
         "diffuse surfaces, no diffuse interreflection), glossy and transmission bounces "
         f"{MAX_DEPTH - 1}, no volume/transparent bounces, glossy filter 0, box filter 1 px, no adaptive sampling, "
-        "no denoising; the world is invisible to diffuse rays in Cycles (Whitted's sky lights nothing; it "
-        "is still seen by camera and mirror rays). Samples: GRIDWALK jittered n x n per pixel (spp = n^2), "
+        "no denoising; the world is invisible to diffuse rays (World > Ray Visibility > Diffuse off: Cycles' "
+        "diffuse surfaces get no light from it, and GRIDWALK, which reads the same switch, gives it no "
+        "ambient term; it is still seen by camera and mirror rays in both). Samples: GRIDWALK jittered n x n per pixel (spp = n^2), "
         "each with one random point on the area light and one lens sample; Cycles the same spp.", "",
         "**Error.** RMSE over linear RGB against the engine's own reference (two renders of "
         f"{sizes.cycles_ref_spp} spp with different seeds, averaged; its own noise, RMSE "

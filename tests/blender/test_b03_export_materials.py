@@ -34,3 +34,10 @@ def test_unsupported_shaders_fall_back_with_one_warning(export):
 def test_world_colour_times_strength_is_the_background(export):
     out = export("materials")
     np.testing.assert_allclose(out.background, [0.1, 0.15, 0.2], rtol=1e-5)
+    np.testing.assert_allclose(out.world["ambient"], [0.1, 0.15, 0.2], rtol=1e-5)   # and the ambient light
+
+
+def test_a_world_invisible_to_diffuse_rays_lights_nothing_but_is_still_seen(export):
+    out = export("materials", world_lights_diffuse=False)
+    np.testing.assert_allclose(out.background, [0.1, 0.15, 0.2], rtol=1e-5)
+    assert list(out.world["ambient"]) == [0.0, 0.0, 0.0]

@@ -40,6 +40,7 @@ def main(argv):
         result["lights"] = [dataclasses.asdict(light) for light in scene_kwargs["lights"]]
         result["camera"] = dataclasses.asdict(scene_kwargs["camera"])
         result["background"] = list(scene_kwargs["background"])
+        result["world"] = dataclasses.asdict(scene_kwargs["world"])
         result["warnings"] = warnings
     with open(os.path.join(out_dir, "export.json"), "w") as f:
         json.dump(result, f, indent=1)

@@ -155,7 +155,7 @@ def no_camera_scene():
     return {}
 
 
-def materials_scene():
+def materials_scene(world_lights_diffuse=True):
     reset()
     obj = link(cube_object())
     red = bpy.data.materials.new("Red")
@@ -192,6 +192,7 @@ def materials_scene():
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)
     bg.inputs["Strength"].default_value = 0.5
+    world.cycles_visibility.diffuse = world_lights_diffuse
     bpy.context.scene.world = world
     bpy.context.view_layer.update()
     return {"face_slots": [0, 0, 1, 1, 2, 3]}

@@ -197,3 +197,33 @@ def test_grids_with_a_margin_build_for_every_density_and_find_what_brute_force_f
             t, prim, *_ = _core.intersect(accel, o, d, np.zeros(3, np.float32), np.full(3, np.inf, np.float32),
                                           s.to_core(), False)
             assert np.array_equal(t, expect.t) and np.array_equal(prim, expect.prim), (name, density)
+
+
+def test_primitives_grown_over_the_box_are_rebuilt_not_updated():
+    v = corners()
+    dense = GRID.replace(grid_density=3.0)
+    base = _core.build_accel(scene(v)._native, dense.to_core(), None, 0.1)
+    grown = v.copy().reshape(-1, 3, 3)
+    grown[:990] = FRAME                     # 990 triangles now cross the whole box: millions of cell moves
+    assert _core.update_grid(base, scene(grown.reshape(-1, 3))._native) is None
+
+
+def test_the_viewport_rebuilds_when_an_update_does_not_fit_and_shows_no_error():
+    v = corners()
+    grown = v.copy().reshape(-1, 3, 3)
+    grown[:40] = FRAME                      # past the reference budget of an update: rebuilt, density lowered
+    s = gw.RenderSettings(threads=2, accel="grid", grid_density=3.0, aa="center")
+    first, second = scene(v), scene(grown.reshape(-1, 3))
+    cam = gw.Camera(eye=(5, -14, 5), target=(5, 5, 5), up=(0, 0, 1), fov=50, width=40, height=30)
+    r = gw.ProgressiveRenderer()
+    try:
+        for sc in (first, second):
+            rid, _ = r.submit(sc, [(1, s, cam)], cam.width, cam.height)
+            status = wait_finished(r, rid)
+            assert status["error"] == "" and status["structure_updated"] == [False]
+            _, img = r.image()
+            ref = gw.RenderJob(sc, s, camera=cam).start().wait()
+            ref[..., 3] = 1
+            assert np.array_equal(img[::-1], ref)
+    finally:
+        r.stop()

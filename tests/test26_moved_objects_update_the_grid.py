@@ -126,17 +126,24 @@ def test_the_viewport_updates_its_grid_when_an_object_moves_and_renders_what_a_f
     centres[5] += np.float32([0.05, 0.02, 0.0])                 # one ball moved a little
     second = gw.Scene(**{**kw, "sphere_centers": centres})
     s = gw.RenderSettings(threads=2, accel="grid", aa="random", aa_samples=1, seed=3)
+    img = render_in_turn([(first, False), (second, True)], s, cam)
+    assert img[..., :3].std() > 0.05
+
+
+def render_in_turn(scenes, s, cam):
+    """Each (scene, whether its grid should be updated) through one ProgressiveRenderer: no
+    error, the update flag as given, and the image a fresh RenderJob gives. Returns the last."""
     r = gw.ProgressiveRenderer()
     try:
-        for sc, expect_updated in ((first, False), (second, True)):
-            rid, structures = r.submit(sc, [(1, s, cam)], cam.width, cam.height)
+        for sc, expect_updated in scenes:
+            rid, _ = r.submit(sc, [(1, s, cam)], cam.width, cam.height)
             status = wait_finished(r, rid)
             assert status["error"] == "" and status["structure_updated"] == [expect_updated]
             _, img = r.image()
             ref = gw.RenderJob(sc, s, camera=cam).start().wait()
             ref[..., 3] = 1
             assert np.array_equal(img[::-1], ref)
-        assert img[..., :3].std() > 0.05
+        return img
     finally:
         r.stop()
 
@@ -215,15 +222,4 @@ def test_the_viewport_rebuilds_when_an_update_does_not_fit_and_shows_no_error():
     s = gw.RenderSettings(threads=2, accel="grid", grid_density=3.0, aa="center")
     first, second = scene(v), scene(grown.reshape(-1, 3))
     cam = gw.Camera(eye=(5, -14, 5), target=(5, 5, 5), up=(0, 0, 1), fov=50, width=40, height=30)
-    r = gw.ProgressiveRenderer()
-    try:
-        for sc in (first, second):
-            rid, _ = r.submit(sc, [(1, s, cam)], cam.width, cam.height)
-            status = wait_finished(r, rid)
-            assert status["error"] == "" and status["structure_updated"] == [False]
-            _, img = r.image()
-            ref = gw.RenderJob(sc, s, camera=cam).start().wait()
-            ref[..., 3] = 1
-            assert np.array_equal(img[::-1], ref)
-    finally:
-        r.stop()
+    render_in_turn([(first, False), (second, False)], s, cam)

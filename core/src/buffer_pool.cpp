@@ -99,6 +99,12 @@ BufferPoolUse::~BufferPoolUse() {
     while (!pl.blocks.empty()) pl.drop_front();
 }
 
+void pool_trim() {
+    Pool& pl = pool();
+    std::lock_guard<std::mutex> lock(pl.mu);
+    pl.trim();
+}
+
 std::size_t pool_bytes() {
     Pool& pl = pool();
     std::lock_guard<std::mutex> lock(pl.mu);

@@ -32,8 +32,11 @@ public:
 };
 constexpr double kPoolSeconds = 30.0;
 
-// The bytes the pool holds now (for tests and gridwalk.memory's notes).
+// The bytes the pool holds now (for tests).
 std::size_t pool_bytes();
+// Drops what the bounds no longer allow (the age limit passes without any
+// allocation; an idle viewport calls this now and then).
+void pool_trim();
 
 template <class T>
 struct PoolAllocator {

@@ -247,34 +247,43 @@ std::shared_ptr<const UniformGrid> UniformGrid::update(const UniformGrid& prev, 
     std::vector<uint32_t> changed;
     // Past a quarter of the primitives a fresh build costs about the same.
     if (!changed_prims(old_sc, sc, sc.num_prims() / 4, changed, cancel, step)) return nullptr;
-    return std::shared_ptr<const UniformGrid>(new UniformGrid(prev, std::move(s), changed, cancel));
+    // The cells each changed primitive leaves and enters; nothing is listed
+    // until the totals are known to fit: the references within the build's
+    // budget, and the moves within the previous grid's references (a fresh
+    // build costs about that; a primitive grown over the box would otherwise
+    // list millions of moves).
+    std::vector<CellChange> moves;
+    uint64_t gone = 0, added = 0;
+    for (const uint32_t i : changed) {
+        CellChange m{i, {}, {}, {}, {}};
+        prev.cell_range(old_sc.prim_bounds(i), m.a0, m.a1);
+        prev.cell_range(sc.prim_bounds(i), m.b0, m.b1);
+        if (std::equal(m.a0, m.a0 + 3, m.b0) && std::equal(m.a1, m.a1 + 3, m.b1)) continue;   // the same cells
+        gone += cells_in(m.a0, m.a1);
+        added += cells_in(m.b0, m.b1);
+        if (gone + added > prev.prims_.size() + 64) return nullptr;
+        moves.push_back(m);
+    }
+    if (prev.prims_.size() - gone + added > prev.max_refs_) return nullptr;
+    return std::shared_ptr<const UniformGrid>(new UniformGrid(prev, std::move(s), moves, cancel));
 }
 
-UniformGrid::UniformGrid(const UniformGrid& prev, std::shared_ptr<const Scene> s, const std::vector<uint32_t>& changed,
+UniformGrid::UniformGrid(const UniformGrid& prev, std::shared_ptr<const Scene> s, const std::vector<CellChange>& moves,
                          const CancelToken* cancel)
     : Accel(std::move(s)), lo_(prev.lo_), hi_(prev.hi_), cell_(prev.cell_), inv_cell_(prev.inv_cell_),
       max_refs_(prev.max_refs_), info_(prev.info_) {
     const auto t_start = std::chrono::steady_clock::now();
     uint64_t step = 0;
     for (int a = 0; a < 3; ++a) n_[a] = prev.n_[a];
-    const Scene &old_sc = prev.scene(), &sc = *scene_;
-    // The cells each changed primitive leaves and enters.
-    std::vector<Move> gone, added;
-    uint32_t moved = 0;
-    for (const uint32_t i : changed) {
-        int a0[3], a1[3], b0[3], b1[3];
-        cell_range(old_sc.prim_bounds(i), a0, a1);
-        cell_range(sc.prim_bounds(i), b0, b1);
-        if (std::equal(a0, a0 + 3, b0) && std::equal(a1, a1 + 3, b1)) continue;   // the same cells
-        ++moved;
-        check_cancel(cancel, step, cells_in(a0, a1) + cells_in(b0, b1));
-        for_cells(a0, a1, [&](uint64_t c) { gone.push_back({c, i}); });
-        for_cells(b0, b1, [&](uint64_t c) { added.push_back({c, i}); });
+    std::vector<Move> gone, added;   // (cell, primitive) leaving and entering
+    for (const CellChange& m : moves) {
+        check_cancel(cancel, step, cells_in(m.a0, m.a1) + cells_in(m.b0, m.b1));
+        for_cells(m.a0, m.a1, [&](uint64_t c) { gone.push_back({c, m.prim}); });
+        for_cells(m.b0, m.b1, [&](uint64_t c) { added.push_back({c, m.prim}); });
     }
     std::sort(gone.begin(), gone.end());
     std::sort(added.begin(), added.end());
-    const uint64_t refs = prev.prims_.size() - gone.size() + added.size();
-    if (refs > max_refs_) throw std::invalid_argument("scene has too many primitive references for the grid");
+    const uint64_t refs = prev.prims_.size() - gone.size() + added.size();   // (within max_refs_: update() checked)
     // Offsets: the previous counts, less what left, plus what entered.
     const uint64_t cells = info_.cells;
     assign_checked(offsets_, cells + 1, 0u, cancel, step);
@@ -320,7 +329,8 @@ UniformGrid::UniformGrid(const UniformGrid& prev, std::shared_ptr<const Scene> s
     info_.refs = refs;
     info_.bytes = offsets_.size() * 4 + prims_.size() * 4 + empty_.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    info_.note = "updated from the previous scene version: " + std::to_string(moved) + " primitives changed cells";
+    info_.note = "updated from the previous scene version: " + std::to_string(moves.size()) +
+                 " primitives changed cells";
 }
 
 // Cells overlapped by a box (in double: the difference of two floats is

@@ -50,12 +50,18 @@ public:
     // box and resolution, reusing its lists: only the primitives whose cells
     // differ are moved, and the lists come out as a fresh build over that box
     // would leave them. Null when that does not apply: other primitive counts,
-    // a primitive outside the box, or more than a quarter of them changed.
+    // a primitive outside the box, more than a quarter of them changed, more
+    // cell moves than the grid has references, or more references than the
+    // build's budget (a fresh build lowers the density instead).
     static std::shared_ptr<const UniformGrid> update(const UniformGrid& previous, std::shared_ptr<const Scene> s,
                                                      const CancelToken* cancel = nullptr);
 
 private:
-    UniformGrid(const UniformGrid& previous, std::shared_ptr<const Scene> s, const std::vector<uint32_t>& changed,
+    struct CellChange {   // a primitive that leaves cells a0..a1 for cells b0..b1
+        uint32_t prim;
+        int a0[3], a1[3], b0[3], b1[3];
+    };
+    UniformGrid(const UniformGrid& previous, std::shared_ptr<const Scene> s, const std::vector<CellChange>& moves,
                 const CancelToken* cancel);
     template <class F>
     void for_cells(const int c0[3], const int c1[3], F&& f) const {   // f(linear cell index)

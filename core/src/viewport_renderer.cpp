@@ -20,6 +20,7 @@ constexpr auto kPoll = std::chrono::milliseconds(4);   // tiles are collected th
 // scene on each side, so that an object moved a little stays inside and the
 // grid is updated instead of rebuilt (UniformGrid::update).
 constexpr double kGridMargin = 0.1;
+constexpr auto kIdleTrim = std::chrono::seconds(5);
 }  // namespace
 
 ViewportRenderer::ViewportRenderer() {
@@ -88,7 +89,12 @@ void ViewportRenderer::run() {
         double submitted;
         {
             std::unique_lock<std::mutex> lock(mu_);
-            cv_.wait(lock, [this] { return stopping_ || has_request_; });
+            // Idle, the pool is trimmed now and then (its buffers have an age limit).
+            while (!cv_.wait_for(lock, kIdleTrim, [this] { return stopping_ || has_request_; })) {
+                lock.unlock();
+                pool_trim();
+                lock.lock();
+            }
             if (stopping_) break;
             r = std::move(next_);
             submitted = next_submitted_;
@@ -137,9 +143,10 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
         return;
     }
     if (cached_scene_ != r.scene) {
-        // An older scene's uniform grids are kept to be updated (objects moved);
-        // its other structures are rebuilt.
-        previous_.clear();
+        // An older scene's uniform grids are kept to be updated (objects moved),
+        // each replacing the one of its key from an even older scene (which
+        // stays while no newer one was built: a drag's requests cancel each
+        // other); its other structures are rebuilt.
         for (auto& [key, accel] : cache_)
             if (std::dynamic_pointer_cast<const UniformGrid>(accel)) previous_[key] = std::move(accel);
         cache_.clear();
@@ -153,7 +160,6 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
             status_.passes_done = ++done;
         }
     }
-    previous_.clear();   // every structure this scene needs is built: the older scene can go
     std::lock_guard<std::mutex> lock(mu_);
     if (!superseded(r.id)) status_.finished = r.id;
 }
@@ -171,6 +177,7 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
     try {
         const auto prev = previous_.find(r.structures[size_t(index)].key);
         if (prev != previous_.end()) {
+            // (A cancelled update leaves it there for the next request.)
             accel = UniformGrid::update(static_cast<const UniformGrid&>(*prev->second), r.scene, &token);
             updated = accel != nullptr;
             previous_.erase(prev);   // its scene (and that scene's pooled buffers) can go
@@ -181,6 +188,11 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
         build_cancel_ = nullptr;
         throw;
     }
+    // Once every structure of the request is at hand, older scenes' grids of
+    // keys it does not use are no use either.
+    if (std::all_of(r.structures.begin(), r.structures.end(),
+                    [&](const ViewportStructure& st) { return cache_.count(st.key) && cache_[st.key]; }))
+        previous_.clear();
     std::lock_guard<std::mutex> lock(mu_);
     build_cancel_ = nullptr;
     if (status_.request == r.id) status_.structure_updated[size_t(index)] = updated;

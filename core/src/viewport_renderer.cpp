@@ -165,7 +165,8 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
 }
 
 std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& r, int index) {
-    std::shared_ptr<const Accel>& accel = cache_[r.structures[size_t(index)].key];
+    const ViewportStructure& wanted = r.structures[size_t(index)];
+    std::shared_ptr<const Accel>& accel = cache_[wanted.key];
     if (accel) return accel;
     CancelToken token;
     {
@@ -175,14 +176,14 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
     }
     bool updated = false;
     try {
-        const auto prev = previous_.find(r.structures[size_t(index)].key);
+        const auto prev = previous_.find(wanted.key);
         if (prev != previous_.end()) {
             // (A cancelled update leaves it there for the next request.)
             accel = UniformGrid::update(static_cast<const UniformGrid&>(*prev->second), r.scene, &token);
             updated = accel != nullptr;
             previous_.erase(prev);   // its scene (and that scene's pooled buffers) can go
         }
-        if (!accel) accel = build_accel(r.scene, r.structures[size_t(index)].settings, &token, kGridMargin);
+        if (!accel) accel = build_accel(r.scene, wanted.settings, &token, kGridMargin);
     } catch (...) {
         std::lock_guard<std::mutex> lock(mu_);
         build_cancel_ = nullptr;
@@ -190,8 +191,10 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
     }
     // Once every structure of the request is at hand, older scenes' grids of
     // keys it does not use are no use either.
-    if (std::all_of(r.structures.begin(), r.structures.end(),
-                    [&](const ViewportStructure& st) { return cache_.count(st.key) && cache_[st.key]; }))
+    if (std::all_of(r.structures.begin(), r.structures.end(), [&](const ViewportStructure& st) {
+            const auto built = cache_.find(st.key);
+            return built != cache_.end() && built->second;
+        }))
         previous_.clear();
     std::lock_guard<std::mutex> lock(mu_);
     build_cancel_ = nullptr;

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "dda.h"
-#include "empty_space.h"
+#include "empty_box.h"
 
 namespace gw {
 
@@ -49,7 +49,6 @@ bool cpu_has_avx2() {
 
 // --- build ---------------------------------------------------------------------
 
-constexpr int kEmptyCap = 16;       // largest exact empty-block radius stored per cell
 constexpr int kMaxResolution = 1024;
 
 struct Box {   // in double: sizes and cell boundaries are exact enough for any float scene
@@ -301,11 +300,11 @@ private:
             if (out.b == 0) out = leaf(list.data() + b, e - b);
             g_.cells[nd.first + c] = out;
         }
-        // Empty cells: the distance to the nearest non-empty one, for jumps.
-        const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kEmptyCap, cancel_);
+        // Empty cells: the box of empty cells around each, for jumps.
+        const std::vector<uint32_t> boxes = empty_boxes(occupied, n, p_.max_box_cells, cancel_);
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
-            if (!occupied[c]) g_.cells[nd.first + c].a = dist[c];
+            if (!occupied[c]) g_.cells[nd.first + c].a = boxes[c];
         }
         return index;
     }

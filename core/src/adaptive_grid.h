@@ -25,6 +25,7 @@ struct AdaptiveParams {
     int big_max = 16;            // ... and up to this many large ones per grid are tested once per ray
     uint64_t max_cells = 1ull << 26;   // cap on cells of all levels (densities are lowered past it)
     uint64_t max_refs = 1ull << 28;    // cap on primitive references of all levels
+    uint64_t max_box_cells = 1ull << 23;   // grids beyond this keep cubic empty regions (empty_box.h)
 };
 
 // The structure, flat. Public so that the per-ISA traversal code
@@ -40,8 +41,8 @@ struct AdaptiveGridData {
         // its cells are tested once, when a ray enters the node, instead.
         uint32_t big, big_count;
     };
-    // b == 0: empty, a = Chebyshev distance (in cells) to the nearest non-empty
-    // cell of the same node, capped; b == kChild: refined by node a; otherwise a
+    // b == 0: empty, a = the box of empty cells around it in the same node,
+    // packed as in empty_box.h (0: no empty neighbour to jump over); b == kChild: refined by node a; otherwise a
     // leaf of b primitives whose list is refs[a] = number of triangles, then
     // refs[a + 1 ..] the triangles' and then the quadrics' global indices.
     struct Cell { uint32_t a, b; };

@@ -18,7 +18,10 @@ What is counted (bytes):
                 per primitive reference, at ADAPTIVE_CELLS and ADAPTIVE_REFS
                 per primitive (measured: 1.2 - 1.7 cells and 2.7 - 5.3
                 references on tessellated spheres, scans on a floor, SPD
-                mount and balls), plus the build's per-primitive boxes (24).
+                mount and balls), plus the build's per-primitive boxes (24)
+                and, for the empty boxes (empty_box.h), a summed-area table,
+                the boxes and two distance passes over the root grid, about
+                one cell per primitive (12).
                 The uniform grid (accel "grid"): per cell 4 (offsets) + 1
                 (empty-space distance) + 4 (the count array of the build);
                 per primitive reference 4. Cells and references are the
@@ -62,7 +65,7 @@ REF_BYTES = 4
 ADAPTIVE_CELL_BYTES = 8
 ADAPTIVE_CELLS = 2.0          # cells per primitive, all levels
 ADAPTIVE_REFS = 6.0           # references per primitive, all levels
-ADAPTIVE_BUILD_BYTES = 24     # the build's box per primitive
+ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empty-box temporaries (12 per root cell)
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4

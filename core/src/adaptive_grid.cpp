@@ -110,13 +110,16 @@ private:
     }
 
     // Cells overlapped by b (clipped to the node), inflated by 1/1000 of a
-    // cell plus the float rounding of a cell coordinate, so that a primitive
+    // cell plus the float rounding of a cell coordinate and of the absolute
+    // coordinate (a few float spacings at the box's magnitude, which far from
+    // the origin can be a good part of a small cell), so that a primitive
     // touching a cell face within rounding error is listed on both sides.
     static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3]) {
         for (int a = 0; a < 3; ++a) {
             if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
                 return false;
-            const double pad = 1e-3 + 4e-7 * double(n[a]), top = double(n[a] - 1);
+            const double magnitude = std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
+            const double pad = 1e-3 + 4e-7 * double(n[a]) + 4.8e-7 * magnitude / cell[a], top = double(n[a] - 1);
             const double x0 = (double(b.lo[a]) - box.lo[a]) / cell[a] - pad;
             const double x1 = (double(b.hi[a]) - box.lo[a]) / cell[a] + pad;
             c0[a] = int(std::min(std::max(x0, 0.0), top));

@@ -42,7 +42,7 @@ struct AdaptiveGridData {
         uint32_t big, big_count;
     };
     // b == 0: empty, a = the box of empty cells around it in the same node,
-    // packed as in empty_box.h (0: no empty neighbour to jump over); b == kChild: refined by node a; otherwise a
+    // packed as in empty_box.h; b == kChild: refined by node a; otherwise a
     // leaf of b primitives whose list is refs[a] = number of triangles, then
     // refs[a + 1 ..] the triangles' and then the quadrics' global indices.
     struct Cell { uint32_t a, b; };

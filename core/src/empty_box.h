@@ -27,8 +27,8 @@ inline int box_extent(uint32_t box, int axis, bool positive) {
 }
 
 // occupied: one byte per cell (1 = not empty), x fastest. Returns one packed
-// box per cell (0 for occupied cells, and for empty cells whose neighbours
-// on every side are occupied). Grids of more than `max_cells` cells get the
+// box per cell (0 for occupied cells; 0 too for an empty cell whose six
+// neighbours are all occupied, while one on the grid's side has 31 there). Grids of more than `max_cells` cells get the
 // Chebyshev cubes (empty_space.h) as their boxes, without growing them, to
 // bound the build's memory (a 32-bit prefix sum per cell) and time.
 // `cancel` (may be null) stops the work with BuildCancelled.

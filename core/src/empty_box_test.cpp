@@ -52,6 +52,11 @@ int check_boxes(const Grid& g, const std::vector<uint32_t>& boxes, bool grown) {
                     bigger = bigger || (lo[a] > 0 && lo[a] < at[a] - r) || (hi[a] < g.n[a] - 1 && hi[a] > at[a] + r);
                 }
                 larger += bigger;
+                // A face short of the largest extent is short of the grid's side too (the side stores 31).
+                for (int a = 0; a < 3; ++a) {
+                    if (box_extent(boxes[c], a, false) < int(kBoxExtentMax)) CHECK(lo[a] > 0);
+                    if (box_extent(boxes[c], a, true) < int(kBoxExtentMax)) CHECK(hi[a] < g.n[a] - 1);
+                }
                 REQUIRE_FALSE(g.any(lo, hi));   // only empty cells
                 if (!grown) {
                     for (int a = 0; a < 3; ++a) {
@@ -105,6 +110,17 @@ TEST_CASE("beside a floor the boxes stretch along it, where the cubes stay one c
     CHECK(box_extent(b, 0, false) == int(kBoxExtentMax));   // reaches the grid's side
     CHECK(box_extent(b, 0, true) >= 10);
     CHECK(box_extent(b, 1, true) >= 10);
+}
+
+TEST_CASE("a box cut to the largest extent towards -x can grow again in y and z") {
+    // Along a row of 70 cells the boxes are carried from cell to cell; past
+    // 31 cells they are cut at -x, and the cut may free the y and z faces
+    // that a speck near the row's start had blocked.
+    Grid g{{70, 3, 3}, {}};
+    g.occupied.assign(size_t(70) * 9, 0);
+    for (int x = 0; x < 70; ++x) g.occupied[(size_t(1) * 3 + 0) * 70 + x] = 1;   // the line y = 0, z = 1
+    g.occupied[(size_t(1) * 3 + 2) * 70 + 5] = 1;                                // the speck (5, 2, 1)
+    check_boxes(g, empty_boxes(g.occupied, g.n), true);
 }
 
 TEST_CASE("grids past the size limit keep the Chebyshev cubes") {

@@ -26,9 +26,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_common import ROOT, log, machine_info, table  # noqa: E402
+import gridwalk as gw  # noqa: E402
+from bench_common import ROOT, Sizes, log, machine_info, table  # noqa: E402
 from bench_embree import KINDS, geomean, scenes_for, shadow_rays  # noqa: E402
-from bench_meshes import LABELS  # noqa: E402
+from bench_meshes import LABELS, export_suzanne  # noqa: E402
+from gridwalk.validate import ray_sets  # noqa: E402
 
 GEOMETRY = ("vertices", "triangles", "sphere_centers", "sphere_radii", "cylinder_base", "cylinder_apex",
             "cylinder_base_radius", "cylinder_apex_radius")
@@ -108,9 +110,6 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--out", default=str(ROOT / "docs"))
     args = ap.parse_args(argv)
-    from bench_common import Sizes
-    from bench_meshes import export_suzanne
-    from gridwalk.validate import ray_sets
     t_start = time.perf_counter()
     names = ("base", "new")
     with tempfile.TemporaryDirectory() as tmp_name:
@@ -128,7 +127,6 @@ def main(argv=None) -> int:
         rows, ratios = [], {k: [] for k in KINDS}
         for name, kw, _ in scenes_for(sizes, suzanne):   # (analytic variants: their triangle twin is enough here)
             log(name)
-            import gridwalk as gw
             tri_scene = gw.Scene(vertices=kw["vertices"], triangles=kw["triangles"], camera=kw["camera"])
             rays = ray_sets(kw, args.rays, seed=1, scene=tri_scene)
             rays["shadow"] = shadow_rays(tri_scene, kw, *rays["primary"][:2], args.rays, np.random.default_rng(2))

@@ -85,7 +85,7 @@ uint32_t pack(const int c[3], const int lo[3], const int hi[3], const int n[3]) 
     for (int a = 0; a < 3; ++a) {
         const uint32_t neg = lo[a] == 0 ? kBoxExtentMax : uint32_t(c[a] - lo[a]);
         const uint32_t pos = hi[a] == n[a] - 1 ? kBoxExtentMax : uint32_t(hi[a] - c[a]);
-        out |= neg << (10 * a) | pos << (10 * a + 5);
+        out |= neg << box_shift(a, false) | pos << box_shift(a, true);
     }
     return out;
 }

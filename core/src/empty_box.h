@@ -21,9 +21,12 @@ namespace gw {
 
 constexpr uint32_t kBoxExtentMax = 31;
 
+// Where a packed box keeps its extent towards -axis (positive false) or +axis.
+inline int box_shift(int axis, bool positive) { return 10 * axis + (positive ? 5 : 0); }
+
 // The extent of a packed box towards -axis (positive false) or +axis.
 inline int box_extent(uint32_t box, int axis, bool positive) {
-    return int((box >> (10 * axis + (positive ? 5 : 0))) & kBoxExtentMax);
+    return int((box >> box_shift(axis, positive)) & kBoxExtentMax);
 }
 
 // occupied: one byte per cell (1 = not empty), x fastest. Returns one packed

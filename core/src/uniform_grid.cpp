@@ -336,7 +336,10 @@ UniformGrid::UniformGrid(const UniformGrid& prev, std::shared_ptr<const Scene> s
 // Cells overlapped by a box (in double: the difference of two floats is
 // exact). The box is inflated by 1/1000 of a cell plus the float rounding of
 // a cell coordinate at this resolution, so that a primitive touching a cell
-// face within rounding error is listed on both sides.
+// face within rounding error is listed on both sides. (The adaptive grid also
+// pads by the rounding of an absolute coordinate; here the scene box's own
+// padding, 1e-6 of its magnitude, keeps cells coarser than that rounding, and
+// test34's features smaller than the coordinates' spacing are found without it.)
 void UniformGrid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
     for (int a = 0; a < 3; ++a) {
         const double top = double(n_[a] - 1), pad = 1e-3 + 4e-7 * double(n_[a]);
@@ -369,10 +372,14 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     if (mailboxes) ctx.mailbox.next_ray();
     int cell[3], step[3], out[3];
     float tnext[3], tdelta[3];
-    // t where the ray leaves cell[a] along axis a (the face in the step direction).
-    auto exit_t = [&](int a) {
-        return (lo_[a] + float(step[a] > 0 ? cell[a] + 1 : cell[a]) * cell_[a] - ray.o[a]) * inv[a];
+    // t where the ray crosses face `face` (a cell index) along axis a, in double:
+    // far from the origin, the face's coordinate rounded to float can be off by
+    // most of a cell, and the walk would leave a cell before reaching its hit.
+    auto face_t = [&](int a, int face) {
+        return float((double(lo_[a]) + double(face) * double(cell_[a]) - double(ray.o[a])) * double(inv[a]));
     };
+    // t where the ray leaves cell[a] along axis a (the face in the step direction).
+    auto exit_t = [&](int a) { return face_t(a, step[a] > 0 ? cell[a] + 1 : cell[a]); };
     for (int a = 0; a < 3; ++a) {
         cell[a] = cell_at(ray, t0, a);
         if (dd.d[a] > 0) {
@@ -405,7 +412,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
             for (int a = 0; a < 3; ++a) {
                 if (step[a] == 0) continue;
                 const int face = step[a] > 0 ? cell[a] + k : cell[a] - (k - 1);
-                t_exit = std::min(t_exit, (lo_[a] + float(face) * cell_[a] - ray.o[a]) * inv[a]);
+                t_exit = std::min(t_exit, face_t(a, face));
             }
             if (hit.t < t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
             if (t_exit > t_jump) {

@@ -117,8 +117,10 @@ class ViewportSession:
         self.lock = threading.RLock()
         self.display = Display()
         self.signature = None
-        self.scene_kwargs = None       # the latest export (None: nothing to render)
-        self.gw_scene = None           # its gridwalk.Scene
+        self.scene_kwargs = None       # the latest full export (None: nothing, or the scene was moved in the core)
+        self.gw_scene = None           # the latest gridwalk.Scene
+        self.layout = None             # its parts' Placements (export.meshes), for moving them
+        self.moved = 0                 # instances the latest update moved in the core (0: a full export)
         self.scene_version = 0
         self.settings = None           # gridwalk.RenderSettings for the viewport
         self.samples, self.start_pixels, self.opaque = 1, 1, True
@@ -145,24 +147,39 @@ class ViewportSession:
         import gridwalk
 
         from .export import Export, ExportError
+        from .export.moves import instance_moves
         t0 = time.perf_counter()
         self.cache.invalidate(depsgraph.updates)
         self.follow_settings(depsgraph.scene)
+        layout = None
         try:
             export = Export(depsgraph, self.cache, camera=False)
             signature = export.signature()
             if signature == self.signature:
                 return False
-            kwargs, _ = export.kwargs()
-            self._check_memory(kwargs, depsgraph.scene)
-            t1 = time.perf_counter()
-            gw_scene, message = gridwalk.Scene(**kwargs), ""
+            moves = None
+            if self.gw_scene is not None and self.signature is not None:
+                moves = instance_moves(self.signature, self.layout, signature, export, self.cache)
+            gw_scene = None
+            if moves is not None:      # only instances moved: the core moves them (same sizes: no memory check)
+                kwargs, layout = None, self.layout
+                t1 = time.perf_counter()
+                try:
+                    gw_scene, message = self.gw_scene.moved(moves), ""
+                except ValueError:     # (not expected: the export checked the instances) a full export decides
+                    moves = None
+            if gw_scene is None:
+                kwargs, _ = export.kwargs()
+                layout = export.meshes.layout
+                self._check_memory(kwargs, depsgraph.scene)
+                t1 = time.perf_counter()
+                gw_scene, message = gridwalk.Scene(**kwargs), ""
         except (ExportError, MemoryError, ValueError) as exc:
             t1 = time.perf_counter()
-            kwargs, gw_scene, signature, message = None, None, None, f"Gridwalk: {exc}"
+            kwargs, gw_scene, signature, message, moves = None, None, None, f"Gridwalk: {exc}", None
         t2 = time.perf_counter()
         with self.lock:
-            self.signature = signature
+            self.signature, self.layout, self.moved = signature, layout, len(moves or ())
             self.scene_kwargs, self.gw_scene, self.message = kwargs, gw_scene, message
             self.scene_version += 1
             self.timings = {"edit": t0, "export": t1 - t0, "scene": t2 - t1}

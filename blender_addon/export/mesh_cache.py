@@ -18,6 +18,8 @@ core takes instances, `parts` can be handed over as they are.
 """
 from __future__ import annotations
 
+import numpy as np
+
 from .meshes import read_object_mesh, world_part
 
 
@@ -32,6 +34,7 @@ class MeshCache:
         self.reads = 0           # meshes read since the last reset_stats()
         self.transforms = 0      # instances transformed since the last reset_stats()
         self.images = {}         # image signature -> (gridwalk.Image, problem): textures.TextureTable
+        self.object_corners = {}  # entry key -> a flat mesh's corners in object space (moves.instance_moves)
     def reset_stats(self):
         self.reads = self.transforms = 0
 
@@ -86,9 +89,18 @@ class MeshCache:
             self.transforms += 1
         return part
 
+    def corners(self, key, data):
+        """A flat mesh's unshared corners in object space, (3T, 3) float32 (what a
+        move of one of its instances transforms), kept while the entry is."""
+        corners = self.object_corners.get(key)
+        if corners is None:
+            corners = self.object_corners[key] = np.ascontiguousarray(data.co[data.triangles.reshape(-1)])
+        return corners
+
     def prune(self, used_keys):
         """Drop what the latest export did not use (deleted or changed objects)."""
         self.entries = {k: v for k, v in self.entries.items() if k in used_keys}
+        self.object_corners = {k: v for k, v in self.object_corners.items() if k in used_keys}
         self.world = {k: v for k, v in self.world.items() if k in self.world_used}
         self.world_used = set()
         live = {k[0] for k in used_keys}

@@ -250,6 +250,7 @@ class MeshCollector:
         self.faceless = set()      # mesh objects without faces
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
+        self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
     def add_instance(self, inst):
         if not renders(inst):
@@ -307,7 +308,7 @@ class MeshCollector:
 
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
-        out = assemble_triangles(self.parts, self.cache)
+        out, self.layout = assemble_triangles(self.parts, self.cache)
         self.cache.prune(self.used)
         centres = np.array([s[0] for s in self.spheres], dtype=np.float32).reshape(-1, 3)
         out["sphere_centers"] = centres
@@ -390,18 +391,31 @@ def world_part(data, matrix, flat_corners: bool):
     return world.astype(np.float32), tris, None if nrm is None else nrm.astype(np.float32)
 
 
-def assemble_triangles(parts, cache) -> dict:
-    """Scene arrays (vertices, triangles, normals, triangle_materials) of the
-    parts (cache key, MeshData, matrix, material lookup); each instance's
-    world-space arrays come from cache.world_part (reused while its matrix
-    is unchanged)."""
+class Placement:
+    """Where one part's arrays lie in the assembled scene arrays, and how they
+    were made (flat: unshared corners with face normals): what a later move of
+    the instance needs (gridwalk.InstanceMove)."""
+
+    def __init__(self, vertex_start: int, triangle_start: int, triangle_count: int, flat: bool, normals: bool):
+        self.vertex_start, self.triangle_start, self.triangle_count = vertex_start, triangle_start, triangle_count
+        self.flat, self.normals = flat, normals
+
+
+def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
+    """(Scene arrays (vertices, triangles, normals, triangle_materials), each
+    part's Placement) of the parts (cache key, MeshData, matrix, material
+    lookup); each instance's world-space arrays come from cache.world_part
+    (reused while its matrix is unchanged)."""
     need_normals = any(data.normals is not None for _, data, _, _ in parts)
     need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
     need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
-    offset = 0
+    vertices, triangles, normals, materials, uvs, colors, layout = [], [], [], [], [], [], []
+    offset = triangle_offset = 0
     for key, data, matrix, lookup in parts:
-        world, tris, nrm = cache.world_part(key, data, matrix, need_normals and data.normals is None)
+        flat = need_normals and data.normals is None
+        world, tris, nrm = cache.world_part(key, data, matrix, flat)
+        layout.append(Placement(offset, triangle_offset, len(tris), flat, need_normals))
+        triangle_offset += len(tris)
         vertices.append(world)
         triangles.append(tris + offset if offset else tris)
         if need_normals:
@@ -415,7 +429,7 @@ def assemble_triangles(parts, cache) -> dict:
         offset += world.shape[0]
     if not parts:
         return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
-                "normals": None, "triangle_materials": np.zeros(0, np.int32)}
+                "normals": None, "triangle_materials": np.zeros(0, np.int32)}, layout
     out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32),
            "normals": np.concatenate(normals) if need_normals else None,
            "triangle_materials": np.concatenate(materials).astype(np.int32)}
@@ -423,4 +437,4 @@ def assemble_triangles(parts, cache) -> dict:
         out["uvs"] = np.concatenate(uvs)
     if need_colors:
         out["colors"] = np.concatenate(colors)
-    return out
+    return out, layout

@@ -15,6 +15,7 @@
 #include "build_job.h"
 #include "render_job.h"
 #include "adaptive_grid.h"
+#include "moved_grid.h"
 #include "uniform_grid.h"
 
 namespace nb = nanobind;
@@ -98,6 +99,45 @@ NB_MODULE(_core, m) {
                                   std::move(lights), camera, background, pooled(uvs), pooled(colors), std::move(shared),
                                   std::move(textures), world);
              })
+        .def("moved",
+             [](const Scene& s, std::vector<size_t> vertex_starts, std::vector<size_t> triangle_starts,
+                std::vector<size_t> triangle_counts, std::vector<In<float>> positions, std::vector<In<float>> normals,
+                std::vector<bool> flat, std::vector<In<double>> matrices, std::vector<In<double>> previous) {
+                 const size_t n = vertex_starts.size();
+                 if (triangle_starts.size() != n || triangle_counts.size() != n || positions.size() != n ||
+                     normals.size() != n || flat.size() != n || matrices.size() != n || previous.size() != n)
+                     throw std::invalid_argument("moved: one entry per move in every list");
+                 std::vector<RigidMove> moves(n);
+                 for (size_t i = 0; i < n; ++i) {
+                     if (matrices[i].size() != 16) throw std::invalid_argument("moved: matrices must be 4 x 4");
+                     moves[i].vertex_start = vertex_starts[i];
+                     moves[i].triangle_start = triangle_starts[i];
+                     moves[i].triangle_count = triangle_counts[i];
+                     moves[i].positions = vec(positions[i]);
+                     moves[i].normals = vec(normals[i]);
+                     moves[i].flat = flat[i];
+                     std::copy(matrices[i].data(), matrices[i].data() + 16, &moves[i].matrix[0][0]);
+                     if (previous[i].size() != 0 && previous[i].size() != 16)
+                         throw std::invalid_argument("moved: previous matrices must be 4 x 4 (or empty)");
+                     moves[i].has_previous = previous[i].size() == 16;
+                     if (moves[i].has_previous)
+                         std::copy(previous[i].data(), previous[i].data() + 16, &moves[i].previous_matrix[0][0]);
+                 }
+                 nb::gil_scoped_release release;
+                 return s.moved(moves);
+             })
+        .def("geometry",
+             [](const Scene& s) {
+                 const Scene::Geometry g = s.geometry();
+                 auto copy = [](const auto& v, size_t width, auto tag) {
+                     using T = decltype(tag);
+                     auto a = owned<T>({v.size() / width, width});
+                     std::copy(v.begin(), v.end(), a.data());
+                     return a;
+                 };
+                 return nb::make_tuple(copy(*g.vertices, 3, float()), copy(*g.triangles, 3, int32_t()),
+                                       copy(*g.normals, 3, float()), copy(*g.materials, 1, int32_t()));
+             })
         .def_prop_ro("texture_bytes", &Scene::texture_bytes)
         .def_prop_ro("num_triangles", &Scene::num_triangles)
         .def_prop_ro("num_spheres", &Scene::num_spheres)
@@ -169,6 +209,14 @@ NB_MODULE(_core, m) {
         nb::gil_scoped_release release;
         return std::shared_ptr<const Accel>(UniformGrid::update(*grid, std::move(scene)));
     }, "previous"_a, "scene"_a);
+
+    // The grid of a moved scene made from the grid of one of its ancestors (MovedGrid::follow), for
+    // tests: None where it does not apply.
+    m.def("follow_grid", [](std::shared_ptr<const Accel> ancestor, std::shared_ptr<const Scene> scene) {
+        auto grid = std::dynamic_pointer_cast<const UniformGrid>(ancestor);
+        if (!grid) throw std::invalid_argument("follow_grid: the ancestor's structure is not a uniform grid");
+        return MovedGrid::follow(std::move(grid), std::move(scene));
+    }, "ancestor"_a, "scene"_a);
 
     nb::class_<BuildJob>(m, "BuildJob")
         .def(nb::init<std::shared_ptr<const Scene>, const RenderSettings&>(), "scene"_a, "settings"_a)

@@ -110,8 +110,14 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
     check_textures();
     validate_camera(camera_);
 
+    compute_bounds(tri_bounds);
+}
+
+void Scene::compute_bounds(const Bounds& tri_bounds) {
     // Coordinates (and extents) within +-1e30 keep every box, distance and
     // grid cell computation finite in float.
+    const size_t nt = num_triangles();
+    bounds_ = Bounds();
     constexpr float kLimit = 1e30f;
     auto within = [&](const Bounds& b) {
         return std::max(std::abs(b.lo.x), std::max(std::abs(b.lo.y), std::abs(b.lo.z))) <= kLimit &&

@@ -21,6 +21,37 @@
 
 namespace gw {
 
+// One instance moved to a new place: its vertices (and normals) recomputed
+// from object space, as the exporter computes them (Scene::moved).
+struct RigidMove {
+    size_t vertex_start = 0;        // its first vertex in the scene's vertex array
+    size_t triangle_start = 0;      // its triangles: [triangle_start, triangle_start + triangle_count)
+    size_t triangle_count = 0;
+    std::vector<float> positions;   // (k, 3) object space: the vertices [vertex_start, vertex_start + k)
+    std::vector<float> normals;     // (k, 3) object space, or empty
+    bool flat = false;              // unshared corners (3 per triangle) whose normals are the face normals
+    double matrix[4][4] = {};       // object to world (rows as in Blender)
+    bool has_previous = false;      // previous_matrix given: where the instance was in the scene moved from
+    double previous_matrix[4][4] = {};
+};
+
+// How a scene was made from earlier ones by Scene::moved: for each of its
+// latest ancestors (back to the last scene built from arrays, at most
+// kMaxAncestors), the instances moved since, each one's triangles being the
+// ancestor's under an affine map; so a grid of an ancestor serves this scene
+// too, its rays mapped back (moved_grid.h). A viewport drag's requests cancel
+// one another, so the grid at hand may be several versions old.
+struct InstanceDelta {
+    size_t triangle_start = 0, triangle_end = 0;
+    double from_ancestor[3][4] = {};   // the ancestor's world space -> this scene's
+};
+struct SceneAncestor {
+    uint64_t id = 0;                    // Scene::id() of the ancestor
+    std::vector<InstanceDelta> moved;   // disjoint, by triangle_start
+};
+constexpr size_t kMaxAncestors = 16;
+constexpr size_t kMaxMovedInstances = 8;   // an ancestor with more instances moved since is forgotten
+
 class Scene {
 public:
     // Arrays are copied into the scene (one memcpy each); the caller's buffers
@@ -36,6 +67,26 @@ public:
           Vec3 background, PooledVector<float> uvs = {}, PooledVector<float> colors = {},
           std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
           const World& world = World());
+
+    // A copy of this scene with the instances `moves` name moved: their
+    // vertices become matrix x positions (in double, rounded to float), their
+    // normals the inverse transpose of the matrix's linear part times
+    // normals, renormalised (flat instances: their world-space face normals);
+    // everything else is shared in value. Throws std::invalid_argument naming
+    // the move when it does not fit the scene (ranges, shapes, a triangle
+    // outside the move using its vertices, coordinates beyond +-1e30).
+    std::shared_ptr<Scene> moved(const std::vector<RigidMove>& moves) const;
+
+    // The triangle arrays as they were given (or moved), for checks.
+    struct Geometry {
+        const PooledVector<float> *vertices, *normals;
+        const PooledVector<int32_t> *triangles, *materials;
+    };
+    Geometry geometry() const { return {&verts_, &normals_, &tris_, &tri_mat_}; }
+    // Unique among the scenes of this process (a moved copy gets its own).
+    uint64_t id() const { return id_; }
+    // Nearest first; empty for a scene built from arrays.
+    const std::vector<SceneAncestor>& ancestors() const { return ancestors_; }
 
     size_t num_triangles() const { return tris_.size() / 3; }
     size_t num_spheres() const { return radii_.size(); }
@@ -117,6 +168,9 @@ private:
     World world_;
     bool transparent_shadows_ = false;
     Bounds bounds_;
+    uint64_t id_ = next_id();
+    std::vector<SceneAncestor> ancestors_;
+    static uint64_t next_id();
 
     Rgba lookup(int32_t texture, float u, float v) const {
         const Texture& t = textures_[size_t(texture)];
@@ -124,6 +178,9 @@ private:
     }
     void hit_uv(const Hit& hit, float& u, float& v) const;
     void check_textures();   // scene_textures.cpp
+    void compute_bounds(const Bounds& tri_bounds);   // bounds_ (and the +-1e30 check), given the triangles'
+    void apply(const RigidMove& m, size_t index);     // scene_moved.cpp
+    std::vector<SceneAncestor> ancestors_after(const std::vector<RigidMove>& moves) const;
 };
 
 // A hit at exactly the current hit's t wins when its primitive index is

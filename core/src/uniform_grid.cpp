@@ -359,8 +359,8 @@ int UniformGrid::cell_at(const Ray& ray, float t, int a) const {
     return int(std::min(std::max(x, 0.0), double(n_[a] - 1)));
 }
 
-template <bool AnyHit>
-bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+template <bool AnyHit, bool Filtered>
+bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter* filter) const {
     if (!r.valid) return false;
     const Ray& ray = r.ray;
     const DdaDirection dd = dda_direction(ray.d);
@@ -428,6 +428,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
         }
         for (uint32_t k = offsets_[c], e = offsets_[c + 1]; k < e; ++k) {
             const uint32_t prim = prims_[k];
+            if (Filtered && filter->skip(prim)) continue;
             if (mailboxes && ctx.mailbox.seen(prim)) { ++ctx.stats.mailbox_skips; continue; }
             ++ctx.stats.prim_tests;
             if (sc.intersect(prim, r, hit)) {
@@ -448,12 +449,24 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     return found;
 }
 
-bool UniformGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const { return traverse<false>(r, hit, ctx); }
+bool UniformGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    return traverse<false, false>(r, hit, ctx, nullptr);
+}
 
 bool UniformGrid::occluded(const RayPre& r, TraceContext& ctx) const {
     Hit hit;
     hit.t = r.ray.tmax;
-    return traverse<true>(r, hit, ctx);
+    return traverse<true, false>(r, hit, ctx, nullptr);
+}
+
+bool UniformGrid::closest_filtered(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter& f) const {
+    return traverse<false, true>(r, hit, ctx, &f);
+}
+
+bool UniformGrid::occluded_filtered(const RayPre& r, TraceContext& ctx, const PrimFilter& f) const {
+    Hit hit;
+    hit.t = r.ray.tmax;
+    return traverse<true, true>(r, hit, ctx, &f);
 }
 
 }  // namespace gw

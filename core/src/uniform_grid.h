@@ -56,6 +56,23 @@ public:
     static std::shared_ptr<const UniformGrid> update(const UniformGrid& previous, std::shared_ptr<const Scene> s,
                                                      const CancelToken* cancel = nullptr);
 
+    // Walks that test only some triangles: those inside one of `count`
+    // triangle ranges (inside = true), or those inside none (inside = false);
+    // other primitives are tested by the second kind only. moved_grid.h walks
+    // the grid of an earlier scene version so.
+    struct PrimFilter {
+        const InstanceDelta* ranges;   // (only their triangle ranges are read)
+        size_t count;
+        bool inside;
+        bool skip(uint32_t prim) const {
+            bool in = false;
+            for (size_t i = 0; i < count; ++i) in |= prim >= ranges[i].triangle_start && prim < ranges[i].triangle_end;
+            return in != inside;
+        }
+    };
+    bool closest_filtered(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter& f) const;
+    bool occluded_filtered(const RayPre& r, TraceContext& ctx, const PrimFilter& f) const;
+
 private:
     struct CellChange {   // a primitive that leaves cells a0..a1 for cells b0..b1
         uint32_t prim;
@@ -69,8 +86,8 @@ private:
             for (int y = c0[1]; y <= c1[1]; ++y)
                 for (int x = c0[0]; x <= c1[0]; ++x) f((uint64_t(z) * n_[1] + y) * n_[0] + x);
     }
-    template <bool AnyHit>
-    bool traverse(const RayPre& r, Hit& hit, TraceContext& ctx) const;
+    template <bool AnyHit, bool Filtered>
+    bool traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter* filter) const;
     void cell_range(const Bounds& b, int lo[3], int hi[3]) const;
     int cell_at(const Ray& ray, float t, int axis) const;
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "threads.h"
+#include "moved_grid.h"
 #include "uniform_grid.h"
 
 namespace gw {
@@ -147,8 +148,11 @@ void ViewportRenderer::render(const ViewportRequest& r, double submitted) {
         // each replacing the one of its key from an even older scene (which
         // stays while no newer one was built: a drag's requests cancel each
         // other); its other structures are rebuilt.
-        for (auto& [key, accel] : cache_)
-            if (std::dynamic_pointer_cast<const UniformGrid>(accel)) previous_[key] = std::move(accel);
+        // (A moved scene's grid keeps the ancestor's grid it walks: moved_grid.h.)
+        for (auto& [key, accel] : cache_) {
+            if (const auto moved = std::dynamic_pointer_cast<const MovedGrid>(accel)) previous_[key] = moved->grid();
+            else if (std::dynamic_pointer_cast<const UniformGrid>(accel)) previous_[key] = std::move(accel);
+        }
         cache_.clear();
         cached_scene_ = r.scene;
     }
@@ -178,10 +182,14 @@ std::shared_ptr<const Accel> ViewportRenderer::structure(const ViewportRequest& 
     try {
         const auto prev = previous_.find(wanted.key);
         if (prev != previous_.end()) {
+            // Instances moved since that grid's scene (Scene::moved): walk it
+            // with the rays mapped back, no build. Otherwise update it.
             // (A cancelled update leaves it there for the next request.)
-            accel = UniformGrid::update(static_cast<const UniformGrid&>(*prev->second), r.scene, &token);
+            const auto grid = std::static_pointer_cast<const UniformGrid>(prev->second);
+            accel = MovedGrid::follow(grid, r.scene);
+            if (!accel) accel = UniformGrid::update(*grid, r.scene, &token);
             updated = accel != nullptr;
-            previous_.erase(prev);   // its scene (and that scene's pooled buffers) can go
+            previous_.erase(prev);   // its scene (and that scene's pooled buffers) can go, unless followed
         }
         if (!accel) accel = build_accel(r.scene, wanted.settings, &token, kGridMargin);
     } catch (...) {

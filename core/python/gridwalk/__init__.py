@@ -6,9 +6,9 @@ from .model import Camera, Light, Material, Texture, World
 from .progressive import ProgressiveRenderer
 from .render import RenderJob, TileResult, render
 from .renderfarm import FarmError, farm
-from .scene import BuildCancelled, Hits, Scene
+from .scene import BuildCancelled, Hits, InstanceMove, Scene
 from .settings import RenderSettings
 
-__all__ = ["Camera", "Light", "Material", "Image", "Texture", "World", "Scene", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
+__all__ = ["Camera", "Light", "Material", "Image", "Texture", "World", "Scene", "InstanceMove", "Hits", "RenderSettings", "RenderJob", "TileResult", "render",
            "BuildCancelled", "farm", "FarmError", "ProgressiveRenderer"]
 __version__ = "0.1.0"

@@ -94,6 +94,22 @@ class Hits:
     stats: dict
 
 
+@dataclass
+class InstanceMove:
+    """One instance of a scene moved (Scene.moved): its vertices
+    [vertex_start, vertex_start + len(positions)) become matrix x positions,
+    and its triangles [triangle_start, triangle_start + triangle_count), which
+    use only those vertices, follow them."""
+    vertex_start: int
+    triangle_start: int
+    triangle_count: int
+    positions: np.ndarray             # (k, 3) object space
+    matrix: np.ndarray                # (4, 4) object to world, rows as in Blender
+    normals: np.ndarray | None = None  # (k, 3) object space, mapped by the inverse transpose and renormalised
+    flat: bool = False                # unshared corners, 3 per triangle, whose normals are their face's
+    previous_matrix: np.ndarray | None = None   # the matrix it had: then a grid of an earlier version serves
+
+
 BuildCancelled = _core.BuildCancelled
 POLL_SECONDS = 0.01
 
@@ -177,6 +193,41 @@ class Scene:
             self.background, _corners(uvs, "uvs", 2, n_tris), _corners(colors, "colors", 3, n_tris),
             [image._native for image in self.images], core_textures, self.world.to_core())
         self._accels = {}
+
+    def moved(self, moves) -> "Scene":
+        """A new scene, this one with the instances `moves` (InstanceMove) in
+        new places, made in the core: the arrays of what did not move are
+        copied there, not passed in again. Materials, lights, camera and world
+        are this scene's. The result equals a Scene built from the same arrays
+        (each instance transformed as the Blender exporter transforms it)."""
+        moves = list(moves)
+        for i, m in enumerate(moves):
+            if not isinstance(m, InstanceMove):
+                raise ValueError(f"moves[{i}] must be a gridwalk.InstanceMove, got {type(m).__name__}")
+        matrices, previous = [], []
+        for i, m in enumerate(moves):
+            for name, value, out in (("matrix", m.matrix, matrices), ("previous_matrix", m.previous_matrix, previous)):
+                matrix = np.asarray(value if value is not None else np.zeros((0, 0)), dtype=np.float64)
+                if matrix.shape != (4, 4) and (value is not None or name == "matrix"):
+                    raise ValueError(f"moves[{i}].{name} must have shape (4, 4), got {matrix.shape}")
+                out.append(np.ascontiguousarray(matrix))
+        native = self._native.moved(
+            [int(m.vertex_start) for m in moves], [int(m.triangle_start) for m in moves],
+            [int(m.triangle_count) for m in moves],
+            [_array(m.positions, f"moves[{i}].positions", np.float32, 3) for i, m in enumerate(moves)],
+            [_array(m.normals, f"moves[{i}].normals", np.float32, 3) for i, m in enumerate(moves)],
+            [bool(m.flat) for m in moves], matrices, previous)
+        out = object.__new__(Scene)
+        out.__dict__.update(self.__dict__)
+        out._native, out._accels = native, {}
+        return out
+
+    def geometry(self) -> dict:
+        """Copies of the triangle arrays the core holds: vertices, triangles,
+        normals (None when the scene has none) and triangle_materials."""
+        v, t, n, m = self._native.geometry()
+        return {"vertices": v, "triangles": t, "normals": n if len(n) else None,
+                "triangle_materials": m.reshape(-1)}
 
     @property
     def texture_bytes(self) -> int:

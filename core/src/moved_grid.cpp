@@ -1,0 +1,61 @@
+// See moved_grid.h.
+#include "moved_grid.h"
+
+#include <algorithm>
+
+namespace gw {
+
+std::shared_ptr<const Accel> MovedGrid::follow(std::shared_ptr<const UniformGrid> grid,
+                                               std::shared_ptr<const Scene> scene) {
+    if (!grid || !scene || grid->scene().num_prims() != scene->num_prims()) return nullptr;
+    const uint64_t id = grid->scene().id();
+    const auto& ancestors = scene->ancestors();
+    const auto a = std::find_if(ancestors.begin(), ancestors.end(), [&](const SceneAncestor& x) { return x.id == id; });
+    if (a == ancestors.end()) return nullptr;
+    std::shared_ptr<MovedGrid> g(new MovedGrid(std::move(grid), std::move(scene)));
+    g->moved_ = a->moved;
+    for (const InstanceDelta& d : g->moved_) {
+        Affine back;
+        if (!Affine::from_rows_3x4(d.from_ancestor).inverse(back)) return nullptr;
+        g->to_grid_.push_back(back);
+    }
+    return g;
+}
+
+MovedGrid::MovedGrid(std::shared_ptr<const UniformGrid> grid, std::shared_ptr<const Scene> scene)
+    : Accel(std::move(scene)), grid_(std::move(grid)) {}
+
+RayPre MovedGrid::to_grid(const RayPre& r, size_t instance) const {
+    const Affine& m = to_grid_[instance];
+    Ray ray = r.ray;
+    const Vec3d o = m.point(Vec3d(ray.o)), d = m.vector(Vec3d(ray.d));
+    ray.o = Vec3(float(o.x), float(o.y), float(o.z));
+    ray.d = Vec3(float(d.x), float(d.y), float(d.z));
+    return RayPre(ray);
+}
+
+bool MovedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    const std::vector<InstanceDelta>& moved = moved_;
+    bool found = grid_->closest_filtered(r, hit, ctx, {moved.data(), moved.size(), false});
+    for (size_t i = 0; i < moved.size(); ++i)
+        found |= grid_->closest_filtered(to_grid(r, i), hit, ctx, {&moved[i], 1, true});
+    return found;
+}
+
+bool MovedGrid::occluded(const RayPre& r, TraceContext& ctx) const {
+    const std::vector<InstanceDelta>& moved = moved_;
+    if (grid_->occluded_filtered(r, ctx, {moved.data(), moved.size(), false})) return true;
+    for (size_t i = 0; i < moved.size(); ++i)
+        if (grid_->occluded_filtered(to_grid(r, i), ctx, {&moved[i], 1, true})) return true;
+    return false;
+}
+
+AccelInfo MovedGrid::info() const {
+    AccelInfo i = grid_->info();
+    i.build_seconds = 0;
+    i.note = "the grid of an earlier version, walked once more for each of the " + std::to_string(moved_.size()) +
+             " instances moved since";
+    return i;
+}
+
+}  // namespace gw

@@ -1,0 +1,221 @@
+// Scene::moved: the next version of a scene whose instances moved (a
+// viewport's transform edit), made in the core from the instances' object-space
+// arrays, so that the scene's arrays need not be assembled in Python and copied
+// in again.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "affine.h"
+#include "scene.h"
+
+namespace gw {
+namespace {
+
+[[noreturn]] void bad_move(size_t i, const std::string& what) {
+    throw std::invalid_argument("moves[" + std::to_string(i) + "]: " + what);
+}
+
+struct Range {
+    size_t begin, end;
+    bool operator<(const Range& o) const { return begin < o.begin; }
+};
+
+// Sorts the ranges; false when two overlap.
+bool disjoint(std::vector<Range>& r) {
+    std::sort(r.begin(), r.end());
+    for (size_t i = 1; i < r.size(); ++i)
+        if (r[i].begin < r[i - 1].end) return false;
+    return true;
+}
+
+bool inside(const std::vector<Range>& sorted, size_t x) {
+    auto it = std::upper_bound(sorted.begin(), sorted.end(), Range{x, x});
+    return it != sorted.begin() && x < std::prev(it)->end;
+}
+
+// The inverse transpose of m's linear part (m's linear part itself when singular,
+// as the exporter does): it maps object-space normals to world space.
+void normal_matrix(const double m[4][4], double n[3][3]) {
+    const double a = m[0][0], b = m[0][1], c = m[0][2], d = m[1][0], e = m[1][1], f = m[1][2], g = m[2][0],
+                 h = m[2][1], k = m[2][2];
+    const double cof[3][3] = {{e * k - f * h, f * g - d * k, d * h - e * g},
+                              {c * h - b * k, a * k - c * g, b * g - a * h},
+                              {b * f - c * e, c * d - a * f, a * e - b * d}};
+    const double det = a * cof[0][0] + b * cof[0][1] + c * cof[0][2];
+    for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col) n[r][col] = det != 0 ? cof[r][col] / det : m[r][col];
+}
+
+Vec3d transform_point(const double m[4][4], const float* p) {
+    Vec3d out;
+    for (int r = 0; r < 3; ++r)
+        out[r] = double(p[0]) * m[r][0] + double(p[1]) * m[r][1] + double(p[2]) * m[r][2] + m[r][3];
+    return out;
+}
+
+// v / |v| rounded to float (v itself when its length is 0).
+void store_unit(const Vec3d& v, float* out) {
+    const double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+    for (int a = 0; a < 3; ++a) out[a] = float(len > 0 ? v[a] / len : v[a]);
+}
+
+}  // namespace
+
+std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
+    const size_t nv = verts_.size() / 3, nt = num_triangles();
+    std::vector<Range> vranges, tranges;
+    for (size_t i = 0; i < moves.size(); ++i) {
+        const RigidMove& m = moves[i];
+        if (m.positions.size() % 3) bad_move(i, "positions must have shape (k, 3)");
+        const size_t k = m.positions.size() / 3;
+        if (m.vertex_start > nv || k > nv - m.vertex_start)
+            bad_move(i, "vertices " + std::to_string(m.vertex_start) + " + " + std::to_string(k) +
+                            " lie beyond the scene's " + std::to_string(nv));
+        if (m.triangle_start > nt || m.triangle_count > nt - m.triangle_start)
+            bad_move(i, "triangles " + std::to_string(m.triangle_start) + " + " + std::to_string(m.triangle_count) +
+                            " lie beyond the scene's " + std::to_string(nt));
+        if (normals_.empty() && (m.flat || !m.normals.empty()))
+            bad_move(i, "the scene has no normals, so a move gives none");
+        if (!normals_.empty() && !m.flat && m.normals.size() != m.positions.size())
+            bad_move(i, "normals must have the shape of positions (the scene has normals)");
+        if (m.flat && !m.normals.empty()) bad_move(i, "a flat instance's normals are its face normals: give none");
+        for (const auto& row : m.matrix)
+            for (double x : row)
+                if (!std::isfinite(x)) bad_move(i, "the matrix has a non-finite value");
+        for (size_t j = 0; j < m.positions.size(); ++j)
+            if (!std::isfinite(m.positions[j])) bad_move(i, "positions has a non-finite value");
+        for (size_t j = 0; j < m.normals.size(); ++j)
+            if (!std::isfinite(m.normals[j])) bad_move(i, "normals has a non-finite value");
+        // The instance's triangles use its vertices only (flat: its 3 corners each, in order).
+        for (size_t t = m.triangle_start; t < m.triangle_start + m.triangle_count; ++t)
+            for (int c = 0; c < 3; ++c) {
+                const size_t v = size_t(tris_[3 * t + c]);
+                const bool ok = m.flat ? v == m.vertex_start + 3 * (t - m.triangle_start) + c
+                                       : v >= m.vertex_start && v < m.vertex_start + k;
+                if (!ok)
+                    bad_move(i, "triangle " + std::to_string(t) + " uses vertex " + std::to_string(v) +
+                                    (m.flat ? ", not its own corner" : ", outside the instance's vertices"));
+            }
+        if (m.flat && k != 3 * m.triangle_count) bad_move(i, "a flat instance has 3 vertices per triangle");
+        vranges.push_back({m.vertex_start, m.vertex_start + k});
+        tranges.push_back({m.triangle_start, m.triangle_start + m.triangle_count});
+    }
+    if (!disjoint(vranges) || !disjoint(tranges)) throw std::invalid_argument("two moves share vertices or triangles");
+    // No other triangle may use a moved vertex: its corners would be left behind.
+    size_t next_range = 0;
+    for (size_t t = 0; t < nt; ++t) {
+        while (next_range < tranges.size() && tranges[next_range].end <= t) ++next_range;
+        if (next_range < tranges.size() && t >= tranges[next_range].begin) {
+            t = tranges[next_range].end - 1;
+            continue;
+        }
+        for (int c = 0; c < 3; ++c)
+            if (inside(vranges, size_t(tris_[3 * t + c])))
+                throw std::invalid_argument("triangle " + std::to_string(t) + " uses vertex " +
+                                            std::to_string(tris_[3 * t + c]) + ", which a move moves");
+    }
+
+    auto out = std::make_shared<Scene>(*this);
+    out->id_ = next_id();
+    out->ancestors_ = ancestors_after(moves);
+    for (size_t i = 0; i < moves.size(); ++i) out->apply(moves[i], i);
+    Bounds tri_bounds;
+    for (size_t i = 0; i < 3 * nt; ++i) tri_bounds.grow(out->tri_verts_[i]);
+    out->compute_bounds(tri_bounds);
+    return out;
+}
+
+uint64_t Scene::next_id() {
+    static std::atomic<uint64_t> counter{0};
+    return ++counter;
+}
+
+namespace {
+// Composes one step (a move's previous world -> new world) into `moved`, the
+// instances moved since some ancestor; false when the move straddles an
+// instance moved before (then that ancestor cannot serve).
+bool compose(std::vector<InstanceDelta>& moved, size_t b, size_t e, const Affine& step) {
+    auto it = std::find_if(moved.begin(), moved.end(),
+                           [&](const InstanceDelta& d) { return d.triangle_start < e && b < d.triangle_end; });
+    Affine total = step;
+    if (it != moved.end()) {
+        if (it->triangle_start != b || it->triangle_end != e) return false;
+        total = step.after(Affine::from_rows_3x4(it->from_ancestor));
+    } else {
+        it = moved.insert(moved.end(), InstanceDelta{b, e, {}});
+    }
+    std::copy(&total.m[0][0], &total.m[0][0] + 12, &it->from_ancestor[0][0]);
+    return true;
+}
+}  // namespace
+
+// This scene's ancestors, and this scene, followed by `moves`. None when a move
+// has no previous matrix or its map cannot be inverted (the moved scene is then
+// as if built from arrays); an ancestor is dropped when a move straddles one
+// of its moved instances or more than kMaxMovedInstances have moved since it.
+std::vector<SceneAncestor> Scene::ancestors_after(const std::vector<RigidMove>& moves) const {
+    std::vector<std::pair<Range, Affine>> steps;
+    for (const RigidMove& m : moves) {
+        Affine back;
+        if (!m.has_previous || !Affine::from_rows(m.previous_matrix).inverse(back)) return {};
+        steps.push_back({{m.triangle_start, m.triangle_start + m.triangle_count},
+                         Affine::from_rows(m.matrix).after(back)});
+    }
+    std::vector<SceneAncestor> out;
+    std::vector<SceneAncestor> candidates{SceneAncestor{id_, {}}};
+    candidates.insert(candidates.end(), ancestors_.begin(), ancestors_.end());
+    for (SceneAncestor& a : candidates) {
+        bool ok = true;
+        for (const auto& [range, step] : steps) ok = ok && compose(a.moved, range.begin, range.end, step);
+        if (!ok || a.moved.size() > kMaxMovedInstances) continue;
+        std::sort(a.moved.begin(), a.moved.end(),
+                  [](const InstanceDelta& x, const InstanceDelta& y) { return x.triangle_start < y.triangle_start; });
+        out.push_back(std::move(a));
+        if (out.size() == kMaxAncestors) break;
+    }
+    return out;
+}
+
+void Scene::apply(const RigidMove& m, size_t index) {
+    const size_t k = m.positions.size() / 3;
+    float* verts = verts_.data() + 3 * m.vertex_start;
+    for (size_t v = 0; v < k; ++v) {
+        const Vec3d w = transform_point(m.matrix, &m.positions[3 * v]);
+        for (int a = 0; a < 3; ++a) verts[3 * v + a] = float(w[a]);
+    }
+    for (size_t j = 0; j < 3 * k; ++j)
+        if (!std::isfinite(verts[j]))
+            bad_move(index, "vertex " + std::to_string(m.vertex_start + j / 3) + " is not finite in world space");
+    if (m.flat) {
+        // Face normals from the corners in double, before their rounding (as the exporter does).
+        float* normals = normals_.data() + 3 * m.vertex_start;
+        for (size_t t = 0; t < m.triangle_count; ++t) {
+            const Vec3d a = transform_point(m.matrix, &m.positions[9 * t]),
+                        b = transform_point(m.matrix, &m.positions[9 * t + 3]),
+                        c = transform_point(m.matrix, &m.positions[9 * t + 6]);
+            const Vec3d n = cross(b - a, c - a);
+            for (int j = 0; j < 3; ++j) store_unit(n, normals + 9 * t + 3 * j);
+        }
+    } else if (!m.normals.empty()) {
+        double nm[3][3];
+        normal_matrix(m.matrix, nm);
+        float* normals = normals_.data() + 3 * m.vertex_start;
+        for (size_t v = 0; v < k; ++v) {
+            const float* n = &m.normals[3 * v];
+            Vec3d w;
+            for (int r = 0; r < 3; ++r) w[r] = double(n[0]) * nm[r][0] + double(n[1]) * nm[r][1] + double(n[2]) * nm[r][2];
+            store_unit(w, normals + 3 * v);
+        }
+    }
+    if (!normals_.empty())
+        for (size_t j = 3 * m.vertex_start; j < 3 * (m.vertex_start + k); ++j)
+            if (!std::isfinite(normals_[j]))
+                bad_move(index, "normal " + std::to_string(j / 3) + " is not finite in world space");
+    for (size_t i = 3 * m.triangle_start; i < 3 * (m.triangle_start + m.triangle_count); ++i)
+        tri_verts_[i] = vert(tris_[i]);
+}
+
+}  // namespace gw

@@ -28,6 +28,7 @@ def instance_moves(before: tuple, layout, after: tuple, export, cache):
             positions, normals = cache.corners(key, data), None
         else:
             positions, normals = data.co, data.normals if place.normals else None
+        cache.transforms += 1
         moves.append(gridwalk.InstanceMove(place.vertex_start, place.triangle_start, place.triangle_count,
                                            positions, matrix, normals=normals, flat=place.flat,
                                            previous_matrix=previous))

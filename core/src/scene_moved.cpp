@@ -206,7 +206,8 @@ void Scene::apply(const RigidMove& m, size_t index) {
         for (size_t v = 0; v < k; ++v) {
             const float* n = &m.normals[3 * v];
             Vec3d w;
-            for (int r = 0; r < 3; ++r) w[r] = double(n[0]) * nm[r][0] + double(n[1]) * nm[r][1] + double(n[2]) * nm[r][2];
+            for (int r = 0; r < 3; ++r)
+                w[r] = double(n[0]) * nm[r][0] + double(n[1]) * nm[r][1] + double(n[2]) * nm[r][2];
             store_unit(w, normals + 3 * v);
         }
     }

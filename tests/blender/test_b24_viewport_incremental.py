@@ -1,7 +1,8 @@
 """The viewport's incremental updates (bpy 4.5 and 5.0, no GUI).
 
 scripts/viewport_session.py drives a viewport session with real depsgraph
-updates. Moving an object reads no mesh and transforms one instance; editing
+updates. Moving an object reads no mesh and transforms one instance, in the
+core (Scene.moved); editing
 a mesh shared by two objects reads it once; a modifier change reads that
 object only; a material, light, world or render-setting change restarts
 without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
@@ -45,6 +46,12 @@ def test_an_edit_reexports_only_what_it_changed(session, edit):
     assert (result["reads"], result["transforms"]) == EDITS[edit]
 
 
+@pytest.mark.parametrize("edit", list(EDITS))
+def test_a_transform_edit_moves_the_instance_in_the_core(session, edit):
+    """Only a transform edit takes the core's move (Scene.moved); every other edit exports again."""
+    assert session[edit]["moved_in_core"] == (1 if edit in ("move_object", "rotate_linked_duplicate") else 0)
+
+
 @pytest.mark.parametrize("edit", ["initial", *EDITS])
 def test_incremental_scene_and_image_equal_a_fresh_export(session, edit):
     result = session[edit]
@@ -53,7 +60,7 @@ def test_incremental_scene_and_image_equal_a_fresh_export(session, edit):
 
 
 def test_colour_management_edit_does_not_restart(session):
-    assert session["colour_management"] == {"restarted": False, "reads": 0, "transforms": 0}
+    assert session["colour_management"] == {"restarted": False, "reads": 0, "transforms": 0, "moved_in_core": 0}
 
 
 def test_a_resize_is_debounced(session):
@@ -73,6 +80,6 @@ def test_first_pixels_after_an_edit_do_not_wait_for_the_full_structure(session):
     uniform grid, so its first pixels arrive before the render settings'
     structure (the adaptive grid) has been built for the full passes."""
     edit = session["large_edit"]
-    assert edit["triangles"] > 240_000
+    assert edit["triangles"] > 240_000 and edit["moved_in_core"] == 1
     assert edit["edit_to_pixels"] < edit["edit_to_full_grid"], edit
     assert edit["grid"] < edit["full_grid"], edit

@@ -73,6 +73,7 @@ def main(out_dir):
         session.update(depsgraph)
         state["restarted"] = session._versions() != before      # the scene or the settings changed
         state["reads"], state["transforms"] = session.cache.reads, session.cache.transforms
+        state["moved_in_core"] = session.moved
     bpy.app.handlers.depsgraph_update_post.append(handler)
 
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -95,7 +96,7 @@ def main(out_dir):
     def check(name):
         wait_done()
         fresh, _ = export_scene(bpy.context.evaluated_depsgraph_get(), camera=False)
-        ours = session.scene_kwargs
+        ours = session.gw_scene.geometry()               # the arrays the core holds (moved there, or copied in)
         same = all(np.array_equal(ours[k], fresh[k]) for k in ("vertices", "triangles", "triangle_materials"))
         same = same and (ours["normals"] is None) == (fresh["normals"] is None)
         same = same and (ours["normals"] is None or np.array_equal(ours["normals"], fresh["normals"]))
@@ -161,7 +162,8 @@ def main(out_dir):
     wait_done()
     results["large_edit"] = {k: session.timings.get(k) for k in ("edit_to_pixels", "edit_to_full_grid", "grid",
                                                                   "full_grid")}
-    results["large_edit"]["triangles"] = len(session.scene_kwargs["triangles"])
+    results["large_edit"]["triangles"] = session.gw_scene.num_triangles
+    results["large_edit"]["moved_in_core"] = session.moved
     print("viewport_session: large_edit", results["large_edit"], flush=True)
 
     # a resize (only the region's size changes) waits until it settles

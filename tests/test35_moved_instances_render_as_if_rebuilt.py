@@ -1,0 +1,196 @@
+"""A viewport transform edit moves instances in the core (Scene.moved) instead of assembling the
+scene's arrays again, and walks an older version's uniform grid with the rays mapped back
+(MovedGrid, through gridwalk._core.follow_grid) instead of building one. The moved scene holds
+the arrays that transforming the instances in numpy gives (as the Blender exporter does), the
+followed grid finds brute force's hits over a chain of moves, both refuse what they cannot
+serve, and the ProgressiveRenderer's image after a move is a fresh render's."""
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from gridwalk import _core
+from meshes import uv_sphere
+
+GRID = gw.RenderSettings(threads=1, accel="grid", grid_density=1.0)
+BRUTE = gw.RenderSettings(threads=1, accel="none")
+V, F = uv_sphere(24, 48, radius=1.0, center=np.zeros(3), seed=1)
+V = V.astype(np.float32)
+N = (V / np.linalg.norm(V, axis=1, keepdims=True)).astype(np.float32)
+
+
+def matrix(seed: int, mirror: bool = False) -> np.ndarray:
+    """A rotation, non-uniform scale (mirrored if asked) and translation, rows as in Blender."""
+    rng = np.random.default_rng(seed)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    m = np.eye(4)
+    m[:3, :3] = q * rng.uniform(0.5, 2.0, 3) * (np.array([-1, 1, 1]) if mirror else 1)
+    m[:3, 3] = rng.normal(0, 3, 3)
+    return m
+
+
+def world(m, kind):
+    """One instance in world space, as the exporter makes it: (vertices, local triangles, normals)."""
+    p = V.astype(np.float64) @ m[:3, :3].T + m[:3, 3]
+    if kind == "flat":                                   # unshared corners with face normals
+        corners = p[F.reshape(-1)].reshape(-1, 3, 3)
+        n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        length = np.linalg.norm(n, axis=1, keepdims=True)   # (0 at the poles' degenerate triangles)
+        np.divide(n, length, out=n, where=length > 0)
+        return corners.reshape(-1, 3), np.arange(3 * len(F)).reshape(-1, 3), np.repeat(n, 3, axis=0)
+    n = N.astype(np.float64) @ np.linalg.inv(m[:3, :3])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    return p, F, n if kind == "smooth" else None
+
+
+def assemble(mats, kinds):
+    verts, tris, normals, offset = [], [], [], 0
+    for m, kind in zip(mats, kinds):
+        p, t, n = world(m, kind)
+        verts.append(p.astype(np.float32))
+        tris.append(t + offset)
+        normals.append(n)
+        offset += len(p)
+    out = {"vertices": np.concatenate(verts), "triangles": np.concatenate(tris).astype(np.int32)}
+    if any(n is not None for n in normals):
+        out["normals"] = np.concatenate(normals).astype(np.float32)
+    return out
+
+
+def move(scene, mats, kinds, index, new, previous=True):
+    """scene with instance `index` moved to matrix `new` (mats updated)."""
+    starts = np.cumsum([0] + [3 * len(F) if k == "flat" else len(V) for k in kinds])
+    kind = kinds[index]
+    positions = V[F.reshape(-1)] if kind == "flat" else V
+    m = gw.InstanceMove(int(starts[index]), index * len(F), len(F), positions, new,
+                        normals=N if kind == "smooth" else None, flat=kind == "flat",
+                        previous_matrix=mats[index] if previous else None)
+    mats[index] = new
+    return scene.moved([m])
+
+
+def rays(n=20000, seed=5):
+    rng = np.random.default_rng(seed)
+    o = rng.normal(0, 7, (n, 3)).astype(np.float32)
+    d = (rng.normal(0, 2, (n, 3)) - o).astype(np.float32)
+    return o, d, np.zeros(n, np.float32), np.full(n, np.inf, np.float32)
+
+
+def trace(accel, settings):
+    t, prim, kind, *_ = _core.intersect(accel, *rays(), settings.to_core(), False)
+    return t, prim
+
+
+@pytest.mark.parametrize("kinds", [["smooth", "smooth", "flat"], ["plain", "plain"], ["flat", "smooth"]])
+def test_a_moved_scene_holds_the_arrays_of_the_instances_transformed_in_numpy(kinds):
+    mats = [matrix(i) for i in range(len(kinds))]
+    scene = gw.Scene(**assemble(mats, kinds))
+    for step, (index, mirror) in enumerate([(0, False), (len(kinds) - 1, True), (0, True), (1, False)]):
+        scene = move(scene, mats, kinds, index, matrix(10 + step, mirror))
+        got, want = scene.geometry(), assemble(mats, kinds)
+        assert np.array_equal(got["triangles"], want["triangles"])
+        np.testing.assert_array_max_ulp(got["vertices"], want["vertices"], maxulp=1)
+        if "normals" in want:
+            np.testing.assert_array_max_ulp(got["normals"], want["normals"], maxulp=2)
+        else:
+            assert got["normals"] is None
+        lo, hi = scene.bounds
+        assert np.allclose(lo, want["vertices"].min(0)) and np.allclose(hi, want["vertices"].max(0))
+
+
+def test_a_followed_grid_finds_what_brute_force_finds_over_a_chain_of_moves():
+    kinds = ["smooth", "flat", "smooth"]
+    mats = [matrix(i) for i in range(3)]
+    scene = gw.Scene(**assemble(mats, kinds))
+    grids = [_core.build_accel(scene._native, GRID.to_core(), None, 0.1)]
+    for step in range(6):
+        scene = move(scene, mats, kinds, step % 3, matrix(20 + step, mirror=step == 4))
+        want_t, want_prim = trace(_core.build_accel(scene._native, BRUTE.to_core(), None, 0.0), BRUTE)
+        for g in grids:
+            followed = _core.follow_grid(g, scene._native)
+            assert followed is not None and "instances moved since" in followed.grid["note"]
+            t, prim = trace(followed, GRID)
+            assert np.isfinite(want_t).sum() > 800
+            assert np.array_equal(np.isfinite(t), np.isfinite(want_t)), f"step {step}"
+            assert np.mean(prim != want_prim) < 1e-3, f"step {step}"   # (a ray grazing an edge may differ)
+            same = prim == want_prim
+            assert np.allclose(t[same], want_t[same], rtol=1e-4, atol=0)
+            o, d, lo, hi = rays()
+            hit, _ = _core.occluded(followed, o, d, lo, np.where(np.isfinite(want_t), want_t * 1.01, 100.0),
+                                    GRID.to_core(), False)
+            assert np.array_equal(hit.astype(bool), np.isfinite(want_t))
+        if step == 2:   # a grid of this version: the rest of the chain may follow either
+            grids.append(_core.build_accel(scene._native, GRID.to_core(), None, 0.1))
+    assert len(grids) == 2
+
+
+def test_a_grid_is_followed_only_from_an_ancestor_with_few_instances_moved_since():
+    kinds = ["plain"] * 10
+    mats = [matrix(i) for i in range(10)]
+    root = gw.Scene(**assemble(mats, kinds))
+    grid = _core.build_accel(root._native, GRID.to_core(), None, 0.0)
+    assert _core.follow_grid(grid, root._native) is None                   # not moved: nothing to follow
+    unrelated = gw.Scene(**assemble(mats, kinds))
+    moved = move(unrelated, mats, kinds, 0, matrix(30))
+    assert _core.follow_grid(grid, moved._native) is None                  # another scene's grid
+    scene = root
+    for i in range(8):                                                     # 8 instances: still followed
+        scene = move(scene, mats, kinds, i, matrix(40 + i))
+    assert _core.follow_grid(grid, scene._native) is not None
+    scene = move(scene, mats, kinds, 8, matrix(50))                        # a 9th: the root is forgotten
+    assert _core.follow_grid(grid, scene._native) is None
+    blind = move(root, mats, kinds, 0, matrix(60), previous=False)        # where it was is unknown
+    assert _core.follow_grid(grid, blind._native) is None
+    want = world(matrix(60), "plain")[0].astype(np.float32)
+    np.testing.assert_array_max_ulp(blind.geometry()["vertices"][:len(V)], want, maxulp=1)   # moved all the same
+
+
+def test_moves_that_do_not_fit_the_scene_are_refused_naming_the_move():
+    kinds = ["smooth", "smooth"]
+    scene = gw.Scene(**assemble([matrix(0), matrix(1)], kinds))
+    m = matrix(2)
+
+    def refused(match, **kw):
+        args = dict(vertex_start=0, triangle_start=0, triangle_count=len(F), positions=V, matrix=m, normals=N)
+        args.update(kw)
+        with pytest.raises(ValueError, match=match):
+            scene.moved([gw.InstanceMove(**args)])
+
+    refused("outside the instance's vertices", triangle_start=len(F))            # another instance's triangles
+    refused("uses vertex", triangle_count=len(F) - 1)                           # its last triangle left behind
+    refused("beyond the scene's", vertex_start=len(V) + 1)
+    refused("normals must have the shape", normals=None)
+    refused("non-finite", matrix=np.where(np.eye(4) > 0, np.nan, m))
+    refused("not finite in world space|beyond", matrix=m * np.diag([1e36, 1e36, 1e36, 1]))
+    refused(r"shape \(4, 4\)", matrix=np.eye(3))
+    refused("not its own corner", flat=True, normals=None)
+    with pytest.raises(ValueError, match="share vertices or triangles"):
+        one = gw.InstanceMove(0, 0, len(F), V, m, normals=N)
+        scene.moved([one, one])
+
+
+def test_the_viewport_follows_its_grid_when_an_instance_moves_and_renders_what_a_fresh_render_does():
+    import dataclasses
+    from test26_moved_objects_update_the_grid import wait_finished
+    kinds = ["smooth", "flat"]
+    mats = [matrix(0), matrix(1)]
+    first = gw.Scene(**assemble(mats, kinds), lights=[gw.Light(position=(0.0, 9.0, 9.0))],
+                     camera=gw.Camera(eye=(0.0, 2.0, 14.0), target=(0.0, 0.0, 0.0), fov=50.0))
+    cam = dataclasses.replace(first.camera, width=48, height=36)
+    s = gw.RenderSettings(threads=2, accel="grid", aa="random", aa_samples=1, seed=3)
+    r = gw.ProgressiveRenderer()
+    try:
+        scene = first
+        for step, expect_followed in enumerate([False, True, True]):
+            if step:
+                scene = move(scene, mats, kinds, step - 1, matrix(70 + step))
+            rid, _ = r.submit(scene, [(1, s, cam)], cam.width, cam.height)
+            status = wait_finished(r, rid)
+            assert status["error"] == "" and status["structure_updated"] == [expect_followed]
+            _, img = r.image()
+            fresh = gw.Scene(**assemble(mats, kinds), lights=first.lights, camera=first.camera)
+            ref = gw.RenderJob(fresh, s.replace(accel="none"), camera=cam).start().wait()
+            ref[..., 3] = 1
+            differ = np.any(np.abs(img[::-1] - ref) > 1e-3, axis=2)
+            assert differ.mean() < 0.01 and ref[..., :3].std() > 0.05
+    finally:
+        r.stop()

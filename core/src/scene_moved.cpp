@@ -105,6 +105,9 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     }
     if (!disjoint(vranges) || !disjoint(tranges)) throw std::invalid_argument("two moves share vertices or triangles");
     // No other triangle may use a moved vertex: its corners would be left behind.
+    // (Most corners lie outside the span of the moved vertices: one comparison each.)
+    const size_t span_lo = vranges.empty() ? 0 : vranges.front().begin;
+    const size_t span_hi = vranges.empty() ? 0 : vranges.back().end;
     size_t next_range = 0;
     for (size_t t = 0; t < nt; ++t) {
         while (next_range < tranges.size() && tranges[next_range].end <= t) ++next_range;
@@ -113,7 +116,8 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
             continue;
         }
         for (int c = 0; c < 3; ++c)
-            if (inside(vranges, size_t(tris_[3 * t + c])))
+            if (size_t(tris_[3 * t + c]) >= span_lo && size_t(tris_[3 * t + c]) < span_hi &&
+                inside(vranges, size_t(tris_[3 * t + c])))
                 throw std::invalid_argument("triangle " + std::to_string(t) + " uses vertex " +
                                             std::to_string(tris_[3 * t + c]) + ", which a move moves");
     }

@@ -2,6 +2,7 @@
 // (rows as in Blender's matrices). Used where instances move (Scene::moved,
 // moved_grid.h).
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "math.h"
@@ -32,6 +33,12 @@ struct Affine {
         Vec3d out;
         for (int r = 0; r < 3; ++r) out[r] = m[r][0] * v.x + m[r][1] * v.y + m[r][2] * v.z;
         return out;
+    }
+    // The largest row sum of |linear part| (the infinity norm): |vector(v)|inf <= norm() |v|inf.
+    double norm() const {
+        double n = 0;
+        for (int r = 0; r < 3; ++r) n = std::max(n, std::abs(m[r][0]) + std::abs(m[r][1]) + std::abs(m[r][2]));
+        return n;
     }
     // This map after `first`: x -> this(first(x)).
     Affine after(const Affine& first) const {

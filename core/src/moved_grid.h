@@ -35,6 +35,7 @@ private:
     std::shared_ptr<const UniformGrid> grid_;
     std::vector<InstanceDelta> moved_;   // the instances moved since the grid's scene
     std::vector<Affine> to_grid_;        // per moved instance: this scene's world -> the grid scene's
+    std::vector<double> scale_;          // ... and the largest row sum of its linear part
 };
 
 }  // namespace gw

@@ -181,6 +181,7 @@ private:
     void compute_bounds(const Bounds& tri_bounds);   // bounds_ (and the +-1e30 check), given the triangles'
     void apply(const RigidMove& m, size_t index);     // scene_moved.cpp
     std::vector<SceneAncestor> ancestors_after(const std::vector<RigidMove>& moves) const;
+    bool where_it_was(const RigidMove& m) const;
 };
 
 // A hit at exactly the current hit's t wins when its primitive index is

@@ -100,8 +100,8 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
                                     (m.flat ? ", not its own corner" : ", outside the instance's vertices"));
             }
         if (m.flat && k != 3 * m.triangle_count) bad_move(i, "a flat instance has 3 vertices per triangle");
-        vranges.push_back({m.vertex_start, m.vertex_start + k});
-        tranges.push_back({m.triangle_start, m.triangle_start + m.triangle_count});
+        if (k > 0) vranges.push_back({m.vertex_start, m.vertex_start + k});   // (empty ranges overlap nothing)
+        if (m.triangle_count > 0) tranges.push_back({m.triangle_start, m.triangle_start + m.triangle_count});
     }
     if (!disjoint(vranges) || !disjoint(tranges)) throw std::invalid_argument("two moves share vertices or triangles");
     // No other triangle may use a moved vertex: its corners would be left behind.
@@ -130,6 +130,22 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     for (size_t i = 0; i < 3 * nt; ++i) tri_bounds.grow(out->tri_verts_[i]);
     out->compute_bounds(tri_bounds);
     return out;
+}
+
+// Whether the move's previous matrix maps its positions onto the instance's
+// vertices in this scene (checked on up to 64 of them, to a few ulps): a grid
+// followed through a wrong map would miss the instance.
+bool Scene::where_it_was(const RigidMove& m) const {
+    const size_t k = m.positions.size() / 3, step = std::max<size_t>(1, k / 64);
+    for (size_t v = 0; v < k; v += step) {
+        const Vec3d p = transform_point(m.previous_matrix, &m.positions[3 * v]);
+        for (int a = 0; a < 3; ++a) {
+            const double here = verts_[3 * (m.vertex_start + v) + a];
+            if (!(std::abs(p[a] - here) <= 4.0 * 0x1p-23 * std::max(std::abs(p[a]), std::abs(here)) + 1e-30))
+                return false;
+        }
+    }
+    return true;
 }
 
 uint64_t Scene::next_id() {
@@ -165,6 +181,8 @@ std::vector<SceneAncestor> Scene::ancestors_after(const std::vector<RigidMove>& 
     for (const RigidMove& m : moves) {
         Affine back;
         if (!m.has_previous || !Affine::from_rows(m.previous_matrix).inverse(back)) return {};
+        if (!where_it_was(m)) return {};   // a previous matrix that does not put the instance where it is
+        if (m.triangle_count == 0) continue;
         steps.push_back({{m.triangle_start, m.triangle_start + m.triangle_count},
                          Affine::from_rows(m.matrix).after(back)});
     }

@@ -198,8 +198,11 @@ class Scene:
         """A new scene, this one with the instances `moves` (InstanceMove) in
         new places, made in the core: the arrays of what did not move are
         copied there, not passed in again. Materials, lights, camera and world
-        are this scene's. The result equals a Scene built from the same arrays
-        (each instance transformed as the Blender exporter transforms it)."""
+        are this scene's. The result is a Scene built from the same arrays, each
+        instance transformed as the Blender exporter transforms it (to within
+        an ulp: numpy's matrix product may round differently). With
+        previous_matrix given (and checked on a sample of vertices), a grid of
+        this or an earlier version can serve the result (the viewport's)."""
         moves = list(moves)
         for i, m in enumerate(moves):
             if not isinstance(m, InstanceMove):

@@ -12,13 +12,10 @@ namespace gw {
 struct Affine {
     double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
 
-    static Affine from_rows(const double rows[4][4]) {
-        Affine a;
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 4; ++c) a.m[r][c] = rows[r][c];
-        return a;
-    }
-    static Affine from_rows_3x4(const double rows[3][4]) {
+    // From a 4x4 matrix (its last row ignored) or the 3x4 rows of one.
+    template <int Rows>
+    static Affine from_rows(const double (&rows)[Rows][4]) {
+        static_assert(Rows == 3 || Rows == 4, "an affine map has 3 rows (and maybe the 4th of a 4x4)");
         Affine a;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 4; ++c) a.m[r][c] = rows[r][c];

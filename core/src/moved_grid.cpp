@@ -16,7 +16,7 @@ std::shared_ptr<const Accel> MovedGrid::follow(std::shared_ptr<const UniformGrid
     std::shared_ptr<MovedGrid> g(new MovedGrid(std::move(grid), std::move(scene)));
     g->moved_ = a->moved;
     for (const InstanceDelta& d : g->moved_) {
-        const Affine there = Affine::from_rows_3x4(d.from_ancestor);
+        const Affine there = Affine::from_rows(d.from_ancestor);
         Affine back;
         if (!there.inverse(back)) return nullptr;
         // Maps that scale by more than 2^20 either way are left to a rebuild: the
@@ -58,18 +58,16 @@ RayPre MovedGrid::to_grid(const RayPre& r, size_t instance) const {
 }
 
 bool MovedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
-    const std::vector<InstanceDelta>& moved = moved_;
-    bool found = grid_->closest_filtered(r, hit, ctx, {moved.data(), moved.size(), false});
-    for (size_t i = 0; i < moved.size(); ++i)
-        found |= grid_->closest_filtered(to_grid(r, i), hit, ctx, {&moved[i], 1, true});
+    bool found = grid_->closest_filtered(r, hit, ctx, {moved_.data(), moved_.size(), false});
+    for (size_t i = 0; i < moved_.size(); ++i)
+        found |= grid_->closest_filtered(to_grid(r, i), hit, ctx, {&moved_[i], 1, true});
     return found;
 }
 
 bool MovedGrid::occluded(const RayPre& r, TraceContext& ctx) const {
-    const std::vector<InstanceDelta>& moved = moved_;
-    if (grid_->occluded_filtered(r, ctx, {moved.data(), moved.size(), false})) return true;
-    for (size_t i = 0; i < moved.size(); ++i)
-        if (grid_->occluded_filtered(to_grid(r, i), ctx, {&moved[i], 1, true})) return true;
+    if (grid_->occluded_filtered(r, ctx, {moved_.data(), moved_.size(), false})) return true;
+    for (size_t i = 0; i < moved_.size(); ++i)
+        if (grid_->occluded_filtered(to_grid(r, i), ctx, {&moved_[i], 1, true})) return true;
     return false;
 }
 

@@ -36,23 +36,15 @@ bool inside(const std::vector<Range>& sorted, size_t x) {
     return it != sorted.begin() && x < std::prev(it)->end;
 }
 
-// The inverse transpose of m's linear part (m's linear part itself when singular,
-// as the exporter does): it maps object-space normals to world space.
-void normal_matrix(const double m[4][4], double n[3][3]) {
-    const double a = m[0][0], b = m[0][1], c = m[0][2], d = m[1][0], e = m[1][1], f = m[1][2], g = m[2][0],
-                 h = m[2][1], k = m[2][2];
-    const double cof[3][3] = {{e * k - f * h, f * g - d * k, d * h - e * g},
-                              {c * h - b * k, a * k - c * g, b * g - a * h},
-                              {b * f - c * e, c * d - a * f, a * e - b * d}};
-    const double det = a * cof[0][0] + b * cof[0][1] + c * cof[0][2];
-    for (int r = 0; r < 3; ++r)
-        for (int col = 0; col < 3; ++col) n[r][col] = det != 0 ? cof[r][col] / det : m[r][col];
-}
+Vec3d point_at(const std::vector<float>& xyz, size_t i) { return {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; }
 
-Vec3d transform_point(const double m[4][4], const float* p) {
-    Vec3d out;
-    for (int r = 0; r < 3; ++r)
-        out[r] = double(p[0]) * m[r][0] + double(p[1]) * m[r][1] + double(p[2]) * m[r][2] + m[r][3];
+// The map of object-space normals to world space: the inverse transpose of the
+// linear part (the linear part itself when it cannot be inverted, as the exporter does).
+Affine normal_map(const Affine& a) {
+    Affine inv, out = a;
+    if (a.inverse(inv))
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) out.m[r][c] = inv.m[c][r];
     return out;
 }
 
@@ -138,7 +130,7 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
 bool Scene::where_it_was(const RigidMove& m) const {
     const size_t k = m.positions.size() / 3, step = std::max<size_t>(1, k / 64);
     for (size_t v = 0; v < k; v += step) {
-        const Vec3d p = transform_point(m.previous_matrix, &m.positions[3 * v]);
+        const Vec3d p = Affine::from_rows(m.previous_matrix).point(point_at(m.positions, v));
         for (int a = 0; a < 3; ++a) {
             const double here = verts_[3 * (m.vertex_start + v) + a];
             if (!(std::abs(p[a] - here) <= 4.0 * 0x1p-23 * std::max(std::abs(p[a]), std::abs(here)) + 1e-30))
@@ -163,7 +155,7 @@ bool compose(std::vector<InstanceDelta>& moved, size_t b, size_t e, const Affine
     Affine total = step;
     if (it != moved.end()) {
         if (it->triangle_start != b || it->triangle_end != e) return false;
-        total = step.after(Affine::from_rows_3x4(it->from_ancestor));
+        total = step.after(Affine::from_rows(it->from_ancestor));
     } else {
         it = moved.insert(moved.end(), InstanceDelta{b, e, {}});
     }
@@ -203,9 +195,10 @@ std::vector<SceneAncestor> Scene::ancestors_after(const std::vector<RigidMove>& 
 
 void Scene::apply(const RigidMove& m, size_t index) {
     const size_t k = m.positions.size() / 3;
+    const Affine to_world = Affine::from_rows(m.matrix);
     float* verts = verts_.data() + 3 * m.vertex_start;
     for (size_t v = 0; v < k; ++v) {
-        const Vec3d w = transform_point(m.matrix, &m.positions[3 * v]);
+        const Vec3d w = to_world.point(point_at(m.positions, v));
         for (int a = 0; a < 3; ++a) verts[3 * v + a] = float(w[a]);
     }
     for (size_t j = 0; j < 3 * k; ++j)
@@ -215,23 +208,16 @@ void Scene::apply(const RigidMove& m, size_t index) {
         // Face normals from the corners in double, before their rounding (as the exporter does).
         float* normals = normals_.data() + 3 * m.vertex_start;
         for (size_t t = 0; t < m.triangle_count; ++t) {
-            const Vec3d a = transform_point(m.matrix, &m.positions[9 * t]),
-                        b = transform_point(m.matrix, &m.positions[9 * t + 3]),
-                        c = transform_point(m.matrix, &m.positions[9 * t + 6]);
+            const Vec3d a = to_world.point(point_at(m.positions, 3 * t)),
+                        b = to_world.point(point_at(m.positions, 3 * t + 1)),
+                        c = to_world.point(point_at(m.positions, 3 * t + 2));
             const Vec3d n = cross(b - a, c - a);
             for (int j = 0; j < 3; ++j) store_unit(n, normals + 9 * t + 3 * j);
         }
     } else if (!m.normals.empty()) {
-        double nm[3][3];
-        normal_matrix(m.matrix, nm);
+        const Affine to_world_normal = normal_map(to_world);
         float* normals = normals_.data() + 3 * m.vertex_start;
-        for (size_t v = 0; v < k; ++v) {
-            const float* n = &m.normals[3 * v];
-            Vec3d w;
-            for (int r = 0; r < 3; ++r)
-                w[r] = double(n[0]) * nm[r][0] + double(n[1]) * nm[r][1] + double(n[2]) * nm[r][2];
-            store_unit(w, normals + 3 * v);
-        }
+        for (size_t v = 0; v < k; ++v) store_unit(to_world_normal.vector(point_at(m.normals, v)), normals + 3 * v);
     }
     if (!normals_.empty())
         for (size_t j = 3 * m.vertex_start; j < 3 * (m.vertex_start + k); ++j)

@@ -10,11 +10,10 @@ the next lookup reads it again. (An address freed and reused by a new mesh
 belongs to an object that was just evaluated, so it is bumped too.)
 
 Each instance's world-space arrays are cached as well, keyed by its mesh
-entry and its matrix, so moving one object re-transforms only that object
-(meshes.assemble_triangles then only concatenates).
-
-The cache is a list of (mesh arrays, transform) pairs in spirit: once the
-core takes instances, `parts` can be handed over as they are.
+entry and its matrix, for the exports that assemble the scene again. The
+viewport's transform edits assemble nothing: moves.instance_moves hands the
+moved instances' object-space arrays (and, for flat meshes, their corners,
+kept here) to the core.
 """
 from __future__ import annotations
 

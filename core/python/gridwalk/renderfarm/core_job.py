@@ -22,7 +22,6 @@ from ..scene import Scene
 from ..settings import RenderSettings
 from . import plan
 from .jobplugin import JobPlugin, TaskStopped
-from .store import npy_bytes
 
 # Settings that change how a render is run, not the image it makes.
 NOT_IN_IMAGE = ("threads", "tile_size")
@@ -143,7 +142,7 @@ class CoreJob:
         return CoreTiles(run_id, threads, self.scene_kwargs, self.settings, self.rects)
 
     def keep(self, store, index, result: dict) -> None:
-        store.put(self.stem(index), ".npy", npy_bytes(result["rgba"]))
+        store.put(self.stem(index), ".npy", result["rgba"])
 
     def finish(self, store) -> Path:
         """Put the tiles together, write the output, delete the tiles."""

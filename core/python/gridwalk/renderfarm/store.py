@@ -1,12 +1,16 @@
 """Finished tiles and frames on disk, one file each, written atomically.
 
-A folder holds the results and a manifest (.gridwalk-farm.json) that records,
-for each result, the digest of the job it was rendered for (scene, settings,
-tile layout). A re-run with the same digest finds them and renders only what
-is missing; a result of another job (the scene or a setting changed) is
-rendered again. A file is renamed into place only when complete, and entered
-in the manifest after that, so an interrupted run never leaves a result that
-looks finished but is not.
+A folder holds the results and a journal (.gridwalk-farm.jsonl) with a line
+per result: its name, its file and the digest of the job it was rendered for
+(scene, settings, tile layout). A re-run with the same digest finds them and
+renders only what is missing; a result of another job (the scene or a setting
+changed) is rendered again. A file is renamed into place only when complete,
+and its line is appended after that, in one write, so an interrupted run
+never leaves a result that looks finished but is not (a line cut short by a
+crash is not read; a later line for the same name wins). Appending a line,
+instead of rewriting a whole manifest, keeps the cost of a result constant:
+the client keeps every tile of a run, and on a 2-core machine its work takes
+time from the workers.
 """
 from __future__ import annotations
 
@@ -17,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-MANIFEST = ".gridwalk-farm.json"
+JOURNAL = ".gridwalk-farm.jsonl"
 
 
 def write_atomically(path: Path, data: bytes) -> None:
@@ -25,6 +29,14 @@ def write_atomically(path: Path, data: bytes) -> None:
     process was killed) sees the old file or the whole new one, never a part."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     tmp.write_bytes(data)
+    os.replace(tmp, path)
+
+
+def write_npy_atomically(path: Path, array: np.ndarray) -> None:
+    """np.save to `path`, atomically (as write_atomically), without a copy in memory."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with open(tmp, "wb") as f:
+        np.lib.format.write_array(f, np.ascontiguousarray(array), allow_pickle=False)
     os.replace(tmp, path)
 
 
@@ -36,18 +48,26 @@ def npy_bytes(array: np.ndarray) -> bytes:
 
 class ResultStore:
     """results = ResultStore(folder, digest); results.find("tile_0003") -> Path or None;
-    results.put("tile_0003", ".npy", data)."""
+    results.put("tile_0003", ".npy", array_or_bytes)."""
 
     def __init__(self, folder, digest: str):
         self.folder = Path(folder)
         self.digest = digest
         self.folder.mkdir(parents=True, exist_ok=True)
+        self.records = {}
         try:
-            self.records = json.loads((self.folder / MANIFEST).read_text())
-            if not isinstance(self.records, dict):
-                self.records = {}
-        except (OSError, ValueError):
-            self.records = {}
+            data = (self.folder / JOURNAL).read_bytes()
+        except OSError:
+            data = b""
+        if data and not data.endswith(b"\n"):   # a line cut short: the next one must start afresh
+            self._append(b"\n")
+        for line in data.split(b"\n"):
+            try:
+                record = json.loads(line)
+            except ValueError:          # empty, or cut short by a crash
+                continue
+            if isinstance(record, dict) and isinstance(record.get("stem"), str):
+                self.records[record["stem"]] = record
 
     def find(self, stem: str) -> Path | None:
         """The finished result `stem` of this job, or None."""
@@ -57,19 +77,31 @@ class ResultStore:
         path = self.folder / str(record.get("file", ""))
         return path if path.is_file() else None
 
-    def put(self, stem: str, suffix: str, data: bytes) -> Path:
+    def put(self, stem: str, suffix: str, data) -> Path:
+        """Keep `data` (bytes, or an array saved as .npy) as the result `stem`."""
         path = self.folder / (stem + suffix)
-        write_atomically(path, data)
-        self.records[stem] = {"file": path.name, "digest": self.digest}
-        write_atomically(self.folder / MANIFEST, json.dumps(self.records, separators=(",", ":")).encode())
+        if isinstance(data, np.ndarray):
+            write_npy_atomically(path, data)
+        else:
+            write_atomically(path, data)
+        record = {"stem": stem, "file": path.name, "digest": self.digest}
+        self._append(json.dumps(record, separators=(",", ":")).encode() + b"\n")
+        self.records[stem] = record
         return path
+
+    def _append(self, line: bytes) -> None:
+        fd = os.open(self.folder / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            os.write(fd, line)
+        finally:
+            os.close(fd)
 
     def remove(self) -> None:
         """Delete the stored results of every job, and the folder if that empties it."""
         for record in self.records.values():
             if isinstance(record, dict) and record.get("file"):
                 (self.folder / record["file"]).unlink(missing_ok=True)
-        (self.folder / MANIFEST).unlink(missing_ok=True)
+        (self.folder / JOURNAL).unlink(missing_ok=True)
         try:
             self.folder.rmdir()
         except OSError:

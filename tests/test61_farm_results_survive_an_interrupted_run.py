@@ -1,0 +1,48 @@
+"""The farm's result store (gridwalk.renderfarm.store): what a re-run finds
+after the client was killed mid-write, and what it must not find.
+
+The farm itself (a real LocalCluster, Ctrl-C, re-runs) is tested in test60;
+these are the store's edge cases, which a kill can only hit by chance there.
+"""
+import numpy as np
+
+from gridwalk.renderfarm.store import JOURNAL, ResultStore
+
+
+def test_a_kept_tile_is_found_by_a_new_store_of_the_same_job_only(tmp_path):
+    tile = np.arange(24, dtype=np.float32).reshape(2, 3, 4)
+    ResultStore(tmp_path, "job-a").put("tile_0000", ".npy", tile)
+    again = ResultStore(tmp_path, "job-a")
+    assert np.array_equal(np.load(again.find("tile_0000")), tile)
+    assert ResultStore(tmp_path, "job-b").find("tile_0000") is None        # another scene or settings
+
+
+def test_a_line_cut_short_by_a_crash_is_skipped_and_the_next_line_is_read(tmp_path):
+    store = ResultStore(tmp_path, "job")
+    store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
+    store.put("tile_0001", ".npy", np.ones((1, 1, 4), np.float32))
+    journal = tmp_path / JOURNAL
+    data = journal.read_bytes()
+    journal.write_bytes(data[:-9])                      # the process died while appending tile_0001's line
+    reopened = ResultStore(tmp_path, "job")
+    assert reopened.find("tile_0000") is not None
+    assert reopened.find("tile_0001") is None           # its file exists, but it was never entered whole
+    reopened.put("tile_0002", ".npy", np.full((1, 1, 4), 2, np.float32))
+    last = ResultStore(tmp_path, "job")                 # the new line did not run on from the cut one
+    assert last.find("tile_0002") is not None and last.find("tile_0000") is not None
+    assert last.find("tile_0001") is None
+
+
+def test_a_result_kept_again_replaces_the_earlier_one(tmp_path):
+    ResultStore(tmp_path, "old").put("frame_0001", ".png", b"old")
+    ResultStore(tmp_path, "new").put("frame_0001", ".png", b"new")
+    assert ResultStore(tmp_path, "old").find("frame_0001") is None
+    assert ResultStore(tmp_path, "new").find("frame_0001").read_bytes() == b"new"
+
+
+def test_remove_deletes_the_results_and_the_journal(tmp_path):
+    folder = tmp_path / "out.npy.parts"
+    store = ResultStore(folder, "job")
+    store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
+    store.remove()
+    assert not folder.exists()

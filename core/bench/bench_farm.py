@@ -38,6 +38,7 @@ from bench_common import NPROC, ROOT, SPD, log, machine_info, parallel_capacity,
 
 import gridwalk as gw
 from gridwalk.renderfarm import driver, make_job, plan
+from gridwalk.renderfarm.cluster import start_local_cluster
 from gridwalk.renderfarm.core_job import load_scene
 
 BEGIN, END = "<!-- bench_farm:begin -->", "<!-- bench_farm:end -->"
@@ -55,14 +56,13 @@ def sizes(quick: bool) -> dict:
 
 @contextmanager
 def local_cluster(workers: int):
-    """A LocalCluster of `workers` processes (one thread each) and its client, closed on exit: each
-    configuration runs alone on the machine (an idle cluster's scheduler, nannies and heartbeats take
-    CPU from the one that works, about 0.03 cores a process). The workers import gridwalk before the
+    """The farm's own local cluster (`gridwalk farm --local N`) of `workers` processes and its client,
+    closed on exit: each configuration runs alone on the machine (an idle cluster's scheduler, nannies
+    and heartbeats would take CPU from the one that works). The workers import gridwalk before the
     clock starts, as long-lived workers would have."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
+    cluster = start_local_cluster(workers)
     client = Client(cluster, set_as_default=False)
     try:
         client.run(importlib.import_module, "gridwalk.renderfarm.core_job")   # a farm's workers live long

@@ -331,17 +331,18 @@ NB_MODULE(_core, m) {
         .def_prop_ro("tiles_total", &RenderJob::tiles_total)
         .def_prop_ro("elapsed", &RenderJob::elapsed)
         .def_prop_ro("stats", [](const RenderJob& j) { return stats_dict(j.stats()); })
+        .def_prop_ro("area", [](const RenderJob& j) { return std::make_tuple(j.area.x, j.area.y, j.area.w, j.area.h); })
         .def_prop_ro("rgba", [](RenderJob& j) {
-            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.rgba.data(), {size_t(j.height), size_t(j.width), 4});
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.rgba.data(), {size_t(j.area.h), size_t(j.area.w), 4});
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("depth", [](RenderJob& j) {
-            return nb::ndarray<nb::numpy, float, nb::ndim<2>>(j.depth.data(), {size_t(j.height), size_t(j.width)});
+            return nb::ndarray<nb::numpy, float, nb::ndim<2>>(j.depth.data(), {size_t(j.area.h), size_t(j.area.w)});
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("normal", [](RenderJob& j) {
-            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.normal.data(), {size_t(j.height), size_t(j.width), 3});
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.normal.data(), {size_t(j.area.h), size_t(j.area.w), 3});
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("albedo", [](RenderJob& j) {
-            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.height), size_t(j.width), 3});
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.area.h), size_t(j.area.w), 3});
         }, nb::rv_policy::reference_internal);
 
     bind_viewport(m);   // uses Scene, RenderSettings and CameraDesc, bound above

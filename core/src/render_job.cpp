@@ -21,19 +21,20 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     validate_camera(camera_);
     width = camera_.width;
     height = camera_.height;
-    const size_t n = size_t(width) * size_t(height);
-    rgba.assign(n * 4, 0.0f);
-    depth.assign(n, kInf);
-    normal.assign(n * 3, 0.0f);
-    albedo.assign(n * 3, 0.0f);
     int x0 = 0, y0 = 0, x1 = width, y1 = height;
-    if (s_.region.w > 0) {   // render only a region (border render, sparse timing)
+    if (s_.region.w > 0) {   // render only a region (border render, farm tile, sparse timing)
         x0 = s_.region.x;
         y0 = s_.region.y;
         x1 = int(std::min<int64_t>(width, int64_t(s_.region.x) + s_.region.w));
         y1 = int(std::min<int64_t>(height, int64_t(s_.region.y) + s_.region.h));
         if (x0 >= x1 || y0 >= y1) throw std::invalid_argument("region lies outside the image");
     }
+    area = {x0, y0, x1 - x0, y1 - y0};
+    const size_t n = size_t(area.w) * size_t(area.h);
+    rgba.assign(n * 4, 0.0f);
+    depth.assign(n, kInf);
+    normal.assign(n * 3, 0.0f);
+    albedo.assign(n * 3, 0.0f);
     for (int y = y0; y < y1; y += s_.tile_size)
         for (int x = x0; x < x1; x += s_.tile_size)
             tiles_.push_back({x, y, std::min(s_.tile_size, x1 - x), std::min(s_.tile_size, y1 - y)});
@@ -80,7 +81,7 @@ void RenderJob::worker() {
                 for (int x = tile.x; x < tile.x + tile.w; ++x) {
                     if (cancel_.load(std::memory_order_relaxed)) { complete = false; break; }
                     const PixelValue pv = est.pixel(x, y, ctx, scratch);
-                    const size_t k = size_t(y) * size_t(width) + size_t(x);
+                    const size_t k = at(x, y);
                     rgba[4 * k + 0] = pv.rgb.x;
                     rgba[4 * k + 1] = pv.rgb.y;
                     rgba[4 * k + 2] = pv.rgb.z;

@@ -40,9 +40,15 @@ public:
     Stats stats() const;
 
     int width, height;
-    // (H, W, 4), (H, W), (H, W, 3); row 0 is the top. Complete after wait();
-    // before that, only tiles returned by poll() are final.
+    // The rectangle rendered: RenderSettings::region, or the whole image.
+    // The buffers hold only it (a farm's tile of a large image allocates and
+    // zeroes its own pixels, not the image's: 11 floats a pixel).
+    Tile area;
+    // (area.h, area.w, 4), (area.h, area.w), (area.h, area.w, 3); row 0 is
+    // the area's top row. Complete after wait(); before that, only tiles
+    // returned by poll() (in image coordinates) are final.
     std::vector<float> rgba, depth, normal, albedo;
+    size_t at(int x, int y) const { return size_t(y - area.y) * size_t(area.w) + size_t(x - area.x); }
 
 private:
     void worker();

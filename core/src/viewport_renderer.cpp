@@ -272,7 +272,7 @@ void ViewportRenderer::reset_display(int width, int height) {
 void ViewportRenderer::add_tile(const RenderJob& job, const Tile& t, int block, bool opaque, float limit) {
     auto clean = [limit](float v) { return std::isnan(v) ? 0.0f : std::min(std::max(v, -limit), limit); };
     for (int ty = 0; ty < t.h; ++ty) {
-        const float* src_row = &job.rgba[(size_t(t.y + ty) * job.width + t.x) * 4];
+        const float* src_row = &job.rgba[job.at(t.x, t.y + ty) * 4];
         if (block == 1) {
             const int row = height_ - 1 - (t.y + ty);          // the display is bottom-up
             if (row < 0) continue;

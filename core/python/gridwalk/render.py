@@ -61,9 +61,10 @@ class RenderJob:
         """Tiles finished since the previous poll, with copies of their pixels
         (rgba, and depth, normal and albedo in TileResult.passes)."""
         job = self._job
+        ax, ay = job.area[:2]               # the buffers hold only the rendered area
         arrays = {"depth": job.depth, "normal": job.normal, "albedo": job.albedo}
-        return [TileResult(x, y, w, h, job.rgba[y:y + h, x:x + w].copy(),
-                           {k: v[y:y + h, x:x + w].copy() for k, v in arrays.items()})
+        return [TileResult(x, y, w, h, job.rgba[y - ay:y - ay + h, x - ax:x - ax + w].copy(),
+                           {k: v[y - ay:y - ay + h, x - ax:x - ax + w].copy() for k, v in arrays.items()})
                 for x, y, w, h in job.poll()]
 
     def cancel(self) -> None:
@@ -94,26 +95,49 @@ class RenderJob:
     def tiles_total(self) -> int:
         return self._job.tiles_total
 
+    def _whole(self, part: np.ndarray, outside: float) -> np.ndarray:
+        """A pass of the whole image from the rendered area's buffer; pixels
+        outside a region hold `outside` (nothing was rendered there)."""
+        x, y, w, h = self._job.area
+        height, width = self.camera.height, self.camera.width
+        if (w, h) == (width, height):
+            return part.copy()
+        whole = np.full((height, width) + part.shape[2:], outside, np.float32)
+        whole[y:y + h, x:x + w] = part
+        return whole
+
+    @property
+    def area(self) -> tuple[int, int, int, int]:
+        """(x, y, w, h): the rectangle rendered (RenderSettings.region, clipped
+        to the image), or the whole image."""
+        return tuple(self._job.area)
+
+    @property
+    def area_image(self) -> np.ndarray:
+        """(h, w, 4) float32 linear RGBA of just the rendered rectangle (a
+        farm's tile): no image-sized copy."""
+        return self._job.rgba.copy()
+
     @property
     def image(self) -> np.ndarray:
         """(H, W, 4) float32 linear RGBA; alpha is the fraction of samples that hit."""
-        return self._job.rgba.copy()
+        return self._whole(self._job.rgba, 0.0)
 
     @property
     def depth(self) -> np.ndarray:
         """(H, W) distance along the view axis to the first hit (inf on a miss)."""
-        return self._job.depth.copy()
+        return self._whole(self._job.depth, np.inf)
 
     @property
     def normal(self) -> np.ndarray:
         """(H, W, 3) world-space shading normal at the first hit (0 on a miss)."""
-        return self._job.normal.copy()
+        return self._whole(self._job.normal, 0.0)
 
     @property
     def albedo(self) -> np.ndarray:
         """(H, W, 3) base colour at the first hit, textures applied (0 on a miss):
         Blender's Denoising Albedo pass."""
-        return self._job.albedo.copy()
+        return self._whole(self._job.albedo, 0.0)
 
     @property
     def stats(self) -> dict:

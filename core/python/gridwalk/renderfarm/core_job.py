@@ -58,11 +58,11 @@ class CoreTiles(JobPlugin):
         settings = self.settings.replace(region=(x, y, w, h), threads=self.render_threads())
         job = RenderJob(self.scene(), settings).start()
         with self.stoppable(key, job.cancel):
-            image = job.wait()                   # the GIL is released while the core renders
+            job.wait()                           # the GIL is released while the core renders
         if self.stop_requested(key):
             raise TaskStopped(f"{self.label(index)} cancelled")
         stats = job.stats
-        return {"rgba": image[y:y + h, x:x + w].copy(), "rays": stats["rays"], "seconds": stats["seconds"]}
+        return {"rgba": job.area_image, "rays": stats["rays"], "seconds": stats["seconds"]}
 
 
 def _scene_digest(kwargs: dict) -> str:

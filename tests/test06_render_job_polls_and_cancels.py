@@ -114,3 +114,29 @@ def test_region_renders_only_that_part():
         except ValueError:
             continue
         raise AssertionError(f"region {bad} accepted")
+
+
+def test_a_region_job_holds_only_its_pixels_and_gives_every_pass_of_the_whole_image():
+    """A farm tile of a large image allocates its own pixels, not the image's; the
+    whole-image passes put the region where it lies (depth inf, the rest 0, outside)."""
+    sc = scene(size=1, res=64)
+    whole = gw.RenderJob(sc).start()
+    whole.wait()
+    job = gw.RenderJob(sc, gw.RenderSettings(region=(10, 20, 60, 5), tile_size=4)).start()   # clipped at x = 64
+    job.wait()
+    assert job.area == (10, 20, 54, 5)
+    assert job._job.rgba.shape == (5, 54, 4) and job._job.depth.shape == (5, 54)
+    assert np.array_equal(job.area_image, whole.image[20:25, 10:64])
+    for name, outside in (("image", 0), ("depth", np.inf), ("normal", 0), ("albedo", 0)):
+        got, ref = getattr(job, name), getattr(whole, name)
+        assert got.shape == ref.shape
+        assert np.array_equal(got[20:25, 10:], ref[20:25, 10:]), name
+        assert np.all(got[:20] == outside) and np.all(got[:, :10] == outside), name
+    tiles = gw.RenderJob(sc, gw.RenderSettings(region=(10, 20, 60, 5), tile_size=4)).start()
+    tiles.wait()
+    polled = tiles.poll()
+    assert sum(t.width * t.height for t in polled) == 54 * 5
+    for t in polled:                                 # polled tiles are in image coordinates
+        rows, cols = slice(t.y, t.y + t.height), slice(t.x, t.x + t.width)
+        assert np.array_equal(t.rgba, whole.image[rows, cols])
+        assert np.array_equal(t.passes["depth"], whole.depth[rows, cols])

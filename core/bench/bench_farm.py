@@ -248,7 +248,9 @@ def markdown(info, cap_before, cap_after, h, c, b, quick) -> str:
               f"and {h['cpu'][2]:.2f} on 2 (least of the runs): the farm's own work (tasks, keeping tiles on "
               f"disk; the client's is not counted) costs {h['cpu'][1] / h['cpu'][0] - 1:+.1%} of CPU over the "
               f"plain render. In wall time the farm on 1 worker took {h['best'][1] / h['best'][0] - 1:+.1%} "
-              "against the plain render, best against best.",
+              "against the plain render, best against best. Both figures are loose: the same plain render "
+              f"took {min(run[0] for run in h['runs'][0]):.2f} to {max(run[0] for run in h['runs'][0]):.2f} s "
+              "in this run (the machine is shared), and section 2 measures the cost of a task directly.",
               "",
               "### 2. The fixed cost of a task", "",
               f"One worker renders the same {c['res']} x {c['res']} image (SPD balls_s2, one ray per pixel) in "
@@ -256,9 +258,9 @@ def markdown(info, cap_before, cap_after, h, c, b, quick) -> str:
     lines += table(["tiles k", "seconds (best of 3)"], [(k, f"{t:.3f}") for k, t in c["points"]])
     lines += [f"Fit: time = {c['intercept'] * 1e3:.0f} ms + k x **{c['per_task'] * 1e3:.2f} ms per task**. "
               f"Dask's own round trip for a no-op task (many in flight, as the farm submits them) is "
-              f"{c['noop'] * 1e3:.2f} ms; the rest is the tile's RenderJob (it allocates full-size image "
-              "buffers) and keeping the tile on disk. The intercept is the cost of a run: sending the job "
-              "to the workers, building the scene there, writing the image.", ""]
+              f"{c['noop'] * 1e3:.2f} ms; the rest is the task's own work (its settings, its RenderJob and "
+              "render thread, returning the tile) and keeping the tile on disk. The intercept is the cost of a "
+              "run: sending the job to the workers, building the scene there, writing the image.", ""]
     lines += ["### 3. Blender frames", ""]
     if isinstance(b, str):
         lines += [f"Not measured: {b}.", ""]

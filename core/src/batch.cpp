@@ -75,6 +75,14 @@ struct SceneBox {
 // meets is "at t = 1"), and far outside the box the quadratic shapes' tests
 // lose all their digits and may report hits that are not there.
 bool may_hit(const Ray& r, const SceneBox& box) {
+    // A ray that starts inside the box with tmin >= 0 (shadow rays, most
+    // secondary and random rays) passes without divisions: whatever of its
+    // segment lies in the box lies within t <= diagonal / |d|, where a float
+    // step of t moves the ray by at most 2^-23 of the diagonal; and a segment
+    // that misses the box holds no hit for any structure to find.
+    if (r.tmin >= 0 && r.o.x >= box.lo[0] && r.o.x <= box.hi[0] && r.o.y >= box.lo[1] && r.o.y <= box.hi[1] &&
+        r.o.z >= box.lo[2] && r.o.z <= box.hi[2])
+        return true;
     double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
         const double o = r.o[a], d = r.d[a];

@@ -237,13 +237,15 @@ def test_farm_command_starts_a_local_cluster_and_reports_progress_and_rays_per_w
 
 
 def test_the_local_cluster_keeps_its_housekeeping_quiet_and_the_global_config_untouched():
-    """`--local` clusters run with LOCAL_CLUSTER_CONFIG in every process (on a 2-core machine Dask's
-    default watchdog ticks, task profiler and memory polls took about 0.15 cores from the workers),
-    and starting one leaves this process's Dask config as it was."""
+    """`--local` clusters run with LOCAL_CLUSTER_CONFIG in every worker process (on a 2-core machine
+    Dask's default watchdog ticks, task profiler and memory polls took about 0.15 cores from the
+    workers), and starting one leaves this process's Dask config as it was."""
     import dask
 
     from gridwalk.renderfarm.cluster import LOCAL_CLUSTER_CONFIG, start_local_cluster
 
+    for key in LOCAL_CLUSTER_CONFIG:                 # each is one of Dask's own settings (a typo would be ignored)
+        dask.config.get(key)
     before = dask.config.get("distributed.worker.profile.enabled")
     local = start_local_cluster(2)
     try:

@@ -46,3 +46,27 @@ def test_remove_deletes_the_results_and_the_journal(tmp_path):
     store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
     store.remove()
     assert not folder.exists()
+
+
+def test_a_journal_of_many_runs_is_compacted_and_keeps_the_latest_results(tmp_path):
+    """A frames folder keeps its journal across runs: after 50 re-runs of 4 frames it holds at most
+    2 x 4 + 64 lines from earlier runs and this run's 4, not 200."""
+    for run in range(50):
+        store = ResultStore(tmp_path, f"run-{run}")
+        for frame in range(4):
+            store.put(f"frame_{frame:04d}", ".png", f"{run}:{frame}".encode())
+    reopened = ResultStore(tmp_path, "run-49")
+    lines = (tmp_path / JOURNAL).read_bytes().splitlines()
+    assert len(lines) <= 2 * 4 + 64 + 4
+    assert [reopened.find(f"frame_{f:04d}").read_bytes() for f in range(4)] == [f"49:{f}".encode() for f in range(4)]
+    assert ResultStore(tmp_path, "run-48").find("frame_0000") is None
+
+
+def test_remove_also_deletes_a_manifest_written_by_an_older_version(tmp_path):
+    folder = tmp_path / "out.npy.parts"
+    folder.mkdir()
+    (folder / ".gridwalk-farm.json").write_text("{}")
+    store = ResultStore(folder, "job")
+    store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
+    store.remove()
+    assert not folder.exists()

@@ -51,6 +51,7 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 // The scene's box in double, with its squared diagonal: computed once per batch.
 struct SceneBox {
     double lo[3], hi[3], diagonal2;
+    bool moderate;   // the diagonal lies in [2^-60, 2^60] (may_hit's fast path)
     explicit SceneBox(const Bounds& b) {
         diagonal2 = 0;
         for (int a = 0; a < 3; ++a) {
@@ -58,6 +59,7 @@ struct SceneBox {
             hi[a] = b.hi[a];
             diagonal2 += sq(hi[a] - lo[a]);
         }
+        moderate = diagonal2 >= 0x1p-120 && diagonal2 <= 0x1p120;
     }
 };
 
@@ -76,12 +78,16 @@ struct SceneBox {
 // lose all their digits and may report hits that are not there.
 bool may_hit(const Ray& r, const SceneBox& box) {
     // A ray that starts inside the box with tmin >= 0 (shadow rays, most
-    // secondary and random rays) passes without divisions: whatever of its
-    // segment lies in the box lies within t <= diagonal / |d|, where a float
-    // step of t moves the ray by at most 2^-23 of the diagonal; and a segment
-    // that misses the box holds no hit for any structure to find.
-    if (r.tmin >= 0 && r.o.x >= box.lo[0] && r.o.x <= box.hi[0] && r.o.y >= box.lo[1] && r.o.y <= box.hi[1] &&
-        r.o.z >= box.lo[2] && r.o.z <= box.hi[2])
+    // secondary and random rays) passes without divisions when the box's
+    // diagonal D lies in [2^-60, 2^60] (box.moderate). make_ray leaves the
+    // direction's largest component in [2^-64, 2^64] (or the ray invalid: a
+    // miss for every structure alike), so the part of the segment inside the
+    // box lies within t <= D / |d| <= 2^124 (finite), where a float step of t
+    // moves the ray by at most max(2^-23 D, 2^-149 |d|) <= D / 4: float t
+    // tells the scene's points apart. A segment beyond the box (tmin past its
+    // exit) holds no hit for any structure.
+    if (box.moderate && r.tmin >= 0 && r.o.x >= box.lo[0] && r.o.x <= box.hi[0] && r.o.y >= box.lo[1] &&
+        r.o.y <= box.hi[1] && r.o.z >= box.lo[2] && r.o.z <= box.hi[2])
         return true;
     double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {

@@ -331,6 +331,8 @@ NB_MODULE(_core, m) {
         .def_prop_ro("tiles_total", &RenderJob::tiles_total)
         .def_prop_ro("elapsed", &RenderJob::elapsed)
         .def_prop_ro("stats", [](const RenderJob& j) { return stats_dict(j.stats()); })
+        .def_ro("width", &RenderJob::width)
+        .def_ro("height", &RenderJob::height)
         .def_prop_ro("area", [](const RenderJob& j) { return std::make_tuple(j.area.x, j.area.y, j.area.w, j.area.h); })
         .def_prop_ro("rgba", [](RenderJob& j) {
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.rgba.data(), {size_t(j.area.h), size_t(j.area.w), 4});

@@ -99,7 +99,7 @@ class RenderJob:
         """A pass of the whole image from the rendered area's buffer; pixels
         outside a region hold `outside` (nothing was rendered there)."""
         x, y, w, h = self._job.area
-        height, width = self.camera.height, self.camera.width
+        height, width = self._job.height, self._job.width
         if (w, h) == (width, height):
             return part.copy()
         whole = np.full((height, width) + part.shape[2:], outside, np.float32)

@@ -82,16 +82,17 @@ def check_scheduler(address: str, timeout: float) -> None:
 # process, 0.045 in each worker), more while tiles come in: every server's
 # event-loop watchdog ticks every 20 ms, each worker's statistical profiler
 # samples the running task every 10 ms, the nannies poll their workers'
-# memory every 100 ms. With these, 0.023 cores. Work stealing is off: the
-# scheduler queues the tiles and hands the next one to whichever worker is
-# free, so there is nothing to steal. A cluster started with `dask
-# scheduler` / `dask worker` keeps its own settings (docs/distributed.md).
+# memory every 100 ms. With these, about 0.02 cores. Work stealing stays on:
+# the scheduler hands out the first 2 tasks per worker at once, and stealing
+# is what moves a waiting tile from a worker still busy with a heavy one to an
+# idle one (with few tiles per worker, or frames of unequal cost). A cluster
+# started with `dask scheduler` / `dask worker` keeps its own settings
+# (docs/distributed.md).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.admin.tick.interval": "1s",
     "distributed.worker.profile.enabled": False,
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.admin.system-monitor.interval": "2s",
-    "distributed.scheduler.work-stealing": False,
 }
 
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 JOURNAL = ".gridwalk-farm.jsonl"
+OLD_MANIFEST = ".gridwalk-farm.json"       # what versions before the journal wrote: removed with the results
 
 
 def write_atomically(path: Path, data: bytes) -> None:
@@ -61,13 +62,18 @@ class ResultStore:
             data = b""
         if data and not data.endswith(b"\n"):   # a line cut short: the next one must start afresh
             self._append(b"\n")
-        for line in data.split(b"\n"):
+        lines = data.split(b"\n")
+        for line in lines:
             try:
                 record = json.loads(line)
             except ValueError:          # empty, or cut short by a crash
                 continue
             if isinstance(record, dict) and isinstance(record.get("stem"), str):
                 self.records[record["stem"]] = record
+        if len(lines) > 2 * len(self.records) + 64:
+            # A frames folder keeps its journal from run to run (a line per frame
+            # each time): written again with the current lines only.
+            write_atomically(self.folder / JOURNAL, b"".join(self._line(r) for r in self.records.values()))
 
     def find(self, stem: str) -> Path | None:
         """The finished result `stem` of this job, or None."""
@@ -85,16 +91,23 @@ class ResultStore:
         else:
             write_atomically(path, data)
         record = {"stem": stem, "file": path.name, "digest": self.digest}
-        self._append(json.dumps(record, separators=(",", ":")).encode() + b"\n")
+        self._append(self._line(record))
         self.records[stem] = record
         return path
 
+    @staticmethod
+    def _line(record: dict) -> bytes:
+        return json.dumps(record, separators=(",", ":")).encode() + b"\n"
+
     def _append(self, line: bytes) -> None:
+        """Append `line` in one write (O_APPEND); OSError if the disk takes only part of it."""
         fd = os.open(self.folder / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
         try:
-            os.write(fd, line)
+            written = os.write(fd, line)
         finally:
             os.close(fd)
+        if written != len(line):        # a full disk: the part written is a torn line, skipped when read
+            raise OSError(f"{self.folder / JOURNAL}: only {written} of {len(line)} bytes written (disk full?)")
 
     def remove(self) -> None:
         """Delete the stored results of every job, and the folder if that empties it."""
@@ -102,6 +115,7 @@ class ResultStore:
             if isinstance(record, dict) and record.get("file"):
                 (self.folder / record["file"]).unlink(missing_ok=True)
         (self.folder / JOURNAL).unlink(missing_ok=True)
+        (self.folder / OLD_MANIFEST).unlink(missing_ok=True)
         try:
             self.folder.rmdir()
         except OSError:

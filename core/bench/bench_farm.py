@@ -107,8 +107,8 @@ def heavy_frame(s: dict, work: Path) -> dict:
     plain_cpu = []                                     # CPU seconds of each plain render
     for r in range(s["reps"]):
         for workers in (0, 1, 2):
-            cores = parallel_capacity(0.2)
             if workers == 0:
+                cores = parallel_capacity(0.2)
                 t0, c0 = time.perf_counter(), cpu_seconds()
                 image = gw.render(plain_scene, settings.replace(threads=1))
                 dt, report = time.perf_counter() - t0, None

@@ -63,9 +63,11 @@ class RenderJob:
         job = self._job
         ax, ay = job.area[:2]               # the buffers hold only the rendered area
         arrays = {"depth": job.depth, "normal": job.normal, "albedo": job.albedo}
-        return [TileResult(x, y, w, h, job.rgba[y - ay:y - ay + h, x - ax:x - ax + w].copy(),
-                           {k: v[y - ay:y - ay + h, x - ax:x - ax + w].copy() for k, v in arrays.items()})
-                for x, y, w, h in job.poll()]
+        tiles = []
+        for x, y, w, h in job.poll():
+            part = (slice(y - ay, y - ay + h), slice(x - ax, x - ax + w))
+            tiles.append(TileResult(x, y, w, h, job.rgba[part].copy(), {k: v[part].copy() for k, v in arrays.items()}))
+        return tiles
 
     def cancel(self) -> None:
         """Stop the workers; returns when no worker thread is left running."""

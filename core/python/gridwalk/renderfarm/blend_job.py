@@ -21,7 +21,7 @@ from . import plan
 from .blender import BlenderSetup, run_blender
 from .exr import write_exr
 from .jobplugin import JobPlugin, plugin_name
-from .store import npy_bytes, write_atomically
+from .store import write_atomically
 
 TILE_OUTPUTS = (".exr", ".npy")
 PROBE = "probe"
@@ -152,7 +152,7 @@ class BlendJob:
                 x, y, w, h = (int(v) for v in tile["rect"])
                 image[y:y + h, x:x + w] = tile["rgba"]
         if self.output.suffix.lower() == ".npy":
-            write_atomically(self.output, npy_bytes(image))
+            write_atomically(self.output, image)
         else:
             write_exr(self.output, image)
         store.remove()

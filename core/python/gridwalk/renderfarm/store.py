@@ -14,7 +14,6 @@ time from the workers.
 """
 from __future__ import annotations
 
-import io
 import json
 import os
 from pathlib import Path
@@ -25,26 +24,17 @@ JOURNAL = ".gridwalk-farm.jsonl"
 OLD_MANIFEST = ".gridwalk-farm.json"       # what versions before the journal wrote: removed with the results
 
 
-def write_atomically(path: Path, data: bytes) -> None:
-    """Write to a temporary name, then rename: a reader (or a re-run after the
-    process was killed) sees the old file or the whole new one, never a part."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
-
-
-def write_npy_atomically(path: Path, array: np.ndarray) -> None:
-    """np.save to `path`, atomically (as write_atomically), without a copy in memory."""
+def write_atomically(path: Path, data) -> None:
+    """Write `data` (bytes, or an array saved as .npy) to a temporary name,
+    then rename: a reader (or a re-run after the process was killed) sees the
+    old file or the whole new one, never a part."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with open(tmp, "wb") as f:
-        np.lib.format.write_array(f, np.ascontiguousarray(array), allow_pickle=False)
+        if isinstance(data, np.ndarray):
+            np.lib.format.write_array(f, np.ascontiguousarray(data), allow_pickle=False)
+        else:
+            f.write(data)
     os.replace(tmp, path)
-
-
-def npy_bytes(array: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    np.save(buf, array)
-    return buf.getvalue()
 
 
 class ResultStore:
@@ -86,10 +76,7 @@ class ResultStore:
     def put(self, stem: str, suffix: str, data) -> Path:
         """Keep `data` (bytes, or an array saved as .npy) as the result `stem`."""
         path = self.folder / (stem + suffix)
-        if isinstance(data, np.ndarray):
-            write_npy_atomically(path, data)
-        else:
-            write_atomically(path, data)
+        write_atomically(path, data)
         record = {"stem": stem, "file": path.name, "digest": self.digest}
         self._append(self._line(record))
         self.records[stem] = record

@@ -51,7 +51,8 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 // The scene's box in double, with its squared diagonal: computed once per batch.
 struct SceneBox {
     double lo[3], hi[3], diagonal2;
-    bool moderate;   // the diagonal lies in [2^-60, 2^60] (may_hit's fast path)
+    bool moderate;        // the diagonal lies in [2^-60, 2^60] (may_hit's fast path)
+    double near_lo[3], near_hi[3];   // the box grown by 2^16 diagonals on every side (the same)
     explicit SceneBox(const Bounds& b) {
         diagonal2 = 0;
         for (int a = 0; a < 3; ++a) {
@@ -60,6 +61,11 @@ struct SceneBox {
             diagonal2 += sq(hi[a] - lo[a]);
         }
         moderate = diagonal2 >= 0x1p-120 && diagonal2 <= 0x1p120;
+        const double margin = 0x1p16 * std::sqrt(diagonal2);
+        for (int a = 0; a < 3; ++a) {
+            near_lo[a] = lo[a] - margin;
+            near_hi[a] = hi[a] + margin;
+        }
     }
 };
 
@@ -77,17 +83,18 @@ struct SceneBox {
 // meets is "at t = 1"), and far outside the box the quadratic shapes' tests
 // lose all their digits and may report hits that are not there.
 bool may_hit(const Ray& r, const SceneBox& box) {
-    // A ray that starts inside the box with tmin >= 0 (shadow rays, most
-    // secondary and random rays) passes without divisions when the box's
-    // diagonal D lies in [2^-60, 2^60] (box.moderate). make_ray leaves the
-    // direction's largest component in [2^-64, 2^64] (or the ray invalid: a
-    // miss for every structure alike), so the part of the segment inside the
-    // box lies within t <= D / |d| <= 2^124 (finite), where a float step of t
-    // moves the ray by at most max(2^-23 D, 2^-149 |d|) <= D / 4: float t
-    // tells the scene's points apart. A segment beyond the box (tmin past its
-    // exit) holds no hit for any structure.
-    if (box.moderate && r.tmin >= 0 && r.o.x >= box.lo[0] && r.o.x <= box.hi[0] && r.o.y >= box.lo[1] &&
-        r.o.y <= box.hi[1] && r.o.z >= box.lo[2] && r.o.z <= box.hi[2])
+    // A ray with tmin >= 0 that starts near the box (within 2^16 diagonals D
+    // of it on every axis: shadow rays, most secondary and random rays, and
+    // camera rays) passes without divisions when D lies in [2^-60, 2^60]
+    // (box.moderate). Every point of the box then lies within sqrt(3) 2^16 D
+    // + D < 2^17 D of the origin. make_ray leaves the direction's largest
+    // component in [2^-64, 2^64] (or the ray invalid: a miss for every
+    // structure alike), so the part of the segment inside the box lies within
+    // t <= 2^17 D / |d| (finite), where a float step of t moves the ray by at
+    // most max(2^-23 2^17 D, 2^-149 |d|) <= D / 64: float t tells the scene's
+    // points apart. A segment that misses the box holds no hit for any structure.
+    if (box.moderate && r.tmin >= 0 && r.o.x >= box.near_lo[0] && r.o.x <= box.near_hi[0] &&
+        r.o.y >= box.near_lo[1] && r.o.y <= box.near_hi[1] && r.o.z >= box.near_lo[2] && r.o.z <= box.near_hi[2])
         return true;
     double t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
@@ -158,7 +165,8 @@ Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSett
         Hit hit;
         hit.t = r.ray.tmax;
         const bool found = traceable && accel.closest(r, hit, ctx);
-        const float t = std::ldexp(hit.t, scale_exp);   // the caller's t (overflow: beyond float range, a miss)
+        // The caller's t (overflow: beyond float range, a miss).
+        const float t = scale_exp == 0 ? hit.t : std::ldexp(hit.t, scale_exp);
         if (found && std::isfinite(t)) {
             const Vec3 n = sc.geometric_normal(r, hit);
             out.t[i] = t;

@@ -32,6 +32,9 @@ public:
     virtual bool occluded(const RayPre& r, TraceContext& ctx) const = 0;
     virtual AccelInfo info() const { return {}; }
     virtual bool uses_mailboxes() const { return false; }
+    // Whether a ray that misses the scene's box is a miss before any primitive
+    // test (the grids clip every ray to their box; brute force does not).
+    virtual bool clips_to_box() const { return true; }
     const Scene& scene() const { return *scene_; }
 
 protected:

@@ -52,8 +52,11 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
 struct SceneBox {
     double lo[3], hi[3], diagonal2;
     bool moderate;        // the diagonal lies in [2^-60, 2^60] (may_hit's fast path)
-    double near_lo[3], near_hi[3];   // the box grown by 2^16 diagonals on every side (the same)
-    explicit SceneBox(const Bounds& b) {
+    // The box grown by 2^16 diagonals on every side (may_hit's fast path),
+    // for a structure that clips rays to its box; else the box itself, so that
+    // brute force tests no primitive for a ray that misses the box.
+    double near_lo[3], near_hi[3];
+    SceneBox(const Bounds& b, bool clipped) {
         diagonal2 = 0;
         for (int a = 0; a < 3; ++a) {
             lo[a] = b.lo[a];
@@ -61,7 +64,7 @@ struct SceneBox {
             diagonal2 += sq(hi[a] - lo[a]);
         }
         moderate = diagonal2 >= 0x1p-120 && diagonal2 <= 0x1p120;
-        const double margin = 0x1p16 * std::sqrt(diagonal2);
+        const double margin = clipped ? 0x1p16 * std::sqrt(diagonal2) : 0.0;
         for (int a = 0; a < 3; ++a) {
             near_lo[a] = lo[a] - margin;
             near_hi[a] = hi[a] + margin;
@@ -85,7 +88,7 @@ struct SceneBox {
 bool may_hit(const Ray& r, const SceneBox& box) {
     // A ray with tmin >= 0 that starts near the box (within 2^16 diagonals D
     // of it on every axis: shadow rays, most secondary and random rays, and
-    // camera rays) passes without divisions when D lies in [2^-60, 2^60]
+    // camera rays; inside it for brute force) passes without divisions when D lies in [2^-60, 2^60]
     // (box.moderate). Every point of the box then lies within sqrt(3) 2^16 D
     // + D < 2^17 D of the origin. make_ray leaves the direction's largest
     // component in [2^-64, 2^64] (or the ray invalid: a miss for every
@@ -155,7 +158,7 @@ bool traceable_ray(const RayBatch& b, size_t i, const SceneBox& box, Ray& r, int
 
 Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, const BatchOut& out) {
     const Scene& sc = accel.scene();
-    const SceneBox box(sc.bounds());
+    const SceneBox box(sc.bounds(), accel.clips_to_box());
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         int scale_exp;
         Ray ray;
@@ -186,7 +189,7 @@ Stats intersect_batch(const Accel& accel, const RayBatch& rays, const RenderSett
 }
 
 Stats occluded_batch(const Accel& accel, const RayBatch& rays, const RenderSettings& s, uint8_t* out) {
-    const SceneBox box(accel.scene().bounds());
+    const SceneBox box(accel.scene().bounds(), accel.clips_to_box());
     return parallel_rays(accel, rays.n, s, [&](size_t i, TraceContext& ctx) {
         ++ctx.stats.rays[int(RayType::Shadow)];
         int scale_exp;

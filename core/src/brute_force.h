@@ -7,6 +7,7 @@ namespace gw {
 class BruteForce final : public Accel {
 public:
     explicit BruteForce(std::shared_ptr<const Scene> s) : Accel(std::move(s)) {}
+    bool clips_to_box() const override { return false; }
     bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override {
         if (!r.valid) return false;
         bool any = false;

@@ -32,9 +32,9 @@ inline Bounds cone_bounds(const ConeData& c) {
 }
 
 inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float& t_out) {
-    const Vec3d w = r.od - c.base;
-    const double wh = dot(w, c.axis), dh = dot(r.dd, c.axis);
-    const Vec3d wp = w - c.axis * wh, dp = r.dd - c.axis * dh;
+    const Vec3d w = r.od() - c.base;
+    const double wh = dot(w, c.axis), dh = dot(r.dd(), c.axis);
+    const Vec3d wp = w - c.axis * wh, dp = r.dd() - c.axis * dh;
     const double rw = c.r0 + c.k * wh;
     const double a = dot(dp, dp) - c.k * c.k * dh * dh;
     const double b = dot(wp, dp) - c.k * rw * dh;      // half b
@@ -68,7 +68,7 @@ inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float
 
 // Outward unit normal at the ray's parameter t.
 inline Vec3 cone_normal(const RayPre& r, float t, const ConeData& c) {
-    const Vec3d w = r.od + r.dd * double(t) - c.base;
+    const Vec3d w = r.od() + r.dd() * double(t) - c.base;
     const double s = dot(w, c.axis);
     const Vec3d perp = w - c.axis * s;
     return Vec3(normalize(perp - c.axis * (c.k * (c.r0 + c.k * s))));
@@ -78,7 +78,7 @@ inline Vec3 cone_normal(const RayPre& r, float t, const ConeData& c) {
 // carries t's rounding error along d, which no per-axis bound on |p| covers),
 // and its error bound.
 inline void cone_point(const RayPre& r, float t, const ConeData& c, Vec3& p, Vec3& p_err) {
-    const Vec3d w = r.od + r.dd * double(t) - c.base;
+    const Vec3d w = r.od() + r.dd() * double(t) - c.base;
     const double s = std::min(std::max(dot(w, c.axis), 0.0), c.height);
     Vec3d radial = w - c.axis * dot(w, c.axis);
     const double len = length(radial);

@@ -31,8 +31,10 @@ struct RayPre {
     int kx = 0, ky = 1, kz = 2;
     float sx = 0, sy = 0, sz = 1;
     float ox = 0, oy = 0, oz = 0;   // the origin in the permuted axes
-    // Double-precision copies for the analytic (quadric) primitives.
-    Vec3d od, dd;
+    // Double-precision copies for the analytic (quadric) primitives (exact
+    // conversions, made where a quadric is tested: most rays meet none).
+    Vec3d od() const { return Vec3d(ray.o); }
+    Vec3d dd() const { return Vec3d(ray.d); }
     bool valid = false;   // false for NaN/Inf/zero directions: such a ray hits nothing
 
     explicit RayPre(const Ray& r) : ray(r) {
@@ -49,8 +51,6 @@ struct RayPre {
         ox = r.o[kx];
         oy = r.o[ky];
         oz = r.o[kz];
-        od = Vec3d(r.o);
-        dd = Vec3d(r.d);
     }
 };
 

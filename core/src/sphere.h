@@ -25,10 +25,10 @@ inline Bounds sphere_bounds(const Vec3& center, float radius) {
 inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, float tmax, float& t_out) {
     const Vec3d c(center);
     const double R = radius;
-    const Vec3d f = r.od - c;
-    const double a = dot(r.dd, r.dd);
-    const double b = dot(f, r.dd);                     // half the usual b
-    const Vec3d l = f - r.dd * (b / a);                // closest-approach offset
+    const Vec3d f = r.od() - c;
+    const double a = dot(r.dd(), r.dd());
+    const double b = dot(f, r.dd());                     // half the usual b
+    const Vec3d l = f - r.dd() * (b / a);                // closest-approach offset
     const double disc = a * (R * R - dot(l, l));       // = b^2 - a c, computed stably
     if (disc < 0) return false;
     const double cc = dot(f, f) - R * R;
@@ -49,7 +49,7 @@ inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, 
 
 // Outward unit normal at the ray's parameter t (in double).
 inline Vec3 sphere_normal(const RayPre& r, float t, const Vec3& center) {
-    const Vec3d p = r.od + r.dd * double(t);
+    const Vec3d p = r.od() + r.dd() * double(t);
     return Vec3(normalize(p - Vec3d(center)));
 }
 

@@ -204,17 +204,8 @@ private:
         std::vector<uint32_t> count;
         assign_checked(count, ncells + 1, 0u, cancel_, step_);
         uint64_t total = 0;
-        for (uint32_t prim : rest) {
-            check_cancel(cancel_, step_);
-            int c0[3], c1[3];
-            if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
-            for (int z = c0[2]; z <= c1[2]; ++z) {
-                check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x) ++count[(uint64_t(z) * n[1] + y) * n[0] + x];
-            }
-            total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
-        }
+        for (uint32_t prim : rest)
+            for_cells(prim, box, cell, n, [&](uint64_t c) { ++count[c]; ++total; });
         uint32_t most = 0;
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
@@ -236,16 +227,8 @@ private:
         }
         std::vector<uint32_t> list;
         assign_checked(list, total, 0u, cancel_, step_);
-        for (uint32_t prim : rest) {
-            check_cancel(cancel_, step_);
-            int c0[3], c1[3];
-            if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
-            for (int z = c0[2]; z <= c1[2]; ++z) {
-                check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x) list[count[(uint64_t(z) * n[1] + y) * n[0] + x]++] = prim;
-            }
-        }
+        for (uint32_t prim : rest)
+            for_cells(prim, box, cell, n, [&](uint64_t c) { list[count[c]++] = prim; });
         // The node, and its cells (filled below; children append after them).
         const uint32_t index = uint32_t(g_.nodes.size());
         AdaptiveGridData::Node nd;
@@ -310,6 +293,19 @@ private:
             if (!occupied[c]) g_.cells[nd.first + c].a = boxes[c];
         }
         return index;
+    }
+
+    // Calls f(linear cell index) for each cell of the grid (box, n) that prim overlaps (cell_range).
+    template <class F>
+    void for_cells(uint32_t prim, const Box& box, const double cell[3], const int n[3], F&& f) {
+        check_cancel(cancel_, step_);
+        int c0[3], c1[3];
+        if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) return;
+        for (int z = c0[2]; z <= c1[2]; ++z) {
+            check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x) f((uint64_t(z) * n[1] + y) * n[0] + x);
+        }
     }
 
     // A leaf: refs gets [number of triangles, triangles..., quadrics...].

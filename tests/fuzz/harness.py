@@ -1,4 +1,4 @@
-"""The fuzz target shared by fuzz_nff.py, fuzz_ply.py and the regression tests.
+"""The fuzz target shared by the reader fuzzers (reader_fuzzer.py) and the regression tests.
 
 One input: write the bytes to a scene file, load it. SceneFileError is the
 expected refusal. A file that loads is turned into a gridwalk.Scene (the core

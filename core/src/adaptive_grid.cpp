@@ -50,6 +50,7 @@ bool cpu_has_avx2() {
 // --- build ---------------------------------------------------------------------
 
 constexpr int kMaxResolution = 1024;
+constexpr uint64_t kQuadricCost = 4;   // a quadric's test, in triangle tests (when refining)
 
 struct Box {   // in double: sizes and cell boundaries are exact enough for any float scene
     double lo[3], hi[3];
@@ -251,6 +252,7 @@ private:
         std::vector<uint8_t> occupied;
         assign_checked(occupied, ncells, uint8_t(0), cancel_, step_);
         std::vector<uint32_t> sub;
+        const uint32_t nt = uint32_t(sc_.num_triangles());
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             const uint32_t b = start[c], e = start[c + 1];
@@ -258,8 +260,12 @@ private:
             occupied[c] = 1;
             AdaptiveGridData::Cell out{0, 0};
             // Refine a crowded cell; deeper down, only a much more crowded one
-            // (leaf_size x 4^depth): each level multiplies references.
-            if (uint64_t(e - b) > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
+            // (leaf_size x 4^depth): each level multiplies references. A
+            // quadric counts as kQuadricCost triangles: it is tested alone, in
+            // double, where triangles share SIMD tests.
+            uint64_t cost = 0;
+            for (uint32_t k = b; k < e; ++k) cost += list[k] < nt ? 1 : kQuadricCost;
+            if (cost > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
                 sub.assign(list.begin() + b, list.begin() + e);
                 check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
                 const int x = int(c % uint64_t(n[0])), y = int((c / uint64_t(n[0])) % uint64_t(n[1])),

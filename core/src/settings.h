@@ -32,7 +32,8 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
     X(uint64_t, max_cells, uint64_t(1) << 24, 1, double(uint64_t(1) << 31), "acceleration", "accel=grid",         \
       "Max Cells", "Cap on grid cells; past it the density is reduced (the grid's note says so)")                  \
     X(int, leaf_size, 8, 1, 4096, "acceleration", "accel=adaptive", "Leaf Size",                                    \
-      "Adaptive grid: a cell with more primitives than this is refined by a grid of its own")                      \
+      "Adaptive grid: a cell with more primitives than this (a sphere or cone counts as 4) is refined by a grid "  \
+      "of its own")                                                                                                 \
     X(int, grid_levels, 2, 0, 4, "acceleration", "accel=adaptive", "Grid Levels",                                   \
       "Adaptive grid: refining levels below the root grid (0: the root grid alone)")                               \
     X(bool, mailboxes, true, 0, 1, "acceleration", "accel=grid", "Mailboxes",                                      \

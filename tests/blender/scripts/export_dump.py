@@ -20,6 +20,7 @@ def main(argv):
     import blender_addon
     import scenes
     from blender_addon.export import ExportError, export_scene
+    from blender_addon.export.textures import scene_texture_bytes
 
     name, out_dir, *options = argv
     kwargs = dict(option.split("=", 1) for option in options)
@@ -42,6 +43,11 @@ def main(argv):
         result["background"] = list(scene_kwargs["background"])
         result["world"] = dataclasses.asdict(scene_kwargs["world"])
         result["warnings"] = warnings
+        result["images"] = [{"name": im.name, "shape": list(im.pixels().shape), "dtype": str(im.pixels().dtype),
+                             "colorspace": im.colorspace, "memory_bytes": im.memory_bytes}
+                            for im in scene_kwargs.get("images", [])]
+        result["textures"] = [dataclasses.asdict(t) for t in scene_kwargs.get("textures", [])]
+        result["texture_bytes"] = scene_texture_bytes(depsgraph)
     with open(os.path.join(out_dir, "export.json"), "w") as f:
         json.dump(result, f, indent=1)
 

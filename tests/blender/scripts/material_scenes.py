@@ -22,10 +22,11 @@ def _plane(name, size, location=(0, 0, 0), rotation=(0, 0, 0)):
     return obj
 
 
-def _image_node(mat, image, socket="Base Color", output="Color", interpolation="Linear", uv_map=None):
+def _image_node(mat, image, socket="Base Color", output="Color", interpolation="Linear", uv_map=None,
+                extension="REPEAT"):
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     tex = nodes.new("ShaderNodeTexImage")
-    tex.image, tex.interpolation = image, interpolation
+    tex.image, tex.interpolation, tex.extension = image, interpolation, extension
     links.new(tex.outputs[output], nodes["Principled BSDF"].inputs[socket])
     if uv_map is not None:
         uv = nodes.new("ShaderNodeUVMap")
@@ -129,8 +130,8 @@ def emission_mirror_scene(resolution=(64, 48)):
 
 def pane_shadow_scene(pane="glass", resolution=(64, 64)):
     """A white floor seen from straight above (orthographic) and a pane 2 units
-    above it, lit by a slanted sun: the pane's shadow falls at x = 2, y = 0,
-    pixel (48, 32). pane: glass (Transmission 1), alpha (Alpha 0.5) or opaque."""
+    above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,
+    pixel column 16, row 32. pane: glass (Transmission 1), alpha (Alpha 0.5) or opaque."""
     reset(resolution=tuple(resolution))
     cam = bpy.context.scene.camera
     cam.location, cam.rotation_euler = (0, 0, 10), (0, 0, 0)
@@ -178,6 +179,75 @@ def bad_materials_scene(resolution=(48, 36)):
             while plane.data.uv_layers:
                 plane.data.uv_layers.remove(plane.data.uv_layers[0])
         plane.data.materials.append(mat)
+    add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def _uv_layer(mesh, name, offset, scale=1.0):
+    """A new UV layer holding the first layer's UVs * scale + offset."""
+    first = mesh.uv_layers[0]
+    uv = np.empty(2 * len(first.data), np.float32)
+    first.data.foreach_get("uv", uv)
+    layer = mesh.uv_layers.new(name=name)
+    layer.data.foreach_set("uv", uv * scale + offset)
+    return layer
+
+
+def texture_links_scene(resolution=(32, 24)):
+    """Four planes whose materials use each linked input the exporter reads:
+      ByNode: a UV Map node picks layer "Second" (UVs in [0.25, 0.75]) although
+        "UVMap" renders; the 8-bit sRGB image "Shared" on Base Color, Closest,
+        Clip; a float image on Roughness.
+      ByRender: no UV Map node, so the active render layer "Render" (UVs in
+        [3, 4]) although "UVMap" is active for editing; "Shared" again (Linear,
+        Extend) on Base Color, its Alpha output on Alpha, a Non-Color 8-bit
+        image on Metallic.
+      Painted: a Color Attribute node reading "Paint" (not the render one).
+      Lamp: an Emission shader, Color (1, 0.5, 0.25) x Strength 4."""
+    reset(resolution=tuple(resolution))
+    shared = _filled_image("Shared", np.full((4, 4, 4), 0.5), float_buffer=False)
+    metal = _filled_image("MetalMap", np.full((8, 8, 4), 0.75), float_buffer=False, non_color=True)
+    rough = _filled_image("RoughHDR", np.full((2, 2, 4), 0.25), float_buffer=True)
+
+    by_node = _plane("ByNode", 1.0, location=(-3, 0, 0), rotation=(math.pi / 2, 0, 0))
+    _uv_layer(by_node.data, "Second", 0.25, 0.5)
+    mat = principled_material("ByNode", (0.5, 0.5, 0.5))
+    _image_node(mat, shared, interpolation="Closest", extension="CLIP", uv_map="Second")
+    _image_node(mat, rough, "Roughness", uv_map="Second")
+    by_node.data.materials.append(mat)
+
+    by_render = _plane("ByRender", 1.0, location=(-1, 0, 0), rotation=(math.pi / 2, 0, 0))
+    _uv_layer(by_render.data, "Render", 3.0).active_render = True
+    by_render.data.uv_layers.active = by_render.data.uv_layers["UVMap"]
+    mat = principled_material("ByRender", (0.5, 0.5, 0.5))
+    _image_node(mat, shared, extension="EXTEND")
+    _image_node(mat, shared, "Alpha", output="Alpha", extension="EXTEND")
+    _image_node(mat, metal, "Metallic", extension="EXTEND")
+    by_render.data.materials.append(mat)
+
+    painted = _plane("Painted", 1.0, location=(1, 0, 0), rotation=(math.pi / 2, 0, 0))
+    for name, rgba in (("Other", (1.0, 0.0, 0.0, 1.0)), ("Paint", (0.2, 0.6, 0.9, 1.0))):
+        attr = painted.data.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
+        attr.data.foreach_set("color", np.tile(np.array(rgba, np.float32), len(attr.data)))
+    painted.data.color_attributes.active_color = painted.data.color_attributes["Other"]
+    if hasattr(painted.data.color_attributes, "render_color_index"):
+        painted.data.color_attributes.render_color_index = 0        # "Other" renders by default
+    mat = principled_material("Painted", (0.5, 0.5, 0.5))
+    node = mat.node_tree.nodes.new("ShaderNodeVertexColor")
+    node.layer_name = "Paint"
+    mat.node_tree.links.new(node.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    painted.data.materials.append(mat)
+
+    lamp = _plane("Lamp", 1.0, location=(3, 0, 0), rotation=(math.pi / 2, 0, 0))
+    mat = principled_material("Lamp", (0.5, 0.5, 0.5))
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    emission.inputs["Strength"].default_value = 4.0
+    mat.node_tree.links.new(emission.outputs["Emission"], nodes["Material Output"].inputs["Surface"])
+    lamp.data.materials.append(mat)
     add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
     bpy.context.view_layer.update()
     return {}

@@ -1,0 +1,81 @@
+"""What the exporter makes of each linked material input (issue 13), in every
+Blender (bpy 4.5, bpy 5.0, Debian's 3.4): which UV layer and colour attribute
+it reads, the Emission shader, textures on Metallic and Alpha, the node's
+interpolation and extension, each image stored once and 8-bit kept 8-bit, and
+the images' share of the memory estimate. Scene: texture_links_scene."""
+import numpy as np
+import pytest
+
+
+@pytest.fixture
+def links(export):
+    out = export("texture_links")
+    mats = out.materials
+
+    def only(test):
+        found = [i for i, m in enumerate(mats) if test(m)]
+        assert len(found) == 1, f"expected one material, found {found} in {mats}"
+        return found[0]
+
+    out.by_node = only(lambda m: m["color_texture"] >= 0 and m["metallic_texture"] < 0 and not m["vertex_color"])
+    out.by_render = only(lambda m: m["metallic_texture"] >= 0)
+    out.painted = only(lambda m: m["vertex_color"])
+    out.lamp = only(lambda m: any(m["emission_color"]))
+    return out
+
+
+def _uvs_of(out, material):
+    return out.uvs[out.triangle_materials == material]
+
+
+def test_a_uv_map_node_picks_its_layer(links):
+    uv = _uvs_of(links, links.by_node)
+    assert uv.min() == pytest.approx(0.25) and uv.max() == pytest.approx(0.75)    # "Second", not "UVMap"
+
+
+def test_without_a_uv_map_node_the_active_render_layer_is_read(links):
+    uv = _uvs_of(links, links.by_render)
+    assert uv.min() == pytest.approx(3.0) and uv.max() == pytest.approx(4.0)      # "Render", not the edited one
+
+
+def test_a_color_attribute_node_reads_its_named_layer(links):
+    colours = links.colors[links.triangle_materials == links.painted]
+    np.testing.assert_allclose(colours.reshape(-1, 3), np.tile([0.2, 0.6, 0.9], (colours.size // 3, 1)), rtol=1e-5)
+
+
+def test_the_emission_shader_is_colour_times_strength(links):
+    lamp = links.materials[links.lamp]
+    np.testing.assert_allclose(lamp["emission_color"], [4.0, 2.0, 1.0], rtol=1e-6)
+    assert lamp["kd"] == 0.0 and lamp["ks"] == 0.0
+
+
+def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
+    textures, images = links.textures, links.images
+    name = lambda t: images[textures[t]["image"]]["name"]
+    node, render = links.materials[links.by_node], links.materials[links.by_render]
+    assert name(node["color_texture"]) == "Shared"
+    assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
+                                               "interpolation": "closest", "extension": "clip", "use_alpha": False}
+    assert name(node["roughness_texture"]) == "RoughHDR"
+    assert name(render["metallic_texture"]) == "MetalMap"
+    assert render["mirror"] == 0.0 and render["kd"] == 1.0    # metallic 0: the core blends towards metal per hit
+    alpha = textures[render["alpha_texture"]]
+    assert name(render["alpha_texture"]) == "Shared" and alpha["use_alpha"] and alpha["extension"] == "extend"
+    colour = textures[render["color_texture"]]
+    assert (colour["interpolation"], colour["extension"], colour["use_alpha"]) == ("linear", "extend", False)
+
+
+def test_each_image_is_stored_once_and_8_bit_stays_8_bit(links):
+    images = {im["name"]: im for im in links.images}
+    assert sorted(images) == ["MetalMap", "RoughHDR", "Shared"]      # "Shared" serves three textures
+    assert len(links.images) == 3
+    assert (images["Shared"]["dtype"], images["Shared"]["colorspace"]) == ("uint8", "srgb")
+    assert (images["MetalMap"]["dtype"], images["MetalMap"]["colorspace"]) == ("uint8", "data")
+    assert (images["RoughHDR"]["dtype"], images["RoughHDR"]["colorspace"]) == ("float32", "linear")
+    assert images["Shared"]["shape"] == [4, 4, 4] and images["Shared"]["memory_bytes"] >= 4 * 4 * 4
+
+
+def test_the_memory_estimate_counts_each_image_once_plus_one_read_buffer(links):
+    stored = sum(int(np.prod(im["shape"])) * (1 if im["dtype"] == "uint8" else 4) for im in links.images)
+    read_buffer = max(int(np.prod(im["shape"])) * 4 for im in links.images)    # foreach_get's float32 copy
+    assert links.texture_bytes == stored + read_buffer

@@ -9,6 +9,7 @@ Every case runs in its own Python process, so that a crash in the native core
 fails that one test instead of killing the test session; the child inherits
 the environment, so under the sanitizer run of test40 it uses the ASan core.
 """
+import json
 import os
 import subprocess
 import sys
@@ -56,22 +57,41 @@ def test_every_regression_input_states_its_expected_outcome():
 # Inputs of the API fuzzer (tests/fuzz/api_harness.py) that found a wrong
 # answer: the structure and brute force disagreed. Replayed, every ray query
 # in them must agree with brute force again (the harness raises WrongResult
-# otherwise), with no crash.
-#   api_ray_from_1e30_unresolved_t.bin: rays from 1e30 whose float t cannot
-#       order the scene's hits (now misses for every structure)
-#   api_cone_flatter_than_its_radii.bin: a 1e-45-high cone whose quadratic
-#       reported a hit 4 units away (now refused)
-#   api_ray_missing_the_box_from_1e30.bin: a ray from 1e30 passing 180 units
-#       beside the scene, "hit" by brute force's quadratic (rays that miss the
-#       scene's box are now misses before any test)
+# otherwise), with no crash. Each states what must happen to it, so that an
+# input that stops reaching the comparison (refused earlier) is noticed:
+# "compared" (at least one ray query agreed with brute force) or "scene
+# refused" (the Scene that gave the wrong answer is refused with a clean error).
+API_EXPECTED = {
+    # rays from 1e30 whose float t cannot order the scene's hits (now misses for every structure)
+    "api_ray_from_1e30_unresolved_t.bin": "compared",
+    # a 1e-45-high cone whose quadratic reported a hit 4 units away (now refused)
+    "api_cone_flatter_than_its_radii.bin": "scene refused",
+    # a ray from 1e30 passing 180 units beside the scene, "hit" by brute
+    # force's quadratic (rays that miss the scene's box are now misses before any test)
+    "api_ray_missing_the_box_from_1e30.bin": "compared",
+}
+
+
+def test_every_api_regression_input_states_its_expected_outcome():
+    assert {p.name for p in API_REGRESSIONS} == set(API_EXPECTED)
+
+
 @pytest.mark.parametrize("path", API_REGRESSIONS, ids=[p.name for p in API_REGRESSIONS])
 def test_api_fuzz_regression_agrees_with_brute_force(path):
     out = run_isolated(textwrap.dedent(f"""
+        import json
         import api_harness
         from pathlib import Path
-        print("refused", api_harness.run_bytes(Path({str(path)!r}).read_bytes()))
+        api_harness.run_bytes(Path({str(path)!r}).read_bytes())
+        print(json.dumps(api_harness.COUNTS))
     """))
-    assert out.strip().splitlines()[-1].startswith("refused ")
+    counts = json.loads(out.strip().splitlines()[-1])
+    compared = counts.get("ray queries that agreed with brute force", 0)
+    if API_EXPECTED.get(path.name) == "compared":
+        assert compared >= 1, counts
+    else:
+        assert API_EXPECTED.get(path.name) == "scene refused"
+        assert counts.get("Scene() with Camera/Light/Material: refused", 0) >= 1, counts
 
 
 def test_there_are_api_regression_inputs():

@@ -48,6 +48,9 @@ COUNTS: Counter = Counter()
 COUNTS_FILE = os.environ.get("GRIDWALK_FUZZ_COUNTS")
 
 
+COMPARED = "ray queries that agreed with brute force"   # a COUNTS key
+
+
 class WrongResult(AssertionError):
     """A ray query answered differently by an acceleration structure and by brute force."""
 
@@ -233,12 +236,14 @@ def draw_rays(inp: Input, scene: gw.Scene):
                 and np.array_equal(hits.kind, ref.kind)):
             raise WrongResult(f"{settings.accel} and brute force differ: t {hits.t} vs {ref.t}, "
                               f"prim {hits.prim} vs {ref.prim}; o={o32.tolist()} d={d32.tolist()} {limits}")
+        COUNTS[COMPARED] += 1
     elif op == 1:
         occ = counted("Scene.occluded", scene.occluded, o32, d32, settings=settings, **limits)
         ref = scene.occluded(o32, d32, settings=settings.replace(accel="none"), **limits)
         if not np.array_equal(occ, ref):
             raise WrongResult(f"{settings.accel} and brute force differ: occluded {occ} vs {ref}; "
                               f"o={o32.tolist()} d={d32.tolist()} {limits}")
+        COUNTS[COMPARED] += 1
     else:
         hits = scene.intersect(o32, d32, settings=gw.RenderSettings(threads=1))
         counted("Scene.spawn_origins", scene.spawn_origins, o32, d32, hits, d32[::-1].copy())

@@ -210,10 +210,10 @@ def run(sizes, suzanne, out) -> Section:
                 f"{fits['GRIDWALK'][0]:.2f} s for GRIDWALK (export, grid build, tile streaming) against "
                 f"{fits['CYCLES'][0]:.2f} s for Cycles (sync, BVH), and {fits['GRIDWALK'][1] * 1e3:.0f} against "
                 f"{fits['CYCLES'][1] * 1e3:.0f} ms per spp (cost table); the fixed cost matters at the few-sample "
-                f"end. Per sample, GRIDWALK's default grid on this geometry "
-                f"({'x'.join(map(str, st['grid']['resolution']))}, M = 2) makes {st['tests_per_ray']:.0f} sphere tests "
-                f"and {st['cells_per_ray']:.1f} cell steps per ray: the floor sets the grid's box and the spheres "
-                "crowd into a small part of it (section 4), where Cycles' BVH adapts to the clustering.")
+                f"end. Per sample, GRIDWALK's default structure on this geometry ({st['grid']['kind']}: root "
+                f"{'x'.join(map(str, st['grid']['resolution']))}, {st['grid'].get('grids', 1)} grids) makes "
+                f"{st['tests_per_ray']:.1f} primitive tests and {st['cells_per_ray']:.1f} cell steps per ray "
+                "(camera, shadow and mirror rays together; section 4 has the per-ray-kind figures).")
     else:
         sec.headline.append("no RMSE range common to both engines; see the table")
         sec.gaps.append("Cycles: the two engines' RMSE ranges do not overlap, so no equal-error time.")

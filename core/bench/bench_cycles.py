@@ -213,7 +213,7 @@ def run(sizes, suzanne, out) -> Section:
                 f"end. Per sample, GRIDWALK's default structure on this geometry ({st['grid']['kind']}: root "
                 f"{'x'.join(map(str, st['grid']['resolution']))}, {st['grid'].get('grids', 1)} grids) makes "
                 f"{st['tests_per_ray']:.1f} primitive tests and {st['cells_per_ray']:.1f} cell steps per ray "
-                "(camera, shadow and mirror rays together; section 4 has the per-ray-kind figures).")
+                "(camera, shadow and mirror rays together).")
     else:
         sec.headline.append("no RMSE range common to both engines; see the table")
         sec.gaps.append("Cycles: the two engines' RMSE ranges do not overlap, so no equal-error time.")

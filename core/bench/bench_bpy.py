@@ -134,7 +134,9 @@ def configure(scene, engine, spp, seed, threads, max_depth):
     assert n * n == spp, "GRIDWALK takes n x n samples per pixel"
     g = scene.gridwalk
     g.aa, g.aa_samples, g.seed, g.threads, g.max_depth = "JITTERED", n, seed, threads, max_depth
-    g.shadow, g.shadow_samples, g.dof_samples, g.glossy_samples = "RANDOM", 1, 1, 1
+    # one shadow ray per light and hit, and one lens point, per pixel sample: the
+    # light's n x n strata and the lens points each cover the pixel's samples
+    g.shadow, g.shadow_samples, g.dof_samples, g.glossy_samples = "AREA", n, 1, 1
     g.filter = "BOX"
 
 

@@ -144,7 +144,9 @@ def run(sizes, suzanne, out) -> Section:
         "no denoising; the world is invisible to diffuse rays (World > Ray Visibility > Diffuse off: Cycles' "
         "diffuse surfaces get no light from it, and GRIDWALK, which reads the same switch, gives it no "
         "ambient term; it is still seen by camera and mirror rays in both). Samples: GRIDWALK jittered n x n per pixel (spp = n^2), "
-        "each with one random point on the area light and one lens sample; Cycles the same spp.", "",
+        "each with one point on the area light (`shadow` area with n: the light's n x n jittered strata, "
+        "shuffled per pixel, one per pixel sample at every hit) and one lens point (the pixel's lens points "
+        "are one stratified set); Cycles the same spp (its own stratified sampler).", "",
         "**Error.** RMSE over linear RGB against the engine's own reference (two renders of "
         f"{sizes.cycles_ref_spp} spp with different seeds, averaged; its own noise, RMSE "
         f"{refs['GRIDWALK'][0]:.4f} for GRIDWALK and {refs['CYCLES'][0]:.4f} for Cycles, is subtracted in "

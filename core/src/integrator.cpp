@@ -71,7 +71,6 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const uint32_t n = uint32_t(std::max(1, s_.shadow_samples));
         const uint32_t grid = n * n;
-        if (mode == ShadowMode::Area && depth > 1) mode = ShadowMode::Random;   // grid only at primary hits
         if (mode == ShadowMode::Random) count = int(n);
         if (mode == ShadowMode::Area) count = int(std::max<uint32_t>(1, (grid + st.samples - 1) / st.samples));
         Vec3 sum;
@@ -83,9 +82,13 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             } else if (mode == ShadowMode::Area) {
                 // The seed's area-light method: an n x n jittered grid of light
                 // positions, shuffled per pixel so that the pixel's sub-samples
-                // meet different positions.
+                // meet different positions. At every hit of a sample's path:
+                // each depth has its own shuffle and jitter (depth 1 keeps the
+                // primary hits' key), so a mirror's or a refraction's hits are
+                // stratified over the pixel's samples too.
                 const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
-                const uint32_t key = hash4(st.seed, st.pixel, uint32_t(li), uint32_t(Stream::AreaLightGrid));
+                const uint32_t light_key = uint32_t(li) + uint32_t(depth - 1) * kGoldenRatio32;
+                const uint32_t key = hash4(st.seed, st.pixel, light_key, uint32_t(Stream::AreaLightGrid));
                 const uint32_t cell = permute(slot, grid, key);
                 u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
                 u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
@@ -130,11 +133,18 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
     const int n = split ? 1 : std::max(1, s_.glossy_samples);
     Vec3 t, b;
     basis(dir, t, b);
-    const float rot = st.rng.next();
+    // At a path's first glossy bounce (not split) the lobe directions of all
+    // the pixel's samples form one stratified set, as the lens points do
+    // (sampler.h, shared_slot), shuffled per pixel and depth. Split paths
+    // (inside the first bounce's n rays) draw at random.
+    const bool shared = !split && st.samples > 1;
+    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(Stream::GlossyLobe)) : 0;
+    const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
+    const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
     Vec3 sum;
     for (int j = 0; j < n; ++j) {
         float u1, u2;
-        strat2(uint32_t(j), uint32_t(n), st.rng.next(), rot, u1, u2);
+        strat2(shared_slot(sample, samples, key, uint32_t(j)), uint32_t(n) * samples, st.rng.next(), rot, u1, u2);
         const float ct = std::pow(1.0f - u1, 1.0f / (e + 1.0f)), s = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
         const float phi = float(2 * kPi) * u2;
         const Vec3 w = normalize(t * (s * std::cos(phi)) + b * (s * std::sin(phi)) + dir * ct);

@@ -9,12 +9,22 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
                                   TraceContext& ctx, float out[4], FirstHit* fh) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
     Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
-    const float rot = lens_rng.next();
+    // The lens points of all the pixel's samples (samples x nd) form one
+    // stratified set (sampler.h, shared_slot), rotated and shuffled per pixel.
+    float rot = 0;
+    uint32_t key = 0;
+    if (lens_ && samples > 1) {
+        Rng pixel_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, kWholePixel);
+        rot = pixel_rng.next();
+        key = pixel_rng.next_u32();
+    } else if (lens_) {
+        rot = lens_rng.next();
+    }
     Vec3 sum;
     float hits = 0;
     for (uint32_t j = 0; j < nd; ++j) {
         float lu = 0.5f, lv = 0.5f;
-        if (lens_) strat2(j, nd, lens_rng.next(), rot, lu, lv);
+        if (lens_) strat2(shared_slot(sample, samples, key, j), nd * samples, lens_rng.next(), rot, lu, lv);
         const Ray ray = camera_.generate(px, py, lu, lv);
         SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;

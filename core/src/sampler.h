@@ -35,8 +35,12 @@ enum class Stream : uint32_t {
     LatticeJitter = 0x2545f491U,  // adaptive AA: jitter of a lattice point
     LatticePoint = 0xADU,         // adaptive AA: hash key of a lattice point
     AreaLightGrid = 0xA11U,       // the seed's area light: shuffle of the n x n light grid
+    GlossyLobe = 0x61055U,        // first glossy bounce: shuffle of the pixel's lobe strata
 };
 inline uint32_t stream_seed(uint32_t seed, Stream s) { return seed ^ uint32_t(s); }
+// The sample index under which values shared by all of a pixel's samples are
+// drawn (a shuffle, a rotation); no pixel has this many samples.
+constexpr uint32_t kWholePixel = 0xFFFFFFFFU;
 
 inline uint32_t reverse_bits(uint32_t x) {
     x = (x << 16) | (x >> 16);
@@ -71,6 +75,14 @@ inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
         i &= mask;
     } while (i >= n);
     return i;
+}
+
+// Slot j of pixel sample `sample` in one stratified set of samples x n points
+// shared by all of a pixel's samples (lens points, glossy lobe directions): the
+// samples are shuffled by `key` and each takes every samples-th slot, so its
+// own n points spread over the whole set as well.
+inline uint32_t shared_slot(uint32_t sample, uint32_t samples, uint32_t key, uint32_t j) {
+    return permute(sample, samples, key) + j * samples;
 }
 
 // Burley (2020) hash-based Owen scrambling, applied in reversed bit order.

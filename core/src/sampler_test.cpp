@@ -64,6 +64,22 @@ TEST_CASE("strat2 puts point j of n in stratum j and stays in [0, 1)") {
     }
 }
 
+TEST_CASE("a pixel's shared strata are each taken once, and each sample's own slots spread over the set") {
+    for (uint32_t samples : {1u, 2u, 4u, 9u, 16u, 25u, 64u})
+        for (uint32_t n : {1u, 3u, 8u})
+            for (uint32_t key : {0u, 0x12345u, 0xdeadbeefu}) {
+                std::vector<int> taken(samples * n, 0);
+                for (uint32_t s = 0; s < samples; ++s)
+                    for (uint32_t j = 0; j < n; ++j) {
+                        const uint32_t slot = shared_slot(s, samples, key, j);
+                        REQUIRE(slot < samples * n);
+                        ++taken[slot];
+                        CHECK(slot / samples == j);   // slot j of every sample lies in the j-th band
+                    }
+                for (int t : taken) CHECK(t == 1);
+            }
+}
+
 TEST_CASE("streams are deterministic and distinct") {
     Rng a(stream_seed(5, Stream::Lens), 10, 3), b(stream_seed(5, Stream::Lens), 10, 3);
     Rng c(stream_seed(5, Stream::PixelSamples), 10, 3);

@@ -69,7 +69,12 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 #define GW_HOST_DEFAULTS(X)                                                                              \
     X(aa, "jittered", "A final render in Blender is expected to be anti-aliased; the library keeps the "  \
                       "seed's single centre ray, the baseline its tables compare against")               \
-    X(aa_samples, "2", "2 x 2 jittered samples: anti-aliased at 4x the cost of one ray")
+    X(aa_samples, "2", "2 x 2 jittered samples: anti-aliased at 4x the cost of one ray")                 \
+    X(shadow, "area", "Blender's lights have a size (point and spot radius, sun angle, area size) and "  \
+                      "Cycles and EEVEE render their soft shadows; the library keeps the seed's hard "  \
+                      "shadows, the baseline its tables compare against")                                \
+    X(shadow_samples, "2", "The light's 2 x 2 strata, one per pixel sample of the 2 x 2 anti-aliasing: " \
+                           "soft shadows for one shadow ray per light and hit, the cost of hard ones")
 
 #define GW_SETTING_FIELD(type, name, def, lo, hi, group, when, label, help) type name = def;
 struct RenderSettings {

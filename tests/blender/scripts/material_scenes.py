@@ -128,10 +128,12 @@ def emission_mirror_scene(resolution=(64, 48)):
     return {}
 
 
-def pane_shadow_scene(pane="glass", resolution=(64, 64)):
+def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     """A white floor seen from straight above (orthographic) and a pane 2 units
     above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,
-    pixel column 16, row 32. pane: glass (Transmission 1), alpha (Alpha 0.5) or opaque."""
+    pixel column 16, row 32. pane: glass (Transmission 1), alpha (Alpha 0.5) or opaque.
+    light="area": a 3 x 3 area light 5 units above the centre instead, whose
+    penumbra spreads 2 units around the pane's shadow below it."""
     reset(resolution=tuple(resolution))
     cam = bpy.context.scene.camera
     cam.location, cam.rotation_euler = (0, 0, 10), (0, 0, 0)
@@ -142,7 +144,10 @@ def pane_shadow_scene(pane="glass", resolution=(64, 64)):
     inputs = {"glass": {"Transmission": 1.0, "Roughness": 0.0, "IOR": 1.45}, "alpha": {"Alpha": 0.5},
               "opaque": {}}[pane]
     glass.data.materials.append(principled_material("Pane", (0.8, 0.8, 0.8), **inputs))
-    add_light("Sun", "SUN", (0, 0, 5), (0, math.pi / 4, 0), energy=3.0)
+    if light == "area":
+        add_light("Area", "AREA", (0, 0, 5), energy=400.0, size=3.0)
+    else:
+        add_light("Sun", "SUN", (0, 0, 5), (0, math.pi / 4, 0), energy=3.0)
     bpy.context.view_layer.update()
     return {}
 

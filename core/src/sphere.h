@@ -2,7 +2,8 @@
 // hit point with its error bound.
 //
 // Intersection is numerically careful (Haines et al., Ray Tracing Gems
-// ch. 7): the discriminant is formed as r^2 - |f - (f.d/d.d) d|^2, which
+// ch. 7): the discriminant is formed from the ray's closest approach to the
+// centre (here |f x d|^2, f the origin relative to the centre), which
 // keeps its precision when the ray passes far from the centre relative to r,
 // and the near root comes from c/q to avoid cancellation. Evaluated in
 // double, so a 1e-3 sphere seen from 1e4 away is still resolved.
@@ -26,11 +27,15 @@ inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, 
     const Vec3d c(center);
     const double R = radius;
     const Vec3d f = r.od() - c;
-    const double a = dot(r.dd(), r.dd());
-    const double b = dot(f, r.dd());                     // half the usual b
-    const Vec3d l = f - r.dd() * (b / a);                // closest-approach offset
-    const double disc = a * (R * R - dot(l, l));       // = b^2 - a c, computed stably
+    const Vec3d d = r.dd();
+    const double a = dot(d, d);
+    // b^2 - a c = a (r^2 - |l|^2), l the closest-approach offset, and a |l|^2 =
+    // |f x d|^2: the same stable discriminant without dividing by a (a
+    // miss, most tests in a grid, ends here).
+    const Vec3d fxd = cross(f, d);
+    const double disc = a * (R * R) - dot(fxd, fxd);
     if (disc < 0) return false;
+    const double b = dot(f, d);                          // half the usual b
     const double cc = dot(f, f) - R * R;
     const double q = -(b + std::copysign(std::sqrt(disc), b));
     double t0 = q != 0 ? cc / q : 0.0, t1 = q / a;

@@ -56,7 +56,7 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
 }
 
 Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
-                        int depth, SampleState& st, TraceContext& ctx) const {
+                        int depth, bool split, SampleState& st, TraceContext& ctx) const {
     Vec3 total;
     const auto& lights = scene_.lights();
     for (size_t li = 0; li < lights.size(); ++li) {
@@ -76,7 +76,9 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         Vec3 sum;
         for (int j = 0; j < count; ++j) {
             float u1 = 0.5f, u2 = 0.5f;
-            if (mode == ShadowMode::Random) {
+            // (The rays of a split glossy bounce share their sample's index, so
+            // the light grid would give them all one point: they draw at random.)
+            if (mode == ShadowMode::Random || (mode == ShadowMode::Area && split)) {
                 u1 = st.rng.next();
                 u2 = st.rng.next();
             } else if (mode == ShadowMode::Area) {
@@ -137,7 +139,7 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
     // the pixel's samples form one stratified set, as the lens points do
     // (sampler.h, shared_slot), shuffled per pixel and depth. Split paths
     // (inside the first bounce's n rays) draw at random.
-    const bool shared = !split && st.samples > 1;
+    const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, uint32_t(n));
     const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(Stream::GlossyLobe)) : 0;
     const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
     const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
@@ -151,7 +153,8 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
         if (dot(w, ng) <= 0) continue;
         r.d = w;
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
-        sum += trace(r, depth + 1, weight, true, RayType::Secondary, st, ctx, nullptr, Vec3());
+        // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
+        sum += trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3());
     }
     return sum * (1.0f / float(n));
 }
@@ -224,7 +227,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     const Vec3 ng = entering ? sp.ng : -sp.ng;   // both normals face the incoming ray
     Vec3 ns = entering ? sp.ns : -sp.ns;
     if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: use the true one
-    Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, st, ctx);
+    Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
     const Vec3& ambient = scene_.world().ambient;
     if (ambient.x != 0 || ambient.y != 0 || ambient.z != 0) color += m.color * ambient * m.kd;

@@ -35,7 +35,7 @@ private:
     Vec3 trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,
                TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     Vec3 direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
-                int depth, SampleState& st, TraceContext& ctx) const;
+                int depth, bool split, SampleState& st, TraceContext& ctx) const;
     Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
                         float weight, bool split, SampleState& st, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,

@@ -13,7 +13,9 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
     // stratified set (sampler.h, shared_slot), rotated and shuffled per pixel.
     float rot = 0;
     uint32_t key = 0;
-    if (lens_ && samples > 1) {
+    const bool shared = lens_ && samples > 1 && shared_set_fits(samples, nd);
+    const uint32_t sample_in_set = shared ? sample : 0, set_samples = shared ? samples : 1;
+    if (shared) {
         Rng pixel_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, kWholePixel);
         rot = pixel_rng.next();
         key = pixel_rng.next_u32();
@@ -24,7 +26,8 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
     float hits = 0;
     for (uint32_t j = 0; j < nd; ++j) {
         float lu = 0.5f, lv = 0.5f;
-        if (lens_) strat2(shared_slot(sample, samples, key, j), nd * samples, lens_rng.next(), rot, lu, lv);
+        if (lens_)
+            strat2(shared_slot(sample_in_set, set_samples, key, j), nd * set_samples, lens_rng.next(), rot, lu, lv);
         const Ray ray = camera_.generate(px, py, lu, lv);
         SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;

@@ -62,8 +62,13 @@ private:
 };
 
 // A bijection of [0, n) chosen by seed (cycle-walking an invertible mixer on
-// the next power of two): shuffles the area-light grid per pixel.
+// the next power of two, then a rotation by a second hash of the seed):
+// shuffles the area-light grid and the shared strata per pixel. The rotation
+// makes where each i lands uniform over seeds for every n; cycle-walking
+// alone favours some values when n is not a power of two, which would tie a
+// pixel sample's position to its light or lens stratum (a bias).
 inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
+    const uint32_t rotation = n > 1 ? mix32(seed ^ 0x5bd1e995U) % n : 0;
     uint32_t mask = n - 1;
     mask |= mask >> 1; mask |= mask >> 2; mask |= mask >> 4; mask |= mask >> 8; mask |= mask >> 16;
     do {
@@ -74,7 +79,8 @@ inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
         i ^= i >> 5;
         i &= mask;
     } while (i >= n);
-    return i;
+    i += rotation;
+    return i >= n ? i - n : i;
 }
 
 // Slot j of pixel sample `sample` in one stratified set of samples x n points
@@ -84,6 +90,10 @@ inline uint32_t permute(uint32_t i, uint32_t n, uint32_t seed) {
 inline uint32_t shared_slot(uint32_t sample, uint32_t samples, uint32_t key, uint32_t j) {
     return permute(sample, samples, key) + j * samples;
 }
+
+// Whether a shared set of samples x n strata is small enough for strat2 (its
+// strata must stay apart in float); larger sets fall back to each sample's own.
+inline bool shared_set_fits(uint32_t samples, uint32_t n) { return uint64_t(samples) * n <= (1u << 24); }
 
 // Burley (2020) hash-based Owen scrambling, applied in reversed bit order.
 inline uint32_t lk_permutation(uint32_t x, uint32_t seed) {

@@ -64,6 +64,20 @@ TEST_CASE("strat2 puts point j of n in stratum j and stays in [0, 1)") {
     }
 }
 
+TEST_CASE("where permute sends each i is uniform over seeds, for n that are not powers of two too") {
+    for (uint32_t n : {3u, 5u, 9u, 25u, 36u}) {
+        const uint32_t seeds = 2000 * n;
+        for (uint32_t i : {0u, 1u, n - 1}) {
+            std::vector<int> lands(n, 0);
+            for (uint32_t seed = 0; seed < seeds; ++seed) ++lands[permute(i, n, mix32(seed))];
+            for (int count : lands) {
+                CHECK(count > 1800);   // 2000 expected, standard deviation about 45
+                CHECK(count < 2200);
+            }
+        }
+    }
+}
+
 TEST_CASE("a pixel's shared strata are each taken once, and each sample's own slots spread over the set") {
     for (uint32_t samples : {1u, 2u, 4u, 9u, 16u, 25u, 64u})
         for (uint32_t n : {1u, 3u, 8u})

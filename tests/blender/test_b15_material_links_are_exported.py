@@ -25,7 +25,9 @@ def links(export):
 
 
 def _uvs_of(out, material):
-    return out.uvs[out.triangle_materials == material]
+    uv = out.uvs[out.triangle_materials == material]
+    assert uv.size > 0
+    return uv
 
 
 def test_a_uv_map_node_picks_its_layer(links):
@@ -40,6 +42,7 @@ def test_without_a_uv_map_node_the_active_render_layer_is_read(links):
 
 def test_a_color_attribute_node_reads_its_named_layer(links):
     colours = links.colors[links.triangle_materials == links.painted]
+    assert colours.size > 0
     np.testing.assert_allclose(colours.reshape(-1, 3), np.tile([0.2, 0.6, 0.9], (colours.size // 3, 1)), rtol=1e-5)
 
 
@@ -53,6 +56,10 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     textures, images = links.textures, links.images
     name = lambda t: images[textures[t]["image"]]["name"]
     node, render = links.materials[links.by_node], links.materials[links.by_render]
+    for field in ("color_texture", "roughness_texture"):
+        assert node[field] >= 0, field
+    for field in ("color_texture", "metallic_texture", "alpha_texture"):
+        assert render[field] >= 0, field
     assert name(node["color_texture"]) == "Shared"
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
                                                "interpolation": "closest", "extension": "clip", "use_alpha": False}

@@ -78,3 +78,8 @@ def read_exr(path) -> dict[str, np.ndarray]:
 def rgba(channels: dict, prefix: str = "") -> np.ndarray:
     """(H, W, 4) from the R, G, B, A channels under `prefix` (e.g. "ViewLayer.Combined.")."""
     return np.stack([channels[prefix + c] for c in "RGBA"], axis=-1)
+
+
+def luminance(rgba):
+    """Rec. 709 luminance of linear RGB(A) pixels."""
+    return rgba[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)

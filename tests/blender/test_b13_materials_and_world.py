@@ -47,10 +47,6 @@ def renders(request, tmp_path_factory):
     return r
 
 
-def _luminance(rgba):
-    return rgba[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
-
-
 def _ncc(a, b) -> float:
     a, b = a - a.mean(), b - b.mean()
     return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
@@ -60,9 +56,9 @@ def test_image_texture_on_uvs_matches_cycles(renders):
     ours, cycles = renders["checker"]["rgba"], renders["checker_cycles"]["rgba"]
     plane = (ours[..., 3] > 0.99) & (cycles[..., 3] > 0.99)
     assert plane.mean() > 0.9
-    lum = _luminance(ours)[plane]
+    lum = exr.luminance(ours)[plane]
     assert lum.std() > 0.05 * lum.mean(), "the texture's pattern is missing"
-    assert _ncc(lum, _luminance(cycles)[plane]) >= 0.95
+    assert _ncc(lum, exr.luminance(cycles)[plane]) >= 0.95
     assert "Textured" not in renders["checker"]["stdout"], "the textured material was reported as unsupported"
 
 
@@ -100,11 +96,11 @@ def test_emissive_object_is_seen_in_a_mirror(renders):
 
 
 def _shadow(render):
-    return float(_luminance(render["rgba"])[30:35, 14:19].mean())
+    return float(exr.luminance(render["rgba"])[30:35, 14:19].mean())
 
 
 def test_glass_and_alpha_panes_cast_lighter_shadows_than_an_opaque_pane(renders):
-    lit = float(_luminance(renders["pane_opaque"]["rgba"])[30:35, 40:45].mean())
+    lit = float(exr.luminance(renders["pane_opaque"]["rgba"])[30:35, 40:45].mean())
     opaque, alpha, glass = (_shadow(renders[f"pane_{p}"]) for p in ("opaque", "alpha", "glass"))
     assert opaque < 0.01 * lit
     assert alpha == pytest.approx(0.5 * lit, rel=0.02)

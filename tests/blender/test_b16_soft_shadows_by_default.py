@@ -19,7 +19,7 @@ def _render(kind, folder, *options):
     info = json.loads((folder / "gridwalk.json").read_text())
     assert "error" not in info, info
     rgba = exr.rgba(exr.read_exr(folder / "gridwalk.exr"), "ViewLayer.Combined.")
-    return rgba[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+    return exr.luminance(rgba)
 
 
 @pytest.fixture(scope="module", params=ALL_BLENDERS)

@@ -13,6 +13,12 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 
+def _image_record(image) -> dict:
+    pixels = image.pixels()          # a copy: taken once
+    return {"name": image.name, "shape": list(pixels.shape), "dtype": str(pixels.dtype),
+            "colorspace": image.colorspace, "memory_bytes": image.memory_bytes}
+
+
 def main(argv):
     import bpy  # noqa: F401  (the bpy module, or Blender's own)
     import numpy as np
@@ -43,9 +49,7 @@ def main(argv):
         result["background"] = list(scene_kwargs["background"])
         result["world"] = dataclasses.asdict(scene_kwargs["world"])
         result["warnings"] = warnings
-        result["images"] = [{"name": im.name, "shape": list(im.pixels().shape), "dtype": str(im.pixels().dtype),
-                             "colorspace": im.colorspace, "memory_bytes": im.memory_bytes}
-                            for im in scene_kwargs.get("images", [])]
+        result["images"] = [_image_record(im) for im in scene_kwargs.get("images", [])]
         result["textures"] = [dataclasses.asdict(t) for t in scene_kwargs.get("textures", [])]
         result["texture_bytes"] = scene_texture_bytes(depsgraph)
     with open(os.path.join(out_dir, "export.json"), "w") as f:

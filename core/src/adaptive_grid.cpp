@@ -242,10 +242,26 @@ private:
         }
         nd.first = uint32_t(g_.cells.size());
         nd.big = nd.big_count = 0;
+        nd.big_lo = nd.big_hi = Vec3(0, 0, 0);
+        nd.big_boxed = false;
         if (!big.empty()) {
             const AdaptiveGridData::Cell list_cell = leaf(big.data(), uint32_t(big.size()));
             nd.big = list_cell.a;
             nd.big_count = list_cell.b;
+            Bounds all = bounds_[big[0]];   // (primitive bounds are rounded outwards: they hold the primitive)
+            for (uint32_t prim : big) all.grow(bounds_[prim]);
+            nd.big_lo = all.lo;
+            nd.big_hi = all.hi;
+            // Worth a box check for closest-hit rays too where the list is
+            // costly to test (a quadric, tested in double, or more than 4
+            // triangles) and its box is small beside the node's (by surface
+            // area: the chance that a ray through the node meets it).
+            const uint32_t ntri = g_.refs[list_cell.a];
+            auto area = [](const Vec3& lo, const Vec3& hi) {
+                const double x = double(hi.x) - lo.x, y = double(hi.y) - lo.y, z = double(hi.z) - lo.z;
+                return x * y + y * z + z * x;
+            };
+            nd.big_boxed = (ntri < list_cell.b || ntri > 4) && area(all.lo, all.hi) < 0.5 * area(nd.lo, nd.hi);
         }
         g_.nodes.push_back(nd);
         grow_checked(g_.cells, g_.cells.size() + ncells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);

@@ -38,8 +38,12 @@ struct AdaptiveGridData {
         uint32_t first;       // index of the node's cell (0, 0, 0) in cells
         // The node's large primitives (refs[big] = number of triangles, then
         // the ids; big_count == 0: none): primitives that would cover many of
-        // its cells are tested once, when a ray enters the node, instead.
+        // its cells are tested once, when a ray enters the node, instead, if
+        // the ray's part in the node meets their box [big_lo, big_hi] (a floor
+        // is a thin slab, which rays leaving it upwards do not meet).
         uint32_t big, big_count;
+        Vec3 big_lo, big_hi;
+        bool big_boxed;   // closest-hit rays check the box too (see adaptive_walk.inc's meets_big)
     };
     // b == 0: empty, a = the box of empty cells around it in the same node,
     // packed as in empty_box.h; b == kChild: refined by node a; otherwise a

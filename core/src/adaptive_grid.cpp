@@ -248,7 +248,7 @@ private:
             const AdaptiveGridData::Cell list_cell = leaf(big.data(), uint32_t(big.size()));
             nd.big = list_cell.a;
             nd.big_count = list_cell.b;
-            Bounds all = bounds_[big[0]];   // (primitive bounds are rounded outwards: they hold the primitive)
+            Bounds all;   // (primitive bounds are rounded outwards: they hold the primitive)
             for (uint32_t prim : big) all.grow(bounds_[prim]);
             nd.big_lo = all.lo;
             nd.big_hi = all.hi;

@@ -1,6 +1,6 @@
 """The core's C++ unit tests (doctest, core/src/*_test.cpp beside the code
 they test: mailbox wrap-around, permutations and scrambling, empty-space
-distances, the triangle test's error bound, camera projections) build and pass."""
+distances, the triangle test's error bound, camera projections, primitive/box overlap) build and pass."""
 import re
 import subprocess
 import sys
@@ -28,4 +28,4 @@ def test_core_unit_tests_build_and_pass():
     declared = sum(len(re.findall(r"^TEST_CASE\(", f.read_text(), re.M)) for f in TEST_FILES)
     assert int(cases.group(1)) == int(cases.group(2)) == declared and int(cases.group(3)) == 0, out
     assert {f.stem for f in TEST_FILES} >= {"mailbox_test", "sampler_test", "empty_space_test", "triangle_test",
-                                          "camera_test"}
+                                          "camera_test", "overlap_test"}

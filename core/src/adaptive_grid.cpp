@@ -9,6 +9,7 @@
 
 #include "dda.h"
 #include "empty_box.h"
+#include "overlap.h"
 
 namespace gw {
 
@@ -115,7 +116,8 @@ private:
     // coordinate (a few float spacings at the box's magnitude, which far from
     // the origin can be a good part of a small cell), so that a primitive
     // touching a cell face within rounding error is listed on both sides.
-    static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3]) {
+    static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3],
+                           double pad_out[3] = nullptr) {
         for (int a = 0; a < 3; ++a) {
             if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
                 return false;
@@ -125,6 +127,7 @@ private:
             const double x1 = (double(b.hi[a]) - box.lo[a]) / cell[a] + pad;
             c0[a] = int(std::min(std::max(x0, 0.0), top));
             c1[a] = int(std::min(std::max(x1, 0.0), top));
+            if (pad_out) pad_out[a] = pad * cell[a];
         }
         return true;
     }
@@ -132,17 +135,12 @@ private:
     // Builds the node over `box` holding `prims`; returns its index, or -1
     // when refining would not separate the primitives (the caller keeps a leaf).
     // Total references the primitives would have in a grid of resolution n
-    // over box (each primitive counts the cells its clipped box overlaps).
+    // over box (for_cells: the cells each primitive meets).
     uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         uint64_t total = 0;
-        for (uint32_t prim : prims) {
-            check_cancel(cancel_, step_);
-            int c0[3], c1[3];
-            if (cell_range(bounds_[prim], box, cell, n, c0, c1))
-                total += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
-        }
+        for (uint32_t prim : prims) for_cells(prim, box, cell, n, [&](uint64_t) { ++total; });
         return total;
     }
 
@@ -317,16 +315,46 @@ private:
         return index;
     }
 
-    // Calls f(linear cell index) for each cell of the grid (box, n) that prim overlaps (cell_range).
+    // Calls f(linear cell index) for each cell of the grid (box, n) that prim
+    // meets: the cells its bounds overlap (cell_range), and of those, where
+    // there are several, the ones whose padded box the primitive itself meets
+    // (overlap.h). The padding is cell_range's, so that a hit found in a cell
+    // by the walk's rounded arithmetic is in a cell that lists the primitive.
     template <class F>
     void for_cells(uint32_t prim, const Box& box, const double cell[3], const int n[3], F&& f) {
         check_cancel(cancel_, step_);
         int c0[3], c1[3];
-        if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) return;
-        for (int z = c0[2]; z <= c1[2]; ++z) {
-            check_cancel(cancel_, step_, uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
-            for (int y = c0[1]; y <= c1[1]; ++y)
-                for (int x = c0[0]; x <= c1[0]; ++x) f((uint64_t(z) * n[1] + y) * n[0] + x);
+        double pad[3];
+        if (!cell_range(bounds_[prim], box, cell, n, c0, c1, pad)) return;
+        auto each = [&](auto&& meets) {
+            double m[3];   // a cell's centre
+            for (int z = c0[2]; z <= c1[2]; ++z) {
+                check_cancel(cancel_, step_, 8 * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
+                m[2] = box.lo[2] + (z + 0.5) * cell[2];
+                for (int y = c0[1]; y <= c1[1]; ++y) {
+                    m[1] = box.lo[1] + (y + 0.5) * cell[1];
+                    for (int x = c0[0]; x <= c1[0]; ++x) {
+                        m[0] = box.lo[0] + (x + 0.5) * cell[0];
+                        if (meets(m)) f((uint64_t(z) * n[1] + y) * n[0] + x);
+                    }
+                }
+            }
+        };
+        double half[3];
+        for (int a = 0; a < 3; ++a) half[a] = 0.5 * cell[a] + pad[a];
+        if (c0[0] == c1[0] && c0[1] == c1[1] && c0[2] == c1[2]) {
+            each([](const double*) { return true; });
+        } else if (prim < nt_) {
+            const Vec3* v = sc_.triangle_vertices() + 3 * size_t(prim);
+            const TriangleBoxTest test(v[0], v[1], v[2], half);
+            each([&](const double* m) { return test.meets(m); });
+        } else if (sc_.kind_of(prim) == PrimKind::Sphere) {
+            const size_t s = sc_.local_index(prim);
+            const Vec3& c = sc_.sphere_center(s);
+            const float r = sc_.sphere_radius(s);
+            each([&](const double* m) { return sphere_meets_box(c, r, m, half); });
+        } else {
+            each([](const double*) { return true; });   // a cone: its bounds
         }
     }
 
@@ -350,6 +378,7 @@ private:
     AdaptiveGridData& g_;
     const CancelToken* cancel_;
     uint64_t step_ = 0;   // for check_cancel
+    const uint32_t nt_ = uint32_t(sc_.num_triangles());
     std::vector<Bounds> bounds_;
 };
 

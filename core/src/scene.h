@@ -104,6 +104,8 @@ public:
     }
 
     Bounds prim_bounds(size_t prim) const;
+    const Vec3& sphere_center(size_t s) const { return centers_[s]; }
+    float sphere_radius(size_t s) const { return radii_[s]; }
     const Bounds& bounds() const { return bounds_; }
 
     // Tests one primitive; on a hit nearer than hit.t, updates hit and returns true.

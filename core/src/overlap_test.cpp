@@ -1,0 +1,105 @@
+// Primitive / box overlap (overlap.h): never "apart" for a triangle or sphere
+// that has a point in the box (checked against points sampled on the
+// primitive), and "apart" where a plane or a gap clearly separates them.
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "overlap.h"
+
+using namespace gw;
+
+namespace {
+
+// Whether any of a dense set of points of triangle abc (barycentric lattice,
+// edges included) lies inside the box centred at m with half sizes h.
+bool sampled_meets(const Vec3& a, const Vec3& b, const Vec3& c, const double m[3], const double h[3]) {
+    const int k = 40;
+    for (int i = 0; i <= k; ++i)
+        for (int j = 0; i + j <= k; ++j) {
+            const double u = double(i) / k, v = double(j) / k, w = 1 - u - v;
+            bool in = true;
+            for (int ax = 0; ax < 3 && in; ++ax) {
+                const double p = w * a[ax] + u * b[ax] + v * c[ax];
+                in = std::abs(p - m[ax]) <= h[ax];
+            }
+            if (in) return true;
+        }
+    return false;
+}
+
+Vec3 random_point(std::mt19937& rng, float scale) {
+    std::uniform_real_distribution<float> u(-scale, scale);
+    return Vec3(u(rng), u(rng), u(rng));
+}
+
+}  // namespace
+
+TEST_CASE("a triangle with a point in the box always meets it; most separated ones are found apart") {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 0.5);
+    int apart = 0, sampled_in = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        // Small and large triangles, slivers among them, against small boxes.
+        const float scale = trial % 3 == 0 ? 0.3f : 1.5f;
+        const Vec3 a = random_point(rng, scale);
+        const Vec3 b = trial % 7 == 0 ? a + (random_point(rng, scale) - a) * 1e-3f : random_point(rng, scale);
+        const Vec3 c = random_point(rng, scale);
+        const double m[3] = {u(rng), u(rng), u(rng)};
+        const double h[3] = {size(rng), size(rng), size(rng)};
+        const TriangleBoxTest test(a, b, c, h);
+        const bool in = sampled_meets(a, b, c, m, h);
+        sampled_in += in;
+        if (in) CHECK(test.meets(m));
+        // Apart answers must be true: outside the box's bounds of the corners, or
+        // separated by the plane, which the sampling cannot show; so check that
+        // the box grown by a hair still admits no sampled point.
+        if (!test.meets(m)) {
+            ++apart;
+            const double grown[3] = {h[0] * 1.0001, h[1] * 1.0001, h[2] * 1.0001};
+            CHECK_FALSE(sampled_meets(a, b, c, m, grown));
+        }
+    }
+    CHECK(sampled_in > 2000);
+    CHECK(apart > 2000);
+}
+
+TEST_CASE("a sloped triangle is apart from the boxes of its bounds that only its bounds reach") {
+    // The triangle x + y + z = 1 (x, y, z >= 0) and unit-ish cells of a 2 x 2 x 2 grid over [0, 1]^3.
+    const Vec3 a(1, 0, 0), b(0, 1, 0), c(0, 0, 1);
+    const double h[3] = {0.25, 0.25, 0.25};
+    const TriangleBoxTest test(a, b, c, h);
+    const double near[3] = {0.25, 0.25, 0.25}, far[3] = {0.75, 0.75, 0.75}, side[3] = {0.75, 0.25, 0.25};
+    CHECK(test.meets(near));
+    CHECK_FALSE(test.meets(far));   // the triangle's bounds cover this cell, the triangle does not
+    CHECK(test.meets(side));
+}
+
+TEST_CASE("degenerate and non-finite triangles are never called apart from a box they may touch") {
+    const double h[3] = {0.5, 0.5, 0.5}, m[3] = {0, 0, 0};
+    // A segment through the box, a point inside it.
+    CHECK(TriangleBoxTest(Vec3(-2, 0.1f, 0.1f), Vec3(2, 0.1f, 0.1f), Vec3(0, 0.1f, 0.1f), h).meets(m));
+    CHECK(TriangleBoxTest(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), h).meets(m));
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    CHECK(TriangleBoxTest(Vec3(nan, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), h).meets(m));
+    // A segment beside the box is apart.
+    CHECK_FALSE(TriangleBoxTest(Vec3(-2, 0.7f, 0.1f), Vec3(2, 0.7f, 0.1f), Vec3(0, 0.7f, 0.1f), h).meets(m));
+}
+
+TEST_CASE("far from the origin, a triangle touching a cell within rounding is still listed") {
+    // A cell of size 1e-3 at 1e5: the triangle's plane passes 1e-9 inside the cell's corner.
+    const double h[3] = {0.5e-3, 0.5e-3, 0.5e-3};
+    const double m[3] = {1e5 + 0.5e-3, 1e5 + 0.5e-3, 1e5 + 0.5e-3};
+    const float x = float(1e5);
+    // Plane z = x0 (the cell's lower z face, exactly representable).
+    CHECK(TriangleBoxTest(Vec3(x - 1, x - 1, x), Vec3(x + 1, x - 1, x), Vec3(x, x + 1, x), h).meets(m));
+}
+
+TEST_CASE("a sphere meets a box exactly when its centre is within its radius of it") {
+    const double h[3] = {0.5, 0.5, 0.5}, m[3] = {0, 0, 0};
+    CHECK(sphere_meets_box(Vec3(0, 0, 0), 0.1f, m, h));          // inside
+    CHECK(sphere_meets_box(Vec3(1.0f, 0, 0), 0.5f, m, h));        // touching a face
+    CHECK(sphere_meets_box(Vec3(1.2f, 1.2f, 0), 1.0f, m, h));     // near an edge: gap 0.7 * sqrt 2 = 0.99
+    CHECK_FALSE(sphere_meets_box(Vec3(1.3f, 1.3f, 0), 1.0f, m, h));   // gap 0.8 * sqrt 2 = 1.13
+    CHECK_FALSE(sphere_meets_box(Vec3(1.3f, 1.3f, 1.3f), 1.3f, m, h));   // corner: gap 0.8 * sqrt 3 = 1.39
+}

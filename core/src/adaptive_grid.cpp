@@ -91,6 +91,7 @@ public:
     }
 
     uint64_t refs() const { return g_.refs.size(); }
+    double root_density() const { return root_density_; }
 
 private:
     // Resolution of a grid over `box` for n primitives at `density` cells per
@@ -148,7 +149,9 @@ private:
         // The finest resolution up to the density whose references stay within
         // max_refs_per_prim per primitive: primitives as large as the cells
         // would otherwise be listed in many of them.
-        double density = depth == 0 ? p_.root_density : p_.sub_density;
+        double density = p_.sub_density;
+        if (depth == 0)   // (the root's cells stay within root_cells)
+            density = std::min(p_.root_density, double(p_.root_cells) / double(std::max<size_t>(prims.size(), 1)));
         int n[3] = {1, 1, 1};
         const uint64_t allowed = uint64_t(p_.max_refs_per_prim * double(prims.size()));
         for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
@@ -160,6 +163,7 @@ private:
             }
             if (density * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
         }
+        if (depth == 0) root_density_ = density;
         const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
         if (depth > 0 && ncells <= 1) return -1;
         // Large primitives: those covering the most cells, beyond big_cells, at
@@ -380,6 +384,7 @@ private:
     uint64_t step_ = 0;   // for check_cancel
     const uint32_t nt_ = uint32_t(sc_.num_triangles());
     std::vector<Bounds> bounds_;
+    double root_density_ = 0;   // cells per primitive the root got
 };
 
 }  // namespace
@@ -398,7 +403,8 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
     info_.refs = g_.refs.size();
     info_.bytes = g_.nodes.size() * sizeof(AdaptiveGridData::Node) + g_.cells.size() * sizeof(AdaptiveGridData::Cell) +
                   g_.refs.size() * sizeof(uint32_t);
-    info_.density_requested = info_.density_used = p.root_density;
+    info_.density_requested = p.root_density;
+    info_.density_used = b.root_density();
     info_.kind = "adaptive grid";
     info_.grids = g_.nodes.size();
     info_.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

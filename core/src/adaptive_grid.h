@@ -16,7 +16,8 @@ namespace gw {
 constexpr int kMaxGridDepth = 7;   // refining levels the traversal's stack holds
 
 struct AdaptiveParams {
-    double root_density = 1.0;   // root grid: cells per primitive
+    double root_density = 1.0;   // root grid: cells per primitive ...
+    uint64_t root_cells = 1ull << 16;   // ... up to this many cells (a root that stays in cache; its cells refine)
     double sub_density = 2.0;    // refining grids: cells per primitive of their cell
     int leaf_size = RenderSettings{}.leaf_size;     // a cell with more primitives than this is refined (deeper: x 4 per level)
     int max_depth = RenderSettings{}.grid_levels;   // refining levels below the root

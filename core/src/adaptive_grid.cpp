@@ -137,11 +137,15 @@ private:
     // when refining would not separate the primitives (the caller keeps a leaf).
     // Total references the primitives would have in a grid of resolution n
     // over box (for_cells: the cells each primitive meets).
-    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) {
+    // (Counting stops once past `limit`.)
+    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         uint64_t total = 0;
-        for (uint32_t prim : prims) for_cells(prim, box, cell, n, [&](uint64_t) { ++total; });
+        for (uint32_t prim : prims) {
+            for_cells(prim, box, cell, n, [&](uint64_t) { ++total; });
+            if (total > limit) break;
+        }
         return total;
     }
 
@@ -157,7 +161,7 @@ private:
         for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
             int m[3];
             resolution(box, prims.size(), density, m);
-            if (uint64_t(m[0]) * m[1] * m[2] <= 1 || count_refs(box, prims, m) <= allowed) {
+            if (uint64_t(m[0]) * m[1] * m[2] <= 1 || count_refs(box, prims, m, allowed) <= allowed) {
                 std::copy(m, m + 3, n);
                 break;
             }

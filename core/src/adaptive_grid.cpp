@@ -118,7 +118,8 @@ private:
     // the origin can be a good part of a small cell), so that a primitive
     // touching a cell face within rounding error is listed on both sides.
     static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3],
-                           double pad_out[3] = nullptr) {
+                           double pad_out[3] = nullptr, bool* inside = nullptr) {
+        if (inside) *inside = true;
         for (int a = 0; a < 3; ++a) {
             if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
                 return false;
@@ -129,6 +130,7 @@ private:
             c0[a] = int(std::min(std::max(x0, 0.0), top));
             c1[a] = int(std::min(std::max(x1, 0.0), top));
             if (pad_out) pad_out[a] = pad * cell[a];
+            if (inside && (x0 < 0 || x1 >= double(n[a]))) *inside = false;   // clipped to the grid
         }
         return true;
     }
@@ -333,7 +335,8 @@ private:
         check_cancel(cancel_, step_);
         int c0[3], c1[3];
         double pad[3];
-        if (!cell_range(bounds_[prim], box, cell, n, c0, c1, pad)) return;
+        bool inside;
+        if (!cell_range(bounds_[prim], box, cell, n, c0, c1, pad, &inside)) return;
         auto each = [&](auto&& meets) {
             double m[3];   // a cell's centre
             for (int z = c0[2]; z <= c1[2]; ++z) {
@@ -350,7 +353,10 @@ private:
         };
         double half[3];
         for (int a = 0; a < 3; ++a) half[a] = 0.5 * cell[a] + pad[a];
-        if (c0[0] == c1[0] && c0[1] == c1[1] && c0[2] == c1[2]) {
+        // A connected primitive whose bounds, unclipped, are one cell thick
+        // along two axes meets every cell of its range (it spans the third
+        // axis continuously, within the one cell along the others).
+        if (inside && int(c0[0] != c1[0]) + int(c0[1] != c1[1]) + int(c0[2] != c1[2]) <= 1) {
             each([](const double*) { return true; });
         } else if (prim < nt_) {
             const Vec3* v = sc_.triangle_vertices() + 3 * size_t(prim);

@@ -139,16 +139,31 @@ private:
     // when refining would not separate the primitives (the caller keeps a leaf).
     // Total references the primitives would have in a grid of resolution n
     // over box (for_cells: the cells each primitive meets).
-    // (Counting stops once past `limit`.)
-    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit) {
+    // The cells each of a node's primitives meets (for_cells), recorded once
+    // and read by both passes that fill the node's lists.
+    struct CellLists {
+        std::vector<uint32_t> first;   // per primitive (its position in the node's list): start in cells
+        std::vector<uint32_t> cells;   // linear cell indices
+        void clear() { first.clear(); cells.clear(); }
+        void release() { std::vector<uint32_t>().swap(first); std::vector<uint32_t>().swap(cells); }
+    };
+
+    // Records the cells of a grid of resolution n over box that each
+    // primitive meets; returns their total, or stops (returning more than
+    // limit, with out incomplete) once past limit.
+    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
+                        CellLists& out) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
-        uint64_t total = 0;
+        out.clear();
+        out.first.reserve(prims.size() + 1);
+        out.first.push_back(0);
         for (uint32_t prim : prims) {
-            for_cells(prim, box, cell, n, [&](uint64_t) { ++total; });
-            if (total > limit) break;
+            for_cells(prim, box, cell, n, [&](uint64_t c) { out.cells.push_back(uint32_t(c)); });
+            out.first.push_back(uint32_t(out.cells.size()));
+            if (out.cells.size() > limit) break;
         }
-        return total;
+        return out.cells.size();
     }
 
     int64_t node(const Box& box, const std::vector<uint32_t>& prims, int depth) {
@@ -160,11 +175,18 @@ private:
             density = std::min(p_.root_density, double(p_.root_cells) / double(std::max<size_t>(prims.size(), 1)));
         int n[3] = {1, 1, 1};
         const uint64_t allowed = uint64_t(p_.max_refs_per_prim * double(prims.size()));
+        CellLists met;
+        bool recorded = false;   // met holds the cells of resolution n
         for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
             int m[3];
             resolution(box, prims.size(), density, m);
-            if (uint64_t(m[0]) * m[1] * m[2] <= 1 || count_refs(box, prims, m, allowed) <= allowed) {
+            if (uint64_t(m[0]) * m[1] * m[2] <= 1) {
                 std::copy(m, m + 3, n);
+                break;
+            }
+            if (count_refs(box, prims, m, allowed, met) <= allowed) {
+                std::copy(m, m + 3, n);
+                recorded = true;
                 break;
             }
             if (density * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
@@ -175,8 +197,6 @@ private:
         // Large primitives: those covering the most cells, beyond big_cells, at
         // most big_max of them; the node tests them once per ray.
         std::vector<uint32_t> big;
-        std::vector<uint32_t> rest_storage;
-        const std::vector<uint32_t>* use = &prims;
         {
             double cs[3];
             for (int a = 0; a < 3; ++a) cs[a] = (box.hi[a] - box.lo[a]) / n[a];
@@ -196,25 +216,28 @@ private:
                 if (wide.size() > size_t(p_.big_max)) wide.resize(size_t(p_.big_max));
                 for (const auto& w : wide) big.push_back(w.second);
                 std::sort(big.begin(), big.end());
-                rest_storage.reserve(prims.size() - big.size());
-                for (uint32_t prim : prims)
-                    if (!std::binary_search(big.begin(), big.end(), prim)) rest_storage.push_back(prim);
-                use = &rest_storage;
             }
         }
-        const std::vector<uint32_t>& rest = *use;
         if (g_.cells.size() + ncells > p_.max_cells) {
             if (depth > 0) return -1;
             throw std::invalid_argument("adaptive grid: the cell cap is too small for the root grid");
         }
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
+        if (!recorded) count_refs(box, prims, n, UINT64_MAX, met);
+        // The cells of prims[i] (not a large primitive): met.cells[met.first[i] .. met.first[i + 1]).
+        auto each_rest = [&](auto&& f) {
+            for (size_t i = 0; i < prims.size(); ++i) {
+                check_cancel(cancel_, step_, 1 + met.first[i + 1] - met.first[i]);
+                if (!big.empty() && std::binary_search(big.begin(), big.end(), prims[i])) continue;
+                for (uint32_t k = met.first[i]; k < met.first[i + 1]; ++k) f(prims[i], met.cells[k]);
+            }
+        };
         // Pass 1: count references per cell.
         std::vector<uint32_t> count;
         assign_checked(count, ncells + 1, 0u, cancel_, step_);
         uint64_t total = 0;
-        for (uint32_t prim : rest)
-            for_cells(prim, box, cell, n, [&](uint64_t c) { ++count[c]; ++total; });
+        each_rest([&](uint32_t, uint32_t c) { ++count[c]; ++total; });
         uint32_t most = 0;
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
@@ -236,8 +259,8 @@ private:
         }
         std::vector<uint32_t> list;
         assign_checked(list, total, 0u, cancel_, step_);
-        for (uint32_t prim : rest)
-            for_cells(prim, box, cell, n, [&](uint64_t c) { list[count[c]++] = prim; });
+        each_rest([&](uint32_t prim, uint32_t c) { list[count[c]++] = prim; });
+        met.release();
         // The node, and its cells (filled below; children append after them).
         const uint32_t index = uint32_t(g_.nodes.size());
         AdaptiveGridData::Node nd;

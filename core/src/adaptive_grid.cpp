@@ -135,10 +135,6 @@ private:
         return true;
     }
 
-    // Builds the node over `box` holding `prims`; returns its index, or -1
-    // when refining would not separate the primitives (the caller keeps a leaf).
-    // Total references the primitives would have in a grid of resolution n
-    // over box (for_cells: the cells each primitive meets).
     // The cells each of a node's primitives meets (for_cells), recorded once
     // and read by both passes that fill the node's lists.
     struct CellLists {
@@ -166,6 +162,8 @@ private:
         return out.cells.size();
     }
 
+    // Builds the node over `box` holding `prims`; returns its index, or -1
+    // when refining would not separate the primitives (the caller keeps a leaf).
     int64_t node(const Box& box, const std::vector<uint32_t>& prims, int depth) {
         // The finest resolution up to the density whose references stay within
         // max_refs_per_prim per primitive: primitives as large as the cells
@@ -182,16 +180,17 @@ private:
             resolution(box, prims.size(), density, m);
             if (uint64_t(m[0]) * m[1] * m[2] <= 1) {
                 std::copy(m, m + 3, n);
+                if (depth == 0) root_density_ = density;
                 break;
             }
             if (count_refs(box, prims, m, allowed, met) <= allowed) {
                 std::copy(m, m + 3, n);
                 recorded = true;
+                if (depth == 0) root_density_ = density;
                 break;
             }
             if (density * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
         }
-        if (depth == 0) root_density_ = density;
         const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
         if (depth > 0 && ncells <= 1) return -1;
         // Large primitives: those covering the most cells, beyond big_cells, at
@@ -417,7 +416,7 @@ private:
     uint64_t step_ = 0;   // for check_cancel
     const uint32_t nt_ = uint32_t(sc_.num_triangles());
     std::vector<Bounds> bounds_;
-    double root_density_ = 0;   // cells per primitive the root got
+    double root_density_ = 0;   // cells per primitive the root was built for (0: one cell, no density fitted)
 };
 
 }  // namespace

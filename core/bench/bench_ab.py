@@ -125,12 +125,12 @@ def main(argv=None) -> int:
         wants_suzanne = any(s in ("suzanne", "scan_on_plane", "scans_on_floor") for s in args.scenes)
         suzanne = export_suzanne(tmp, [1, 3]) if wants_suzanne else None
         rows, ratios = [], {k: [] for k in KINDS}
-        for name, kw, _ in scenes_for(sizes, suzanne):   # (analytic variants: their triangle twin is enough here)
+        for name, kw, gw_kw in scenes_for(sizes, suzanne):   # (gw_kw: an analytic variant's own primitives)
             log(name)
             tri_scene = gw.Scene(vertices=kw["vertices"], triangles=kw["triangles"], camera=kw["camera"])
             rays = ray_sets(kw, args.rays, seed=1, scene=tri_scene)
             rays["shadow"] = shadow_rays(tri_scene, kw, *rays["primary"][:2], args.rays, np.random.default_rng(2))
-            r = compare(mods, kw, rays, args.rounds)
+            r = compare(mods, gw_kw or kw, rays, args.rounds)
             for kind in KINDS:
                 k = r[kind]
                 ratio = k["rate"][1] / k["rate"][0]

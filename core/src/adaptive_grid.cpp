@@ -147,7 +147,7 @@ private:
     // Records the cells of a grid of resolution n over box that each
     // primitive meets; returns their total, or stops (returning more than
     // limit, with out incomplete) once past limit.
-    uint64_t count_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
+    uint64_t find_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
                         CellLists& out) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
@@ -183,7 +183,7 @@ private:
                 if (depth == 0) root_density_ = density;
                 break;
             }
-            if (count_refs(box, prims, m, allowed, met) <= allowed) {
+            if (find_cells(box, prims, m, allowed, met) <= allowed) {
                 std::copy(m, m + 3, n);
                 recorded = true;
                 if (depth == 0) root_density_ = density;
@@ -223,7 +223,7 @@ private:
         }
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
-        if (!recorded) count_refs(box, prims, n, UINT64_MAX, met);
+        if (!recorded) find_cells(box, prims, n, UINT64_MAX, met);
         // The cells of prims[i] (not a large primitive): met.cells[met.first[i] .. met.first[i + 1]).
         auto each_rest = [&](auto&& f) {
             for (size_t i = 0; i < prims.size(); ++i) {
@@ -298,7 +298,6 @@ private:
         std::vector<uint8_t> occupied;
         assign_checked(occupied, ncells, uint8_t(0), cancel_, step_);
         std::vector<uint32_t> sub;
-        const uint32_t nt = uint32_t(sc_.num_triangles());
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             const uint32_t b = start[c], e = start[c + 1];
@@ -310,7 +309,7 @@ private:
             // quadric counts as kQuadricCost triangles: it is tested alone, in
             // double, where triangles share SIMD tests.
             uint64_t cost = 0;
-            for (uint32_t k = b; k < e; ++k) cost += list[k] < nt ? 1 : kQuadricCost;
+            for (uint32_t k = b; k < e; ++k) cost += list[k] < nt_ ? 1 : kQuadricCost;
             if (cost > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
                 sub.assign(list.begin() + b, list.begin() + e);
                 check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
@@ -378,33 +377,32 @@ private:
         // A connected primitive whose bounds, unclipped, are one cell thick
         // along two axes meets every cell of its range (it spans the third
         // axis continuously, within the one cell along the others).
-        if (inside && int(c0[0] != c1[0]) + int(c0[1] != c1[1]) + int(c0[2] != c1[2]) <= 1) {
+        // (Cones are listed by their bounds.)
+        if ((inside && int(c0[0] != c1[0]) + int(c0[1] != c1[1]) + int(c0[2] != c1[2]) <= 1) ||
+            sc_.kind_of(prim) == PrimKind::Cone) {
             each([](const double*) { return true; });
         } else if (prim < nt_) {
             const Vec3* v = sc_.triangle_vertices() + 3 * size_t(prim);
             const TriangleBoxTest test(v[0], v[1], v[2], half);
             each([&](const double* m) { return test.meets(m); });
-        } else if (sc_.kind_of(prim) == PrimKind::Sphere) {
+        } else {
             const size_t s = sc_.local_index(prim);
             const Vec3& c = sc_.sphere_center(s);
             const float r = sc_.sphere_radius(s);
             each([&](const double* m) { return sphere_meets_box(c, r, m, half); });
-        } else {
-            each([](const double*) { return true; });   // a cone: its bounds
         }
     }
 
     // A leaf: refs gets [number of triangles, triangles..., quadrics...].
     AdaptiveGridData::Cell leaf(const uint32_t* ids, uint32_t count) {
         const uint32_t at = uint32_t(g_.refs.size());
-        const uint32_t nt = uint32_t(sc_.num_triangles());
         check_cancel(cancel_, step_, 2 * uint64_t(count));
         g_.refs.push_back(0);
         uint32_t ntri = 0;
         for (uint32_t i = 0; i < count; ++i)
-            if (ids[i] < nt) { g_.refs.push_back(ids[i]); ++ntri; }
+            if (ids[i] < nt_) { g_.refs.push_back(ids[i]); ++ntri; }
         for (uint32_t i = 0; i < count; ++i)
-            if (ids[i] >= nt) g_.refs.push_back(ids[i]);
+            if (ids[i] >= nt_) g_.refs.push_back(ids[i]);
         g_.refs[at] = ntri;
         return AdaptiveGridData::Cell{at, count};
     }
@@ -414,7 +412,7 @@ private:
     AdaptiveGridData& g_;
     const CancelToken* cancel_;
     uint64_t step_ = 0;   // for check_cancel
-    const uint32_t nt_ = uint32_t(sc_.num_triangles());
+    const uint32_t nt_ = uint32_t(sc_.num_triangles());   // primitives below this index are triangles
     std::vector<Bounds> bounds_;
     double root_density_ = 0;   // cells per primitive the root was built for (0: one cell, no density fitted)
 };

@@ -15,13 +15,18 @@ struct DdaDirection {
     Vec3 d, inv;   // inv = 1/d, or inf where d = 0
 };
 
-inline DdaDirection dda_direction(const Vec3& d) {
+// The DDA's direction alone (its zeros are +0).
+inline Vec3 dda_d(const Vec3& d) {
     const float m = std::max(std::abs(d.x), std::max(std::abs(d.y), std::abs(d.z)));
+    Vec3 out;
+    for (int a = 0; a < 3; ++a) out[a] = std::abs(d[a]) >= m * 0x1p-40f ? d[a] : 0.0f;
+    return out;
+}
+
+inline DdaDirection dda_direction(const Vec3& d) {
     DdaDirection out;
-    for (int a = 0; a < 3; ++a) {
-        out.d[a] = std::abs(d[a]) >= m * 0x1p-40f ? d[a] : 0.0f;
-        out.inv[a] = out.d[a] != 0 ? 1.0f / out.d[a] : kInf;
-    }
+    out.d = dda_d(d);
+    for (int a = 0; a < 3; ++a) out.inv[a] = out.d[a] != 0 ? 1.0f / out.d[a] : kInf;
     return out;
 }
 
@@ -59,6 +64,41 @@ inline bool clip_to_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const Dd
         t1 = tf < t1 ? tf : t1;
         if (!(t0 <= t1)) return false;
     }
+    return true;
+}
+
+// clip_to_box in double, for the adaptive grid's walk, whose parameters are
+// doubles (adaptive_walk.inc): dir is the DDA's direction (dda_d) and inv
+// holds 1/dir in double (inf where dir is 0). The segment left is widened by
+// 2^-20 of its ends: a box that holds a primitive must also hold the hits
+// its float test reports, which can lie outside it by the test's rounding (a
+// ray aimed at a triangle's corner on the box, where double finds the ray
+// passing just outside). That rounding is about 2^-24 of the distance from
+// the ray's origin, as is clip_to_box's own relaxation.
+inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const Vec3& dir, const double inv[3],
+                          double& t0, double& t1) {
+    double n = t0, f = t1;
+    for (int a = 0; a < 3; ++a) {
+        double tn, tf;
+        if (dir[a] == 0) {
+            if (ray.d[a] == 0) {
+                if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return false;
+                continue;
+            }
+            tn = (double(lo[a]) - double(ray.o[a])) / double(ray.d[a]);
+            tf = (double(hi[a]) - double(ray.o[a])) / double(ray.d[a]);
+        } else {
+            tn = (double(lo[a]) - double(ray.o[a])) * inv[a];
+            tf = (double(hi[a]) - double(ray.o[a])) * inv[a];
+        }
+        n = std::max(n, std::min(tn, tf));
+        f = std::min(f, std::max(tn, tf));
+    }
+    n -= std::abs(n) * 0x1p-20;
+    f += std::abs(f) * 0x1p-20;
+    if (!(n <= f)) return false;
+    t0 = std::max(t0, n);
+    t1 = std::min(t1, f);
     return true;
 }
 

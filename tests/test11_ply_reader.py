@@ -1,4 +1,4 @@
-"""PLY reader: the three encodings, polygons, normals, colours, the default view and
+"""PLY reader: the three encodings, polygons, normals (and the smooth shading they give), colours, the default view and
 one test per kind of malformed input (scanner layouts: test18)."""
 import math
 
@@ -211,3 +211,35 @@ def test_convex_hexagon_is_a_fan_covering_its_area(tmp_path):
     area = np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum() / 2
     assert mesh.triangles.tolist() == [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]]
     assert area == pytest.approx(3 * math.sqrt(3) / 2, rel=1e-6)
+
+def test_vertex_normals_shade_a_coarse_sphere_like_a_fine_one(tmp_path):
+    # A 6 x 12 UV sphere read with its vertex normals is shaded smoothly: away from the
+    # silhouette, it is far closer to a 96 x 192 sphere (flat shading, as good as smooth at that
+    # size) than the same coarse sphere read without normals, whose facets show.
+    import dataclasses
+
+    import gridwalk as gw
+    from meshes import uv_sphere
+
+    def sphere_ply(name, rings, with_normals):
+        v, f = uv_sphere(rings, 2 * rings, jitter=0.0)
+        dtype = VERTEX_DTYPE[:6] if with_normals else VERTEX_DTYPE[:3]
+        rows = np.hstack([v, v / np.linalg.norm(v, axis=1, keepdims=True)]) if with_normals else v
+        return load_ply(write_ply(tmp_path / name, rows.tolist(), f.tolist(), dtype, "binary_little_endian"))
+
+    fine = sphere_ply("fine.ply", 96, False)
+    camera = dataclasses.replace(fine["camera"], width=64, height=64)
+    images = {}
+    for name, scene in (("fine", fine), ("smooth", sphere_ply("smooth.ply", 6, True)),
+                        ("flat", sphere_ply("flat.ply", 6, False))):
+        scene = dict(scene, camera=camera, lights=fine["lights"])
+        images[name] = gw.render(gw.Scene(**scene), gw.RenderSettings(threads=1, aa_samples=1))
+    inside = np.all([image[..., 3] == 1 for image in images.values()], axis=0)
+    for _ in range(2):   # away from the silhouettes, which differ (the coarse one is a polygon)
+        inside[1:-1, 1:-1] &= inside[:-2, 1:-1] & inside[2:, 1:-1] & inside[1:-1, :-2] & inside[1:-1, 2:]
+    assert inside.mean() > 0.1
+
+    def error(name):
+        return float(np.abs(images[name][inside, :3] - images["fine"][inside, :3]).mean())
+    # (0.011 against 0.041: the rest is the coarse sphere's shadow terminator and highlight)
+    assert error("smooth") < 0.5 * error("flat"), (error("smooth"), error("flat"))

@@ -172,7 +172,10 @@ private:
         if (depth == 0)   // (the root's cells stay within root_cells)
             density = std::min(p_.root_density, double(p_.root_cells) / double(std::max<size_t>(prims.size(), 1)));
         int n[3] = {1, 1, 1};
-        const uint64_t allowed = uint64_t(p_.max_refs_per_prim * double(prims.size()));
+        // (Also below 2^32: CellLists' offsets are 32-bit. Only a node of
+        // over 1.4e9 primitives reaches that, and takes a coarser grid.)
+        const uint64_t allowed = std::min<uint64_t>(uint64_t(p_.max_refs_per_prim * double(prims.size())),
+                                                    0xFFFFFFFFull - (1ull << 27));
         CellLists met;
         bool recorded = false;   // met holds the cells of resolution n
         for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {

@@ -69,15 +69,16 @@ inline bool clip_to_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const Dd
 
 // clip_to_box in double, for the adaptive grid's walk, whose parameters are
 // doubles (adaptive_walk.inc): dir is the DDA's direction (dda_d) and inv
-// holds 1/dir in double (inf where dir is 0). The segment left is widened by
-// 2^-20 of its ends: a box that holds a primitive must also hold the hits
-// its float test reports, which can lie outside it by the test's rounding (a
-// ray aimed at a triangle's corner on the box, where double finds the ray
-// passing just outside). That rounding is about 2^-24 of the distance from
-// the ray's origin, as is clip_to_box's own relaxation.
+// holds 1/dir in double (inf where dir is 0). The box's own interval along
+// the ray is widened by 2^-20 of its ends before [t0, t1] is cut to it: a box
+// that holds a primitive must also hold the hits its float test reports,
+// which can lie outside it by the test's rounding (a ray aimed at a
+// triangle's corner on the box, where double finds the ray passing just
+// outside). That rounding is about 2^-24 of the distance from the ray's
+// origin, as is clip_to_box's own relaxation. False when nothing is left.
 inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const Vec3& dir, const double inv[3],
                           double& t0, double& t1) {
-    double n = t0, f = t1;
+    double n = -std::numeric_limits<double>::infinity(), f = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
         double tn, tf;
         if (dir[a] == 0) {
@@ -94,12 +95,9 @@ inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const 
         n = std::max(n, std::min(tn, tf));
         f = std::min(f, std::max(tn, tf));
     }
-    n -= std::abs(n) * 0x1p-20;
-    f += std::abs(f) * 0x1p-20;
-    if (!(n <= f)) return false;
-    t0 = std::max(t0, n);
-    t1 = std::min(t1, f);
-    return true;
+    t0 = std::max(t0, n - std::abs(n) * 0x1p-20);
+    t1 = std::min(t1, f + std::abs(f) * 0x1p-20);
+    return t0 <= t1;
 }
 
 }  // namespace gw

@@ -117,7 +117,7 @@ def run(engine, job, writer: ResultWriter) -> bool:
                     writer.write(tile.x, tile.y, {"rgba": tile.rgba, **(tile.passes or {})})
                 writer.ensure_written()
                 return False
-            time.sleep(POLL_SECONDS)
+            job.wait_for(POLL_SECONDS)   # returns as soon as a tile is done or the job ends
         job.wait()                  # rethrows a worker's error
         for tile in job.poll():     # the last tiles, if any finished after the final poll
             writer.write(tile.x, tile.y, {"rgba": tile.rgba, **(tile.passes or {})})

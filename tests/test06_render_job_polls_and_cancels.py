@@ -5,6 +5,7 @@ import os
 import time
 
 import numpy as np
+import pytest
 
 import gridwalk as gw
 from gridwalk.scenes import balls
@@ -141,3 +142,29 @@ def test_a_region_job_holds_only_its_pixels_and_gives_every_pass_of_the_whole_im
         assert np.array_equal(t.rgba, whole.image[rows, cols])
         for name in ("depth", "normal", "albedo"):
             assert np.array_equal(t.passes[name], getattr(whole, name)[rows, cols]), name
+
+
+def test_wait_for_returns_at_each_finished_tile_and_at_once_at_the_end():
+    # A slow render of 64 tiles on one thread: wait_for(30) returns when the next tile is done,
+    # long before 30 s and before the job ends; once it has ended, at once, True. Before
+    # start() it refuses; a NaN or negative wait is no wait.
+    sc = scene(size=3, res=128)
+    slow = gw.RenderSettings(aa="jittered", aa_samples=3, tile_size=16, threads=1)
+    job = gw.RenderJob(sc, slow)
+    with pytest.raises(RuntimeError, match="before start"):
+        job.wait_for(0.1)
+    job.start()
+    woke = []
+    while True:
+        before = job.tiles_done
+        t0 = time.perf_counter()
+        ended = job.wait_for(30)
+        woke.append(time.perf_counter() - t0)
+        if ended:
+            break
+        assert job.tiles_done > before   # (woken by a tile, not by the timeout)
+    assert job.tiles_done == 64 and len(woke) >= 2 and max(woke) < 10
+    t0 = time.perf_counter()
+    assert job.wait_for(30) and job.wait_for(float("nan")) and job.wait_for(-1)
+    assert time.perf_counter() - t0 < 0.1
+    job.wait()

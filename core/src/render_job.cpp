@@ -101,6 +101,7 @@ void RenderJob::worker() {
             if (complete) {
                 ready_.push_back(tile);
                 tiles_done_.fetch_add(1);
+                ready_cv_.notify_all();
             }
         }
     } catch (const std::exception& e) {
@@ -114,6 +115,7 @@ void RenderJob::worker() {
     }
     std::lock_guard<std::mutex> lock(mu_);
     if (finished_workers_.fetch_add(1) + 1 == nthreads_.load()) t_end_ = now_seconds();
+    ready_cv_.notify_all();
 }
 
 std::vector<Tile> RenderJob::poll() {
@@ -139,6 +141,16 @@ void RenderJob::wait() {
     join_all();
     std::lock_guard<std::mutex> lock(mu_);
     if (!error_.empty()) throw std::runtime_error("render failed: " + error_);
+}
+
+bool RenderJob::wait_for(double seconds) {
+    if (!started_.load()) throw std::logic_error("RenderJob.wait_for() called before start(): nothing is rendering");
+    seconds = seconds > 0 ? std::min(seconds, 1e6) : 0.0;   // (NaN: 0)
+    std::unique_lock<std::mutex> lock(mu_);
+    const int seen = tiles_done_.load();   // (tiles_done_ grows under mu_)
+    ready_cv_.wait_for(lock, std::chrono::duration<double>(seconds),
+                       [&] { return tiles_done_.load() != seen || finished(); });
+    return finished();
 }
 
 double RenderJob::elapsed() const {

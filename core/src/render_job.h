@@ -4,6 +4,7 @@
 // the image is bit-identical for any thread count, tile size or tile order.
 #pragma once
 #include <atomic>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -32,6 +33,11 @@ public:
     std::vector<Tile> poll();            // tiles finished since the last poll
     void cancel();                       // returns once every worker has stopped
     void wait();                         // joins; rethrows a worker's error
+    // Blocks until another tile is finished, every worker has stopped, or
+    // `seconds` have passed (at most 1e6; NaN or negative: 0); returns
+    // finished(). For a host that shows progress or streams tiles: it sees
+    // them as they are done, and the end at once, without a timer's delay.
+    bool wait_for(double seconds);
     bool finished() const { return started_.load() && finished_workers_.load() == nthreads_.load(); }
     bool cancelled() const { return cancel_.load(); }
     int tiles_done() const { return tiles_done_.load(); }
@@ -65,6 +71,7 @@ private:
     std::atomic<int> nthreads_{0};
     std::mutex join_mu_;   // wait() and cancel() may be called from two Python threads at once
     mutable std::mutex mu_;
+    std::condition_variable ready_cv_;   // (with mu_) a tile was finished or a worker stopped
     std::vector<Tile> ready_;
     Stats stats_;
     std::string error_;

@@ -97,7 +97,7 @@ def run_job(job: RenderJob, quiet: bool = False) -> np.ndarray:
     job.start()
     try:
         while not job.finished:
-            time.sleep(0.05)
+            job.wait_for(0.05)
             percent = int(100 * job.progress)
             if not quiet and percent != shown:
                 shown = percent

@@ -77,6 +77,12 @@ class RenderJob:
         self._job.wait()
         return self.image
 
+    def wait_for(self, seconds: float) -> bool:
+        """Block until another tile is finished, the job ends, or `seconds`
+        pass; True once it has finished. A loop showing progress or
+        streaming tiles sees them as they are done, and the end at once."""
+        return self._job.wait_for(float(seconds))
+
     @property
     def finished(self) -> bool:
         return self._job.finished
@@ -160,7 +166,7 @@ def render(scene: Scene, settings: RenderSettings | None = None, progress=None) 
     try:
         if progress is not None:
             while not job.finished:
-                time.sleep(0.05)
+                job.wait_for(0.05)
                 job.poll()
                 progress(job.progress)
         return job.wait()

@@ -12,7 +12,7 @@ and each byte can push one value, shape or dtype to an extreme:
   rays       intersect / occluded / spawn_origins on the last scene: rays
              aimed at it, or with extreme origins, directions, tmin, tmax
   job        a RenderJob on the last scene (at most 8 x 8 pixels), driven by a
-             drawn sequence of start, poll, cancel, wait, progress, stats and
+             drawn sequence of start, poll, cancel, wait, progress, stats, wait_for and
              del calls, some from a second thread
 
 ValueError (and RuntimeError for calls out of order, BuildCancelled) is a
@@ -279,6 +279,7 @@ def drive_job(inp: Input, scene: gw.Scene):
                 _ = job.progress, job.finished, job.cancelled, job.tiles_done
             elif op == 5:
                 _ = job.stats
+                job.wait_for((-1.0, 0.0, 0.001, float("nan"), float("inf"))[inp.below(5)])
             elif op == 6 and helper is None:   # cancel or wait from another thread
                 helper = threading.Thread(target=_quiet(job.cancel if inp.byte() < 128 else job.wait))
                 helper.start()

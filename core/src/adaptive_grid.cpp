@@ -196,17 +196,17 @@ private:
         }
         const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
         if (depth > 0 && ncells <= 1) return -1;
+        double cell[3];
+        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         // Large primitives: those covering the most cells, beyond big_cells, at
         // most big_max of them; the node tests them once per ray.
         std::vector<uint32_t> big;
         {
-            double cs[3];
-            for (int a = 0; a < 3; ++a) cs[a] = (box.hi[a] - box.lo[a]) / n[a];
             std::vector<std::pair<uint64_t, uint32_t>> wide;
             for (uint32_t prim : prims) {
                 check_cancel(cancel_, step_);
                 int c0[3], c1[3];
-                if (!cell_range(bounds_[prim], box, cs, n, c0, c1)) continue;
+                if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
                 const uint64_t covered =
                     uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
                 if (covered > uint64_t(p_.big_cells)) wide.emplace_back(covered, prim);
@@ -224,8 +224,6 @@ private:
             if (depth > 0) return -1;
             throw std::invalid_argument("adaptive grid: the cell cap is too small for the root grid");
         }
-        double cell[3];
-        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
         if (!recorded) find_cells(box, prims, n, UINT64_MAX, met);
         // The cells of prims[i] (not a large primitive): met.cells[met.first[i] .. met.first[i + 1]).
         auto each_rest = [&](auto&& f) {

@@ -79,15 +79,36 @@ def test_features_smaller_than_the_coordinates_spacing_are_found(accel):
     assert_same_as_brute_force(sc, o, (target - o).astype(np.float32), accel)
 
 
-def test_rays_from_far_away_find_what_brute_force_finds():
+def nearest_in_double(o, d, corners):
+    """The triangle (an index into corners: n x 3 x 3) that ray (o, d) meets first at t > 0 in a
+    double-precision test (Moller-Trumbore, barycentrics >= -1e-9), or -1."""
+    o, d = np.asarray(o, np.float64), np.asarray(d, np.float64)
+    a, b, c = (np.asarray(corners[:, k], np.float64) for k in range(3))
+    e1, e2 = b - a, c - a
+    p = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    s = o - a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.einsum("ij,ij->i", s, p) / det
+        q = np.cross(s, e1)
+        w = (q @ d) / det
+        t = np.einsum("ij,ij->i", e2, q) / det
+    hit = (u >= -1e-9) & (w >= -1e-9) & (1 - u - w >= -1e-9) & (t > 0)
+    return int(np.flatnonzero(hit)[np.argmin(t[hit])]) if hit.any() else -1
+
+
+@pytest.mark.parametrize("accel", ["adaptive", "grid"])
+def test_rays_from_far_away_find_what_brute_force_finds(accel):
     # Specks in a unit cube, rays from 1e4-5e4 cube sizes away aimed at points on their edges (and
     # inside them). A float t there is coarse: one step moves the ray by 2^-24 of its distance,
     # up to a tenth of a fine cell, far more than the cells' padding, and a walk with float
     # parameters stepped through the wrong cells: 40 of these 16,000 rays got another hit than
-    # brute force's (25 of them none), and 25 occlusion queries answered wrongly. The adaptive
-    # walk's parameters are doubles. (At these distances the triangle test's
-    # own rounding, that of the origin's coordinates, reaches a tenth of a speck: rays from
-    # farther away can disagree with brute force through the test itself.)
+    # brute force's (25 of them none), and 25 occlusion queries answered wrongly; the uniform
+    # grid's float walk got 53 of 8,000 similar rays wrong. Both walks' parameters are doubles.
+    # At these distances the triangle test's own rounding, that of the origin's coordinates,
+    # reaches a tenth of a speck: brute force itself can report a speck that the ray passes
+    # (nearly edge-on) far from. Such a ray is excused where the walk's hit is the first one
+    # that a test in double finds; one of the 16,000 rays is, for the uniform grid.
     rng = np.random.default_rng(5)
     n = 50000
     v = (rng.uniform(0, 1, (n, 1, 3)) + rng.normal(0, 0.005, (n, 3, 3))).reshape(-1, 3).astype(np.float32)
@@ -102,4 +123,13 @@ def test_rays_from_far_away_find_what_brute_force_finds():
     away = rng.normal(size=(m, 3))
     away *= 10 ** rng.uniform(4, 4.7, (m, 1)) / np.linalg.norm(away, axis=1, keepdims=True)
     o = (target + away).astype(np.float32)
-    assert_same_as_brute_force(sc, o, (target - o).astype(np.float32))
+    d = (target - o).astype(np.float32)
+    want = sc.intersect(o, d, settings=settings(accel="none"))
+    got = sc.intersect(o, d, settings=settings(accel=accel))
+    differ = np.flatnonzero((got.t != want.t) | (got.prim != want.prim))
+    assert len(differ) <= 3, f"{len(differ)} of {m} rays got another hit than brute force's"
+    excused = [i for i in differ if got.prim[i] >= 0 and nearest_in_double(o[i], d[i], v[t]) == got.prim[i]]
+    assert list(differ) == excused, f"rays {sorted(set(differ) - set(excused))} got another hit than brute force's"
+    occluded = np.asarray(sc.occluded(o, d, settings=settings(accel=accel)))
+    brute = np.asarray(sc.occluded(o, d, settings=settings(accel="none")))
+    assert np.array_equal(np.delete(occluded, excused), np.delete(brute, excused))

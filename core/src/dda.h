@@ -5,17 +5,12 @@
 
 namespace gw {
 
-// The direction the DDA follows and its reciprocal. Components below 2^-40 of
-// the largest are taken as 0: over the whole scene they move the ray by less
-// than 2^-40 of its size, far below any cell (whose lists are padded by a
-// thousandth of a cell), and their reciprocals would overflow. Rays reach the
-// walks with |d| within [2^-64, 2^64] (the integrator's are unit vectors;
-// batch.cpp rescales others), so every 1/d here is finite.
-struct DdaDirection {
-    Vec3 d, inv;   // inv = 1/d, or inf where d = 0
-};
-
-// The DDA's direction alone (its zeros are +0).
+// The direction the DDA follows. Components below 2^-40 of the largest are
+// taken as 0: over the whole scene they move the ray by less than 2^-40 of
+// its size, far below any cell (whose lists are padded by a thousandth of a
+// cell), and their reciprocals would overflow. Rays reach the walks with |d|
+// within [2^-64, 2^64] (the integrator's are unit vectors; batch.cpp rescales
+// others), so every 1/d of the result is finite. Its zeros are +0.
 inline Vec3 dda_d(const Vec3& d) {
     const float m = std::max(std::abs(d.x), std::max(std::abs(d.y), std::abs(d.z)));
     Vec3 out;
@@ -23,59 +18,29 @@ inline Vec3 dda_d(const Vec3& d) {
     return out;
 }
 
-inline DdaDirection dda_direction(const Vec3& d) {
-    DdaDirection out;
-    out.d = dda_d(d);
-    for (int a = 0; a < 3; ++a) out.inv[a] = out.d[a] != 0 ? 1.0f / out.d[a] : kInf;
-    return out;
-}
+// How far along the ray a walk must have gone before it accepts a hit at t:
+// t plus 2^-20 of it, above a triangle test's rounding of t (about 2^-24 of
+// the distance from the ray's origin), so that a primitive in a later cell
+// whose computed t rounds below the hit's is still tested. For the walks whose
+// ray parameters are doubles (adaptive_walk.inc, the uniform grid's).
+__attribute__((always_inline)) inline double reach(float t) { return double(t) + std::abs(double(t)) * 0x1p-20; }
 
-// Clips [t0, t1] to the box [lo, hi] (the far side relaxed by the rounding of
-// its own computation); false when nothing is left. A ray that does not move
-// along an axis keeps its segment when its origin lies within that slab.
+// Clips [t0, t1] to the box [lo, hi], in double; false when nothing is left.
+// dir is the DDA's direction (dda_d) and inv holds 1/dir in double (inf
+// where dir is 0). A ray that does not move along an axis keeps its segment
+// when its origin lies within that slab. An axis the DDA direction dropped (a
+// component below 2^-40 of the largest) is still clipped with the ray's own
+// component: inside the box it moves the ray by less than 2^-40 of the box,
+// but a ray from far away may travel so far before reaching the box that it
+// moves by the box's size or more (origin (0, 1e30, 2), direction
+// (1, -1e30, -2) reaches (1, 0, 0) at t = 1).
 //
-// An axis the DDA direction dropped (a component below 2^-40 of the largest)
-// is still clipped with the ray's own component, in double: inside the box it
-// moves the ray by less than 2^-40 of the box, but a ray from far away may
-// travel so far before reaching the box that it moves by the box's size or
-// more (origin (0, 1e30, 2), direction (1, -1e30, -2) reaches (1, 0, 0) at t = 1).
-inline bool clip_to_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const DdaDirection& dd, float& t0,
-                        float& t1) {
-    for (int a = 0; a < 3; ++a) {
-        if (dd.d[a] == 0) {
-            if (ray.d[a] == 0) {
-                if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return false;
-                continue;
-            }
-            double tn = (double(lo[a]) - double(ray.o[a])) / double(ray.d[a]);
-            double tf = (double(hi[a]) - double(ray.o[a])) / double(ray.d[a]);
-            if (tn > tf) std::swap(tn, tf);
-            const float n = next_down(float(tn)), f = next_up(float(tf));   // rounded outwards
-            t0 = n > t0 ? n : t0;
-            t1 = f < t1 ? f : t1;
-            if (!(t0 <= t1)) return false;
-            continue;
-        }
-        float tn = (lo[a] - ray.o[a]) * dd.inv[a];
-        float tf = (hi[a] - ray.o[a]) * dd.inv[a];
-        if (tn > tf) std::swap(tn, tf);
-        tf *= 1.0f + 2.0f * gamma_bound(3);
-        t0 = tn > t0 ? tn : t0;
-        t1 = tf < t1 ? tf : t1;
-        if (!(t0 <= t1)) return false;
-    }
-    return true;
-}
-
-// clip_to_box in double, for the adaptive grid's walk, whose parameters are
-// doubles (adaptive_walk.inc): dir is the DDA's direction (dda_d) and inv
-// holds 1/dir in double (inf where dir is 0). The box's own interval along
-// the ray is widened by 2^-20 of its ends before [t0, t1] is cut to it: a box
-// that holds a primitive must also hold the hits its float test reports,
-// which can lie outside it by the test's rounding (a ray aimed at a
-// triangle's corner on the box, where double finds the ray passing just
-// outside). That rounding is about 2^-24 of the distance from the ray's
-// origin, as is clip_to_box's own relaxation. False when nothing is left.
+// The box's own interval along the ray is widened by 2^-20 of its ends before
+// [t0, t1] is cut to it: a box that holds a primitive must also hold the hits
+// its float test reports, which can lie outside it by the test's rounding (a
+// ray aimed at a triangle's corner on the box, where double finds the ray
+// passing just outside). That rounding is about 2^-24 of the distance from
+// the ray's origin.
 inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const Vec3& dir, const double inv[3],
                           double& t0, double& t1) {
     double n = -std::numeric_limits<double>::infinity(), f = std::numeric_limits<double>::infinity();

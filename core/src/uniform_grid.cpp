@@ -354,8 +354,8 @@ void UniformGrid::cell_range(const Bounds& b, int c0[3], int c1[3]) const {
 
 // The cell holding the point at parameter t, located in double so a far-away
 // origin does not shift it by a cell.
-int UniformGrid::cell_at(const Ray& ray, float t, int a) const {
-    const double x = (double(ray.o[a]) - double(lo_[a]) + double(ray.d[a]) * double(t)) * double(inv_cell_[a]);
+int UniformGrid::cell_at(const Ray& ray, double t, int a) const {
+    const double x = (double(ray.o[a]) - double(lo_[a]) + double(ray.d[a]) * t) * double(inv_cell_[a]);
     return int(std::min(std::max(x, 0.0), double(n_[a] - 1)));
 }
 
@@ -363,33 +363,38 @@ template <bool AnyHit, bool Filtered>
 bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter* filter) const {
     if (!r.valid) return false;
     const Ray& ray = r.ray;
-    const DdaDirection dd = dda_direction(ray.d);
-    const Vec3& inv = dd.inv;
-    float t0 = ray.tmin, t1 = hit.t;   // t1: where the ray leaves the grid (or its tmax)
-    if (!clip_to_box(lo_, hi_, ray, dd, t0, t1)) return false;
-    if (!(t0 < kInf)) return false;    // the box lies beyond float range along this ray
+    // The walk's ray parameters are doubles, as in the adaptive grid's walk
+    // (adaptive_walk.inc): a float t moves the ray's point by 2^-24 of its
+    // distance from the origin, which for a ray from 10^4 scene sizes away is
+    // more than the cells' padding, and the walk would miss hits.
+    const Vec3 dir = dda_d(ray.d);
+    double inv[3];
+    for (int a = 0; a < 3; ++a) inv[a] = dir[a] != 0 ? 1.0 / double(dir[a]) : double(kInf);
+    double t0 = ray.tmin, t1 = reach(hit.t);   // t1: where the ray leaves the grid (or its tmax)
+    if (!clip_to_box_d(lo_, hi_, ray, dir, inv, t0, t1)) return false;
+    if (!(t0 <= double(std::numeric_limits<float>::max()))) return false;   // the box lies beyond float range along this ray
     const bool mailboxes = ctx.mailbox.enabled();
     if (mailboxes) ctx.mailbox.next_ray();
     int cell[3], step[3], out[3];
-    float tnext[3], tdelta[3];
-    // t where the ray crosses face `face` (a cell index) along axis a, in double:
-    // far from the origin, the face's coordinate rounded to float can be off by
-    // most of a cell, and the walk would leave a cell before reaching its hit.
+    double tnext[3], tdelta[3];
+    // t where the ray crosses face `face` (a cell index) along axis a. (The
+    // face's coordinate in double too: far from the origin, rounded to float
+    // it can be off by most of a cell.)
     auto face_t = [&](int a, int face) {
-        return float((double(lo_[a]) + double(face) * double(cell_[a]) - double(ray.o[a])) * double(inv[a]));
+        return (double(lo_[a]) + double(face) * double(cell_[a]) - double(ray.o[a])) * inv[a];
     };
     // t where the ray leaves cell[a] along axis a (the face in the step direction).
     auto exit_t = [&](int a) { return face_t(a, step[a] > 0 ? cell[a] + 1 : cell[a]); };
     for (int a = 0; a < 3; ++a) {
         cell[a] = cell_at(ray, t0, a);
-        if (dd.d[a] > 0) {
+        if (dir[a] > 0) {
             step[a] = 1; out[a] = n_[a];
             tnext[a] = exit_t(a);
-            tdelta[a] = cell_[a] * inv[a];
-        } else if (dd.d[a] < 0) {
+            tdelta[a] = double(cell_[a]) * inv[a];
+        } else if (dir[a] < 0) {
             step[a] = -1; out[a] = -1;
             tnext[a] = exit_t(a);
-            tdelta[a] = -cell_[a] * inv[a];
+            tdelta[a] = -double(cell_[a]) * inv[a];
         } else {
             step[a] = 0; out[a] = -1;
             tnext[a] = tdelta[a] = kInf;
@@ -402,19 +407,19 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const P
     int64_t c = (int64_t(cell[2]) * n_[1] + cell[1]) * n_[0] + cell[0];
     bool found = false;
     const Scene& sc = *scene_;
-    float t_jump = t0;   // entry t of the last jump: every jump must move beyond it
+    double t_jump = t0;   // entry t of the last jump: every jump must move beyond it
     for (;;) {
         ++ctx.stats.cells;
         const int k = ctx.skip_empty ? empty_[c] : 0;
         if (k >= 2) {
             // Cells within k - 1 of this one are all empty: leave that block in one jump.
-            float t_exit = kInf;
+            double t_exit = kInf;
             for (int a = 0; a < 3; ++a) {
                 if (step[a] == 0) continue;
                 const int face = step[a] > 0 ? cell[a] + k : cell[a] - (k - 1);
                 t_exit = std::min(t_exit, face_t(a, face));
             }
-            if (hit.t < t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
+            if (reach(hit.t) < t_exit || t_exit >= t1) break;   // no hit can lie in empty cells
             if (t_exit > t_jump) {
                 t_jump = t_exit;
                 for (int a = 0; a < 3; ++a) {
@@ -440,7 +445,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const P
         // cell's exit may hide a nearer one in a later cell, so keep walking,
         // but keep the candidate (it may belong to no later cell at all).
         const int axis = tnext[0] < tnext[1] ? (tnext[0] < tnext[2] ? 0 : 2) : (tnext[1] < tnext[2] ? 1 : 2);
-        if (hit.t < tnext[axis]) break;
+        if (reach(hit.t) < tnext[axis]) break;
         cell[axis] += step[axis];
         if (cell[axis] == out[axis]) break;
         c += step[axis] * stride[axis];

@@ -89,7 +89,7 @@ private:
     template <bool AnyHit, bool Filtered>
     bool traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const PrimFilter* filter) const;
     void cell_range(const Bounds& b, int lo[3], int hi[3]) const;
-    int cell_at(const Ray& ray, float t, int axis) const;
+    int cell_at(const Ray& ray, double t, int axis) const;
 
     Vec3 lo_, hi_, cell_, inv_cell_;
     int n_[3] = {1, 1, 1};

@@ -240,3 +240,22 @@ def test_the_viewport_follows_its_grid_when_an_instance_moves_and_renders_what_a
             assert differ.mean() < 0.01 and ref[..., :3].std() > 0.05
     finally:
         r.stop()
+
+
+def test_an_instance_scaled_to_zero_along_an_axis_gets_its_flattened_surface_normals():
+    # A smooth sphere scaled to zero along its (rotated) local z is a disc. Its normals map by
+    # the cofactors of the singular matrix: along the disc's normal, on the side of the sphere
+    # each came from. Scene.moved and the exporter agree; both once
+    # mapped them by the matrix itself, which turned them edge-on, across the disc.
+    from blender_addon.export._matrix import transform_normals
+    q, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(3, 3)))
+    flat = np.eye(4)
+    flat[:3, :3] = q @ np.diag([2.0, 0.5, 0.0])
+    flat[:3, 3] = (1, -2, 3)
+    mats, kinds = [matrix(0)], ["smooth"]
+    moved = move(gw.Scene(**assemble(mats, kinds)), mats, kinds, 0, flat)
+    got = moved.geometry()["normals"]
+    np.testing.assert_allclose(got, transform_normals(flat, N.astype(np.float64)), atol=1e-6)
+    side = N[:, 2]
+    along = got @ q[:, 2]
+    assert np.allclose(along[side > 1e-3], 1, atol=1e-6) and np.allclose(along[side < -1e-3], -1, atol=1e-6)

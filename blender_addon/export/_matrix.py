@@ -12,17 +12,24 @@ def transform_points(m: np.ndarray, points: np.ndarray) -> np.ndarray:
     return points @ m[:3, :3].T + m[:3, 3]
 
 
-def transform_normals(m: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """Apply the inverse transpose of `m`'s 3x3 part to (N, 3) normals and renormalise.
-
-    Correct under non-uniform scale; a degenerate matrix leaves normals unscaled.
-    """
+def normal_matrix(m: np.ndarray) -> np.ndarray:
+    """The 3x3 map of object-space normals to world space: the inverse transpose of `m`'s 3x3
+    part, or, where that part is singular (an object scaled to zero along an axis), its cofactor
+    matrix, which is the inverse transpose times the determinant where both exist and keeps
+    mapping normals to the flattened surface's normal where the inverse does not (a sphere
+    scaled to zero along z becomes a disc whose normals point along z)."""
     linear = m[:3, :3]
     try:
-        normal_matrix = np.linalg.inv(linear).T
+        return np.linalg.inv(linear).T
     except np.linalg.LinAlgError:
-        normal_matrix = linear
-    n = normals @ normal_matrix.T
+        r0, r1, r2 = linear
+        return np.array([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)])
+
+
+def transform_normals(m: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Apply normal_matrix(m) to (N, 3) normals and renormalise (normals it maps to zero, of an
+    object collapsed onto a line or a point, which no ray can hit, stay zero)."""
+    n = normals @ normal_matrix(m).T
     length = np.linalg.norm(n, axis=1, keepdims=True)
     np.divide(n, length, out=n, where=length > 0)
     return n

@@ -38,13 +38,26 @@ bool inside(const std::vector<Range>& sorted, size_t x) {
 
 Vec3d point_at(const std::vector<float>& xyz, size_t i) { return {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; }
 
-// The map of object-space normals to world space: the inverse transpose of the
-// linear part (the linear part itself when it cannot be inverted, as the exporter does).
+// The map of object-space normals to world space, as the exporter's
+// normal_matrix (blender_addon/export/_matrix.py): the inverse transpose of the
+// linear part, or its cofactor matrix where it cannot be inverted (an object
+// scaled to zero along an axis: the cofactors map its normals to the
+// flattened surface's normal).
 Affine normal_map(const Affine& a) {
     Affine inv, out = a;
-    if (a.inverse(inv))
+    if (a.inverse(inv)) {
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) out.m[r][c] = inv.m[c][r];
+    } else {
+        // Row r of the cofactor matrix: the cross product of the other two rows, in cyclic order.
+        for (int r = 0; r < 3; ++r) {
+            const double* p = a.m[(r + 1) % 3];
+            const double* q = a.m[(r + 2) % 3];
+            out.m[r][0] = p[1] * q[2] - p[2] * q[1];
+            out.m[r][1] = p[2] * q[0] - p[0] * q[2];
+            out.m[r][2] = p[0] * q[1] - p[1] * q[0];
+        }
+    }
     return out;
 }
 

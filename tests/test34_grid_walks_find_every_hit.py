@@ -79,22 +79,33 @@ def test_features_smaller_than_the_coordinates_spacing_are_found(accel):
     assert_same_as_brute_force(sc, o, (target - o).astype(np.float32), accel)
 
 
-def nearest_in_double(o, d, corners):
-    """The triangle (an index into corners: n x 3 x 3) that ray (o, d) meets first at t > 0 in a
-    double-precision test (Moller-Trumbore, barycentrics >= -1e-9), or -1."""
-    o, d = np.asarray(o, np.float64), np.asarray(d, np.float64)
-    a, b, c = (np.asarray(corners[:, k], np.float64) for k in range(3))
+def distance_in_double(o, d, tri):
+    """How far the line o + s d passes from triangle tri (3 x 3), in double: 0 where it crosses
+    the triangle, else its distance to the nearest edge."""
+    o, d, tri = (np.asarray(x, np.float64) for x in (o, d, tri))
+    a, b, c = tri
     e1, e2 = b - a, c - a
     p = np.cross(d, e2)
-    det = np.einsum("ij,ij->i", e1, p)
-    s = o - a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.einsum("ij,ij->i", s, p) / det
-        q = np.cross(s, e1)
-        w = (q @ d) / det
-        t = np.einsum("ij,ij->i", e2, q) / det
-    hit = (u >= -1e-9) & (w >= -1e-9) & (1 - u - w >= -1e-9) & (t > 0)
-    return int(np.flatnonzero(hit)[np.argmin(t[hit])]) if hit.any() else -1
+    det = e1 @ p
+    if det != 0:
+        u = (o - a) @ p / det
+        w = d @ np.cross(o - a, e1) / det
+        if u >= 0 and w >= 0 and u + w <= 1:
+            return 0.0
+    best = np.inf
+    for s0, s1 in ((a, b), (b, c), (c, a)):
+        e = s1 - s0
+        n = np.cross(d, e)
+        if n @ n == 0:                        # parallel: the distance from s0 to the line
+            r = s0 - o
+            best = min(best, np.linalg.norm(r - (r @ d) / (d @ d) * d))
+            continue
+        # The closest points of the two lines; the segment's clamped to its ends.
+        r = s0 - o
+        u = np.clip(np.cross(d, r) @ n / -(n @ n), 0.0, 1.0)
+        q = s0 + u * e - o
+        best = min(best, np.linalg.norm(q - (q @ d) / (d @ d) * d))
+    return float(best)
 
 
 @pytest.mark.parametrize("accel", ["adaptive", "grid"])
@@ -103,12 +114,12 @@ def test_rays_from_far_away_find_what_brute_force_finds(accel):
     # inside them). A float t there is coarse: one step moves the ray by 2^-24 of its distance,
     # up to a tenth of a fine cell, far more than the cells' padding, and a walk with float
     # parameters stepped through the wrong cells: 40 of these 16,000 rays got another hit than
-    # brute force's (25 of them none), and 25 occlusion queries answered wrongly; the uniform
-    # grid's float walk got 53 of 8,000 similar rays wrong. Both walks' parameters are doubles.
+    # brute force's (25 of them none), and 25 occlusion queries answered wrongly, in the adaptive
+    # grid; the uniform grid's float walk got 666 wrong. Both walks' parameters are doubles.
     # At these distances the triangle test's own rounding, that of the origin's coordinates,
     # reaches a tenth of a speck: brute force itself can report a speck that the ray passes
-    # (nearly edge-on) far from. Such a ray is excused where the walk's hit is the first one
-    # that a test in double finds; one of the 16,000 rays is, for the uniform grid.
+    # (nearly edge-on) far from, in no cell the ray crosses. Such a ray is excused (one of the
+    # 16,000, for the uniform grid; 0-3 with other seeds, for either grid).
     rng = np.random.default_rng(5)
     n = 50000
     v = (rng.uniform(0, 1, (n, 1, 3)) + rng.normal(0, 0.005, (n, 3, 3))).reshape(-1, 3).astype(np.float32)
@@ -127,8 +138,10 @@ def test_rays_from_far_away_find_what_brute_force_finds(accel):
     want = sc.intersect(o, d, settings=settings(accel="none"))
     got = sc.intersect(o, d, settings=settings(accel=accel))
     differ = np.flatnonzero((got.t != want.t) | (got.prim != want.prim))
-    assert len(differ) <= 3, f"{len(differ)} of {m} rays got another hit than brute force's"
-    excused = [i for i in differ if got.prim[i] >= 0 and nearest_in_double(o[i], d[i], v[t]) == got.prim[i]]
+    assert len(differ) <= 4, f"{len(differ)} of {m} rays got another hit than brute force's"
+    # Excused: brute force's triangle lies farther from the ray (in double) than any cell's
+    # padding (a thousandth of a cell, cells below 0.03 here), so no walk visits a cell listing it.
+    excused = [i for i in differ if want.prim[i] >= 0 and distance_in_double(o[i], d[i], v[t[want.prim[i]]]) > 1e-4]
     assert list(differ) == excused, f"rays {sorted(set(differ) - set(excused))} got another hit than brute force's"
     occluded = np.asarray(sc.occluded(o, d, settings=settings(accel=accel)))
     brute = np.asarray(sc.occluded(o, d, settings=settings(accel="none")))

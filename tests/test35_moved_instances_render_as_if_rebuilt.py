@@ -242,20 +242,32 @@ def test_the_viewport_follows_its_grid_when_an_instance_moves_and_renders_what_a
         r.stop()
 
 
-def test_an_instance_scaled_to_zero_along_an_axis_gets_its_flattened_surface_normals():
+@pytest.mark.parametrize("mirror", [False, True])
+def test_an_instance_scaled_to_zero_along_an_axis_gets_its_flattened_surface_normals(mirror):
     # A smooth sphere scaled to zero along its (rotated) local z is a disc. Its normals map by
-    # the cofactors of the singular matrix: along the disc's normal, on the side of the sphere
-    # each came from. Scene.moved and the exporter agree; both once
-    # mapped them by the matrix itself, which turned them edge-on, across the disc.
+    # the cofactors of the singular matrix, as its edges' cross products do: along the disc's
+    # normal, on the side of the sphere each came from, or, mirrored, the other side (with its
+    # triangles' winding). Scene.moved and the exporter agree; both once mapped them by the
+    # matrix itself, which turned them edge-on, across the disc.
     from blender_addon.export._matrix import transform_normals
     q, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(3, 3)))
+    q[:, 0] *= np.sign(np.linalg.det(q))                 # a rotation
     flat = np.eye(4)
-    flat[:3, :3] = q @ np.diag([2.0, 0.5, 0.0])
+    flat[:3, :3] = q @ np.diag([-2.0 if mirror else 2.0, 0.5, 0.0])
     flat[:3, 3] = (1, -2, 3)
     mats, kinds = [matrix(0)], ["smooth"]
     moved = move(gw.Scene(**assemble(mats, kinds)), mats, kinds, 0, flat)
     got = moved.geometry()["normals"]
     np.testing.assert_allclose(got, transform_normals(flat, N.astype(np.float64)), atol=1e-6)
-    side = N[:, 2]
+    side = N[:, 2] * (-1 if mirror else 1)
     along = got @ q[:, 2]
     assert np.allclose(along[side > 1e-3], 1, atol=1e-6) and np.allclose(along[side < -1e-3], -1, atol=1e-6)
+    # The same map takes each triangle's object-space normal (its edges' cross product) to its
+    # flattened triangle's, winding included (mirrored or not).
+    p = moved.geometry()["vertices"].astype(np.float64)[F]
+    world = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    big = np.linalg.norm(world, axis=1) > 1e-3 * np.linalg.norm(world, axis=1).max()
+    world = world[big] / np.linalg.norm(world[big], axis=1, keepdims=True)
+    v = V.astype(np.float64)[F[big]]
+    mapped = transform_normals(flat, np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]))
+    assert np.all(np.einsum("ij,ij->i", mapped, world) > 0.999)

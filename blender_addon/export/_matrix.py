@@ -14,16 +14,22 @@ def transform_points(m: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 def normal_matrix(m: np.ndarray) -> np.ndarray:
     """The 3x3 map of object-space normals to world space: the inverse transpose of `m`'s 3x3
-    part, or, where that part is singular (an object scaled to zero along an axis), its cofactor
-    matrix, which is the inverse transpose times the determinant where both exist and keeps
-    mapping normals to the flattened surface's normal where the inverse does not (a sphere
-    scaled to zero along z becomes a disc whose normals point along z)."""
-    linear = m[:3, :3]
-    try:
-        return np.linalg.inv(linear).T
-    except np.linalg.LinAlgError:
-        r0, r1, r2 = linear
-        return np.array([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)])
+    part, as its cofactor matrix over its determinant, or, where that part is singular (an
+    object scaled to zero along an axis), the cofactor matrix alone. The cofactors map a normal
+    as they map the cross product of two edges, so a flattened object's normals follow its
+    flattened triangles' winding, along the flattened surface's normal (without a mirror, each
+    on the side of the surface it came from; a sphere scaled to zero along z becomes a disc
+    whose normals point along z). Computed as Scene.moved computes it (core/src/scene_moved.cpp,
+    affine.h), so both take the same branch and agree to rounding."""
+    r0, r1, r2 = m[:3, :3]
+    cof = np.array([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)])
+    det = float(r0 @ cof[0])
+    if det != 0 and np.isfinite(det):
+        with np.errstate(over="ignore", invalid="ignore"):
+            inverse_transpose = cof / det
+        if np.isfinite(inverse_transpose).all():
+            return inverse_transpose
+    return cof
 
 
 def transform_normals(m: np.ndarray, normals: np.ndarray) -> np.ndarray:

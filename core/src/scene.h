@@ -70,8 +70,9 @@ public:
 
     // A copy of this scene with the instances `moves` name moved: their
     // vertices become matrix x positions (in double, rounded to float), their
-    // normals the inverse transpose of the matrix's linear part times
-    // normals, renormalised (flat instances: their world-space face normals);
+    // normals the inverse transpose of the matrix's linear part (its cofactor
+    // matrix where it is singular) times normals, renormalised (flat
+    // instances: their world-space face normals);
     // everything else is shared in value. Throws std::invalid_argument naming
     // the move when it does not fit the scene (ranges, shapes, a triangle
     // outside the move using its vertices, coordinates beyond +-1e30).

@@ -39,10 +39,11 @@ bool inside(const std::vector<Range>& sorted, size_t x) {
 Vec3d point_at(const std::vector<float>& xyz, size_t i) { return {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; }
 
 // The map of object-space normals to world space, as the exporter's
-// normal_matrix (blender_addon/export/_matrix.py): the inverse transpose of the
-// linear part, or its cofactor matrix where it cannot be inverted (an object
-// scaled to zero along an axis: the cofactors map its normals to the
-// flattened surface's normal).
+// normal_matrix (blender_addon/export/_matrix.py) computes it: the inverse
+// transpose of the linear part (the cofactors over the determinant), or its
+// cofactor matrix where it cannot be inverted (an object scaled to zero along
+// an axis: the cofactors map its normals as they map its edges' cross
+// products, along the flattened surface's normal).
 Affine normal_map(const Affine& a) {
     Affine inv, out = a;
     if (a.inverse(inv)) {

@@ -105,7 +105,7 @@ class InstanceMove:
     triangle_count: int
     positions: np.ndarray             # (k, 3) object space
     matrix: np.ndarray                # (4, 4) object to world, rows as in Blender
-    normals: np.ndarray | None = None  # (k, 3) object space, mapped by the inverse transpose and renormalised
+    normals: np.ndarray | None = None  # (k, 3) object space, mapped by the inverse transpose (cofactors if singular), renormalised
     flat: bool = False                # unshared corners, 3 per triangle, whose normals are their face's
     previous_matrix: np.ndarray | None = None   # the matrix it had: then a grid of an earlier version serves
 

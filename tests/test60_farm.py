@@ -256,3 +256,30 @@ def test_the_local_cluster_keeps_its_housekeeping_quiet_and_the_global_config_un
     finally:
         local.close()
     assert dask.config.get("distributed.worker.profile.enabled") == before
+
+
+def test_a_local_cluster_starts_without_warnings_when_the_dask_dashboard_port_is_taken():
+    # Another farm, or the user's own Dask, on port 8787: the scheduler's HTTP routes once
+    # defaulted to it and warned ("Port 8787 is already in use") on the farm's output.
+    import socket
+    import warnings
+
+    from gridwalk.renderfarm.cluster import start_local_cluster
+
+    taken = socket.socket()
+    try:
+        taken.bind(("", 8787))
+    except OSError:
+        pass                                         # already taken by something else: as good
+    taken.listen()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            local = start_local_cluster(1)
+        try:
+            with Client(local, set_as_default=False) as client:
+                assert client.submit(sum, [1, 2]).result(timeout=30) == 3
+        finally:
+            local.close()
+    finally:
+        taken.close()

@@ -110,7 +110,11 @@ def start_local_cluster(workers: int):
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         with dask.config.set(LOCAL_CLUSTER_CONFIG):   # the workers are started with the config of this moment
+            # (The scheduler serves its HTTP routes even without a dashboard, by
+            # default on port 8787, with a warning when that is taken: another
+            # farm, or the user's own Dask. A free port on this machine instead.)
             return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
                                 silence_logs=logging.ERROR)
     finally:
         if main:

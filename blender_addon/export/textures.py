@@ -65,13 +65,17 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
     except (RuntimeError, ValueError, MemoryError) as exc:
         return None, f"it cannot be read ({exc})"
     px = px.reshape(h, w, c)[::-1]
+    non_finite = 0
+    if img.is_float:                # (NaN and Inf, which broken HDR files hold, before the mean: the world's ambient)
+        non_finite = int(px.size - np.count_nonzero(np.isfinite(px)))
+        if non_finite:
+            px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
     mean = _mean_rgb(px, _colorspace(img) == "srgb")
     if not img.is_float:
         px = np.rint(np.clip(px, 0.0, 1.0) * 255.0).astype(np.uint8)
-    else:
-        px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
     image = Image(px, _colorspace(img), name=img.name)
     image.mean_rgb = mean
+    image.non_finite = non_finite
     return image, None
 
 
@@ -151,6 +155,9 @@ class TextureTable:
                 self.problems[key or "(none)"] = problem
                 image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {key}")
                 image.mean_rgb = MAGENTA
+            elif getattr(image, "non_finite", 0):
+                self.notes.add(f"image '{key}' has {image.non_finite} NaN or infinite values: "
+                               "NaN and -Inf are read as 0, +Inf as 65504")
             self._image_index[key] = len(self.images)
             self.images.append(image)
         return self._image_index[key]

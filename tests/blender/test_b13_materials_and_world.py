@@ -40,6 +40,8 @@ def renders(request, tmp_path_factory):
     r["environment"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque)
     r["environment_cycles"] = _render(kind, out, "environment", "CYCLES", "samples=32", opaque)
     r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
+    r["environment_broken"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque,
+                                      'scene={"broken": true}')
     r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
@@ -85,6 +87,18 @@ def test_film_transparent_hides_the_environment_but_not_its_reflection(renders):
     assert np.all(film[background] == 0)                       # RGB 0 with alpha 0, as Cycles writes it
     sphere = film[..., 3] == 1
     assert film[sphere][:, :3].mean() > 0.5                   # the sphere still mirrors the sky
+
+
+def test_nan_and_inf_in_an_hdr_environment_warn_and_the_image_finishes(renders):
+    # The texels were read as 0 / 65504, but their mean, the world's ambient, was not: the render
+    # stopped with "background has a non-finite component".
+    broken, clean = renders["environment_broken"], renders["environment"]["rgba"]
+    assert "error" not in broken["info"]
+    assert "image 'SkyHDR' has 13 NaN or infinite values: NaN and -Inf are read as 0, +Inf as 65504" in broken["stdout"]
+    rgba = broken["rgba"]
+    assert np.isfinite(rgba).all() and rgba.shape == clean.shape
+    same = np.isclose(rgba, clean, rtol=1e-3, atol=1e-3).all(axis=-1)
+    assert 0.5 < same.mean() < 1.0                     # the sky as before, but where the broken texels show
 
 
 def test_emissive_object_is_seen_in_a_mirror(renders):

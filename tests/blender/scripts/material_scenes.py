@@ -91,8 +91,9 @@ def sky_pixels(w=64, h=32):
     return px
 
 
-def environment_scene(resolution=(64, 48)):
-    """A mirror sphere in an HDR environment (a float image on an Environment Texture)."""
+def environment_scene(resolution=(64, 48), broken=False):
+    """A mirror sphere in an HDR environment (a float image on an Environment Texture);
+    broken: a few of its pixels are +Inf and NaN, as broken HDR files hold."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=2.5, segments=64, ring_count=32)
     sphere = bpy.context.object
@@ -105,7 +106,11 @@ def environment_scene(resolution=(64, 48)):
         world.use_nodes = True
     nodes = world.node_tree.nodes
     env = nodes.new("ShaderNodeTexEnvironment")
-    env.image = _filled_image("SkyHDR", sky_pixels(), float_buffer=True)
+    sky = sky_pixels()
+    if broken:
+        sky[16, 10:14, :3] = np.inf
+        sky[5, 3, 0] = np.nan
+    env.image = _filled_image("SkyHDR", sky, float_buffer=True)
     world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
     bpy.context.view_layer.update()
     return {}

@@ -18,6 +18,12 @@ inline Vec3 dda_d(const Vec3& d) {
     return out;
 }
 
+// 1/dir in double, inf where dir (dda_d's direction) is 0: what both walks
+// step by and clip_to_box_d takes.
+inline void dda_inverse(const Vec3& dir, double inv[3]) {
+    for (int a = 0; a < 3; ++a) inv[a] = dir[a] != 0 ? 1.0 / double(dir[a]) : double(kInf);
+}
+
 // How far along the ray a walk must have gone before it accepts a hit at t:
 // t plus 2^-20 of it, above a triangle test's rounding of t (about 2^-24 of
 // the distance from the ray's origin), so that a primitive in a later cell

@@ -45,20 +45,23 @@ Vec3d point_at(const std::vector<float>& xyz, size_t i) { return {xyz[3 * i], xy
 // an axis: the cofactors map its normals as they map its edges' cross
 // products, along the flattened surface's normal).
 Affine normal_map(const Affine& a) {
-    Affine inv, out = a;
-    if (a.inverse(inv)) {
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) out.m[r][c] = inv.m[c][r];
-    } else {
-        // Row r of the cofactor matrix: the cross product of the other two rows, in cyclic order.
-        for (int r = 0; r < 3; ++r) {
-            const double* p = a.m[(r + 1) % 3];
-            const double* q = a.m[(r + 2) % 3];
-            out.m[r][0] = p[1] * q[2] - p[2] * q[1];
-            out.m[r][1] = p[2] * q[0] - p[0] * q[2];
-            out.m[r][2] = p[0] * q[1] - p[1] * q[0];
-        }
+    Affine out = a;
+    // Row r of the cofactor matrix: the cross product of the other two rows, in cyclic order.
+    double cof[3][3];
+    for (int r = 0; r < 3; ++r) {
+        const double* p = a.m[(r + 1) % 3];
+        const double* q = a.m[(r + 2) % 3];
+        cof[r][0] = p[1] * q[2] - p[2] * q[1];
+        cof[r][1] = p[2] * q[0] - p[0] * q[2];
+        cof[r][2] = p[0] * q[1] - p[1] * q[0];
     }
+    const double det = a.m[0][0] * cof[0][0] + a.m[0][1] * cof[0][1] + a.m[0][2] * cof[0][2];
+    bool invertible = det != 0 && std::isfinite(det);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(cof[r][c] / det)) invertible = false;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) out.m[r][c] = invertible ? cof[r][c] / det : cof[r][c];
     return out;
 }
 

@@ -369,7 +369,7 @@ bool UniformGrid::traverse(const RayPre& r, Hit& hit, TraceContext& ctx, const P
     // more than the cells' padding, and the walk would miss hits.
     const Vec3 dir = dda_d(ray.d);
     double inv[3];
-    for (int a = 0; a < 3; ++a) inv[a] = dir[a] != 0 ? 1.0 / double(dir[a]) : double(kInf);
+    dda_inverse(dir, inv);
     double t0 = ray.tmin, t1 = reach(hit.t);   // t1: where the ray leaves the grid (or its tmax)
     if (!clip_to_box_d(lo_, hi_, ray, dir, inv, t0, t1)) return false;
     if (!(t0 <= double(std::numeric_limits<float>::max()))) return false;   // the box lies beyond float range along this ray

@@ -20,8 +20,9 @@ inline Vec3 dda_d(const Vec3& d) {
 
 // 1/dir in double, inf where dir (dda_d's direction) is 0: what both walks
 // step by and clip_to_box_d takes.
+// (dda_d's zeros are +0, so 1 / 0 is +inf: no branch.)
 inline void dda_inverse(const Vec3& dir, double inv[3]) {
-    for (int a = 0; a < 3; ++a) inv[a] = dir[a] != 0 ? 1.0 / double(dir[a]) : double(kInf);
+    for (int a = 0; a < 3; ++a) inv[a] = 1.0 / double(dir[a]);
 }
 
 // How far along the ray a walk must have gone before it accepts a hit at t:
@@ -70,5 +71,36 @@ inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const 
     t1 = std::min(t1, f + std::abs(f) * 0x1p-20);
     return t0 <= t1;
 }
+
+// A ray as the walks follow it, set up once: the DDA direction, its
+// reciprocal, and the origin and direction in double.
+struct DdaRay {
+    Vec3 dir;            // dda_d(ray.d)
+    double inv[3];       // 1 / dir, inf where dir is 0
+    double o[3], d[3];   // the ray's own origin and direction
+    bool moving;         // dir has no zero component (clip() then needs no special case)
+    explicit DdaRay(const Ray& ray) : dir(dda_d(ray.d)) {
+        dda_inverse(dir, inv);
+        for (int a = 0; a < 3; ++a) {
+            o[a] = ray.o[a];
+            d[a] = ray.d[a];
+        }
+        moving = dir.x != 0 && dir.y != 0 && dir.z != 0;
+    }
+    // clip_to_box_d(lo, hi, ray, dir, inv, t0, t1), with the same arithmetic;
+    // without its per-axis branches when the ray moves along every axis.
+    bool clip(const Vec3& lo, const Vec3& hi, const Ray& ray, double& t0, double& t1) const {
+        if (!moving) return clip_to_box_d(lo, hi, ray, dir, inv, t0, t1);
+        double n = -std::numeric_limits<double>::infinity(), f = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < 3; ++a) {
+            const double tn = (double(lo[a]) - o[a]) * inv[a], tf = (double(hi[a]) - o[a]) * inv[a];
+            n = std::max(n, std::min(tn, tf));
+            f = std::min(f, std::max(tn, tf));
+        }
+        t0 = std::max(t0, n - std::abs(n) * 0x1p-20);
+        t1 = std::min(t1, f + std::abs(f) * 0x1p-20);
+        return t0 <= t1;
+    }
+};
 
 }  // namespace gw

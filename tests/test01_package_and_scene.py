@@ -35,3 +35,28 @@ def test_settings_reject_unknown_modes():
         gw.RenderSettings().replace(samples=4)
     with pytest.raises(ValueError, match="tile_size"):
         gw.RenderSettings(tile_size=0).to_core()
+
+
+def test_rays_in_any_form_give_the_same_hits_and_keep_the_callers_arrays():
+    # float32 C-contiguous arrays are taken as they are (no copy); lists, float64 and
+    # strided arrays are converted; tmin / tmax as numbers or per-ray arrays, including
+    # inf, NaN (a miss) and numbers beyond float32 (inf).
+    sc = gw.Scene(sphere_centers=[[0, 0, 0], [0, 0, 4]], sphere_radii=[1.0, 1.0])
+    o = np.array([[0, 0, -5], [0, 0, 10], [3, 0, 0], [0.5, 0, -5]], np.float32)
+    d = np.array([[0, 0, 1], [0, 0, -1], [0, 0, 1], [0, 0, 1]], np.float32)
+    o_before, d_before = o.copy(), d.copy()
+    ref = sc.intersect(o, d)
+    assert np.allclose(ref.t[[0, 1]], [4, 5]) and np.isinf(ref.t[2])
+    forms = [(o.tolist(), d.tolist()), (o.astype(np.float64), d.astype(np.float64)),
+             (np.repeat(o, 2, axis=0)[::2], np.repeat(d, 2, axis=0)[::2]), (np.asfortranarray(o), np.asfortranarray(d))]
+    for oo, dd in forms:
+        h = sc.intersect(oo, dd)
+        assert np.array_equal(h.t, ref.t) and np.array_equal(h.prim, ref.prim)
+        assert np.array_equal(sc.occluded(oo, dd), sc.occluded(o, d))
+    for scalar, per_ray in [(4.5, np.full(4, 4.5, np.float32)), (np.inf, np.full(4, np.inf)), (3, np.full(4, 3))]:
+        assert np.array_equal(sc.intersect(o, d, tmax=scalar).t, sc.intersect(o, d, tmax=per_ray).t)
+        assert np.array_equal(sc.occluded(o, d, tmax=scalar), sc.occluded(o, d, tmax=per_ray))
+    assert np.all(np.isinf(sc.intersect(o, d, tmax=float("nan")).t))
+    assert np.array_equal(sc.intersect(o, d, tmax=1e39).t, ref.t)   # beyond float32: inf
+    assert np.array_equal(sc.intersect(o, d, tmin=4.5).t[[0, 1]], [6, 5])
+    assert np.array_equal(o, o_before) and np.array_equal(d, d_before)

@@ -9,6 +9,8 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass, replace
 
+import math
+
 import numpy as np
 
 from . import _core
@@ -21,6 +23,10 @@ def _array(value, name, dtype, width):
     """Convert to a C-contiguous array of `dtype` with shape (N, width) or (N,)."""
     if value is None:
         return np.zeros((0, width) if width else (0,), dtype=dtype)
+    if (dtype is np.float32 and type(value) is np.ndarray and value.dtype == np.float32 and value.size
+            and value.flags.c_contiguous and value.flags.aligned
+            and (value.shape[1:] == (width,) if width else value.ndim == 1)):
+        return value   # already what the core reads (read-only), e.g. rays from a previous query
     a = np.asarray(value)
     if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
         raise ValueError(f"{name} must be a numeric array, got dtype {a.dtype}")
@@ -137,7 +143,10 @@ def structure_key(settings: RenderSettings) -> tuple:
     """The settings that shape an acceleration structure: the acceleration
     group's values, less its on/off traversal switches (mailboxes, skip_empty).
     Two settings with the same key share one structure."""
-    return tuple(getattr(settings, x.name) for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
+    return tuple(getattr(settings, name) for name in _STRUCTURE_SETTINGS)
+
+
+_STRUCTURE_SETTINGS = tuple(x.name for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
 
 
 # The keywords Scene.intersect / occluded took before they took a RenderSettings.
@@ -270,7 +279,10 @@ class Scene:
         the build stops and BuildCancelled is raised. A KeyboardInterrupt
         (Ctrl-C) during the build stops it too, then propagates."""
         s = settings or RenderSettings()
-        core = s.to_core()
+        return self._accel(s, s.to_core(), should_stop)
+
+    def _accel(self, s: RenderSettings, core, should_stop=None):
+        """accel(s), given s.to_core() (checked once per query)."""
         key = structure_key(s)
         if key not in self._accels:
             self._accels[key] = build(self._native, core, should_stop)
@@ -293,6 +305,9 @@ class Scene:
         n = o.shape[0]
 
         def per_ray(value, name):
+            if type(value) in (float, int) and not 3.4028234663852886e38 < abs(value) < math.inf:
+                # a number float32 holds (or NaN, or an infinity): the same for every ray
+                return np.full(n, value, np.float32)
             a = np.asarray(value)
             if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool) \
                     or np.issubdtype(a.dtype, np.complexfloating):
@@ -333,7 +348,8 @@ class Scene:
         """
         s = self._query_settings(settings, deprecated, "intersect")
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
-        t, prim, kind, u, v, n, stats = _core.intersect(self.accel(s), o, d, lo, hi, s.to_core(), bool(spawned))
+        core = s.to_core()
+        t, prim, kind, u, v, n, stats = _core.intersect(self._accel(s, core), o, d, lo, hi, core, bool(spawned))
         return Hits(t, prim, kind, u, v, n, stats)
 
     def occluded(self, origins, directions, tmin=0.0, tmax=np.inf, settings: RenderSettings | None = None,
@@ -341,7 +357,8 @@ class Scene:
         """True where anything is hit in (tmin, tmax): shadow-ray queries (see intersect)."""
         s = self._query_settings(settings, deprecated, "occluded")
         o, d, lo, hi = self._rays(origins, directions, tmin, tmax)
-        hit, _ = _core.occluded(self.accel(s), o, d, lo, hi, s.to_core(), bool(spawned))
+        core = s.to_core()
+        hit, _ = _core.occluded(self._accel(s, core), o, d, lo, hi, core, bool(spawned))
         return hit.astype(bool)
 
     def spawn_origins(self, origins, directions, hits: Hits, new_directions) -> np.ndarray:

@@ -15,8 +15,10 @@ limits, so a value the core stores is a value it accepts.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import numbers
+import struct
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
@@ -44,7 +46,7 @@ class Setting:
     host_default: object = None       # a host's (Blender's) default where it differs ...
     host_default_reason: str = ""     # ... and why
 
-    @property
+    @functools.cached_property
     def kind(self) -> str:
         """The Python kind: bool, int, float, enum or region."""
         if self.ctype.startswith(("int", "uint")):
@@ -53,7 +55,7 @@ class Setting:
             return "float"
         return self.ctype
 
-    @property
+    @functools.cached_property
     def ids(self) -> tuple:
         return tuple(c[0] for c in self.choices)
 
@@ -78,32 +80,41 @@ class Setting:
     def check(self, value):
         """`value` as the core stores it (an int, float rounded to the core's
         precision, enum id, or 4-tuple), or ValueError naming the setting."""
-        where = f"RenderSettings.{self.name}"
-        if self.kind == "bool":
-            if not isinstance(value, (bool, np.bool_)):
-                raise ValueError(f"{where} must be True or False, got {value!r}")
+        kind = self.kind
+        if kind == "bool":
+            if value is True or value is False:
+                return value
+            if not isinstance(value, np.bool_):
+                raise ValueError(f"RenderSettings.{self.name} must be True or False, got {value!r}")
             return bool(value)
-        if self.kind == "enum":
+        if kind == "enum":
             if value not in self.ids:
-                raise ValueError(f"{where} must be one of {list(self.ids)}, got {value!r}")
+                raise ValueError(f"RenderSettings.{self.name} must be one of {list(self.ids)}, got {value!r}")
             return value
-        if self.kind == "region":
-            return _check_region(where, value)
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-            raise ValueError(f"{where} must be a number, got {value!r}")
-        if self.kind == "int":
-            if not isinstance(value, numbers.Integral):
-                raise ValueError(f"{where} must be an integer, got {value!r}")
+        if kind == "region":
+            return _check_region(f"RenderSettings.{self.name}", value)
+        if type(value) is not int and type(value) is not float and (
+                isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real)):
+            raise ValueError(f"RenderSettings.{self.name} must be a number, got {value!r}")
+        if kind == "int":
+            if type(value) is not int:
+                if not isinstance(value, numbers.Integral):
+                    raise ValueError(f"RenderSettings.{self.name} must be an integer, got {value!r}")
+                value = int(value)
             lo, hi = _INT_RANGES[self.ctype]
-            value = int(value)
             if not lo <= value <= hi:
-                raise ValueError(f"{where} must be in [{self.min:g}, {self.max:g}], got {value}")
+                raise ValueError(f"RenderSettings.{self.name} must be in [{self.min:g}, {self.max:g}], got {value}")
             return value
-        with np.errstate(over="ignore"):
-            stored = float(np.float32(value)) if self.ctype == "float32" else float(value)
-        if math.isfinite(float(value)) and not math.isfinite(stored):
-            raise ValueError(f"{where} = {value!r} does not fit a float32")
+        value = float(value)
+        if self.ctype != "float32":
+            return value
+        stored = _FLOAT32.unpack(_FLOAT32.pack(value))[0]   # rounded to the nearest float32, as the core stores it
+        if math.isinf(stored) and math.isfinite(value):
+            raise ValueError(f"RenderSettings.{self.name} = {value!r} does not fit a float32")
         return stored
+
+
+_FLOAT32 = struct.Struct("f")
 
 
 def _check_region(where, value):
@@ -163,12 +174,16 @@ def _replace(self, **changes) -> "RenderSettings":
     return RenderSettings(**{**asdict(self), **changes})
 
 
+# Per setting: its name, its check, and the core's enum type (None for other kinds).
+_CONVERSIONS = tuple((s.name, s.check, getattr(_core, s.enum_type) if s.enum_type else None) for s in SCHEMA)
+
+
 def _to_core(self) -> "_core.RenderSettings":
     """The core's struct, every value checked (ValueError names the setting)."""
     core = _core.RenderSettings()
-    for s in SCHEMA:
-        value = s.check(getattr(self, s.name))
-        setattr(core, s.name, getattr(getattr(_core, s.enum_type), value) if s.enum_type else value)
+    for name, check, enum in _CONVERSIONS:
+        value = check(getattr(self, name))
+        setattr(core, name, getattr(enum, value) if enum is not None else value)
     core.validate()
     return core
 

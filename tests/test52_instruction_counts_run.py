@@ -1,5 +1,5 @@
 """The instruction-count benchmark runs: core/bench/bench_instructions.py on one
-small scene and a few rays, under valgrind's callgrind.
+small scene (SPD mount, size 4) and a few rays, under valgrind's callgrind.
 
 Like test50 it never judges the numbers' size, only that the script runs end to
 end and writes its table: one row per ray kind, with counts for both engines
@@ -25,7 +25,7 @@ SPD_DIR = ROOT.parent / "shared" / "scenes" / "spd"
 @pytest.mark.skipif(not SPD_DIR.is_dir(), reason=f"SPD scenes not found in {SPD_DIR}")
 def test_instruction_counts_are_written_for_every_ray_kind(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "core" / "bench" / "bench_instructions.py"),
-                           "--scenes", "mount_s6", "--rays", "256", "--out", str(tmp_path)],
+                           "--scenes", "mount_s4", "--rays", "256", "--out", str(tmp_path)],
                           capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr[-4000:]
     md = (tmp_path / "instruction-counts.md").read_text()

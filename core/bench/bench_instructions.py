@@ -128,8 +128,7 @@ def measure_scene(name: str, kw: dict, gw_kw: dict, rays: dict, tmp: Path) -> di
             _, engine, kind, n = words
             n = int(n)
             before = set(glob.glob(str(tmp / f"cg_{name}.*")))
-            control(proc.pid, "-z")            # counters to zero
-            control(proc.pid, "-i", "on")
+            control(proc.pid, "-i", "on")      # (counters are zero: instrumentation was off since the last dump)
             proc.stdin.write("go\n")
             proc.stdin.flush()
             if proc.stdout.readline().split()[:1] != ["done"]:

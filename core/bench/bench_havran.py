@@ -170,7 +170,8 @@ def run(sizes, suzanne, out) -> Section:
     fig_ax[1][0].set_ylabel("speed-up over 1 thread")
     fig_ax[1][0].legend(fontsize=8)
     sec.lines += [f"**Thread scaling** (adaptive grid, 1 to `nproc` = {NPROC} threads, mailboxes on, best of "
-                  f"{sizes.reps} rounds taking turns; goal: at least {SCALING_GOAL * 2:g}x on 2 threads):", ""]
+                  f"{sizes.reps} rounds taking turns; goal: at least {SCALING_GOAL * 2:g}x on 2 threads; more cores: "
+                  "[thread-scaling.md](thread-scaling.md)):", ""]
     sec.lines += table(["scene", "threads", "render time", "speed-up", "efficiency", "CPU/wall"], scale_rows)
     sec.lines += [save(fig_ax[0], out, "havran_threads"), ""]
 

@@ -31,7 +31,7 @@ inline Bounds cone_bounds(const ConeData& c) {
     return b;
 }
 
-inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float& t_out) {
+__attribute__((always_inline)) inline bool intersect_cone(const RayPre& r, const ConeData& c, float tmax, float& t_out) {
     const Vec3d w = r.od() - c.base;
     const double wh = dot(w, c.axis), dh = dot(r.dd(), c.axis);
     const Vec3d wp = w - c.axis * wh, dp = r.dd() - c.axis * dh;

@@ -48,7 +48,7 @@ __attribute__((always_inline)) inline double reach(float t) { return double(t) +
 // ray aimed at a triangle's corner on the box, where double finds the ray
 // passing just outside). That rounding is about 2^-24 of the distance from
 // the ray's origin.
-inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const Vec3& dir, const double inv[3],
+__attribute__((always_inline)) inline bool clip_to_box_d(const Vec3& lo, const Vec3& hi, const Ray& ray, const Vec3& dir, const double inv[3],
                           double& t0, double& t1) {
     double n = -std::numeric_limits<double>::infinity(), f = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
@@ -89,7 +89,7 @@ struct DdaRay {
     }
     // clip_to_box_d(lo, hi, ray, dir, inv, t0, t1), with the same arithmetic;
     // without its per-axis branches when the ray moves along every axis.
-    bool clip(const Vec3& lo, const Vec3& hi, const Ray& ray, double& t0, double& t1) const {
+    __attribute__((always_inline)) bool clip(const Vec3& lo, const Vec3& hi, const Ray& ray, double& t0, double& t1) const {
         if (!moving) return clip_to_box_d(lo, hi, ray, dir, inv, t0, t1);
         double n = -std::numeric_limits<double>::infinity(), f = std::numeric_limits<double>::infinity();
         for (int a = 0; a < 3; ++a) {

@@ -73,14 +73,14 @@ constexpr float gamma_bound(int n) {
 inline uint32_t float_bits(float f) { uint32_t u; std::memcpy(&u, &f, 4); return u; }
 inline float bits_float(uint32_t u) { float f; std::memcpy(&f, &u, 4); return f; }
 // Next representable float towards +inf / -inf (+0 and -0 both step to the smallest subnormal).
-inline float next_up(float v) {
+__attribute__((always_inline)) inline float next_up(float v) {
     if (std::isinf(v) && v > 0) return v;
     if (v == -0.0f) v = 0.0f;
     uint32_t u = float_bits(v);
     u = v >= 0 ? u + 1 : u - 1;
     return bits_float(u);
 }
-inline float next_down(float v) {
+__attribute__((always_inline)) inline float next_down(float v) {
     if (std::isinf(v) && v < 0) return v;
     if (v == 0.0f) v = -0.0f;
     uint32_t u = float_bits(v);

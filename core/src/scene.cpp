@@ -140,17 +140,7 @@ void Scene::compute_bounds(const Bounds& tri_bounds) {
 }
 
 bool Scene::intersect_quadric(size_t prim, const RayPre& r, Hit& hit, float tmax) const {
-    float t;
-    const size_t s = prim - num_triangles();
-    if (s < num_spheres()) {
-        if (!intersect_sphere(r, centers_[s], radii_[s], tmax, t)) return false;
-    } else if (!intersect_cone(r, cones_[s - num_spheres()], tmax, t)) {
-        return false;
-    }
-    hit.t = t;
-    hit.prim = int32_t(prim);
-    hit.u = hit.v = 0;
-    return true;
+    return intersect_quadric_inline(prim, r, hit, tmax);
 }
 
 Bounds Scene::prim_bounds(size_t prim) const {

@@ -113,6 +113,15 @@ public:
     // Triangles are tested inline (the hot path); quadrics out of line.
     inline bool intersect(size_t prim, const RayPre& r, Hit& hit) const;
     bool intersect_quadric(size_t prim, const RayPre& r, Hit& hit, float tmax) const;
+    // The same two, for code compiled for another instruction set (the AVX2
+    // walk): intersect_with takes the quadric test as `quadric(prim, r, hit,
+    // tmax)`, and intersect_quadric_inline is that test's body, inlined where
+    // it is called. A walk wraps it in a function of its own instruction set,
+    // so that no call leaves that set: calls from AVX code into code compiled
+    // for plain x86-64 cost the AVX2 walk a factor 2-3 on an Intel Xeon.
+    template <class QuadricTest>
+    inline bool intersect_with(size_t prim, const RayPre& r, Hit& hit, const QuadricTest& quadric) const;
+    inline bool intersect_quadric_inline(size_t prim, const RayPre& r, Hit& hit, float tmax) const;
     SurfacePoint surface(const RayPre& r, const Hit& hit) const;
     Vec3 geometric_normal(const RayPre& r, const Hit& hit) const;
 
@@ -191,15 +200,38 @@ private:
 // lower: with the hit decided on t alone (triangle.h), the nearest hit is the
 // same whatever order the primitives are tested in (brute force, the uniform
 // grid's cells, the adaptive grid's SIMD lanes).
-__attribute__((always_inline)) inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
+template <class QuadricTest>
+__attribute__((always_inline)) inline bool Scene::intersect_with(size_t prim, const RayPre& r, Hit& hit,
+                                                                 const QuadricTest& quadric) const {
     const float tmax = int32_t(prim) < hit.prim ? next_up(hit.t) : hit.t;   // t < next_up(x) <=> t <= x
-    if (prim >= num_triangles()) return intersect_quadric(prim, r, hit, tmax);
+    if (prim >= num_triangles()) return quadric(prim, r, hit, tmax);
     float t, u, v;
     if (!intersect_triangle(r, &tri_verts_[3 * prim].x, tmax, t, u, v)) return false;
     hit.t = t;
     hit.prim = int32_t(prim);
     hit.u = u;
     hit.v = v;
+    return true;
+}
+
+__attribute__((always_inline)) inline bool Scene::intersect(size_t prim, const RayPre& r, Hit& hit) const {
+    return intersect_with(prim, r, hit, [this](size_t p, const RayPre& ray, Hit& h, float tmax) {
+        return intersect_quadric(p, ray, h, tmax);
+    });
+}
+
+__attribute__((always_inline)) inline bool Scene::intersect_quadric_inline(size_t prim, const RayPre& r, Hit& hit,
+                                                                           float tmax) const {
+    float t;
+    const size_t s = prim - num_triangles();
+    if (s < num_spheres()) {
+        if (!intersect_sphere(r, centers_[s], radii_[s], tmax, t)) return false;
+    } else if (!intersect_cone(r, cones_[s - num_spheres()], tmax, t)) {
+        return false;
+    }
+    hit.t = t;
+    hit.prim = int32_t(prim);
+    hit.u = hit.v = 0;
     return true;
 }
 

@@ -23,7 +23,7 @@ inline Bounds sphere_bounds(const Vec3& center, float radius) {
     return b;
 }
 
-inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, float tmax, float& t_out) {
+__attribute__((always_inline)) inline bool intersect_sphere(const RayPre& r, const Vec3& center, float radius, float tmax, float& t_out) {
     const Vec3d c(center);
     const double R = radius;
     const Vec3d f = r.od() - c;

@@ -50,7 +50,7 @@ inline bool triangle_shading_normal(const Vec3& n0, const Vec3& n1, const Vec3& 
 // permuted axis order straight from memory.
 // t_err, when given, receives the bound on t's rounding error (computed for
 // every ray that reaches it, spawned or not; the unit tests check it).
-inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, float& t_out, float& b1, float& b2,
+__attribute__((always_inline)) inline bool intersect_triangle(const RayPre& r, const float* v, float tmax, float& t_out, float& b1, float& b2,
                                float* t_err = nullptr) {
     const float Akz = v[r.kz] - r.oz, Bkz = v[3 + r.kz] - r.oz, Ckz = v[6 + r.kz] - r.oz;
     const float Ax = (v[r.kx] - r.ox) - r.sx * Akz, Ay = (v[r.ky] - r.oy) - r.sy * Akz;

@@ -89,9 +89,11 @@ public:
     // Nearest first; empty for a scene built from arrays.
     const std::vector<SceneAncestor>& ancestors() const { return ancestors_; }
 
-    size_t num_triangles() const { return tris_.size() / 3; }
-    size_t num_spheres() const { return radii_.size(); }
-    size_t num_cones() const { return cones_.size(); }
+    // Forced inline: the AVX2 walk asks these for every primitive it tests,
+    // and a call out of it costs (intersect_with says why).
+    __attribute__((always_inline)) size_t num_triangles() const { return tris_.size() / 3; }
+    __attribute__((always_inline)) size_t num_spheres() const { return radii_.size(); }
+    __attribute__((always_inline)) size_t num_cones() const { return cones_.size(); }
     size_t num_prims() const { return num_triangles() + num_spheres() + num_cones(); }
     PrimKind kind_of(size_t prim) const {
         if (prim < num_triangles()) return PrimKind::Triangle;

@@ -16,14 +16,18 @@ def settings(**kw):
     return gw.RenderSettings(threads=1, **kw)
 
 
+# Brute force's answers do not depend on the thread count: its references use every core.
+BRUTE = gw.RenderSettings(accel="none")
+
+
 def assert_same_as_brute_force(sc, o, d, accel="adaptive", **kw):
-    want = sc.intersect(o, d, settings=settings(accel="none"))
+    want = sc.intersect(o, d, settings=BRUTE)
     got = sc.intersect(o, d, settings=settings(accel=accel, **kw))
     assert np.array_equal(np.isfinite(got.t), np.isfinite(want.t)), \
         f"{int(np.sum(np.isfinite(got.t) != np.isfinite(want.t)))} of {len(o)} rays hit in one and miss in the other"
     assert np.array_equal(got.t, want.t) and np.array_equal(got.prim, want.prim)
     occluded = np.asarray(sc.occluded(o, d, settings=settings(accel=accel, **kw)))
-    assert np.array_equal(occluded, np.asarray(sc.occluded(o, d, settings=settings(accel="none"))))
+    assert np.array_equal(occluded, np.asarray(sc.occluded(o, d, settings=BRUTE)))
 
 
 @pytest.mark.parametrize("offset, radius, rings", [(1e5, 0.1, 96), (1e6, 0.5, 96), (3e6, 2.0, 24)])
@@ -108,18 +112,10 @@ def distance_in_double(o, d, tri):
     return float(best)
 
 
-@pytest.mark.parametrize("accel", ["adaptive", "grid"])
-def test_rays_from_far_away_find_what_brute_force_finds(accel):
-    # Specks in a unit cube, rays from 1e4-5e4 cube sizes away aimed at points on their edges (and
-    # inside them). A float t there is coarse: one step moves the ray by 2^-24 of its distance,
-    # up to a tenth of a fine cell, far more than the cells' padding, and a walk with float
-    # parameters stepped through the wrong cells: 40 of these 16,000 rays got another hit than
-    # brute force's (25 of them none), and 25 occlusion queries answered wrongly, in the adaptive
-    # grid; the uniform grid's float walk got 666 wrong. Both walks' parameters are doubles.
-    # At these distances the triangle test's own rounding, that of the origin's coordinates,
-    # reaches a tenth of a speck: brute force itself can report a speck that the ray passes
-    # (nearly edge-on) far from, in no cell the ray crosses. Such a ray is excused (one of the
-    # 16,000, for the uniform grid; 0-3 with other seeds, for either grid).
+@pytest.fixture(scope="module")
+def far_away_case():
+    """Specks in a unit cube and 16,000 rays from far away, with brute force's
+    answers (computed once for both structures)."""
     rng = np.random.default_rng(5)
     n = 50000
     v = (rng.uniform(0, 1, (n, 1, 3)) + rng.normal(0, 0.005, (n, 3, 3))).reshape(-1, 3).astype(np.float32)
@@ -135,7 +131,23 @@ def test_rays_from_far_away_find_what_brute_force_finds(accel):
     away *= 10 ** rng.uniform(4, 4.7, (m, 1)) / np.linalg.norm(away, axis=1, keepdims=True)
     o = (target + away).astype(np.float32)
     d = (target - o).astype(np.float32)
-    want = sc.intersect(o, d, settings=settings(accel="none"))
+    return v, t, sc, o, d, sc.intersect(o, d, settings=BRUTE), np.asarray(sc.occluded(o, d, settings=BRUTE))
+
+
+@pytest.mark.parametrize("accel", ["adaptive", "grid"])
+def test_rays_from_far_away_find_what_brute_force_finds(accel, far_away_case):
+    # Specks in a unit cube, rays from 1e4-5e4 cube sizes away aimed at points on their edges (and
+    # inside them). A float t there is coarse: one step moves the ray by 2^-24 of its distance,
+    # up to a tenth of a fine cell, far more than the cells' padding, and a walk with float
+    # parameters stepped through the wrong cells: 40 of these 16,000 rays got another hit than
+    # brute force's (25 of them none), and 25 occlusion queries answered wrongly, in the adaptive
+    # grid; the uniform grid's float walk got 666 wrong. Both walks' parameters are doubles.
+    # At these distances the triangle test's own rounding, that of the origin's coordinates,
+    # reaches a tenth of a speck: brute force itself can report a speck that the ray passes
+    # (nearly edge-on) far from, in no cell the ray crosses. Such a ray is excused (one of the
+    # 16,000, for the uniform grid; 0-3 with other seeds, for either grid).
+    v, t, sc, o, d, want, brute = far_away_case
+    m = len(o)
     got = sc.intersect(o, d, settings=settings(accel=accel))
     differ = np.flatnonzero((got.t != want.t) | (got.prim != want.prim))
     assert len(differ) <= 4, f"{len(differ)} of {m} rays got another hit than brute force's"
@@ -144,5 +156,4 @@ def test_rays_from_far_away_find_what_brute_force_finds(accel):
     excused = [i for i in differ if want.prim[i] >= 0 and distance_in_double(o[i], d[i], v[t[want.prim[i]]]) > 1e-4]
     assert list(differ) == excused, f"rays {sorted(set(differ) - set(excused))} got another hit than brute force's"
     occluded = np.asarray(sc.occluded(o, d, settings=settings(accel=accel)))
-    brute = np.asarray(sc.occluded(o, d, settings=settings(accel="none")))
     assert np.array_equal(np.delete(occluded, excused), np.delete(brute, excused))

@@ -12,7 +12,7 @@ from gridwalk import _core
 from meshes import uv_sphere
 
 GRID = gw.RenderSettings(threads=1, accel="grid", grid_density=1.0)
-BRUTE = gw.RenderSettings(threads=1, accel="none")
+BRUTE = gw.RenderSettings(accel="none")   # its answers do not depend on the thread count: every core
 V, F = uv_sphere(24, 48, radius=1.0, center=np.zeros(3), seed=1)
 V = V.astype(np.float32)
 N = (V / np.linalg.norm(V, axis=1, keepdims=True)).astype(np.float32)

@@ -33,11 +33,11 @@ def floor_scene(rng, spheres=True):
 
 
 def brute_force_agrees(sc, o, d, tmax=np.inf, spawned=False):
-    want = sc.intersect(o, d, tmax=tmax, spawned=spawned, settings=settings(accel="none"))
+    want = sc.intersect(o, d, tmax=tmax, spawned=spawned, settings=gw.RenderSettings(accel="none"))
     got = sc.intersect(o, d, tmax=tmax, spawned=spawned, settings=settings())
     assert np.array_equal(got.t, want.t) and np.array_equal(got.prim, want.prim) and np.array_equal(got.kind, want.kind)
     occ = sc.occluded(o, d, tmax=tmax, spawned=spawned, settings=settings())
-    assert np.array_equal(occ, sc.occluded(o, d, tmax=tmax, spawned=spawned, settings=settings(accel="none")))
+    assert np.array_equal(occ, sc.occluded(o, d, tmax=tmax, spawned=spawned, settings=gw.RenderSettings(accel="none")))
     return got
 
 

@@ -26,10 +26,10 @@ def diagonal_slivers(rng, n=60):
 
 def brute_force_agrees(sc, o, d, spawned=False):
     got = sc.intersect(o, d, spawned=spawned, settings=settings())
-    want = sc.intersect(o, d, spawned=spawned, settings=settings(accel="none"))
+    want = sc.intersect(o, d, spawned=spawned, settings=gw.RenderSettings(accel="none"))
     assert np.array_equal(got.t, want.t) and np.array_equal(got.prim, want.prim)
     occ = sc.occluded(o, d, spawned=spawned, settings=settings())
-    assert np.array_equal(occ, sc.occluded(o, d, spawned=spawned, settings=settings(accel="none")))
+    assert np.array_equal(occ, sc.occluded(o, d, spawned=spawned, settings=gw.RenderSettings(accel="none")))
     return got
 
 

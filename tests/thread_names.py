@@ -1,6 +1,7 @@
 """Names of this process's threads (Linux: /proc/self/task/*/comm). The core
 names its render threads "gridwalk", its build threads "gridwalk-build" and
-the viewport's controller "gridwalk-view"."""
+the viewport's controller "gridwalk-view", and the workers of a batched
+ray query (Scene.intersect / occluded) "gridwalk-rays"."""
 import os
 
 

@@ -1,6 +1,8 @@
 // Batched ray queries. See batch.h.
 #include "batch.h"
 
+#include <algorithm>
+#include <chrono>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -13,20 +15,42 @@ namespace {
 
 inline double sq(double x) { return x * x; }
 
-// Runs body(i, ctx) for i in [0, n) on fixed chunks, one per thread. An
-// exception in any chunk (e.g. bad_alloc for the mailbox) is caught in its
-// thread and rethrown here after every thread has been joined, so it reaches
-// Python as an exception instead of terminating the process.
+// Runs body(i, ctx) for i in [0, n), the rest of the batch after a first
+// slice on as many threads as its cost warrants. The calling thread traces
+// the first kProbeRays rays and times them; the rest goes to one thread per
+// kThreadWorth seconds of estimated work (at most the settings' threads), in
+// fixed chunks, the calling thread taking the first. Starting a thread costs
+// about as much as tracing 100 cheap rays, so a thousand rays through a grid
+// stay on one thread, while a few thousand brute-force rays over 10^4
+// primitives (milliseconds each) use every core. (A bound of one thread per
+// 4096 rays, whatever they cost, kept those on one.) The answers do not
+// depend on the split. An exception in any chunk (e.g. bad_alloc for the
+// mailbox) is caught in its thread and rethrown here after every thread has
+// been joined, so it reaches Python as an exception instead of terminating
+// the process.
+constexpr size_t kProbeRays = 128;
+constexpr double kThreadWorth = 250e-6;
+
 template <class F>
 Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& body) {
-    const int nt = int(std::min<size_t>(size_t(resolve_threads(s.threads)), std::max<size_t>(1, n / 4096 + 1)));
+    const size_t most = size_t(resolve_threads(s.threads));
+    TraceContext first_ctx = make_trace_context(accel, s);
+    const size_t probe = most > 1 ? std::min(n, kProbeRays) : n;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < probe; ++i) body(i, first_ctx);
+    const double probe_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const size_t rest = n - probe;
+    const double estimate = probe ? probe_seconds * double(rest) / double(probe) : 0.0;
+    const size_t nt = std::max<size_t>(1, std::min({most, size_t(estimate / kThreadWorth), rest / kProbeRays}));
     Stats total;
     std::mutex mu;
     std::exception_ptr error;
-    auto run = [&](int k) {
+    auto run = [&](size_t k, TraceContext* given) {
         try {
-            TraceContext ctx = make_trace_context(accel, s);
-            const size_t lo = n * size_t(k) / size_t(nt), hi = n * size_t(k + 1) / size_t(nt);
+            TraceContext own;
+            if (!given) own = make_trace_context(accel, s);
+            TraceContext& ctx = given ? *given : own;
+            const size_t lo = probe + rest * k / nt, hi = probe + rest * (k + 1) / nt;
             for (size_t i = lo; i < hi; ++i) body(i, ctx);
             std::lock_guard<std::mutex> lock(mu);
             total.add(ctx.stats);
@@ -37,12 +61,15 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     };
     std::vector<std::thread> pool;
     try {
-        for (int k = 1; k < nt; ++k) pool.emplace_back(run, k);
+        for (size_t k = 1; k < nt; ++k) {
+            pool.emplace_back(run, k, nullptr);
+            name_thread(pool.back(), "gridwalk-rays");
+        }
     } catch (const std::system_error& e) {   // could not start a thread: stop, report
         std::lock_guard<std::mutex> lock(mu);
-        if (!error) error = std::make_exception_ptr(thread_start_error(int(pool.size()) + 1, nt, e));
+        if (!error) error = std::make_exception_ptr(thread_start_error(int(pool.size()) + 1, int(nt), e));
     }
-    if (!error) run(0);
+    if (!error) run(0, &first_ctx);
     for (auto& t : pool) t.join();
     if (error) std::rethrow_exception(error);
     return total;

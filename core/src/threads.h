@@ -13,7 +13,8 @@ namespace gw {
 // Names a thread from its creator, so the name is in place before the
 // constructor that started it returns (no race with a caller reading it).
 // Linux: /proc/<pid>/task/*/comm, so hosts and tests can tell the core's
-// threads ("gridwalk", "gridwalk-build", "gridwalk-view") from their own.
+// threads ("gridwalk", "gridwalk-build", "gridwalk-view", "gridwalk-rays" for
+// batched ray queries) from their own.
 inline void name_thread(std::thread& t, const char* name) {
 #ifdef __linux__
     pthread_setname_np(t.native_handle(), name);

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from gridwalk.scenes import distant
 from meshes import uv_sphere
 
 
@@ -30,19 +31,48 @@ def assert_same_as_brute_force(sc, o, d, accel="adaptive", **kw):
     assert np.array_equal(occluded, np.asarray(sc.occluded(o, d, settings=BRUTE)))
 
 
-@pytest.mark.parametrize("offset, radius, rings", [(1e5, 0.1, 96), (1e6, 0.5, 96), (3e6, 2.0, 24)])
+@pytest.mark.parametrize("offset, radius, rings", [(1e5, 0.1, 96), (1e6, 0.5, 96), (3e6, 2.0, 24), (1e5, 2.0, 48)])
 @pytest.mark.parametrize("skip_empty", [True, False])
 @pytest.mark.parametrize("accel", ["adaptive", "grid"])
 def test_rays_inside_a_sphere_far_from_the_origin_hit_what_brute_force_hits(offset, radius, rings, skip_empty, accel):
     # Before the cell faces were located in double, 1-3% of these rays missed (16-294 of 4000).
+    # The first three spheres span only 16-26 float spacings: "adaptive" builds the uniform grid
+    # for them (see the test below). The last one, 500 spacings across, gets a refined adaptive grid.
     rng = np.random.default_rng(int(offset) % 1000 + rings)
     V, F = uv_sphere(rings, 2 * rings, radius=radius, center=np.array([offset, -offset, offset]), seed=1)
     sc = gw.Scene(vertices=V, triangles=F)
+    if accel == "adaptive" and radius == 2.0 and offset == 1e5:
+        info = sc.grid_info(settings(accel=accel))
+        assert info["kind"] == "adaptive grid" and info["grids"] > 1, info
     n = 4000
     o = (V.astype(np.float64).mean(0) + rng.normal(0, 0.2 * radius, (n, 3))).astype(np.float32)
     d = rng.normal(size=(n, 3)).astype(np.float32)
     assert_same_as_brute_force(sc, o, d, accel, skip_empty=skip_empty)
 
+
+
+def test_a_scene_a_few_float_spacings_across_gets_a_grid_that_separates_its_primitives():
+    # A 0.2-wide sphere 1e5 from the origin, where floats are 0.0078 apart: the adaptive grid's
+    # cells are padded by a few spacings, so no resolution kept its references bounded and its root
+    # stayed one cell of all 36,864 triangles (every ray tested every one). The uniform grid is
+    # built instead, says so, and still answers as brute force does.
+    V, F = uv_sphere(96, 192, radius=0.1, center=np.array([1e5, -1e5, 1e5]), seed=1)
+    sc = gw.Scene(vertices=V, triangles=F)
+    info = sc.grid_info(settings(accel="adaptive"))
+    assert info["kind"] == "uniform grid" and "too few for the adaptive grid" in info["note"], info
+    rng = np.random.default_rng(2)
+    o = (V.astype(np.float64).mean(0) + rng.normal(0, 0.02, (2000, 3))).astype(np.float32)
+    d = rng.normal(size=(2000, 3)).astype(np.float32)
+    hits = sc.intersect(o, d, settings=settings(accel="adaptive"))
+    assert hits.stats["prim_tests"] / len(o) < 200, hits.stats
+    assert_same_as_brute_force(sc, o, d, "adaptive")
+
+
+def test_a_scene_of_a_few_primitives_keeps_its_one_cell_adaptive_grid():
+    # One cell is the right structure for a handful of primitives (brute force in all but name).
+    sc = gw.Scene(**distant())
+    info = sc.grid_info(settings(accel="adaptive"))
+    assert info["kind"] == "adaptive grid" and info["cells"] == 1, info
 
 def test_a_box_reaching_past_a_child_grid_does_not_end_the_walk():
     # A tube of tiny triangles along y = z = 20 gets a child grid; rays run down the tube, leave

@@ -40,6 +40,14 @@ bool occluded(const AdaptiveGridData& g, const Scene& sc, const Vec3* tv, const 
 
 namespace {
 
+// The rounding of an absolute coordinate that cells are padded by, relative
+// to the coordinates' magnitude (2^-21: about 4 float spacings; cell_range).
+constexpr double kCoordinateRounding = 4.8e-7;
+// A scene narrower than this many such paddings, whose root stayed one cell:
+// the padding left no resolution that separates its primitives
+// (AdaptiveGrid::too_few_spacings).
+constexpr double kTooFewSpacings = 64.0;
+
 bool cpu_has_avx2() {
 #ifdef GW_HAVE_AVX2_WALK
     return __builtin_cpu_supports("avx2");
@@ -88,7 +96,12 @@ public:
         for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
         g_.nodes.reserve(64);
         if (node(box, all, 0) != 0) throw std::logic_error("adaptive grid: the root must be node 0");
+        const AdaptiveGridData::Node& root = g_.nodes[0];
+        too_few_spacings_ = root.n[0] == 1 && root.n[1] == 1 && root.n[2] == 1 &&
+                            all.size() > 2 * size_t(std::max(p_.leaf_size, 1)) && maxext > 0 &&
+                            maxext < kTooFewSpacings * kCoordinateRounding * mag;
     }
+    bool too_few_spacings() const { return too_few_spacings_; }
 
     uint64_t refs() const { return g_.refs.size(); }
     double root_density() const { return root_density_; }
@@ -124,7 +137,7 @@ private:
             if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
                 return false;
             const double magnitude = std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
-            const double pad = 1e-3 + 4e-7 * double(n[a]) + 4.8e-7 * magnitude / cell[a], top = double(n[a] - 1);
+            const double pad = 1e-3 + 4e-7 * double(n[a]) + kCoordinateRounding * magnitude / cell[a], top = double(n[a] - 1);
             const double x0 = (double(b.lo[a]) - box.lo[a]) / cell[a] - pad;
             const double x1 = (double(b.hi[a]) - box.lo[a]) / cell[a] + pad;
             c0[a] = int(std::min(std::max(x0, 0.0), top));
@@ -416,6 +429,7 @@ private:
     const uint32_t nt_ = uint32_t(sc_.num_triangles());   // primitives below this index are triangles
     std::vector<Bounds> bounds_;
     double root_density_ = 0;   // cells per primitive the root was built for (0: one cell, no density fitted)
+    bool too_few_spacings_ = false;
 };
 
 }  // namespace
@@ -427,6 +441,7 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
         throw std::invalid_argument("adaptive grid: at most " + std::to_string(kMaxGridDepth) + " refining levels");
     Builder b(*scene_, p, g_, cancel);
     b.build();
+    too_few_spacings_ = b.too_few_spacings();
     width_ = cpu_has_avx2() ? 8 : 4;
     const AdaptiveGridData::Node& root = g_.nodes[0];
     for (int a = 0; a < 3; ++a) info_.n[a] = root.n[a];

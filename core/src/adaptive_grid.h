@@ -65,10 +65,17 @@ public:
     AccelInfo info() const override { return info_; }
     const AdaptiveGridData& data() const { return g_; }
     int simd_width() const { return width_; }
+    // Whether the root stayed one cell of many primitives because the scene
+    // spans only a few float spacings at its distance from the origin (cells
+    // are padded by a few, so every resolution listed each primitive in most
+    // cells): build_accel then builds the uniform grid, which needs no such
+    // padding.
+    bool too_few_spacings() const { return too_few_spacings_; }
 
 private:
     AdaptiveGridData g_;
     AccelInfo info_;
+    bool too_few_spacings_ = false;
     int width_ = 4;   // triangles per SIMD test: 8 (AVX2) or 4
 };
 

@@ -45,6 +45,8 @@ public:
     bool occluded(const RayPre& r, TraceContext& ctx) const override;
     AccelInfo info() const override { return info_; }
     bool uses_mailboxes() const override { return true; }
+    // Adds a sentence to info().note (why this grid was built).
+    void add_note(const std::string& text) { info_.note = info_.note.empty() ? text : info_.note + "; " + text; }
 
     // The grid of `s` (a later version of previous's scene) over previous's
     // box and resolution, reusing its lists: only the primitives whose cells

@@ -69,8 +69,16 @@ def test_a_scene_a_few_float_spacings_across_gets_a_grid_that_separates_its_prim
 
 
 def test_a_scene_of_a_few_primitives_keeps_its_one_cell_adaptive_grid():
-    # One cell is the right structure for a handful of primitives (brute force in all but name).
+    # One cell is the right structure for a handful of primitives (brute force in all but name),
+    # near the origin (Distant) and as narrow in float spacings as the sphere above.
     sc = gw.Scene(**distant())
+    info = sc.grid_info(settings(accel="adaptive"))
+    assert info["kind"] == "adaptive grid" and info["cells"] == 1, info
+    rng = np.random.default_rng(4)
+    leaf = gw.RenderSettings().leaf_size
+    specks = (np.array([1e5, -1e5, 1e5]) + rng.uniform(-0.1, 0.1, (2 * leaf, 1, 3))
+              + rng.normal(0, 0.01, (2 * leaf, 3, 3))).astype(np.float32).reshape(-1, 3)
+    sc = gw.Scene(vertices=specks, triangles=np.arange(len(specks), dtype=np.int32).reshape(-1, 3))
     info = sc.grid_info(settings(accel="adaptive"))
     assert info["kind"] == "adaptive grid" and info["cells"] == 1, info
 

@@ -5,8 +5,11 @@ A GCC whose LTO plugin is broken configures fine and then fails at the final
 link with "could not run lto-wrapper" (the device machine's /opt/gcc did).
 Here a wrapper around the system g++ fails every -flto link the same way: the
 configure must say so and leave -flto out of the module's build; with the
-plain compiler it must keep LTO on. Configure only (a few seconds): the
-wrapper's full build was checked by hand (it links, without LTO).
+plain compiler it must keep LTO on (the g++ on PATH, which builds the
+project in CI: a machine whose g++ itself cannot link with -flto fails that
+second test, rightly, since its wheel is then built without LTO). Configure
+only (a few seconds): the wrapper's full build was checked by hand (it
+links, without LTO).
 """
 import os
 import shutil

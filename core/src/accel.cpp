@@ -36,6 +36,7 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
         // A 0.2-wide sphere 1e5 from the origin (floats 0.0078 apart there):
         // the adaptive root stayed one cell of its 36,864 triangles, tested by
         // every ray; the uniform grid tests 34 a ray (adaptive_grid.h).
+        adaptive.reset();   // (not both in memory at once)
         auto uniform = build_uniform(std::move(scene), s, cancel, grid_margin);
         uniform->add_note("the scene spans only a few float spacings at its distance from the origin, too few "
                           "for the adaptive grid's padded cells, so the uniform grid is used");

@@ -15,33 +15,46 @@ namespace {
 
 inline double sq(double x) { return x * x; }
 
-// Runs body(i, ctx) for i in [0, n), the rest of the batch after a first
-// slice on as many threads as its cost warrants. The calling thread traces
-// the first kProbeRays rays and times them; the rest goes to one thread per
-// kThreadWorth seconds of estimated work (at most the settings' threads), in
-// fixed chunks, the calling thread taking the first. Starting a thread costs
-// about as much as tracing 100 cheap rays, so a thousand rays through a grid
-// stay on one thread, while a few thousand brute-force rays over 10^4
-// primitives (milliseconds each) use every core. (A bound of one thread per
-// 4096 rays, whatever they cost, kept those on one.) The answers do not
-// depend on the split. An exception in any chunk (e.g. bad_alloc for the
-// mailbox) is caught in its thread and rethrown here after every thread has
-// been joined, so it reaches Python as an exception instead of terminating
-// the process.
+// Runs body(i, ctx) for i in [0, n) on as many threads as the batch's cost
+// warrants, in fixed chunks. The calling thread first traces up to
+// kProbeRays rays (stopping early after kProbeSeconds) and times them; the
+// rest of the batch is split among nt threads, the calling thread taking the
+// first chunk: one thread per kThreadWorth seconds of estimated work, and at
+// least one per 4096 rays (a batch whose first rays are cheap misses, the
+// sky before the scene, would otherwise be judged cheap), at most the
+// settings' threads and one per kProbeRays rays. Starting and joining a
+// thread cost up to a few hundred microseconds on a 2-core VM (4000 rays
+// through a grid at 5 Mrays/s took 0.82 ms on 2 threads against 0.71 ms on
+// one), so a batch under about 2 ms of work stays on one thread, while a few
+// thousand brute-force rays over 10^4 primitives (milliseconds each) use
+// every core. (With only the bound of one thread per 4096 rays, those ran on
+// one.) The answers do not depend
+// on the split. An exception in any chunk (e.g. bad_alloc for the mailbox)
+// is caught in its thread and rethrown here after every thread has been
+// joined, so it reaches Python as an exception instead of terminating the
+// process.
 constexpr size_t kProbeRays = 128;
-constexpr double kThreadWorth = 250e-6;
+constexpr double kProbeSeconds = 1e-3;
+constexpr double kThreadWorth = 1e-3;
 
 template <class F>
 Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& body) {
     const size_t most = size_t(resolve_threads(s.threads));
     TraceContext first_ctx = make_trace_context(accel, s);
-    const size_t probe = most > 1 ? std::min(n, kProbeRays) : n;
+    const size_t probe_max = most > 1 ? std::min(n, kProbeRays) : n;
     const auto t0 = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < probe; ++i) body(i, first_ctx);
-    const double probe_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    size_t probe = 0;
+    while (probe < probe_max) {
+        body(probe, first_ctx);
+        ++probe;
+        if (most > 1 && probe % 8 == 0 && elapsed() > kProbeSeconds) break;
+    }
+    const double probe_seconds = elapsed();
     const size_t rest = n - probe;
     const double estimate = probe ? probe_seconds * double(rest) / double(probe) : 0.0;
-    const size_t nt = std::max<size_t>(1, std::min({most, size_t(estimate / kThreadWorth), rest / kProbeRays}));
+    const size_t by_cost = std::max(size_t(estimate / kThreadWorth), rest / 4096 + 1);
+    const size_t nt = std::max<size_t>(1, std::min({most, by_cost, rest / kProbeRays}));
     Stats total;
     std::mutex mu;
     std::exception_ptr error;
@@ -60,6 +73,7 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
         }
     };
     std::vector<std::thread> pool;
+    pool.reserve(nt - 1);   // (no reallocation below: emplace_back throws only system_error)
     try {
         for (size_t k = 1; k < nt; ++k) {
             pool.emplace_back(run, k, nullptr);

@@ -28,11 +28,10 @@ inline double sq(double x) { return x * x; }
 // one), so a batch under about 2 ms of work stays on one thread, while a few
 // thousand brute-force rays over 10^4 primitives (milliseconds each) use
 // every core. (With only the bound of one thread per 4096 rays, those ran on
-// one.) The answers do not depend
-// on the split. An exception in any chunk (e.g. bad_alloc for the mailbox)
-// is caught in its thread and rethrown here after every thread has been
-// joined, so it reaches Python as an exception instead of terminating the
-// process.
+// one.) The answers do not depend on the split. An exception in any chunk
+// (e.g. bad_alloc for the mailbox) is caught in its thread and rethrown here
+// after every thread has been joined, so it reaches Python as an exception
+// instead of terminating the process.
 constexpr size_t kProbeRays = 128;
 constexpr double kProbeSeconds = 1e-3;
 constexpr double kThreadWorth = 1e-3;
@@ -58,15 +57,16 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     Stats total;
     std::mutex mu;
     std::exception_ptr error;
-    auto run = [&](size_t k, TraceContext* given) {
+    // Chunk k of the rest, traced with ctx; its stats join the total.
+    auto chunk = [&](size_t k, TraceContext& ctx) {
+        const size_t lo = probe + rest * k / nt, hi = probe + rest * (k + 1) / nt;
+        for (size_t i = lo; i < hi; ++i) body(i, ctx);
+        std::lock_guard<std::mutex> lock(mu);
+        total.add(ctx.stats);
+    };
+    auto guarded = [&](auto&& f) {
         try {
-            TraceContext own;
-            if (!given) own = make_trace_context(accel, s);
-            TraceContext& ctx = given ? *given : own;
-            const size_t lo = probe + rest * k / nt, hi = probe + rest * (k + 1) / nt;
-            for (size_t i = lo; i < hi; ++i) body(i, ctx);
-            std::lock_guard<std::mutex> lock(mu);
-            total.add(ctx.stats);
+            f();
         } catch (...) {
             std::lock_guard<std::mutex> lock(mu);
             if (!error) error = std::current_exception();
@@ -76,14 +76,19 @@ Stats parallel_rays(const Accel& accel, size_t n, const RenderSettings& s, F&& b
     pool.reserve(nt - 1);   // (no reallocation below: emplace_back throws only system_error)
     try {
         for (size_t k = 1; k < nt; ++k) {
-            pool.emplace_back(run, k, nullptr);
+            pool.emplace_back([&, k] {
+                guarded([&] {
+                    TraceContext ctx = make_trace_context(accel, s);
+                    chunk(k, ctx);
+                });
+            });
             name_thread(pool.back(), "gridwalk-rays");
         }
     } catch (const std::system_error& e) {   // could not start a thread: stop, report
         std::lock_guard<std::mutex> lock(mu);
         if (!error) error = std::make_exception_ptr(thread_start_error(int(pool.size()) + 1, int(nt), e));
     }
-    if (!error) run(0, &first_ctx);
+    if (!error) guarded([&] { chunk(0, first_ctx); });
     for (auto& t : pool) t.join();
     if (error) std::rethrow_exception(error);
     return total;

@@ -11,6 +11,8 @@ def thread_names() -> list[str]:
         try:
             with open(f"/proc/self/task/{task}/comm") as f:
                 names.append(f.read().strip())
-        except FileNotFoundError:     # the thread ended meanwhile
+        except (FileNotFoundError, ProcessLookupError):
+            # The thread ended meanwhile: its directory is gone, or (between
+            # the open and the read) its comm reads as ESRCH.
             pass
     return names

@@ -13,6 +13,6 @@ def count(name: str) -> int:
         try:
             with open(f"/proc/self/task/{task}/comm") as f:
                 n += f.read().strip() == name
-        except FileNotFoundError:      # the thread ended meanwhile
+        except (FileNotFoundError, ProcessLookupError):   # the thread ended meanwhile
             pass
     return n

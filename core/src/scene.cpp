@@ -46,6 +46,9 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
     if (verts_.size() % 3) bad("vertices must have shape (N, 3)");
     if (tris_.size() % 3) bad("triangles must have shape (M, 3)");
     const size_t nv = verts_.size() / 3, nt = tris_.size() / 3, ns = radii_.size(), nc = cone_base_radius.size();
+    nt_ = nt;
+    ns_ = ns;
+    nc_ = nc;
     if (!normals_.empty() && normals_.size() != verts_.size()) bad("normals must have the same shape as vertices");
     if (tri_mat_.empty()) tri_mat_.assign(nt, 0);
     if (tri_mat_.size() != nt) bad("triangle_materials must have one entry per triangle");

@@ -91,9 +91,11 @@ public:
 
     // Forced inline: the AVX2 walk asks these for every primitive it tests,
     // and a call out of it costs (intersect_with says why).
-    __attribute__((always_inline)) size_t num_triangles() const { return tris_.size() / 3; }
-    __attribute__((always_inline)) size_t num_spheres() const { return radii_.size(); }
-    __attribute__((always_inline)) size_t num_cones() const { return cones_.size(); }
+    // (Counts kept as members: every primitive test asks which kind it has,
+    // and tris_.size() / 3 cost a multiply and shifts each time.)
+    __attribute__((always_inline)) size_t num_triangles() const { return nt_; }
+    __attribute__((always_inline)) size_t num_spheres() const { return ns_; }
+    __attribute__((always_inline)) size_t num_cones() const { return nc_; }
     size_t num_prims() const { return num_triangles() + num_spheres() + num_cones(); }
     PrimKind kind_of(size_t prim) const {
         if (prim < num_triangles()) return PrimKind::Triangle;
@@ -167,6 +169,7 @@ private:
     PooledVector<float> verts_, normals_;
     PooledVector<Vec3> tri_verts_;   // 3 per triangle: the hot loop reads one contiguous record
     PooledVector<int32_t> tris_, tri_mat_;
+    size_t nt_ = 0, ns_ = 0, nc_ = 0;   // triangles, spheres, cones (set once, by the constructor)
     std::vector<Vec3> centers_;
     std::vector<float> radii_;
     std::vector<int32_t> sphere_mat_;

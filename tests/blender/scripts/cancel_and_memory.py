@@ -33,6 +33,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from bad_input import captured  # noqa: E402
+import native_threads  # noqa: E402
 
 PAGE = os.sysconf("SC_PAGE_SIZE")
 LIBC = ctypes.CDLL(None)
@@ -42,12 +43,7 @@ def tasks() -> int:
     """Threads of this process, less jemalloc's background threads (Debian's
     Blender 3.4 links jemalloc, which starts one per arena as arenas come into
     use: 3 to 4 over an animation, not a leak of ours)."""
-    def name(t):
-        try:
-            return open(f"/proc/self/task/{t}/comm").read().strip()
-        except OSError:      # the thread ended meanwhile
-            return ""
-    return sum(1 for t in os.listdir("/proc/self/task") if name(t) not in ("", "jemalloc_bg_thd"))
+    return sum(1 for name in native_threads.names() if name != "jemalloc_bg_thd")
 
 
 def rss(trim=True) -> int:

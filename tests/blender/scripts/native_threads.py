@@ -7,12 +7,17 @@ RENDER = "gridwalk"
 VIEWPORT = "gridwalk-view"
 
 
-def count(name: str) -> int:
-    n = 0
+def names() -> list[str]:
+    """The names of this process's threads that are still running."""
+    out = []
     for task in os.listdir("/proc/self/task"):
         try:
             with open(f"/proc/self/task/{task}/comm") as f:
-                n += f.read().strip() == name
+                out.append(f.read().strip())
         except (FileNotFoundError, ProcessLookupError):   # the thread ended meanwhile
             pass
-    return n
+    return out
+
+
+def count(name: str) -> int:
+    return names().count(name)

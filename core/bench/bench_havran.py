@@ -195,8 +195,8 @@ def run(sizes, suzanne, out) -> Section:
         ax.legend(fontsize=8)
     big = soups[-1]
     em = embree_build(soup(big[0]))
-    sec.lines += ["**Build time and memory against primitive count** (default settings; Gridwalk builds on one "
-                  "thread, Embree on all; best of 2 builds; random soups: triangles about 0.5 N^(-1/3) "
+    sec.lines += ["**Build time and memory against primitive count** (default settings; the adaptive grid builds "
+                  "on all cores, as Embree does, the uniform grid on one thread; best of 2 builds; random soups: triangles about 0.5 N^(-1/3) "
                   "across in a unit cube; Suzanne: exported "
                   "from Blender at each subdivision level; goal: at most 64 bytes per triangle at 2M triangles "
                   "and at most 2x Embree's BVH build):", "", save(fig, out, "havran_build"), ""]

@@ -3,8 +3,10 @@
 
 #include "adaptive_grid.h"
 #include "brute_force.h"
+#include "threads.h"
 #include "uniform_grid.h"
 
+#include <algorithm>
 #include <string>
 
 namespace gw {
@@ -31,6 +33,7 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
         AdaptiveParams ap;
         ap.leaf_size = s.leaf_size;
         ap.max_depth = s.grid_levels;
+        ap.threads = std::min(resolve_threads(s.threads), resolve_threads(0));   // (no more than the cores)
         auto adaptive = std::make_shared<AdaptiveGrid>(scene, ap, cancel);
         if (!adaptive->too_few_spacings()) return adaptive;
         // A 0.2-wide sphere 1e5 from the origin (floats 0.0078 apart there):

@@ -20,6 +20,7 @@ struct AccelInfo {
     uint64_t cells = 0, refs = 0, bytes = 0;
     double build_seconds = 0, density_requested = 0, density_used = 0;
     bool reduced = false;   // density lowered to respect the cell / reference caps
+    int build_threads = 1;  // threads the build ran on
     std::string note;
 };
 

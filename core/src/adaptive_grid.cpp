@@ -5,10 +5,12 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "dda.h"
 #include "empty_box.h"
+#include "ordered_tasks.h"
 #include "overlap.h"
 
 namespace gw {
@@ -65,17 +67,64 @@ struct Box {   // in double: sizes and cell boundaries are exact enough for any 
     double lo[3], hi[3];
 };
 
+// What every builder of one structure reads.
+struct BuildInput {
+    const Scene& sc;
+    const AdaptiveParams& p;
+    const CancelToken* cancel;
+    std::vector<Bounds> bounds;   // per primitive
+    int threads;                  // for the root's refined cells
+};
+
+// The box a refined cell's grid covers: the cell's box (c of the grid (box,
+// cell, n)), shrunk to what its primitives `ids` occupy, padded by a little of
+// the cell and rounded outwards to float.
+Box child_box(const std::vector<Bounds>& bounds, const Box& box, const double cell[3], const int n[3], uint64_t c,
+              const uint32_t* ids, size_t count) {
+    const int idx[3] = {int(c % uint64_t(n[0])), int((c / uint64_t(n[0])) % uint64_t(n[1])),
+                        int(c / (uint64_t(n[0]) * n[1]))};
+    Box cb;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = box.lo[a] + idx[a] * cell[a], hi = box.lo[a] + (idx[a] + 1) * cell[a];
+        cb.lo[a] = hi;
+        cb.hi[a] = lo;
+        for (size_t i = 0; i < count; ++i) {
+            cb.lo[a] = std::min(cb.lo[a], std::max(lo, double(bounds[ids[i]].lo[a])));
+            cb.hi[a] = std::max(cb.hi[a], std::min(hi, double(bounds[ids[i]].hi[a])));
+        }
+        if (cb.lo[a] > cb.hi[a]) { cb.lo[a] = lo; cb.hi[a] = hi; }   // primitives only in the padding
+        const double pad = 1e-4 * cell[a];
+        cb.lo[a] = next_down(float(cb.lo[a] - pad));
+        cb.hi[a] = next_up(float(cb.hi[a] + pad));
+    }
+    return cb;
+}
+
+// Appends the structure `part` (a refined cell's, built on its own) to g;
+// returns the index in g of part's first node.
+uint32_t append(AdaptiveGridData& g, const AdaptiveGridData& part, const CancelToken* cancel, uint64_t& step) {
+    const uint32_t node0 = uint32_t(g.nodes.size()), cell0 = uint32_t(g.cells.size()), ref0 = uint32_t(g.refs.size());
+    check_cancel(cancel, step, part.cells.size() + part.refs.size());
+    for (AdaptiveGridData::Node nd : part.nodes) {
+        nd.first += cell0;
+        if (nd.big_count) nd.big += ref0;
+        g.nodes.push_back(nd);
+    }
+    for (AdaptiveGridData::Cell c : part.cells) {
+        if (c.b == AdaptiveGridData::kChild) c.a += node0;
+        else if (c.b != 0) c.a += ref0;
+        g.cells.push_back(c);
+    }
+    g.refs.insert(g.refs.end(), part.refs.begin(), part.refs.end());
+    return node0;
+}
+
 class Builder {
 public:
-    Builder(const Scene& sc, const AdaptiveParams& p, AdaptiveGridData& g, const CancelToken* cancel)
-        : sc_(sc), p_(p), g_(g), cancel_(cancel) {
-        const size_t n = sc.num_prims();
-        bounds_.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            check_cancel(cancel_, step_);
-            bounds_[i] = sc.prim_bounds(i);
-        }
-    }
+    // Builds into g, within max_cells cells and max_refs references in g.
+    Builder(const BuildInput& in, AdaptiveGridData& g, uint64_t max_cells, uint64_t max_refs)
+        : in_(in), sc_(in.sc), p_(in.p), g_(g), cancel_(in.cancel), bounds_(in.bounds),
+          max_cells_(max_cells), max_refs_(max_refs) {}
 
     void build() {
         const Bounds sb = sc_.bounds();
@@ -102,6 +151,7 @@ public:
                             maxext < kTooFewSpacings * kCoordinateRounding * mag;
     }
     bool too_few_spacings() const { return too_few_spacings_; }
+    int build_threads() const { return build_threads_; }
 
     uint64_t refs() const { return g_.refs.size(); }
     double root_density() const { return root_density_; }
@@ -233,7 +283,7 @@ private:
                 std::sort(big.begin(), big.end());
             }
         }
-        if (g_.cells.size() + ncells > p_.max_cells) {
+        if (g_.cells.size() + ncells > max_cells_) {
             if (depth > 0) return -1;
             throw std::invalid_argument("adaptive grid: the cell cap is too small for the root grid");
         }
@@ -258,7 +308,7 @@ private:
         }
         // Refining is useless when a cell still holds most of the primitives.
         if (depth > 0 && double(most) >= 0.75 * double(prims.size())) return -1;
-        if (total + g_.refs.size() > p_.max_refs) {
+        if (total + g_.refs.size() > max_refs_) {
             if (depth > 0) return -1;
             throw std::invalid_argument("adaptive grid: too many primitive references for the reference cap");
         }
@@ -309,48 +359,101 @@ private:
         }
         g_.nodes.push_back(nd);
         grow_checked(g_.cells, g_.cells.size() + ncells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);
+        // The occupied cells, and of those the crowded ones to refine: deeper
+        // down, only much more crowded ones (leaf_size x 4^depth), since each
+        // level multiplies references. A quadric counts as kQuadricCost
+        // triangles: it is tested alone, in double, where triangles share SIMD tests.
         std::vector<uint8_t> occupied;
         assign_checked(occupied, ncells, uint8_t(0), cancel_, step_);
-        std::vector<uint32_t> sub;
+        std::vector<uint64_t> refine;   // cells, in order
+        uint64_t leaf_refs = 0;         // the references of all occupied cells as leaves
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             const uint32_t b = start[c], e = start[c + 1];
             if (b == e) continue;
             occupied[c] = 1;
-            AdaptiveGridData::Cell out{0, 0};
-            // Refine a crowded cell; deeper down, only a much more crowded one
-            // (leaf_size x 4^depth): each level multiplies references. A
-            // quadric counts as kQuadricCost triangles: it is tested alone, in
-            // double, where triangles share SIMD tests.
+            leaf_refs += 1 + e - b;
             uint64_t cost = 0;
             for (uint32_t k = b; k < e; ++k) cost += list[k] < nt_ ? 1 : kQuadricCost;
-            if (cost > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) {
-                sub.assign(list.begin() + b, list.begin() + e);
-                check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
-                const int x = int(c % uint64_t(n[0])), y = int((c / uint64_t(n[0])) % uint64_t(n[1])),
-                          z = int(c / (uint64_t(n[0]) * n[1]));
-                const int idx[3] = {x, y, z};
-                Box cb;   // the cell's box, shrunk to what its primitives occupy
-                for (int a = 0; a < 3; ++a) {
-                    const double lo = box.lo[a] + idx[a] * cell[a], hi = box.lo[a] + (idx[a] + 1) * cell[a];
-                    cb.lo[a] = hi;
-                    cb.hi[a] = lo;
-                    for (uint32_t prim : sub) {
-                        cb.lo[a] = std::min(cb.lo[a], std::max(lo, double(bounds_[prim].lo[a])));
-                        cb.hi[a] = std::max(cb.hi[a], std::min(hi, double(bounds_[prim].hi[a])));
+            if (cost > (uint64_t(p_.leaf_size) << (2 * depth)) && depth < p_.max_depth) refine.push_back(c);
+        }
+        // The refined cells of the first node (depth first) with several and
+        // none holding 3/4 of their primitives (the root, mostly; else the cell
+        // that does, and so on down) are built as structures of their own, on in_.threads threads, each within a
+        // share of the caps left after this node proportional to its
+        // primitives (this node's cells each keep room for a leaf), then
+        // copied in, in cell order: the whole does not depend on the number of
+        // threads or on the order the cells finish in. Above that node, and
+        // inside each of those structures, cells are refined in place.
+        std::vector<AdaptiveGridData> parts;
+        std::unique_ptr<OrderedTasks> tasks;
+        uint64_t weight = 0, heaviest = 0;
+        for (uint64_t c : refine) {
+            weight += start[c + 1] - start[c];
+            heaviest = std::max<uint64_t>(heaviest, start[c + 1] - start[c]);
+        }
+        const bool fan_out = may_fan_out_ && refine.size() >= 2 && 4 * heaviest <= 3 * weight;
+        uint64_t cells_left = 0, refs_left = 0;
+        auto share = [&](uint64_t left, uint64_t c) {   // refined cell c's share of what is left
+            return uint64_t(double(left) * (double(start[c + 1] - start[c]) / double(weight)));
+        };
+        if (fan_out) {
+            may_fan_out_ = false;
+            cells_left = max_cells_ - std::min(max_cells_, uint64_t(g_.cells.size()));
+            refs_left = max_refs_ - std::min(max_refs_, g_.refs.size() + leaf_refs);
+        }
+        if (fan_out && in_.threads > 1) {
+            parts.resize(refine.size());
+            tasks = std::make_unique<OrderedTasks>(refine.size(), in_.threads, [&](size_t k) {
+                const uint64_t c = refine[k], b = start[c], e = start[c + 1];
+                Builder part(in_, parts[k], share(cells_left, c), share(refs_left, c));
+                part.may_fan_out_ = false;
+                const std::vector<uint32_t> sub(list.begin() + b, list.begin() + e);
+                check_cancel(cancel_, part.step_, 4 * sub.size());   // the copy and the box below
+                if (part.node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1) < 0)
+                    parts[k] = AdaptiveGridData();   // (nothing was added: refining would not separate them)
+            }, "gridwalk-build");
+            build_threads_ = tasks->threads();
+        }
+        std::vector<uint32_t> sub;
+        size_t next_refine = 0;
+        for (uint64_t c = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
+            if (!occupied[c]) continue;
+            const uint32_t b = start[c], e = start[c + 1];
+            AdaptiveGridData::Cell out{0, 0};
+            if (next_refine < refine.size() && refine[next_refine] == c) {
+                int64_t child = -1;
+                if (tasks) {
+                    tasks->wait(next_refine);
+                    AdaptiveGridData& part = parts[next_refine];
+                    if (!part.nodes.empty()) child = append(g_, part, cancel_, step_);
+                    part = AdaptiveGridData();   // (freed as it goes)
+                } else {
+                    sub.assign(list.begin() + b, list.begin() + e);
+                    check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
+                    // (On one thread, a fanned-out cell is built in place within the
+                    // same share as on several: the same decisions, the same grid.
+                    // Otherwise only a cell holding 3/4 of the primitives may fan out below.)
+                    const uint64_t caps[2] = {max_cells_, max_refs_};
+                    if (fan_out) {
+                        max_cells_ = g_.cells.size() + share(cells_left, c);
+                        max_refs_ = g_.refs.size() + share(refs_left, c);
                     }
-                    if (cb.lo[a] > cb.hi[a]) { cb.lo[a] = lo; cb.hi[a] = hi; }   // primitives only in the padding
-                    // Pad by a little of the cell, rounded outwards to float.
-                    const double pad = 1e-4 * cell[a];
-                    cb.lo[a] = next_down(float(cb.lo[a] - pad));
-                    cb.hi[a] = next_up(float(cb.hi[a] + pad));
+                    const bool allowed = may_fan_out_, dominant = 4 * uint64_t(e - b) > 3 * weight;
+                    may_fan_out_ = allowed && dominant;
+                    child = node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1);
+                    if (!dominant) may_fan_out_ = allowed;
+                    max_cells_ = caps[0];
+                    max_refs_ = caps[1];
                 }
-                const int64_t child = node(cb, sub, depth + 1);
+                ++next_refine;
                 if (child >= 0) out = AdaptiveGridData::Cell{uint32_t(child), AdaptiveGridData::kChild};
             }
             if (out.b == 0) out = leaf(list.data() + b, e - b);
             g_.cells[nd.first + c] = out;
         }
+        tasks.reset();
         // Empty cells: the box of empty cells around each, for jumps.
         const std::vector<uint32_t> boxes = empty_boxes(occupied, n, p_.max_box_cells, cancel_);
         for (uint64_t c = 0; c < ncells; ++c) {
@@ -421,13 +524,17 @@ private:
         return AdaptiveGridData::Cell{at, count};
     }
 
+    const BuildInput& in_;
     const Scene& sc_;
     const AdaptiveParams& p_;
     AdaptiveGridData& g_;
     const CancelToken* cancel_;
+    const std::vector<Bounds>& bounds_;
+    uint64_t max_cells_, max_refs_;   // (lowered while a fanned-out cell is built in place)
     uint64_t step_ = 0;   // for check_cancel
     const uint32_t nt_ = uint32_t(sc_.num_triangles());   // primitives below this index are triangles
-    std::vector<Bounds> bounds_;
+    bool may_fan_out_ = true;   // no node above has built its refined cells as separate structures
+    int build_threads_ = 1;
     double root_density_ = 0;   // cells per primitive the root was built for (0: one cell, no density fitted)
     bool too_few_spacings_ = false;
 };
@@ -439,8 +546,17 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
     const auto t_start = std::chrono::steady_clock::now();
     if (p.max_depth < 0 || p.max_depth > kMaxGridDepth)
         throw std::invalid_argument("adaptive grid: at most " + std::to_string(kMaxGridDepth) + " refining levels");
-    Builder b(*scene_, p, g_, cancel);
+    BuildInput in{*scene_, p, cancel, {}, std::max(p.threads, 1)};
+    const size_t n = scene_->num_prims();
+    in.bounds.resize(n);
+    uint64_t step = 0;
+    for (size_t i = 0; i < n; ++i) {
+        check_cancel(cancel, step);
+        in.bounds[i] = scene_->prim_bounds(i);
+    }
+    Builder b(in, g_, p.max_cells, p.max_refs);
     b.build();
+    info_.build_threads = b.build_threads();
     too_few_spacings_ = b.too_few_spacings();
     width_ = cpu_has_avx2() ? 8 : 4;
     const AdaptiveGridData::Node& root = g_.nodes[0];

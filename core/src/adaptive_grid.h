@@ -27,6 +27,7 @@ struct AdaptiveParams {
     uint64_t max_cells = 1ull << 26;   // cap on cells of all levels (densities are lowered past it)
     uint64_t max_refs = 1ull << 28;    // cap on primitive references of all levels
     uint64_t max_box_cells = 1ull << 23;   // grids beyond this keep cubic empty regions (empty_box.h)
+    int threads = 1;             // threads building the root's refined cells (the same structure for any number)
 };
 
 // The structure, flat. Public so that the per-ISA traversal code

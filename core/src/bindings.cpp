@@ -53,6 +53,7 @@ nb::dict accel_dict(const AccelInfo& g) {
     d["refs"] = g.refs;
     d["bytes"] = g.bytes;
     d["build_seconds"] = g.build_seconds;
+    d["build_threads"] = g.build_threads;
     d["density_requested"] = g.density_requested;
     d["density_used"] = g.density_used;
     d["reduced"] = g.reduced;

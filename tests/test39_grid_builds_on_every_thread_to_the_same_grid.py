@@ -1,6 +1,7 @@
 """The adaptive grid builds the root's refined cells on several threads
 (RenderSettings.threads, at most the machine's cores), each as a structure of
-its own copied into the whole in cell order: the grid is the same for any
+its own copied into the whole in cell order, and finds the cells of a large
+root's primitives in parts on those threads: the grid is the same for any
 number of threads. Checked on layouts whose refined cells differ a lot in
 size (a dense cluster on a large floor, many small clusters, one primitive
 far away): the same counts of grids, cells and references, and every ray
@@ -23,8 +24,9 @@ def cluster_on_floor(rng):
 
 
 def many_clusters(rng):
+    # (40,000 triangles: enough for the root's cells to be found by several threads too)
     centres = rng.uniform(0, 20, (40, 1, 1, 3))
-    return (centres + rng.normal(0, 0.2, (40, 500, 1, 3)) + rng.normal(0, 0.02, (40, 500, 3, 3))).reshape(-1, 3, 3)
+    return (centres + rng.normal(0, 0.2, (40, 1000, 1, 3)) + rng.normal(0, 0.02, (40, 1000, 3, 3))).reshape(-1, 3, 3)
 
 
 def far_primitive(rng):

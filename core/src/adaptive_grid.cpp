@@ -199,30 +199,53 @@ private:
     }
 
     // The cells each of a node's primitives meets (for_cells), recorded once
-    // and read by both passes that fill the node's lists.
+    // and read by both passes that fill the node's lists: one part per range
+    // of the primitives (several where threads found them).
     struct CellLists {
-        std::vector<uint32_t> first;   // per primitive (its position in the node's list): start in cells
+        size_t begin = 0;              // the part's first primitive (position in the node's list)
+        std::vector<uint32_t> first;   // per primitive of the part: start in cells (and the end)
         std::vector<uint32_t> cells;   // linear cell indices
-        void clear() { first.clear(); cells.clear(); }
-        void release() { std::vector<uint32_t>().swap(first); std::vector<uint32_t>().swap(cells); }
     };
+    static constexpr size_t kPrimsPerPart = size_t(1) << 14;   // (fewer: found on the calling thread alone)
 
     // Records the cells of a grid of resolution n over box that each
     // primitive meets; returns their total, or stops (returning more than
-    // limit, with out incomplete) once past limit.
+    // limit, with out incomplete) once past limit. A node that may fan out
+    // (the root, mostly) and has many primitives has them found in parts by
+    // in_.threads threads: the same cells, in the same order.
     uint64_t find_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
-                        CellLists& out) {
+                        std::vector<CellLists>& out) {
         double cell[3];
         for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
-        out.clear();
-        out.first.reserve(prims.size() + 1);
-        out.first.push_back(0);
-        for (uint32_t prim : prims) {
-            for_cells(prim, box, cell, n, [&](uint64_t c) { out.cells.push_back(uint32_t(c)); });
-            out.first.push_back(uint32_t(out.cells.size()));
-            if (out.cells.size() > limit) break;
+        const size_t parts = may_fan_out_ && in_.threads > 1 && prims.size() >= 2 * kPrimsPerPart
+                                 ? std::min<size_t>(size_t(in_.threads) * 8, prims.size() / kPrimsPerPart)
+                                 : 1;
+        out.assign(parts, CellLists());
+        std::atomic<uint64_t> found{0};   // cells recorded by finished parts
+        auto find = [&](size_t k, uint64_t& step) {
+            CellLists& part = out[k];
+            part.begin = prims.size() * k / parts;
+            const size_t end = prims.size() * (k + 1) / parts;
+            part.first.reserve(end - part.begin + 1);
+            part.first.push_back(0);
+            for (size_t i = part.begin; i < end; ++i) {
+                for_cells(prims[i], box, cell, n, step, [&](uint64_t c) { part.cells.push_back(uint32_t(c)); });
+                part.first.push_back(uint32_t(part.cells.size()));
+                if (part.cells.size() + found.load(std::memory_order_relaxed) > limit) break;
+            }
+            found += part.cells.size();
+        };
+        if (parts == 1) {
+            find(0, step_);
+            return out[0].cells.size();
         }
-        return out.cells.size();
+        OrderedTasks tasks(parts, in_.threads, [&](size_t k) { uint64_t step = 0; find(k, step); }, "gridwalk-build");
+        uint64_t total = 0;
+        for (size_t k = 0; k < parts; ++k) {
+            tasks.wait(k);
+            total += out[k].cells.size();
+        }
+        return total;
     }
 
     // Builds the node over `box` holding `prims`; returns its index, or -1
@@ -239,7 +262,7 @@ private:
         // over 1.4e9 primitives reaches that, and takes a coarser grid.)
         const uint64_t allowed = std::min<uint64_t>(uint64_t(p_.max_refs_per_prim * double(prims.size())),
                                                     0xFFFFFFFFull - (1ull << 27));
-        CellLists met;
+        std::vector<CellLists> met;
         bool recorded = false;   // met holds the cells of resolution n
         for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
             int m[3];
@@ -288,13 +311,16 @@ private:
             throw std::invalid_argument("adaptive grid: the cell cap is too small for the root grid");
         }
         if (!recorded) find_cells(box, prims, n, UINT64_MAX, met);
-        // The cells of prims[i] (not a large primitive): met.cells[met.first[i] .. met.first[i + 1]).
+        // The cells of prims[i] (not a large primitive): part.cells[part.first[j] .. part.first[j + 1]),
+        // i = part.begin + j.
         auto each_rest = [&](auto&& f) {
-            for (size_t i = 0; i < prims.size(); ++i) {
-                check_cancel(cancel_, step_, 1 + met.first[i + 1] - met.first[i]);
-                if (!big.empty() && std::binary_search(big.begin(), big.end(), prims[i])) continue;
-                for (uint32_t k = met.first[i]; k < met.first[i + 1]; ++k) f(prims[i], met.cells[k]);
-            }
+            for (const CellLists& part : met)
+                for (size_t j = 0; j + 1 < part.first.size(); ++j) {
+                    const uint32_t prim = prims[part.begin + j];
+                    check_cancel(cancel_, step_, 1 + part.first[j + 1] - part.first[j]);
+                    if (!big.empty() && std::binary_search(big.begin(), big.end(), prim)) continue;
+                    for (uint32_t k = part.first[j]; k < part.first[j + 1]; ++k) f(prim, part.cells[k]);
+                }
         };
         // Pass 1: count references per cell.
         std::vector<uint32_t> count;
@@ -323,7 +349,7 @@ private:
         std::vector<uint32_t> list;
         assign_checked(list, total, 0u, cancel_, step_);
         each_rest([&](uint32_t prim, uint32_t c) { list[count[c]++] = prim; });
-        met.release();
+        std::vector<CellLists>().swap(met);   // (freed before the children are built)
         // The node, and its cells (filled below; children append after them).
         const uint32_t index = uint32_t(g_.nodes.size());
         AdaptiveGridData::Node nd;
@@ -468,9 +494,10 @@ private:
     // there are several, the ones whose padded box the primitive itself meets
     // (overlap.h). The padding is cell_range's, so that a hit found in a cell
     // by the walk's rounded arithmetic is in a cell that lists the primitive.
+    // (step: the calling thread's count for check_cancel.)
     template <class F>
-    void for_cells(uint32_t prim, const Box& box, const double cell[3], const int n[3], F&& f) {
-        check_cancel(cancel_, step_);
+    void for_cells(uint32_t prim, const Box& box, const double cell[3], const int n[3], uint64_t& step, F&& f) const {
+        check_cancel(cancel_, step);
         int c0[3], c1[3];
         double pad[3];
         bool inside;
@@ -478,7 +505,7 @@ private:
         auto each = [&](auto&& meets) {
             double m[3];   // a cell's centre
             for (int z = c0[2]; z <= c1[2]; ++z) {
-                check_cancel(cancel_, step_, 8 * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
+                check_cancel(cancel_, step, 8 * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[0] - c0[0] + 1));
                 m[2] = box.lo[2] + (z + 0.5) * cell[2];
                 for (int y = c0[1]; y <= c1[1]; ++y) {
                     m[1] = box.lo[1] + (y + 0.5) * cell[1];

@@ -240,6 +240,7 @@ private:
             return out[0].cells.size();
         }
         OrderedTasks tasks(parts, in_.threads, [&](size_t k) { uint64_t step = 0; find(k, step); }, "gridwalk-build");
+        build_threads_ = std::max(build_threads_, tasks.threads());
         uint64_t total = 0;
         for (size_t k = 0; k < parts; ++k) {
             tasks.wait(k);
@@ -466,7 +467,7 @@ private:
                 if (part.node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1) < 0)
                     parts[k] = AdaptiveGridData();   // (nothing was added: refining would not separate them)
             }, "gridwalk-build");
-            build_threads_ = tasks->threads();
+            build_threads_ = std::max(build_threads_, tasks->threads());
         }
         std::vector<uint32_t> sub;
         size_t next_refine = 0;

@@ -64,7 +64,9 @@ def test_the_grid_does_not_depend_on_the_threads_that_build_it(layout):
     scenes = [gw.Scene(**kw) for _ in threads]   # (one structure per Scene: its cache ignores threads)
     infos = [sc.grid_info(gw.RenderSettings(threads=t)) for sc, t in zip(scenes, threads)]
     for t, info in zip(threads, infos):
-        assert info["build_threads"] == min(t, CORES), (t, info)
+        # (at most the threads asked for and the cores; fewer where there are fewer cells to share)
+        assert 1 <= info["build_threads"] <= min(t, CORES), (t, info)
+        assert info["build_threads"] >= min(t, CORES, 2), (t, info)   # several threads took part
         for key in ("grids", "cells", "refs", "bytes", "resolution"):
             assert info[key] == infos[0][key], (layout, t, key, info[key], infos[0][key])
     assert infos[0]["grids"] >= 4, infos[0]   # refined: the threads had cells to share
@@ -84,7 +86,7 @@ def test_the_grid_does_not_depend_on_the_threads_that_build_it(layout):
 def test_a_parallel_build_agrees_with_brute_force():
     rng = np.random.default_rng(8)
     sc = gw.Scene(**triangle_scene(cluster_on_floor(rng)))
-    assert sc.grid_info(gw.RenderSettings(threads=0))["build_threads"] == CORES
+    assert min(CORES, 2) <= sc.grid_info(gw.RenderSettings(threads=0))["build_threads"] <= CORES
     o = rng.uniform([-5, -5, 0.01], [5, 5, 4], (5000, 3)).astype(np.float32)
     d = rng.normal(size=(5000, 3)).astype(np.float32)
     got = sc.intersect(o, d, settings=gw.RenderSettings(threads=1))

@@ -223,7 +223,7 @@ private:
         out.assign(parts, CellLists());
         std::atomic<uint64_t> found{0};   // cells recorded by finished parts
         auto find = [&](size_t k, uint64_t& step) {
-            CellLists& part = out[k];
+            CellLists part;   // (filled here, then moved into out: parts side by side in out share cache lines)
             part.begin = prims.size() * k / parts;
             const size_t end = prims.size() * (k + 1) / parts;
             part.first.reserve(end - part.begin + 1);
@@ -234,6 +234,7 @@ private:
                 if (part.cells.size() + found.load(std::memory_order_relaxed) > limit) break;
             }
             found += part.cells.size();
+            out[k] = std::move(part);
         };
         if (parts == 1) {
             find(0, step_);
@@ -440,7 +441,6 @@ private:
         // threads or on the order the cells finish in. Above that node, and
         // inside each of those structures, cells are refined in place.
         std::vector<AdaptiveGridData> parts;
-        std::unique_ptr<OrderedTasks> tasks;
         uint64_t weight = 0, heaviest = 0;
         for (uint64_t c : refine) {
             weight += start[c + 1] - start[c];
@@ -456,16 +456,19 @@ private:
             cells_left = max_cells_ - std::min(max_cells_, uint64_t(g_.cells.size()));
             refs_left = max_refs_ - std::min(max_refs_, g_.refs.size() + leaf_refs);
         }
+        std::unique_ptr<OrderedTasks> tasks;   // (after all it reads: joined before they go, however this ends)
         if (fan_out && in_.threads > 1) {
             parts.resize(refine.size());
             tasks = std::make_unique<OrderedTasks>(refine.size(), in_.threads, [&](size_t k) {
                 const uint64_t c = refine[k], b = start[c], e = start[c + 1];
-                Builder part(in_, parts[k], share(cells_left, c), share(refs_left, c));
+                AdaptiveGridData built;   // (moved into parts when done: no cache line shared while it grows)
+                Builder part(in_, built, share(cells_left, c), share(refs_left, c));
                 part.may_fan_out_ = false;
                 const std::vector<uint32_t> sub(list.begin() + b, list.begin() + e);
                 check_cancel(cancel_, part.step_, 4 * sub.size());   // the copy and the box below
-                if (part.node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1) < 0)
-                    parts[k] = AdaptiveGridData();   // (nothing was added: refining would not separate them)
+                // (node() < 0 added nothing: refining would not separate them)
+                if (part.node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1) >= 0)
+                    parts[k] = std::move(built);
             }, "gridwalk-build");
             build_threads_ = std::max(build_threads_, tasks->threads());
         }

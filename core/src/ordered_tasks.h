@@ -14,7 +14,9 @@
 // stops the claiming and joins the workers (each finishes the task it holds:
 // tasks should poll the build's cancel token, as the builds do).
 #pragma once
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -34,6 +36,7 @@ public:
     OrderedTasks(size_t n, int threads, std::function<void(size_t)> task, const char* name)
         : n_(n), task_(std::move(task)), done_(n, 0), errors_(n) {
         const size_t workers = std::min<size_t>(threads > 1 ? size_t(threads - 1) : 0, n > 0 ? n - 1 : 0);
+        threads_.reserve(workers);   // (emplace_back then cannot throw after starting a thread)
         for (size_t i = 0; i < workers; ++i) {
             try {
                 threads_.emplace_back([this] { while (!stop_.load() && run_next()) {} });

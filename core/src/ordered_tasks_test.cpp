@@ -49,7 +49,7 @@ TEST_CASE("a task's exception reaches the caller and later tasks are not all run
     OrderedTasks tasks(n, 3, [&](size_t k) {
         ++ran;
         if (k == 10) throw std::runtime_error("task 10 failed");
-        std::this_thread::sleep_for(std::chrono::microseconds(100));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));   // (1000 of them: a second of work to stop early)
     }, "gw-test");
     for (size_t k = 0; k < 10; ++k) tasks.wait(k);
     CHECK_THROWS_WITH(tasks.wait(10), "task 10 failed");

@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "brute_force.h"
 #include "dda.h"
 #include "empty_box.h"
 #include "ordered_tasks.h"
@@ -206,7 +207,8 @@ private:
         std::vector<uint32_t> first;   // per primitive of the part: start in cells (and the end)
         std::vector<uint32_t> cells;   // linear cell indices
     };
-    static constexpr size_t kPrimsPerPart = size_t(1) << 14;   // (fewer: found on the calling thread alone)
+    static constexpr size_t kPrimsPerPart = size_t(1) << 14;
+    static constexpr size_t kBoundPrims = 4096;   // fewer: no fewest_cells pass (node())   // (fewer: found on the calling thread alone)
 
     // Records the cells of a grid of resolution n over box that each
     // primitive meets; returns their total, or stops (returning more than
@@ -298,9 +300,10 @@ private:
                 if (depth == 0) root_density_ = density;
                 break;
             }
-            // (The bound first on the top two levels, which take all the primitives at
-            // once: a pass over them costs a few percent of a build there.)
-            if ((depth > 1 || fewest_cells(box, prims, m, allowed) <= allowed) &&
+            // (The bound first only for a grid of many primitives on the top two
+            // levels, where a failed resolution costs most: elsewhere its pass
+            // would cost more than it saves.)
+            if ((depth > 1 || prims.size() < kBoundPrims || fewest_cells(box, prims, m, allowed) <= allowed) &&
                 find_cells(box, prims, m, allowed, met) <= allowed) {
                 std::copy(m, m + 3, n);
                 recorded = true;
@@ -618,6 +621,9 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
     too_few_spacings_ = b.too_few_spacings();
     width_ = cpu_has_avx2() ? 8 : 4;
     const AdaptiveGridData::Node& root = g_.nodes[0];
+    const AdaptiveGridData::Cell& first = g_.cells[root.first];
+    one_leaf_ = root.n[0] == 1 && root.n[1] == 1 && root.n[2] == 1 && root.big_count == 0 &&
+                first.b == scene_->num_prims() && first.b != AdaptiveGridData::kChild;
     for (int a = 0; a < 3; ++a) info_.n[a] = root.n[a];
     info_.cells = g_.cells.size();
     info_.refs = g_.refs.size();
@@ -631,6 +637,10 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
 }
 
 bool AdaptiveGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    if (one_leaf_) {
+        ++ctx.stats.cells;
+        return closest_of_all(*scene_, r, hit, ctx);
+    }
     const Vec3* tv = scene_->triangle_vertices();
 #ifdef GW_HAVE_AVX2_WALK
     if (width_ == 8) return walk_avx2::closest(g_, *scene_, tv, r, hit, ctx);
@@ -639,6 +649,10 @@ bool AdaptiveGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
 }
 
 bool AdaptiveGrid::occluded(const RayPre& r, TraceContext& ctx) const {
+    if (one_leaf_) {
+        ++ctx.stats.cells;
+        return occluded_by_any(*scene_, r, ctx);
+    }
     Hit hit;
     hit.t = r.ray.tmax;
     const Vec3* tv = scene_->triangle_vertices();

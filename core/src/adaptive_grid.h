@@ -77,6 +77,11 @@ private:
     AdaptiveGridData g_;
     AccelInfo info_;
     bool too_few_spacings_ = false;
+    // The root is one leaf listing every primitive (a scene of a few, such as
+    // the seed's Distant): rays test them in index order as brute force does,
+    // without the walk (the same answers; 9-12% of Distant's render time,
+    // at 2% of its instructions).
+    bool one_leaf_ = false;
     int width_ = 4;   // triangles per SIMD test: 8 (AVX2) or 4
 };
 

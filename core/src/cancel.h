@@ -28,7 +28,7 @@ private:
 // to call per item. `step` counts work done: pass `work` = the item's cost in
 // elementary steps (cells touched, say) so that loops whose items are big still
 // read the token every 4096 steps, i.e. every few microseconds.
-inline void check_cancel(const CancelToken* token, uint64_t& step, uint64_t work = 1) {
+__attribute__((always_inline)) inline void check_cancel(const CancelToken* token, uint64_t& step, uint64_t work = 1) {
     const uint64_t before = step;
     step += work;
     if (token && (before >> 12) != (step >> 12) && token->cancelled()) throw BuildCancelled();

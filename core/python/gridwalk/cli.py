@@ -126,7 +126,8 @@ def grid_line(grid: dict) -> str:
     root = f"{nx}x{ny}x{nz} = {nx * ny * nz} cells" if grid["grids"] == 1 else \
         f"root {nx}x{ny}x{nz}, {grid['grids']} grids, {grid['cells']} cells"
     line = (f"{grid['kind']}: {root}, {grid['refs']} refs, {grid['bytes'] / 1024:.1f} KiB, "
-            f"built in {grid['build_seconds'] * 1e3:.2f} ms")
+            f"built in {grid['build_seconds'] * 1e3:.2f} ms"
+            + (f" on {grid['build_threads']} threads" if grid.get("build_threads", 1) > 1 else ""))
     if grid["kind"] == "uniform grid":
         line += f" (density {grid['density_used']:g})"
     return line + (f"\n  note      {grid['note']}" if grid.get("note") else "")

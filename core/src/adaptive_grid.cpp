@@ -437,10 +437,10 @@ private:
         }
         // The refined cells of the first node (depth first) with several and
         // none holding 3/4 of their primitives (the root, mostly; else the cell
-        // that does, and so on down) are built as structures of their own, on in_.threads threads, each within a
-        // share of the caps left after this node proportional to its
-        // primitives (this node's cells each keep room for a leaf), then
-        // copied in, in cell order: the whole does not depend on the number of
+        // that does, and so on down) are built as structures of their own, on
+        // in_.threads threads, each within a share of the caps left after this
+        // node proportional to its primitives (this node's cells each keep room
+        // for a leaf), then copied in, in cell order: the whole does not depend on the number of
         // threads or on the order the cells finish in. Above that node, and
         // inside each of those structures, cells are refined in place.
         std::vector<AdaptiveGridData> parts;

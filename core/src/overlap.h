@@ -35,6 +35,12 @@ public:
         }
         int j = 0;
         auto add = [&](double x, double y, double z) {
+            // An axis along a box axis (or zero: a degenerate triangle, or an
+            // edge along that axis) separates nothing the caller's cell range
+            // has not: skipped. For a triangle in a plane of the box axes
+            // (floors, walls, boxes) that leaves its three edges' normals in
+            // that plane, a 2D test.
+            if (int(x != 0) + int(y != 0) + int(z != 0) <= 1) return;
             double* u = u_[j];
             u[0] = x; u[1] = y; u[2] = z;
             const double p0 = x * v[0][0] + y * v[0][1] + z * v[0][2];
@@ -54,11 +60,12 @@ public:
             add(-e[i][2], 0, e[i][0]);
             add(e[i][1], -e[i][0], 0);
         }
+        axes_ = j;
     }
 
     // Whether the triangle meets the box of the constructor's half sizes centred at m.
     bool meets(const double m[3]) const {
-        for (int j = 0; j < 10; ++j) {
+        for (int j = 0; j < axes_; ++j) {
             const double c = u_[j][0] * m[0] + u_[j][1] * m[1] + u_[j][2] * m[2];
             if (c < lo_[j] || c > hi_[j]) return false;
         }
@@ -67,6 +74,7 @@ public:
 
 private:
     double u_[10][3], lo_[10], hi_[10];
+    int axes_;
 };
 
 // Whether a sphere meets the box of half sizes `half` centred at m: its centre

@@ -82,8 +82,55 @@ TEST_CASE("degenerate and non-finite triangles are never called apart from a box
     CHECK(TriangleBoxTest(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), h).meets(m));
     const float nan = std::numeric_limits<float>::quiet_NaN();
     CHECK(TriangleBoxTest(Vec3(nan, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), h).meets(m));
-    // A segment beside the box is apart.
-    CHECK_FALSE(TriangleBoxTest(Vec3(-2, 0.7f, 0.1f), Vec3(2, 0.7f, 0.1f), Vec3(0, 0.7f, 0.1f), h).meets(m));
+    // A diagonal segment passing beside the box's corner (its bounds overlap
+    // the box: only the segment's own direction separates them) is apart.
+    CHECK_FALSE(TriangleBoxTest(Vec3(-2, -0.8f, 0.1f), Vec3(2, 3.2f, 0.1f), Vec3(0, 1.2f, 0.1f), h).meets(m));
+}
+
+TEST_CASE("triangles in a plane of the box axes are tested in that plane, as sloped ones are") {
+    // Floors, walls and boxes: triangles with a constant coordinate and edges
+    // along the axes. The axes along a box axis are the caller's (its cell
+    // range), so boxes are taken where the triangle's bounds reach them.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::uniform_real_distribution<double> size(0.05, 0.4);
+    int apart = 0, in_count = 0, tried = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const int flat = trial % 3;   // the constant axis
+        const float level = u(rng) * 0.5f;
+        auto point = [&](float p, float q) {
+            Vec3 v;
+            v[flat] = level;
+            v[(flat + 1) % 3] = p;
+            v[(flat + 2) % 3] = q;
+            return v;
+        };
+        // Half the triangles are a quad's halves (two edges along the axes).
+        const float p0 = u(rng), q0 = u(rng), p1 = u(rng), q1 = u(rng);
+        const Vec3 a = point(p0, q0), b = trial % 2 ? point(p1, q0) : point(u(rng), u(rng)), c = point(p1, q1);
+        const double h[3] = {size(rng), size(rng), size(rng)};
+        double m[3];
+        bool reach = true;   // the box meets the triangle's bounds (the caller's test)
+        for (int ax = 0; ax < 3; ++ax) {
+            m[ax] = ax == flat ? level + 0.9 * u(rng) * h[ax] : u(rng);   // (the plane passes through the box)
+            const double lo = std::min({a[ax], b[ax], c[ax]}), hi = std::max({a[ax], b[ax], c[ax]});
+            reach = reach && m[ax] + h[ax] >= lo && m[ax] - h[ax] <= hi;
+        }
+        if (!reach) continue;
+        ++tried;
+        const TriangleBoxTest test(a, b, c, h);
+        const bool in = sampled_meets(a, b, c, m, h);
+        in_count += in;
+        if (in) CHECK(test.meets(m));
+        if (!test.meets(m)) {
+            ++apart;
+            const double grown[3] = {h[0] * 1.0001, h[1] * 1.0001, h[2] * 1.0001};
+            CHECK_FALSE(sampled_meets(a, b, c, m, grown));
+        }
+    }
+    CHECK(tried > 2000);
+    CHECK(in_count > 500);
+    CHECK(apart > 200);   // boxes beside a diagonal edge, inside the bounds
 }
 
 TEST_CASE("far from the origin, a triangle touching a cell within rounding is still listed") {

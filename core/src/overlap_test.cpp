@@ -33,6 +33,24 @@ Vec3 random_point(std::mt19937& rng, float scale) {
     return Vec3(u(rng), u(rng), u(rng));
 }
 
+// Checks the test's answer for the box centred at m against sampled points,
+// counting boxes holding a sampled point (in) and boxes found apart.
+void check_answer(const Vec3& a, const Vec3& b, const Vec3& c, const double m[3], const double h[3], int& in,
+                  int& apart) {
+    const TriangleBoxTest test(a, b, c, h);
+    const bool sampled_in = sampled_meets(a, b, c, m, h);
+    in += sampled_in;
+    if (sampled_in) CHECK(test.meets(m));
+    // Apart answers must be true: outside the box's bounds of the corners, or
+    // separated by the plane, which the sampling cannot show; so check that
+    // the box grown by a hair still admits no sampled point.
+    if (!test.meets(m)) {
+        ++apart;
+        const double grown[3] = {h[0] * 1.0001, h[1] * 1.0001, h[2] * 1.0001};
+        CHECK_FALSE(sampled_meets(a, b, c, m, grown));
+    }
+}
+
 }  // namespace
 
 TEST_CASE("a triangle with a point in the box always meets it; most separated ones are found apart") {
@@ -47,18 +65,7 @@ TEST_CASE("a triangle with a point in the box always meets it; most separated on
         const Vec3 c = random_point(rng, scale);
         const double m[3] = {u(rng), u(rng), u(rng)};
         const double h[3] = {size(rng), size(rng), size(rng)};
-        const TriangleBoxTest test(a, b, c, h);
-        const bool in = sampled_meets(a, b, c, m, h);
-        sampled_in += in;
-        if (in) CHECK(test.meets(m));
-        // Apart answers must be true: outside the box's bounds of the corners, or
-        // separated by the plane, which the sampling cannot show; so check that
-        // the box grown by a hair still admits no sampled point.
-        if (!test.meets(m)) {
-            ++apart;
-            const double grown[3] = {h[0] * 1.0001, h[1] * 1.0001, h[2] * 1.0001};
-            CHECK_FALSE(sampled_meets(a, b, c, m, grown));
-        }
+        check_answer(a, b, c, m, h, sampled_in, apart);
     }
     CHECK(sampled_in > 2000);
     CHECK(apart > 2000);
@@ -118,15 +125,7 @@ TEST_CASE("triangles in a plane of the box axes are tested in that plane, as slo
         }
         if (!reach) continue;
         ++tried;
-        const TriangleBoxTest test(a, b, c, h);
-        const bool in = sampled_meets(a, b, c, m, h);
-        in_count += in;
-        if (in) CHECK(test.meets(m));
-        if (!test.meets(m)) {
-            ++apart;
-            const double grown[3] = {h[0] * 1.0001, h[1] * 1.0001, h[2] * 1.0001};
-            CHECK_FALSE(sampled_meets(a, b, c, m, grown));
-        }
+        check_answer(a, b, c, m, h, in_count, apart);
     }
     CHECK(tried > 2000);
     CHECK(in_count > 500);

@@ -133,10 +133,42 @@ def test_worst_case_distributions_build_small_structures():
         assert np.array_equal(a.t, n.t) and np.array_equal(a.prim, n.prim), name
 
 
+def cancel_build(V, T, settings, at_seconds, python_threads):
+    """Builds, asking the build to stop once at_seconds have passed: (latency in seconds from the first
+    yes to the build's stop, or None if the build finished first). Checks that no Python thread takes part
+    and that the native build thread is seen at the polls."""
+    sc = gw.Scene(vertices=V, triangles=T)
+    asked, seen = [], []
+    start = time.perf_counter()
+
+    def stop():
+        seen.append((threading.active_count(), "gridwalk-build" in thread_names()))
+        if time.perf_counter() - start > at_seconds:
+            asked.append(asked[0] if asked else time.perf_counter())
+            return True
+        return False
+
+    latency = None
+    try:
+        sc.accel(settings, should_stop=stop)
+    except gw.BuildCancelled:
+        latency = time.perf_counter() - asked[0]
+    else:
+        assert not asked, f"a cancel at {at_seconds:.2f} s into the build was ignored"
+    # No Python thread during the build; the native one is seen at every
+    # poll but maybe the last (the build can end between a wait and its poll).
+    assert seen and all(count == python_threads for count, _ in seen), seen
+    assert all(named for _, named in seen[:-1]) and any(named for _, named in seen), seen
+    return latency
+
+
 def test_build_stops_within_100ms_of_a_cancel():
     """A cancel lands in every phase of the build (counting, filling, the
     empty-space distance, refining): each stops within 100 ms. The build runs
-    on a native thread ("gridwalk-build"): no Python thread is started."""
+    on a native thread ("gridwalk-build"): no Python thread is started. (The
+    build uses every core: where other work holds them too, as under pytest -n,
+    a thread can wait that long for a core, so a late stop is tried again, up
+    to three times; a build that does not look at its cancel fails every try.)"""
     x = np.linspace(-50, 50, 1001, dtype=np.float32)
     X, Y = np.meshgrid(x, x)
     V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size, np.float32)], -1)
@@ -151,29 +183,15 @@ def test_build_stops_within_100ms_of_a_cancel():
         whole = time.perf_counter() - start
         cancelled = []
         for fraction in (0.05, 0.2, 0.35, 0.5, 0.65, 0.8):
-            sc = gw.Scene(vertices=V, triangles=T)
-            asked, seen = [], []
-            start = time.perf_counter()
-
-            def stop():
-                seen.append((threading.active_count(), "gridwalk-build" in thread_names()))
-                if time.perf_counter() - start > fraction * whole:
-                    asked.append(asked[0] if asked else time.perf_counter())
-                    return True
-                return False
-
-            try:
-                sc.accel(settings, should_stop=stop)
-            except gw.BuildCancelled:
-                latency = time.perf_counter() - asked[0]
-                assert latency < 0.1, f"{accel}: stopped {latency * 1e3:.0f} ms after a cancel at {fraction:.0%}"
+            latencies = []
+            for _ in range(3):
+                latencies.append(cancel_build(V, T, settings, fraction * whole, python_threads))
+                if latencies[-1] is None or latencies[-1] < 0.1:
+                    break
+            if latencies[-1] is not None:
+                assert latencies[-1] < 0.1, \
+                    f"{accel}: stopped {[round(t * 1e3) for t in latencies]} ms after a cancel at {fraction:.0%}"
                 cancelled.append(fraction)
-            else:
-                assert not asked, f"{accel}: a cancel at {fraction:.0%} of the build was ignored"
-            # No Python thread during the build; the native one is seen at every
-            # poll but maybe the last (the build can end between a wait and its poll).
-            assert seen and all(count == python_threads for count, _ in seen), seen
-            assert all(named for _, named in seen[:-1]) and any(named for _, named in seen), seen
         assert len(cancelled) >= 4, f"{accel}: only {cancelled} of the build was cancelled (make the scene larger)"
 
 

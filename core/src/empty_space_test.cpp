@@ -31,14 +31,14 @@ std::vector<int> chebyshev(const std::vector<uint32_t>& offsets, const int n[3])
 
 TEST_CASE("distances match brute-force Chebyshev distances, capped") {
     std::mt19937 rng(1);
-    const int shapes[][3] = {{7, 5, 3}, {16, 1, 9}, {1, 1, 40}, {12, 12, 12}};
+    const int shapes[][3] = {{7, 5, 3}, {16, 1, 9}, {1, 1, 40}, {12, 12, 12}, {30, 20, 12}};
     for (const auto& shape : shapes) {
-        for (double fill : {0.0, 0.002, 0.02, 0.3}) {
+      for (const int cap : {3, 16}) {
+        for (double fill : {0.0, 0.0005, 0.002, 0.02, 0.3}) {
             const int cells = shape[0] * shape[1] * shape[2];
             std::vector<uint32_t> offsets(size_t(cells) + 1, 0);
             std::bernoulli_distribution full(fill);
             for (int c = 0; c < cells; ++c) offsets[c + 1] = offsets[c] + (full(rng) ? 1 : 0);
-            const int cap = 3;
             const std::vector<uint8_t> got = empty_distance(offsets, shape, cap);
             const std::vector<int> want = chebyshev(offsets, shape);
             for (int c = 0; c < cells; ++c) {
@@ -46,5 +46,6 @@ TEST_CASE("distances match brute-force Chebyshev distances, capped") {
                 CHECK(int(got[c]) == expect);
             }
         }
+      }
     }
 }

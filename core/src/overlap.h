@@ -65,14 +65,19 @@ public:
 
     // Whether the triangle meets the box of the constructor's half sizes centred at m.
     bool meets(const double m[3]) const {
-        for (int j = 0; j < axes_; ++j) {
+        return axes_ == 10 ? meets_along<10>(m) : meets_along(m, axes_);   // (all ten: the loop unrolled)
+    }
+
+private:
+    template <int N = 0>
+    bool meets_along(const double m[3], int count = N) const {
+        for (int j = 0; j < (N ? N : count); ++j) {
             const double c = u_[j][0] * m[0] + u_[j][1] * m[1] + u_[j][2] * m[2];
             if (c < lo_[j] || c > hi_[j]) return false;
         }
         return true;
     }
 
-private:
     double u_[10][3], lo_[10], hi_[10];
     int axes_;
 };

@@ -207,8 +207,8 @@ private:
         std::vector<uint32_t> first;   // per primitive of the part: start in cells (and the end)
         std::vector<uint32_t> cells;   // linear cell indices
     };
-    static constexpr size_t kPrimsPerPart = size_t(1) << 14;
-    static constexpr size_t kBoundPrims = 4096;   // fewer: no fewest_cells pass (node())   // (fewer: found on the calling thread alone)
+    static constexpr size_t kPrimsPerPart = size_t(1) << 14;   // (fewer: found on the calling thread alone)
+    static constexpr size_t kBoundPrims = 4096;   // fewer: no fewest_cells pass (node())
 
     // Records the cells of a grid of resolution n over box that each
     // primitive meets; returns their total, or stops (returning more than

@@ -18,7 +18,7 @@ namespace {
 // A cell k of a line takes the least max(o, in[k +- o]) over the cells o
 // away. A cell holding the cap's cap + 1 never lowers that (nothing is above
 // cap + 1), so the search starts at the nearest cell of the line below it
-// (near[k], from two sweeps): a line far from everything (most of them) costs
+// (nearest[k], from two sweeps): a line far from everything (most of them) costs
 // two sweeps, not up to 2 cap reads per cell.
 void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n[3], int a, int cap,
           const CancelToken* cancel) {
@@ -27,7 +27,7 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
     const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;   // the other two axes
     const int len = n[a];
     const int far = cap + 1;
-    std::vector<int> line(static_cast<size_t>(len)), near(static_cast<size_t>(len));
+    std::vector<int> line(static_cast<size_t>(len)), nearest(static_cast<size_t>(len));
     for (int j = 0; j < n[c]; ++j)
         for (int i = 0; i < n[b]; ++i) {
             check_cancel(cancel, step, uint64_t(len));
@@ -35,15 +35,15 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
             for (int k = 0, last = -(1 << 30); k < len; ++k) {
                 line[size_t(k)] = in[base + k * stride[a]];
                 if (line[size_t(k)] < far) last = k;
-                near[size_t(k)] = k - last;
+                nearest[size_t(k)] = k - last;
             }
             for (int k = len - 1, next = 1 << 30; k >= 0; --k) {
                 if (line[size_t(k)] < far) next = k;
-                near[size_t(k)] = std::min(near[size_t(k)], next - k);
+                nearest[size_t(k)] = std::min(nearest[size_t(k)], next - k);
             }
             for (int k = 0; k < len; ++k) {
                 int best = line[size_t(k)];
-                for (int o = std::max(1, near[size_t(k)]); o < best; ++o) {   // a cell o away helps only if o < best
+                for (int o = std::max(1, nearest[size_t(k)]); o < best; ++o) {   // a cell o away helps only if o < best
                     if (k - o >= 0) best = std::min(best, std::max(o, line[size_t(k - o)]));
                     if (k + o < len) best = std::min(best, std::max(o, line[size_t(k + o)]));
                 }

@@ -2,14 +2,17 @@
 distributions that are worst cases for a uniform grid, against Embree's BVH
 build on the same triangles; writes docs/build-benchmark.md.
 
-    .venv/bin/python core/bench/bench_builds.py [--out docs/build-benchmark.md] [--quick]
+    .venv/bin/python core/bench/bench_builds.py [--out docs/build-benchmark.md] [--quick] [--threads 1,2,4]
 
 Each scene is built by the adaptive grid (the default; on all cores, and
 on one thread beside it), by the seed's uniform grid and by Embree (embreex,
 all threads), best of REPS builds each, taking
 turns. Reported: build seconds (the core's own build clock; Embree's scene
 commit), bytes per primitive, and gridwalk.memory's estimate of the structure
-against what the core reports it holds.
+against what the core reports it holds. With --threads, a second table gives
+the adaptive build's time on each of those thread counts (best of REPS, the
+counts taking turns) beside Embree's on all: run it on as many cores as you
+can get, since the CI machine has two.
 """
 from __future__ import annotations
 
@@ -94,16 +97,32 @@ def measure(kw: dict) -> dict:
     return out
 
 
+def scaling(kw: dict, counts: list) -> dict:
+    """The adaptive build's best time on each thread count, the counts taking turns."""
+    best = {t: float("inf") for t in counts}
+    for _ in range(REPS):
+        for t in counts:
+            info = gw.Scene(**kw).grid_info(gw.RenderSettings(accel="adaptive", threads=t))
+            best[t] = min(best[t], info["build_seconds"])
+    return best
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "build-benchmark.md")
     ap.add_argument("--quick", action="store_true", help="10k triangles instead of 1M (a smoke run)")
+    ap.add_argument("--threads", default="", help="comma-separated thread counts for a build scaling table")
     args = ap.parse_args(argv)
+    counts = [int(t) for t in args.threads.split(",")] if args.threads else []
     n = 10_000 if args.quick else 1_000_000
     info = machine_info()
-    rows, worst = [], 0.0
+    rows, worst, scaled = [], 0.0, []
     for name, kw in scenes(n).items():
         r = measure(kw)
+        if counts:
+            b = scaling(kw, counts)
+            scaled.append([name] + [f"{b[t]:.3f} s ({b[counts[0]] / b[t]:.2f}x)" for t in counts]
+                          + [f"{r['embree']:.3f} s", f"**{b[counts[-1]] / r['embree']:.2f}**"])
         a, g = r["adaptive"], r["grid"]
         ratio = a["build_seconds"] / r["embree"]
         worst = max(worst, ratio)
@@ -130,6 +149,12 @@ def main(argv=None):
                     "uniform estimate / actual"], rows)
     lines += [f"Largest adaptive / Embree build-time ratio: {worst:.2f}"
               + (" (goal: at most 2)." if worst > 2 else " (goal met: at most 2)."), ""]
+    if counts:
+        lines += ["## Build thread scaling", "",
+                  f"The adaptive build on {', '.join(map(str, counts))} threads (in brackets: the speed-up over "
+                  f"{counts[0]}), Embree on all {info['nproc']}; the last column compares the adaptive build on "
+                  f"{counts[-1]} threads with Embree's.", ""]
+        lines += table(["scene"] + [f"{t} thread{'s' if t > 1 else ''}" for t in counts] + ["Embree BVH", "adaptive / Embree"], scaled)
     args.out.write_text("\n".join(lines))
     print(f"wrote {args.out}")
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "brute_force.h"
@@ -176,25 +177,43 @@ private:
                          : 1;
     }
 
+    // A grid of resolution n over box, with what cell_range asks of every
+    // primitive worked out once per axis.
+    struct Frame {
+        const Box& box;
+        const int* n;
+        double cell[3];
+        double reach_lo[3], reach_hi[3];   // bounds beyond these miss the grid
+        double pad[3];                     // cell_range's inflation, in cells
+        double top[3];                     // the last cell's index
+        Frame(const Box& b, const int res[3]) : box(b), n(res) {
+            for (int a = 0; a < 3; ++a) {
+                cell[a] = (b.hi[a] - b.lo[a]) / res[a];
+                reach_lo[a] = b.lo[a] - 1e-3 * cell[a];
+                reach_hi[a] = b.hi[a] + 1e-3 * cell[a];
+                const double magnitude = std::max(std::abs(b.lo[a]), std::abs(b.hi[a]));
+                pad[a] = 1e-3 + 4e-7 * double(res[a]) + kCoordinateRounding * magnitude / cell[a];
+                top[a] = double(res[a] - 1);
+            }
+        }
+    };
+
     // Cells overlapped by b (clipped to the node), inflated by 1/1000 of a
     // cell plus the float rounding of a cell coordinate and of the absolute
     // coordinate (a few float spacings at the box's magnitude, which far from
     // the origin can be a good part of a small cell), so that a primitive
     // touching a cell face within rounding error is listed on both sides.
-    static bool cell_range(const Bounds& b, const Box& box, const double cell[3], const int n[3], int c0[3], int c1[3],
-                           double pad_out[3] = nullptr, bool* inside = nullptr) {
+    static bool cell_range(const Bounds& b, const Frame& f, int c0[3], int c1[3], double pad_out[3] = nullptr,
+                           bool* inside = nullptr) {
         if (inside) *inside = true;
         for (int a = 0; a < 3; ++a) {
-            if (double(b.hi[a]) < box.lo[a] - 1e-3 * cell[a] || double(b.lo[a]) > box.hi[a] + 1e-3 * cell[a])
-                return false;
-            const double magnitude = std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
-            const double pad = 1e-3 + 4e-7 * double(n[a]) + kCoordinateRounding * magnitude / cell[a], top = double(n[a] - 1);
-            const double x0 = (double(b.lo[a]) - box.lo[a]) / cell[a] - pad;
-            const double x1 = (double(b.hi[a]) - box.lo[a]) / cell[a] + pad;
-            c0[a] = int(std::min(std::max(x0, 0.0), top));
-            c1[a] = int(std::min(std::max(x1, 0.0), top));
-            if (pad_out) pad_out[a] = pad * cell[a];
-            if (inside && (x0 < 0 || x1 >= double(n[a]))) *inside = false;   // clipped to the grid
+            if (double(b.hi[a]) < f.reach_lo[a] || double(b.lo[a]) > f.reach_hi[a]) return false;
+            const double x0 = (double(b.lo[a]) - f.box.lo[a]) / f.cell[a] - f.pad[a];
+            const double x1 = (double(b.hi[a]) - f.box.lo[a]) / f.cell[a] + f.pad[a];
+            c0[a] = int(std::min(std::max(x0, 0.0), f.top[a]));
+            c1[a] = int(std::min(std::max(x1, 0.0), f.top[a]));
+            if (pad_out) pad_out[a] = f.pad[a] * f.cell[a];
+            if (inside && (x0 < 0 || x1 >= double(f.n[a]))) *inside = false;   // clipped to the grid
         }
         return true;
     }
@@ -217,8 +236,7 @@ private:
     // in_.threads threads: the same cells, in the same order.
     uint64_t find_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
                         std::vector<CellLists>& out) {
-        double cell[3];
-        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
+        const Frame frame(box, n);
         const size_t parts = may_fan_out_ && in_.threads > 1 && prims.size() >= 2 * kPrimsPerPart
                                  ? std::min<size_t>(size_t(in_.threads) * 8, prims.size() / kPrimsPerPart)
                                  : 1;
@@ -231,7 +249,7 @@ private:
             part.first.reserve(end - part.begin + 1);
             part.first.push_back(0);
             for (size_t i = part.begin; i < end; ++i) {
-                for_cells(prims[i], box, cell, n, step, [&](uint64_t c) { part.cells.push_back(uint32_t(c)); });
+                for_cells(prims[i], frame, step, [&](uint64_t c) { part.cells.push_back(uint32_t(c)); });
                 part.first.push_back(uint32_t(part.cells.size()));
                 if (part.cells.size() + found.load(std::memory_order_relaxed) > limit) break;
             }
@@ -261,24 +279,32 @@ private:
     // in one cheap pass, where find_cells would walk every cell of their
     // bounds (a million long thin triangles across the scene: 6 times
     // Embree's build, one failed resolution after the other).
-    uint64_t fewest_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit) {
-        double cell[3];
-        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
-        uint64_t total = 0;
-        for (uint32_t prim : prims) {
-            check_cancel(cancel_, step_);
-            int c0[3], c1[3];
-            bool inside;
-            if (!cell_range(bounds_[prim], box, cell, n, c0, c1, nullptr, &inside) || !inside) continue;
-            total += uint64_t(std::max(std::max(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]) + 1);
-            if (total > limit) break;
-        }
-        return total;
+    // (On `threads` threads, each adding up a range of the primitives.)
+    uint64_t fewest_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
+                          int threads) {
+        const Frame frame(box, n);
+        std::atomic<uint64_t> sum{0};   // of the ranges finished
+        for_each_range(prims.size(), threads, kPrimsPerPart, [&](size_t i0, size_t i1) {
+            uint64_t step = 0, total = 0;
+            for (size_t i = i0; i < i1; ++i) {
+                check_cancel(cancel_, step);
+                int c0[3], c1[3];
+                bool inside;
+                if (!cell_range(bounds_[prims[i]], frame, c0, c1, nullptr, &inside) || !inside) continue;
+                total += uint64_t(std::max(std::max(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]) + 1);
+                if (total + sum.load(std::memory_order_relaxed) > limit) break;
+            }
+            sum += total;
+        }, "gridwalk-build");
+        return sum.load();
     }
 
     // Builds the node over `box` holding `prims`; returns its index, or -1
     // when refining would not separate the primitives (the caller keeps a leaf).
     int64_t node(const Box& box, const std::vector<uint32_t>& prims, int depth) {
+        // The threads of this node's own per-cell passes: all of them above the
+        // structures built side by side (where one node runs at a time), one in those.
+        const int pass_threads = may_fan_out_ ? in_.threads : 1;
         // The finest resolution up to the density whose references stay within
         // max_refs_per_prim per primitive: primitives as large as the cells
         // would otherwise be listed in many of them.
@@ -303,7 +329,7 @@ private:
             // (The bound first only for a grid of many primitives on the top two
             // levels, where a failed resolution costs most: elsewhere its pass
             // would cost more than it saves.)
-            if ((depth > 1 || prims.size() < kBoundPrims || fewest_cells(box, prims, m, allowed) <= allowed) &&
+            if ((depth > 1 || prims.size() < kBoundPrims || fewest_cells(box, prims, m, allowed, pass_threads) <= allowed) &&
                 find_cells(box, prims, m, allowed, met) <= allowed) {
                 std::copy(m, m + 3, n);
                 recorded = true;
@@ -314,21 +340,28 @@ private:
         }
         const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
         if (depth > 0 && ncells <= 1) return -1;
-        double cell[3];
-        for (int a = 0; a < 3; ++a) cell[a] = (box.hi[a] - box.lo[a]) / n[a];
+        const Frame frame(box, n);
+        const double* cell = frame.cell;
         // Large primitives: those covering the most cells, beyond big_cells, at
         // most big_max of them; the node tests them once per ray.
         std::vector<uint32_t> big;
         {
-            std::vector<std::pair<uint64_t, uint32_t>> wide;
-            for (uint32_t prim : prims) {
-                check_cancel(cancel_, step_);
-                int c0[3], c1[3];
-                if (!cell_range(bounds_[prim], box, cell, n, c0, c1)) continue;
-                const uint64_t covered =
-                    uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
-                if (covered > uint64_t(p_.big_cells)) wide.emplace_back(covered, prim);
-            }
+            std::vector<std::pair<uint64_t, uint32_t>> wide;   // (in any order: sorted below)
+            std::mutex wide_mu;
+            for_each_range(prims.size(), pass_threads, kPrimsPerPart, [&](size_t i0, size_t i1) {
+                uint64_t step = 0;
+                std::vector<std::pair<uint64_t, uint32_t>> found;
+                for (size_t i = i0; i < i1; ++i) {
+                    check_cancel(cancel_, step);
+                    int c0[3], c1[3];
+                    if (!cell_range(bounds_[prims[i]], frame, c0, c1)) continue;
+                    const uint64_t covered =
+                        uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+                    if (covered > uint64_t(p_.big_cells)) found.emplace_back(covered, prims[i]);
+                }
+                std::lock_guard<std::mutex> lock(wide_mu);
+                wide.insert(wide.end(), found.begin(), found.end());
+            }, "gridwalk-build");
             if (!wide.empty()) {
                 std::sort(wide.begin(), wide.end(), [](const auto& x, const auto& y) {
                     return x.first != y.first ? x.first > y.first : x.second < y.second;
@@ -515,7 +548,7 @@ private:
         }
         tasks.reset();
         // Empty cells: the box of empty cells around each, for jumps.
-        const std::vector<uint32_t> boxes = empty_boxes(occupied, n, p_.max_box_cells, cancel_);
+        const std::vector<uint32_t> boxes = empty_boxes(occupied, n, p_.max_box_cells, cancel_, pass_threads);
         for (uint64_t c = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             if (!occupied[c]) g_.cells[nd.first + c].a = boxes[c];
@@ -530,12 +563,15 @@ private:
     // by the walk's rounded arithmetic is in a cell that lists the primitive.
     // (step: the calling thread's count for check_cancel.)
     template <class F>
-    void for_cells(uint32_t prim, const Box& box, const double cell[3], const int n[3], uint64_t& step, F&& f) const {
+    void for_cells(uint32_t prim, const Frame& frame, uint64_t& step, F&& f) const {
         check_cancel(cancel_, step);
+        const Box& box = frame.box;
+        const double* cell = frame.cell;
+        const int* n = frame.n;
         int c0[3], c1[3];
         double pad[3];
         bool inside;
-        if (!cell_range(bounds_[prim], box, cell, n, c0, c1, pad, &inside)) return;
+        if (!cell_range(bounds_[prim], frame, c0, c1, pad, &inside)) return;
         auto each = [&](auto&& meets) {
             double m[3];   // a cell's centre
             for (int z = c0[2]; z <= c1[2]; ++z) {

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "empty_space.h"
+#include "ordered_tasks.h"
 
 namespace gw {
 
@@ -93,32 +94,41 @@ uint32_t pack(const int c[3], const int lo[3], const int hi[3], const int n[3]) 
 }  // namespace
 
 std::vector<uint32_t> empty_boxes(const std::vector<uint8_t>& occupied, const int n[3], uint64_t max_cells,
-                                  const CancelToken* cancel) {
+                                  const CancelToken* cancel, int threads) {
     const uint64_t cells = uint64_t(n[0]) * n[1] * n[2];
     uint64_t step = 0;
-    const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kCubeCap, cancel);
+    const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kCubeCap, cancel, threads);
     std::vector<uint32_t> out;
     assign_checked(out, size_t(cells), 0u, cancel, step);
     const bool grow = cells <= max_cells;
     std::optional<OccupiedCount> occ;
     if (grow) occ.emplace(occupied, n, cancel);
-    uint64_t c = 0;
-    for (int z = 0; z < n[2]; ++z)
-        for (int y = 0; y < n[1]; ++y) {
+    // Rows (lines along x) are independent: each starts afresh.
+    const size_t rows = size_t(n[1]) * size_t(n[2]);
+    const uint8_t* occupied_at = occupied.data();
+    const uint8_t* dist_at = dist.data();
+    uint32_t* out_at = out.data();
+    const OccupiedCount* counts = occ ? &*occ : nullptr;
+    for_each_range(rows, threads, kCellsPerRange / size_t(n[0]) + 1, [=](size_t row0, size_t row1) {
+        const int m[3] = {n[0], n[1], n[2]};   // (a local: the stores below may alias the caller's n)
+        uint64_t row_step = 0;
+        for (size_t row = row0; row < row1; ++row) {
+            const int y = int(row % size_t(m[1])), z = int(row / size_t(m[1]));
+            uint64_t c = uint64_t(row) * uint64_t(m[0]);
             int lo[3], hi[3];
             bool blocked[6], carried = false;   // the previous cell's box holds this one
-            for (int x = 0; x < n[0]; ++x, ++c) {
-                if (occupied[c]) { carried = false; continue; }
+            for (int x = 0; x < m[0]; ++x, ++c) {
+                if (occupied_at[c]) { carried = false; continue; }
                 const int at[3] = {x, y, z};
                 uint64_t tests = 1;
                 // The empty cube centred on the cell (distance k: the cells within
                 // k - 1), clipped to the grid.
-                const int r = std::min(int(dist[c]) - 1, int(kBoxExtentMax));
+                const int r = std::min(int(dist_at[c]) - 1, int(kBoxExtentMax));
                 int cube_lo[3], cube_hi[3];
                 bool inside = carried;   // the cube lies in the previous cell's box
                 for (int a = 0; a < 3; ++a) {
                     cube_lo[a] = std::max(at[a] - r, 0);
-                    cube_hi[a] = std::min(at[a] + r, n[a] - 1);
+                    cube_hi[a] = std::min(at[a] + r, m[a] - 1);
                     inside = inside && lo[a] <= cube_lo[a] && cube_hi[a] <= hi[a];
                 }
                 int first = 1;
@@ -136,12 +146,13 @@ std::vector<uint32_t> empty_boxes(const std::vector<uint8_t>& occupied, const in
                     std::fill(blocked, blocked + 6, false);
                     first = std::max(r, 1);   // first try: doubling the cube
                 }
-                if (grow) tests += grow_box(*occ, n, at, lo, hi, blocked, first);
-                carried = grow;
-                check_cancel(cancel, step, tests);
-                out[c] = pack(at, lo, hi, n);
+                if (counts) tests += grow_box(*counts, m, at, lo, hi, blocked, first);
+                carried = counts != nullptr;
+                check_cancel(cancel, row_step, tests);
+                out_at[c] = pack(at, lo, hi, m);
             }
         }
+    }, "gridwalk-build");
     return out;
 }
 

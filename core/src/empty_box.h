@@ -34,8 +34,10 @@ inline int box_extent(uint32_t box, int axis, bool positive) {
 // neighbours are all occupied, while one on the grid's side has 31 there). Grids of more than `max_cells` cells get the
 // Chebyshev cubes (empty_space.h) as their boxes, without growing them, to
 // bound the build's memory (a 32-bit prefix sum per cell) and time.
-// `cancel` (may be null) stops the work with BuildCancelled.
+// `cancel` (may be null) stops the work with BuildCancelled. Up to `threads`
+// threads share the work (the same boxes on any number).
 std::vector<uint32_t> empty_boxes(const std::vector<uint8_t>& occupied, const int n[3],
-                                  uint64_t max_cells = uint64_t(1) << 23, const CancelToken* cancel = nullptr);
+                                  uint64_t max_cells = uint64_t(1) << 23, const CancelToken* cancel = nullptr,
+                                  int threads = 1);
 
 }  // namespace gw

@@ -8,6 +8,7 @@
 
 #include "empty_box.h"
 #include "empty_space.h"
+#include "ordered_tasks.h"
 
 using namespace gw;
 
@@ -130,4 +131,26 @@ TEST_CASE("grids past the size limit keep the Chebyshev cubes") {
     std::bernoulli_distribution full(0.01);
     for (auto& o : g.occupied) o = full(rng) ? 1 : 0;
     CHECK(check_boxes(g, empty_boxes(g.occupied, g.n, 100), false) == 0);
+}
+
+TEST_CASE("boxes and distances are the same on any number of threads") {
+    // Grids large enough for the rows and lines to be split among threads
+    // (for_each_range: at least 2 x kCellsPerRange cells), sparse and dense,
+    // and one flat grid of many short rows.
+    std::mt19937 rng(11);
+    const int shapes[][3] = {{90, 40, 30}, {300, 300, 2}, {3, 200, 150}};
+    for (const auto& shape : shapes)
+        for (double fill : {0.0005, 0.01, 0.2}) {
+            Grid g{{shape[0], shape[1], shape[2]}, {}};
+            g.occupied.resize(size_t(shape[0]) * shape[1] * shape[2]);
+            REQUIRE(g.occupied.size() >= 2 * kCellsPerRange);
+            std::bernoulli_distribution full(fill);
+            for (auto& o : g.occupied) o = full(rng) ? 1 : 0;
+            const std::vector<uint8_t> dist = chebyshev_distance(g.occupied, g.n, 16);
+            const std::vector<uint32_t> boxes = empty_boxes(g.occupied, g.n);
+            for (int threads : {2, 3, 7}) {
+                CHECK(chebyshev_distance(g.occupied, g.n, 16, nullptr, threads) == dist);
+                CHECK(empty_boxes(g.occupied, g.n, uint64_t(1) << 23, nullptr, threads) == boxes);
+            }
+        }
 }

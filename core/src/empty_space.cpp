@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "ordered_tasks.h"
+
 namespace gw {
 
 // The exact Chebyshev distance transform, capped, in three separable passes
@@ -20,42 +22,52 @@ namespace {
 // cap + 1), so the search starts at the nearest cell of the line below it
 // (nearest[k], from two sweeps): a line far from everything (most of them) costs
 // two sweeps, not up to 2 cap reads per cell.
+// Lines are independent: `threads` threads take ranges of them.
 void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n[3], int a, int cap,
-          const CancelToken* cancel) {
-    uint64_t step = 0;
+          const CancelToken* cancel, int threads) {
     const int64_t stride[3] = {1, n[0], int64_t(n[0]) * n[1]};
     const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;   // the other two axes
     const int len = n[a];
     const int far = cap + 1;
-    std::vector<int> line(static_cast<size_t>(len)), nearest(static_cast<size_t>(len));
-    for (int j = 0; j < n[c]; ++j)
-        for (int i = 0; i < n[b]; ++i) {
+    const uint8_t* src = in.data();
+    uint8_t* dst = out.data();
+    const int64_t sa = stride[a], sb = stride[b], sc = stride[c];
+    const size_t nb = size_t(n[b]);
+    // (Locals, not the caller's variables: a byte store may alias anything it
+    // can reach, and would make the loop reload them.)
+    for_each_range(size_t(n[b]) * size_t(n[c]), threads, kCellsPerRange / size_t(len) + 1, [=](size_t l0, size_t l1) {
+        uint64_t step = 0;
+        std::vector<int> line_buf(static_cast<size_t>(len)), nearest_buf(static_cast<size_t>(len));
+        int* line = line_buf.data();
+        int* nearest = nearest_buf.data();
+        for (size_t l = l0; l < l1; ++l) {
             check_cancel(cancel, step, uint64_t(len));
-            const int64_t base = int64_t(i) * stride[b] + int64_t(j) * stride[c];
+            const int64_t base = int64_t(l % nb) * sb + int64_t(l / nb) * sc;
             for (int k = 0, last = -(1 << 30); k < len; ++k) {
-                line[size_t(k)] = in[base + k * stride[a]];
-                if (line[size_t(k)] < far) last = k;
-                nearest[size_t(k)] = k - last;
+                line[k] = src[base + k * sa];
+                if (line[k] < far) last = k;
+                nearest[k] = k - last;
             }
             for (int k = len - 1, next = 1 << 30; k >= 0; --k) {
-                if (line[size_t(k)] < far) next = k;
-                nearest[size_t(k)] = std::min(nearest[size_t(k)], next - k);
+                if (line[k] < far) next = k;
+                nearest[k] = std::min(nearest[k], next - k);
             }
             for (int k = 0; k < len; ++k) {
-                int best = line[size_t(k)];
-                for (int o = std::max(1, nearest[size_t(k)]); o < best; ++o) {   // a cell o away helps only if o < best
-                    if (k - o >= 0) best = std::min(best, std::max(o, line[size_t(k - o)]));
-                    if (k + o < len) best = std::min(best, std::max(o, line[size_t(k + o)]));
+                int best = line[k];
+                for (int o = std::max(1, nearest[k]); o < best; ++o) {   // a cell o away helps only if o < best
+                    if (k - o >= 0) best = std::min(best, std::max(o, line[k - o]));
+                    if (k + o < len) best = std::min(best, std::max(o, line[k + o]));
                 }
-                out[base + k * stride[a]] = uint8_t(best);
+                dst[base + k * sa] = uint8_t(best);
             }
         }
+    }, "gridwalk-build");
 }
 
 }  // namespace
 
 std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
-                                        const CancelToken* cancel) {
+                                        const CancelToken* cancel, int threads) {
     const size_t cells = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
     uint64_t step = 0;
     std::vector<uint8_t> a, b;
@@ -66,9 +78,9 @@ std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, co
         a[c] = occupied[c] ? 0 : uint8_t(cap + 1);
     }
     // Axis x starts from "occupied here": max(|x - x'|, 0) is the 1D distance.
-    pass(a, b, n, 0, cap, cancel);
-    pass(b, a, n, 1, cap, cancel);
-    pass(a, b, n, 2, cap, cancel);
+    pass(a, b, n, 0, cap, cancel, threads);
+    pass(b, a, n, 1, cap, cancel, threads);
+    pass(a, b, n, 2, cap, cancel, threads);
     return b;
 }
 

@@ -18,8 +18,9 @@ namespace gw {
 std::vector<uint8_t> empty_distance(const std::vector<uint32_t>& offsets, const int n[3], int cap,
                                     const CancelToken* cancel = nullptr);
 
-// The same from an occupancy mask (1 = non-empty), one byte per cell.
+// The same from an occupancy mask (1 = non-empty), one byte per cell, on up
+// to `threads` threads (the same result on any number).
 std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
-                                        const CancelToken* cancel = nullptr);
+                                        const CancelToken* cancel = nullptr, int threads = 1);
 
 }  // namespace gw

@@ -112,4 +112,24 @@ private:
     std::vector<std::thread> threads_;
 };
 
+// The fewest grid cells worth a range of their own in the build's per-cell
+// passes (for_each_range): below that, starting a thread costs more than it saves.
+constexpr size_t kCellsPerRange = size_t(1) << 15;
+
+// Calls f(begin, end) on consecutive ranges covering 0 .. n-1, on up to
+// `threads` threads (the caller's among them), and returns once all have
+// run; rethrows the first range's exception. Fewer than `least` items per
+// thread, or one thread: a single call on the caller's thread. For passes
+// whose items are independent, so the result does not depend on the split.
+inline void for_each_range(size_t n, int threads, size_t least, const std::function<void(size_t, size_t)>& f,
+                           const char* name) {
+    const size_t ranges = threads > 1 && n >= 2 * least ? std::min(size_t(threads) * 4, n / least) : 1;
+    if (ranges <= 1) {
+        if (n) f(0, n);
+        return;
+    }
+    OrderedTasks tasks(ranges, threads, [&](size_t k) { f(n * k / ranges, n * (k + 1) / ranges); }, name);
+    for (size_t k = 0; k < ranges; ++k) tasks.wait(k);
+}
+
 }  // namespace gw

@@ -102,23 +102,38 @@ Box child_box(const std::vector<Bounds>& bounds, const Box& box, const double ce
     return cb;
 }
 
-// Appends the structure `part` (a refined cell's, built on its own) to g;
-// returns the index in g of part's first node.
-uint32_t append(AdaptiveGridData& g, const AdaptiveGridData& part, const CancelToken* cancel, uint64_t& step) {
-    const uint32_t node0 = uint32_t(g.nodes.size()), cell0 = uint32_t(g.cells.size()), ref0 = uint32_t(g.refs.size());
-    check_cancel(cancel, step, part.cells.size() + part.refs.size());
-    for (AdaptiveGridData::Node nd : part.nodes) {
-        nd.first += cell0;
-        if (nd.big_count) nd.big += ref0;
-        g.nodes.push_back(nd);
+// Where a refined cell's structure, built on its own, goes in the whole: its
+// first node, cell and reference there.
+struct Place {
+    uint32_t node, cell, ref;
+};
+
+// Copies `part` into g at `at` (g already holds the room), its indices moved there.
+void copy_part(AdaptiveGridData& g, const AdaptiveGridData& part, const Place& at) {
+    for (size_t i = 0; i < part.nodes.size(); ++i) {
+        AdaptiveGridData::Node nd = part.nodes[i];
+        nd.first += at.cell;
+        if (nd.big_count) nd.big += at.ref;
+        g.nodes[at.node + i] = nd;
     }
-    for (AdaptiveGridData::Cell c : part.cells) {
-        if (c.b == AdaptiveGridData::kChild) c.a += node0;
-        else if (c.b != 0) c.a += ref0;
-        g.cells.push_back(c);
+    for (size_t i = 0; i < part.cells.size(); ++i) {
+        AdaptiveGridData::Cell c = part.cells[i];
+        if (c.b == AdaptiveGridData::kChild) c.a += at.node;
+        else if (c.b != 0) c.a += at.ref;
+        g.cells[at.cell + i] = c;
     }
-    g.refs.insert(g.refs.end(), part.refs.begin(), part.refs.end());
-    return node0;
+    std::copy(part.refs.begin(), part.refs.end(), g.refs.begin() + at.ref);
+}
+
+// A leaf's list of the primitives ids[0 .. count): the number of triangles,
+// then the triangles, then the quadrics (count + 1 values from out).
+void fill_leaf(const uint32_t* ids, uint32_t count, uint32_t nt, uint32_t* out) {
+    uint32_t k = 1;
+    for (uint32_t i = 0; i < count; ++i)
+        if (ids[i] < nt) out[k++] = ids[i];
+    out[0] = k - 1;
+    for (uint32_t i = 0; i < count; ++i)
+        if (ids[i] >= nt) out[k++] = ids[i];
 }
 
 class Builder {
@@ -508,21 +523,19 @@ private:
             }, "gridwalk-build");
             build_threads_ = std::max(build_threads_, tasks->threads());
         }
-        std::vector<uint32_t> sub;
-        size_t next_refine = 0;
-        for (uint64_t c = 0; c < ncells; ++c) {
-            check_cancel(cancel_, step_);
-            if (!occupied[c]) continue;
-            const uint32_t b = start[c], e = start[c + 1];
-            AdaptiveGridData::Cell out{0, 0};
-            if (next_refine < refine.size() && refine[next_refine] == c) {
-                int64_t child = -1;
-                if (tasks) {
-                    tasks->wait(next_refine);
-                    AdaptiveGridData& part = parts[next_refine];
-                    if (!part.nodes.empty()) child = append(g_, part, cancel_, step_);
-                    part = AdaptiveGridData();   // (freed as it goes)
-                } else {
+        if (tasks) {
+            for (size_t k = 0; k < refine.size(); ++k) tasks->wait(k);   // (the caller's thread helps)
+            tasks.reset();
+            place_parts(nd.first, occupied, start, list, refine, parts, pass_threads);
+        } else {
+            std::vector<uint32_t> sub;
+            size_t next_refine = 0;
+            for (uint64_t c = 0; c < ncells; ++c) {
+                check_cancel(cancel_, step_);
+                if (!occupied[c]) continue;
+                const uint32_t b = start[c], e = start[c + 1];
+                AdaptiveGridData::Cell out{0, 0};
+                if (next_refine < refine.size() && refine[next_refine] == c) {
                     sub.assign(list.begin() + b, list.begin() + e);
                     check_cancel(cancel_, step_, 4 * sub.size());   // the copy and the box below
                     // (On one thread, a fanned-out cell is built in place within the
@@ -535,18 +548,18 @@ private:
                     }
                     const bool allowed = may_fan_out_, dominant = 4 * uint64_t(e - b) > 3 * weight;
                     may_fan_out_ = allowed && dominant;
-                    child = node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1);
+                    const int64_t child =
+                        node(child_box(bounds_, box, cell, n, c, sub.data(), sub.size()), sub, depth + 1);
                     if (!dominant) may_fan_out_ = allowed;
                     max_cells_ = caps[0];
                     max_refs_ = caps[1];
+                    ++next_refine;
+                    if (child >= 0) out = AdaptiveGridData::Cell{uint32_t(child), AdaptiveGridData::kChild};
                 }
-                ++next_refine;
-                if (child >= 0) out = AdaptiveGridData::Cell{uint32_t(child), AdaptiveGridData::kChild};
+                if (out.b == 0) out = leaf(list.data() + b, e - b);
+                g_.cells[nd.first + c] = out;
             }
-            if (out.b == 0) out = leaf(list.data() + b, e - b);
-            g_.cells[nd.first + c] = out;
         }
-        tasks.reset();
         // Empty cells: the box of empty cells around each, for jumps.
         const std::vector<uint32_t> boxes = empty_boxes(occupied, n, p_.max_box_cells, cancel_, pass_threads);
         for (uint64_t c = 0; c < ncells; ++c) {
@@ -607,17 +620,68 @@ private:
         }
     }
 
+    // Puts the structures of the refined cells built side by side (parts[k],
+    // refined cell refine[k]; an empty one adds nothing: the cell stays a
+    // leaf) and the leaves of the node's other occupied cells into g_, in
+    // cell order, as building in place does: the offsets first, in one pass,
+    // then the copies on `threads` threads, each part freed once copied.
+    // first: the node's cell (0, 0, 0) in g_.cells.
+    void place_parts(uint32_t first, const std::vector<uint8_t>& occupied, const std::vector<uint32_t>& start,
+                     const std::vector<uint32_t>& list, const std::vector<uint64_t>& refine,
+                     std::vector<AdaptiveGridData>& parts, int threads) {
+        const uint64_t ncells = occupied.size();
+        std::vector<Place> places(parts.size());
+        std::vector<uint32_t> leaf_at;   // per leaf cell: its list's place in refs
+        assign_checked(leaf_at, ncells, 0u, cancel_, step_);
+        uint64_t nodes = g_.nodes.size(), cells = g_.cells.size(), refs = g_.refs.size();
+        for (uint64_t c = 0, k = 0; c < ncells; ++c) {
+            check_cancel(cancel_, step_);
+            if (!occupied[c]) continue;
+            if (k < refine.size() && refine[k] == c) {
+                const AdaptiveGridData& part = parts[k++];
+                if (!part.nodes.empty()) {
+                    places[k - 1] = Place{uint32_t(nodes), uint32_t(cells), uint32_t(refs)};
+                    nodes += part.nodes.size();
+                    cells += part.cells.size();
+                    refs += part.refs.size();
+                    continue;
+                }
+            }
+            leaf_at[c] = uint32_t(refs);
+            refs += 1 + start[c + 1] - start[c];
+        }
+        g_.nodes.resize(nodes);
+        grow_checked(g_.cells, cells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);
+        grow_checked(g_.refs, refs, 0u, cancel_, step_);
+        for_each_range(ncells, threads, kCellsPerRange, [&](size_t c0, size_t c1) {
+            uint64_t step = 0;
+            size_t k = size_t(std::lower_bound(refine.begin(), refine.end(), uint64_t(c0)) - refine.begin());
+            for (uint64_t c = c0; c < c1; ++c) {
+                if (!occupied[c]) continue;
+                const uint32_t b = start[c], e = start[c + 1];
+                check_cancel(cancel_, step, 2 * uint64_t(e - b));
+                if (k < refine.size() && refine[k] == c) {
+                    AdaptiveGridData& part = parts[k++];
+                    if (!part.nodes.empty()) {
+                        check_cancel(cancel_, step, part.cells.size() + part.refs.size());
+                        copy_part(g_, part, places[k - 1]);
+                        g_.cells[first + c] = AdaptiveGridData::Cell{places[k - 1].node, AdaptiveGridData::kChild};
+                        part = AdaptiveGridData();   // (freed as it goes)
+                        continue;
+                    }
+                }
+                fill_leaf(list.data() + b, e - b, nt_, g_.refs.data() + leaf_at[c]);
+                g_.cells[first + c] = AdaptiveGridData::Cell{leaf_at[c], e - b};
+            }
+        }, "gridwalk-build");
+    }
+
     // A leaf: refs gets [number of triangles, triangles..., quadrics...].
     AdaptiveGridData::Cell leaf(const uint32_t* ids, uint32_t count) {
         const uint32_t at = uint32_t(g_.refs.size());
         check_cancel(cancel_, step_, 2 * uint64_t(count));
-        g_.refs.push_back(0);
-        uint32_t ntri = 0;
-        for (uint32_t i = 0; i < count; ++i)
-            if (ids[i] < nt_) { g_.refs.push_back(ids[i]); ++ntri; }
-        for (uint32_t i = 0; i < count; ++i)
-            if (ids[i] >= nt_) g_.refs.push_back(ids[i]);
-        g_.refs[at] = ntri;
+        g_.refs.resize(g_.refs.size() + count + 1);
+        fill_leaf(ids, count, nt_, g_.refs.data() + at);
         return AdaptiveGridData::Cell{at, count};
     }
 

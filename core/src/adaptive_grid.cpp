@@ -108,8 +108,10 @@ struct Place {
     uint32_t node, cell, ref;
 };
 
-// Copies `part` into g at `at` (g already holds the room), its indices moved there.
-void copy_part(AdaptiveGridData& g, const AdaptiveGridData& part, const Place& at) {
+// Copies `part` into g at `at` (g already holds the room), its indices moved
+// there. (`at` by value: the stores below may alias a reference's target.)
+void copy_part(AdaptiveGridData& g, const AdaptiveGridData& part, const Place at, const CancelToken* cancel,
+               uint64_t& step) {
     for (size_t i = 0; i < part.nodes.size(); ++i) {
         AdaptiveGridData::Node nd = part.nodes[i];
         nd.first += at.cell;
@@ -117,12 +119,18 @@ void copy_part(AdaptiveGridData& g, const AdaptiveGridData& part, const Place& a
         g.nodes[at.node + i] = nd;
     }
     for (size_t i = 0; i < part.cells.size(); ++i) {
+        check_cancel(cancel, step);
         AdaptiveGridData::Cell c = part.cells[i];
         if (c.b == AdaptiveGridData::kChild) c.a += at.node;
         else if (c.b != 0) c.a += at.ref;
         g.cells[at.cell + i] = c;
     }
-    std::copy(part.refs.begin(), part.refs.end(), g.refs.begin() + at.ref);
+    constexpr size_t kSlice = size_t(1) << 16;
+    for (size_t i = 0; i < part.refs.size(); i += kSlice) {
+        const size_t end = std::min(part.refs.size(), i + kSlice);
+        check_cancel(cancel, step, end - i);
+        std::copy(part.refs.begin() + i, part.refs.begin() + end, g.refs.begin() + at.ref + i);
+    }
 }
 
 // A leaf's list of the primitives ids[0 .. count): the number of triangles,
@@ -624,16 +632,24 @@ private:
     // refined cell refine[k]; an empty one adds nothing: the cell stays a
     // leaf) and the leaves of the node's other occupied cells into g_, in
     // cell order, as building in place does: the offsets first, in one pass,
-    // then the copies on `threads` threads, each part freed once copied.
+    // then the copies on `threads` threads, by runs of cells holding equal
+    // shares of what is copied; each part is freed once copied.
     // first: the node's cell (0, 0, 0) in g_.cells.
     void place_parts(uint32_t first, const std::vector<uint8_t>& occupied, const std::vector<uint32_t>& start,
                      const std::vector<uint32_t>& list, const std::vector<uint64_t>& refine,
                      std::vector<AdaptiveGridData>& parts, int threads) {
         const uint64_t ncells = occupied.size();
+        // The cells and references cell c adds (refined cell refine[k], if it is one).
+        auto adds = [&](uint64_t c, size_t k) -> uint64_t {
+            if (k < refine.size() && refine[k] == c && !parts[k].nodes.empty())
+                return parts[k].cells.size() + parts[k].refs.size();
+            return 1 + start[c + 1] - start[c];
+        };
         std::vector<Place> places(parts.size());
         std::vector<uint32_t> leaf_at;   // per leaf cell: its list's place in refs
         assign_checked(leaf_at, ncells, 0u, cancel_, step_);
-        uint64_t nodes = g_.nodes.size(), cells = g_.cells.size(), refs = g_.refs.size();
+        const uint64_t cells0 = g_.cells.size(), refs0 = g_.refs.size();
+        uint64_t nodes = g_.nodes.size(), cells = cells0, refs = refs0;
         for (uint64_t c = 0, k = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             if (!occupied[c]) continue;
@@ -653,9 +669,24 @@ private:
         g_.nodes.resize(nodes);
         grow_checked(g_.cells, cells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);
         grow_checked(g_.refs, refs, 0u, cancel_, step_);
-        for_each_range(ncells, threads, kCellsPerRange, [&](size_t c0, size_t c1) {
+        // Runs of cells with equal shares of the copying (one where it is little).
+        const uint64_t work = (cells - cells0) + (refs - refs0);
+        const uint64_t runs = threads > 1 ? std::max<uint64_t>(1, std::min<uint64_t>(4 * uint64_t(threads),
+                                                                                         work / kCellsPerRange))
+                                          : 1;
+        std::vector<uint64_t> cuts{0};   // run j: cells cuts[j] .. cuts[j + 1]
+        for (uint64_t c = 0, k = 0, done = 0; c < ncells && cuts.size() < runs; ++c) {
+            check_cancel(cancel_, step_);
+            if (!occupied[c]) continue;
+            done += adds(c, k);
+            if (k < refine.size() && refine[k] == c) ++k;
+            if (done * runs >= work * cuts.size()) cuts.push_back(c + 1);
+        }
+        if (cuts.back() != ncells) cuts.push_back(ncells);
+        for_each_range(cuts.size() - 1, threads, 1, [&](size_t j0, size_t j1) {
             uint64_t step = 0;
-            size_t k = size_t(std::lower_bound(refine.begin(), refine.end(), uint64_t(c0)) - refine.begin());
+            const uint64_t c0 = cuts[j0], c1 = cuts[j1];
+            size_t k = size_t(std::lower_bound(refine.begin(), refine.end(), c0) - refine.begin());
             for (uint64_t c = c0; c < c1; ++c) {
                 if (!occupied[c]) continue;
                 const uint32_t b = start[c], e = start[c + 1];
@@ -663,8 +694,7 @@ private:
                 if (k < refine.size() && refine[k] == c) {
                     AdaptiveGridData& part = parts[k++];
                     if (!part.nodes.empty()) {
-                        check_cancel(cancel_, step, part.cells.size() + part.refs.size());
-                        copy_part(g_, part, places[k - 1]);
+                        copy_part(g_, part, places[k - 1], cancel_, step);
                         g_.cells[first + c] = AdaptiveGridData::Cell{places[k - 1].node, AdaptiveGridData::kChild};
                         part = AdaptiveGridData();   // (freed as it goes)
                         continue;

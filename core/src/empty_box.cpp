@@ -96,6 +96,7 @@ uint32_t pack(const int c[3], const int lo[3], const int hi[3], const int n[3]) 
 std::vector<uint32_t> empty_boxes(const std::vector<uint8_t>& occupied, const int n[3], uint64_t max_cells,
                                   const CancelToken* cancel, int threads) {
     const uint64_t cells = uint64_t(n[0]) * n[1] * n[2];
+    if (cells == 0) return {};
     uint64_t step = 0;
     const std::vector<uint8_t> dist = chebyshev_distance(occupied, n, kCubeCap, cancel, threads);
     std::vector<uint32_t> out;

@@ -33,32 +33,37 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
     uint8_t* dst = out.data();
     const int64_t sa = stride[a], sb = stride[b], sc = stride[c];
     const size_t nb = size_t(n[b]);
-    // (Locals, not the caller's variables: a byte store may alias anything it
-    // can reach, and would make the loop reload them.)
     for_each_range(size_t(n[b]) * size_t(n[c]), threads, kCellsPerRange / size_t(len) + 1, [=](size_t l0, size_t l1) {
+        // (Locals, not the closure's members: a byte store may alias anything
+        // it can reach, and would make the loop reload them.)
+        const uint8_t* const from = src;
+        uint8_t* const to = dst;
+        const int64_t step_a = sa, step_b = sb, step_c = sc;
+        const size_t lines_b = nb;
+        const int length = len, beyond = far;
         uint64_t step = 0;
-        std::vector<int> line_buf(static_cast<size_t>(len)), nearest_buf(static_cast<size_t>(len));
+        std::vector<int> line_buf(static_cast<size_t>(length)), nearest_buf(static_cast<size_t>(length));
         int* line = line_buf.data();
         int* nearest = nearest_buf.data();
         for (size_t l = l0; l < l1; ++l) {
-            check_cancel(cancel, step, uint64_t(len));
-            const int64_t base = int64_t(l % nb) * sb + int64_t(l / nb) * sc;
-            for (int k = 0, last = -(1 << 30); k < len; ++k) {
-                line[k] = src[base + k * sa];
-                if (line[k] < far) last = k;
+            check_cancel(cancel, step, uint64_t(length));
+            const int64_t base = int64_t(l % lines_b) * step_b + int64_t(l / lines_b) * step_c;
+            for (int k = 0, last = -(1 << 30); k < length; ++k) {
+                line[k] = from[base + k * step_a];
+                if (line[k] < beyond) last = k;
                 nearest[k] = k - last;
             }
-            for (int k = len - 1, next = 1 << 30; k >= 0; --k) {
-                if (line[k] < far) next = k;
+            for (int k = length - 1, next = 1 << 30; k >= 0; --k) {
+                if (line[k] < beyond) next = k;
                 nearest[k] = std::min(nearest[k], next - k);
             }
-            for (int k = 0; k < len; ++k) {
+            for (int k = 0; k < length; ++k) {
                 int best = line[k];
                 for (int o = std::max(1, nearest[k]); o < best; ++o) {   // a cell o away helps only if o < best
                     if (k - o >= 0) best = std::min(best, std::max(o, line[k - o]));
-                    if (k + o < len) best = std::min(best, std::max(o, line[k + o]));
+                    if (k + o < length) best = std::min(best, std::max(o, line[k + o]));
                 }
-                dst[base + k * sa] = uint8_t(best);
+                to[base + k * step_a] = uint8_t(best);
             }
         }
     }, "gridwalk-build");
@@ -69,6 +74,7 @@ void pass(const std::vector<uint8_t>& in, std::vector<uint8_t>& out, const int n
 std::vector<uint8_t> chebyshev_distance(const std::vector<uint8_t>& occupied, const int n[3], int cap,
                                         const CancelToken* cancel, int threads) {
     const size_t cells = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
+    if (cells == 0) return {};
     uint64_t step = 0;
     std::vector<uint8_t> a, b;
     assign_checked(a, cells, uint8_t(0), cancel, step);

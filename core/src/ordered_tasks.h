@@ -6,8 +6,10 @@
 // caller's thread.
 //
 // Used by the adaptive grid's build (adaptive_grid.cpp): each refined cell of
-// the root is built as a structure of its own, then copied into the whole in
-// cell order, so the result does not depend on the number of threads.
+// the first node worth splitting (the root, mostly) is built as a structure of
+// its own, then copied into the whole in cell order, so the result does not
+// depend on the number of threads; and by for_each_range (below) for the
+// top nodes' passes over independent cells, lines and primitives.
 //
 // A task that throws (BuildCancelled after a cancel, bad_alloc) stops the
 // claiming of further tasks; wait() rethrows its exception. The destructor
@@ -40,7 +42,7 @@ public:
         for (size_t i = 0; i < workers; ++i) {
             try {
                 threads_.emplace_back([this] { while (!stop_.load() && run_next()) {} });
-            } catch (const std::system_error&) {
+            } catch (...) {   // (std::system_error, or bad_alloc for the thread's state)
                 break;
             }
             name_thread(threads_.back(), name);
@@ -118,9 +120,10 @@ constexpr size_t kCellsPerRange = size_t(1) << 15;
 
 // Calls f(begin, end) on consecutive ranges covering 0 .. n-1, on up to
 // `threads` threads (the caller's among them), and returns once all have
-// run; rethrows the first range's exception. Fewer than `least` items per
-// thread, or one thread: a single call on the caller's thread. For passes
-// whose items are independent, so the result does not depend on the split.
+// run; rethrows the first range's exception. Ranges hold at least `least`
+// items each (at most 4 per thread), so fewer than 2 x least items, or one
+// thread, make a single call on the caller's thread. For passes whose items
+// are independent, so the result does not depend on the split.
 inline void for_each_range(size_t n, int threads, size_t least, const std::function<void(size_t, size_t)>& f,
                            const char* name) {
     const size_t ranges = threads > 1 && n >= 2 * least ? std::min(size_t(threads) * 4, n / least) : 1;

@@ -66,3 +66,29 @@ TEST_CASE("no tasks, and fewer tasks than threads") {
     two.wait(1);
     CHECK(sum == 1);
 }
+
+TEST_CASE("for_each_range covers every item once, in ranges of at least `least`, and rethrows") {
+    for (int threads : {1, 2, 3, 8})
+        for (size_t n : {size_t(0), size_t(1), size_t(99), size_t(100), size_t(1000), size_t(4097)}) {
+            const size_t least = 50;
+            std::vector<std::atomic<int>> seen(n);
+            std::mutex mu;
+            std::vector<std::pair<size_t, size_t>> ranges;
+            gw::for_each_range(n, threads, least, [&](size_t b, size_t e) {
+                for (size_t i = b; i < e; ++i) ++seen[i];
+                std::lock_guard<std::mutex> lock(mu);
+                ranges.emplace_back(b, e);
+            }, "gw-test");
+            for (size_t i = 0; i < n; ++i) CHECK(seen[i].load() == 1);
+            if (threads == 1 || n < 2 * least) {
+                CHECK(ranges.size() == (n ? 1u : 0u));   // one call on the caller's thread (none for no items)
+            } else {
+                CHECK(ranges.size() >= 2);
+                CHECK(ranges.size() <= size_t(4 * threads));
+                for (const auto& r : ranges) CHECK(r.second - r.first >= least);
+            }
+        }
+    CHECK_THROWS_WITH(gw::for_each_range(10000, 4, 10, [](size_t b, size_t) {
+        if (b > 0) throw std::runtime_error("a range failed");
+    }, "gw-test"), "a range failed");
+}

@@ -639,32 +639,29 @@ private:
                      const std::vector<uint32_t>& list, const std::vector<uint64_t>& refine,
                      std::vector<AdaptiveGridData>& parts, int threads) {
         const uint64_t ncells = occupied.size();
-        // The cells and references cell c adds (refined cell refine[k], if it is one).
-        auto adds = [&](uint64_t c, size_t k) -> uint64_t {
-            if (k < refine.size() && refine[k] == c && !parts[k].nodes.empty())
-                return parts[k].cells.size() + parts[k].refs.size();
-            return 1 + start[c + 1] - start[c];
-        };
         std::vector<Place> places(parts.size());
         std::vector<uint32_t> leaf_at;   // per leaf cell: its list's place in refs
         assign_checked(leaf_at, ncells, 0u, cancel_, step_);
+        // Per occupied cell: the cells and references of the cells up to it
+        // (itself included), where the copying is cut into runs.
+        std::vector<uint64_t> done_at;
+        assign_checked(done_at, ncells, uint64_t(0), cancel_, step_);
         const uint64_t cells0 = g_.cells.size(), refs0 = g_.refs.size();
         uint64_t nodes = g_.nodes.size(), cells = cells0, refs = refs0;
         for (uint64_t c = 0, k = 0; c < ncells; ++c) {
             check_cancel(cancel_, step_);
             if (!occupied[c]) continue;
-            if (k < refine.size() && refine[k] == c) {
-                const AdaptiveGridData& part = parts[k++];
-                if (!part.nodes.empty()) {
-                    places[k - 1] = Place{uint32_t(nodes), uint32_t(cells), uint32_t(refs)};
-                    nodes += part.nodes.size();
-                    cells += part.cells.size();
-                    refs += part.refs.size();
-                    continue;
-                }
+            const AdaptiveGridData* part = k < refine.size() && refine[k] == c ? &parts[k++] : nullptr;
+            if (part && !part->nodes.empty()) {
+                places[k - 1] = Place{uint32_t(nodes), uint32_t(cells), uint32_t(refs)};
+                nodes += part->nodes.size();
+                cells += part->cells.size();
+                refs += part->refs.size();
+            } else {   // (an empty part: the cell stays a leaf)
+                leaf_at[c] = uint32_t(refs);
+                refs += 1 + start[c + 1] - start[c];
             }
-            leaf_at[c] = uint32_t(refs);
-            refs += 1 + start[c + 1] - start[c];
+            done_at[c] = (cells - cells0) + (refs - refs0);
         }
         g_.nodes.resize(nodes);
         grow_checked(g_.cells, cells, AdaptiveGridData::Cell{0, 0}, cancel_, step_);
@@ -675,12 +672,9 @@ private:
                                                                                          work / kCellsPerRange))
                                           : 1;
         std::vector<uint64_t> cuts{0};   // run j: cells cuts[j] .. cuts[j + 1]
-        for (uint64_t c = 0, k = 0, done = 0; c < ncells && cuts.size() < runs; ++c) {
+        for (uint64_t c = 0; c < ncells && cuts.size() < runs; ++c) {
             check_cancel(cancel_, step_);
-            if (!occupied[c]) continue;
-            done += adds(c, k);
-            if (k < refine.size() && refine[k] == c) ++k;
-            if (done * runs >= work * cuts.size()) cuts.push_back(c + 1);
+            if (occupied[c] && done_at[c] * runs >= work * cuts.size()) cuts.push_back(c + 1);
         }
         if (cuts.back() != ncells) cuts.push_back(ncells);
         for_each_range(cuts.size() - 1, threads, 1, [&](size_t j0, size_t j1) {

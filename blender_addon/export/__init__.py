@@ -116,8 +116,8 @@ def _nothing_to_render(meshes) -> str:
     hints = []
     if meshes.invalid:
         hints.append(f"skipped as invalid: {names(meshes.invalid)}")
-    if meshes.faceless:
-        hints.append(f"without faces: {names(meshes.faceless)}")
+    if meshes.without_faces():
+        hints.append(f"without faces: {names(meshes.without_faces())}")
     if not hints:
         hints.append("check 'Disable in Renders' and excluded collections")
     return f"Nothing to render: the scene has no visible object with faces ({'; '.join(hints)})"

@@ -1,11 +1,13 @@
 """Meshes and their instances -> triangle and sphere arrays.
 
-Every entry of depsgraph.object_instances with geometry (meshes, curves, text,
-metaballs; collection instances included, each with its own matrix_world) is
-evaluated with its modifiers (`to_mesh()`), triangulated through
-loop_triangles and read with foreach_get into numpy. A mesh is read once and
-reused by all its instances (mesh_cache.MeshCache; the viewport keeps it
-between updates). Objects hidden for render are skipped.
+Every mesh entry of depsgraph.object_instances (curves, surfaces, text and
+metaballs come as the mesh instances Blender evaluates them to; collection,
+particle and Geometry Nodes instances included, each with its own
+matrix_world) is evaluated with its modifiers (`to_mesh()`), triangulated
+through loop_triangles and read with foreach_get into numpy. A mesh is read
+once and reused by all its instances (mesh_cache.MeshCache; the viewport keeps
+it between updates). Objects hidden for render are skipped, and instances
+whose instancer is (`renders`).
 
 Shading normals come from Blender's normals domain:
   FACE   (all faces flat)            -> no normals (the core uses geometric normals)
@@ -34,7 +36,6 @@ import numpy as np
 
 from ._matrix import to_numpy, transform_normals, transform_points
 
-GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 extents overflow)
 
 
@@ -209,9 +210,21 @@ def sphere_from_bounds(bound_box, matrix):
 
 
 def renders(inst) -> bool:
-    """Whether a depsgraph object instance is geometry that the render shows."""
+    """Whether a depsgraph object instance is geometry that the render shows.
+
+    Meshes only: Blender lists the evaluated geometry of a curve, surface,
+    text or metaball as a mesh instance whose parent is the object itself,
+    beside the object, whose data is the unevaluated datablock that every
+    object using it shares (exporting both gave each such object twice, and
+    objects sharing a curve one another's modifiers' geometry). An instance
+    shows when its instancer does: the source of particle and Geometry Nodes
+    instances is usually hidden in renders, and Blender renders them all the
+    same (the depsgraph of a final render holds no hidden object itself)."""
     obj = inst.object
-    return obj.type in GEOMETRY_TYPES and inst.show_self and not obj.original.hide_render
+    if obj.type != "MESH" or not inst.show_self:
+        return False
+    owner = inst.parent if inst.is_instance and inst.parent is not None else obj
+    return not owner.original.hide_render
 
 
 def as_sphere(obj) -> bool:
@@ -248,11 +261,14 @@ class MeshCollector:
         self.non_uniform_spheres = []
         self.invalid = {}          # object name -> why it was skipped
         self.faceless = set()      # mesh objects without faces
+        self.instancers = set()    # objects that instance others (a Geometry Nodes carrier's own mesh may be empty)
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
     def add_instance(self, inst):
+        if inst.is_instance and inst.parent is not None:
+            self.instancers.add(inst.parent.name)
         if not renders(inst):
             return
         obj = inst.object
@@ -275,7 +291,7 @@ class MeshCollector:
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):
-            if obj.type == "MESH":         # (curves without bevel are paths, not mistakes)
+            if obj.original.type == "MESH":   # (curves without bevel are paths, not mistakes)
                 self.faceless.add(obj.name)
             return
         if not data.finite:
@@ -291,11 +307,15 @@ class MeshCollector:
             self.without_uvs.add(obj.name)
         self.parts.append((key, data, matrix, lookup))
 
+    def without_faces(self) -> set[str]:
+        """The mesh objects without faces that instance nothing either."""
+        return self.faceless - self.instancers
+
     def warnings(self) -> list[str]:
         out = [f"Skipped object '{name}': {why}" for name, why in sorted(self.invalid.items())]
-        if self.faceless:
+        if self.without_faces():
             out.append("Objects without faces (only vertices or edges) are not rendered: "
-                       + ", ".join(f"'{name}'" for name in sorted(self.faceless)))
+                       + ", ".join(f"'{name}'" for name in sorted(self.without_faces())))
         for name, (zero, total) in sorted(self.degenerate.items()):
             out.append(f"Object '{name}': {zero} of {total} triangles have zero area and are invisible")
         if self.without_uvs:

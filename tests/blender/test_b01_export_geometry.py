@@ -54,3 +54,27 @@ def test_render_as_sphere_gives_one_analytic_sphere(export):
     np.testing.assert_allclose(out.sphere_centers, [out.expected["center"]], atol=1e-5)
     np.testing.assert_allclose(out.sphere_radii, [out.expected["radius"]], rtol=1e-5)
     assert len(out.triangles) == 12          # only the cube stays a mesh
+
+
+def test_curves_text_and_metaballs_are_exported_once_with_their_own_modifiers(export):
+    out = export("curves")
+    per_object = out.expected["triangles"]
+    assert len(out.triangles) == sum(per_object.values())   # each once, not also as the curve object itself
+    corners = out.vertices[out.triangles.reshape(-1)]
+    lo, hi = out.expected["plain_x"]
+    plain = corners[corners[:, 0] < -2.0]
+    # the bar without the modifier has its own geometry (one bar), not the arrayed object's three
+    assert len(plain) == 3 * per_object["PlainBar"]
+    assert plain[:, 0].min() > lo - 1e-3 and plain[:, 0].max() < hi + 1e-3
+    lo, hi = out.expected["arrayed_x"]
+    arrayed = corners[(corners[:, 0] > 0.0) & (np.abs(corners[:, 2]) <= 1.0 + 1e-3)]
+    assert arrayed[:, 0].min() < lo + 0.05 and arrayed[:, 0].max() > hi - 0.05
+
+
+def test_instances_of_sources_hidden_in_renders_are_exported(export):
+    out = export("hidden_sources")
+    assert len(out.triangles) == out.expected["triangles"]
+    corners = out.vertices[out.triangles.reshape(-1)]
+    assert corners[:, 2].max() < 5.0          # the hidden sources themselves (z = 6 and 9) are not
+    if out.expected["carrier"]:               # a carrier whose mesh is empty but instances is no mistake
+        assert not any(out.expected["carrier"] in w for w in out.warnings)

@@ -97,6 +97,97 @@ def instances_scene():
     return {"triangles": 24, "instances": expected}
 
 
+def _bar_curve(name):
+    """A beveled straight curve: a closed tube along z."""
+    curve = bpy.data.curves.new(name, "CURVE")
+    curve.dimensions = "3D"
+    curve.bevel_depth = 0.3
+    spline = curve.splines.new("POLY")
+    spline.points.add(1)
+    spline.points[0].co = (0.0, 0.0, -1.0, 1.0)
+    spline.points[1].co = (0.0, 0.0, 1.0, 1.0)
+    return curve
+
+
+def evaluated_triangles(obj) -> int:
+    """Triangles of the object's evaluated geometry, as Blender triangulates it."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    mesh.calc_loop_triangles()
+    count = len(mesh.loop_triangles)
+    evaluated.to_mesh_clear()
+    return count
+
+
+def curves_scene():
+    """Two objects sharing one curve, one of them with an Array modifier; a
+    text and a metaball. Each should be exported once, with its own geometry."""
+    reset()
+    shared = _bar_curve("SharedCurve")
+    plain = link(bpy.data.objects.new("PlainBar", shared))
+    plain.location = (-4.0, 0.0, 0.0)
+    arrayed = link(bpy.data.objects.new("ArrayedBar", shared))
+    arrayed.location = (1.0, 0.0, 0.0)
+    array = arrayed.modifiers.new("Array", "ARRAY")
+    array.count = 3
+    array.relative_offset_displace = (3.0, 0.0, 0.0)
+    text = bpy.data.curves.new("Text", "FONT")
+    text.body = "Gw"
+    text.extrude = 0.1
+    link(bpy.data.objects.new("Text", text)).location = (0.0, 0.0, 3.0)
+    ball = bpy.data.metaballs.new("Ball")
+    ball.elements.new()
+    link(bpy.data.objects.new("Ball", ball)).location = (0.0, 0.0, -3.0)
+    bpy.context.view_layer.update()
+    per_object = {obj.name: evaluated_triangles(obj) for obj in bpy.context.scene.objects if obj.type != "CAMERA"}
+    return {"triangles": per_object, "plain_x": [-4.3, -3.7], "arrayed_x": [0.7, 1.0 + 2 * 3 * 0.6 + 0.3]}
+
+
+def hidden_sources_scene():
+    """Instances of objects that are themselves disabled in renders: hair
+    particles instancing a hidden cube (their emitter hidden too) and, in
+    Blender 4+, a Geometry Nodes carrier whose only output is three instances
+    of another hidden cube. Blender renders the instances, not the sources."""
+    reset()
+    leaf = link(cube_object("HiddenLeaf", size=0.3))
+    leaf.location = (0.0, 0.0, 6.0)
+    leaf.hide_render = True
+    emitter = link(cube_object("Emitter", size=4.0))
+    emitter.show_instancer_for_render = emitter.show_instancer_for_viewport = False
+    system = emitter.modifiers.new("Particles", "PARTICLE_SYSTEM").particle_system
+    system.settings.type = "HAIR"
+    system.settings.count = 20
+    system.settings.hair_length = 1.0
+    system.settings.render_type = "OBJECT"
+    system.settings.instance_object = leaf
+    system.settings.particle_size = 0.3
+    system.settings.display_percentage = 100
+    expected = {"triangles": 12 * 20, "carrier": None}
+    if bpy.app.version >= (4, 0, 0):
+        source = link(cube_object("HiddenSource", size=0.8))
+        source.location = (0.0, 0.0, 9.0)
+        source.hide_render = True
+        carrier = link(bpy.data.objects.new("Carrier", bpy.data.meshes.new("CarrierMesh")))
+        group = bpy.data.node_groups.new("Scatter", "GeometryNodeTree")
+        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+        output = group.nodes.new("NodeGroupOutput")
+        points = group.nodes.new("GeometryNodeMeshLine")
+        points.inputs["Count"].default_value = 3
+        points.inputs["Offset"].default_value = (1.5, 0.0, 0.0)
+        info = group.nodes.new("GeometryNodeObjectInfo")
+        info.inputs["Object"].default_value = source
+        info.inputs["As Instance"].default_value = True
+        on_points = group.nodes.new("GeometryNodeInstanceOnPoints")
+        group.links.new(points.outputs["Mesh"], on_points.inputs["Points"])
+        group.links.new(info.outputs["Geometry"], on_points.inputs["Instance"])
+        group.links.new(on_points.outputs["Instances"], output.inputs[0])
+        carrier.modifiers.new("Scatter", "NODES").node_group = group
+        carrier.location = (-1.5, 0.0, 3.0)
+        expected.update(triangles=12 * 23, carrier="Carrier")
+    bpy.context.view_layer.update()
+    return expected
+
+
 def add_light(name, kind, location=(0, 0, 5), rotation=(0, 0, 0), **props):
     data = bpy.data.lights.new(name, kind)
     for key, value in props.items():

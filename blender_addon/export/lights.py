@@ -22,6 +22,10 @@ lights: SQUARE (size x size), RECTANGLE (size x size_y), DISK (diameter size),
 ELLIPSE (a disk of equal area); area sizes are scaled by the object's scale,
 point/spot radii are not (as in Blender).
 axis_u = local X, axis_v = -local Y, so u x v = -Z, the emitting side.
+A sun, spot or area light whose object is scaled to zero (how artists switch
+a light off by keyframes) points nowhere, and an area light of zero size has
+no area: each gives no light, as in Cycles, and is skipped with a warning
+naming it.
 """
 from __future__ import annotations
 
@@ -74,6 +78,8 @@ def convert_light(light, matrix) -> Light:
         return Light(position=position, color=tuple(float(c) for c in nff), kind="point")
     x, y, z = (axis(m, i) for i in range(3))
     sx, sy = float(np.linalg.norm(x)), float(np.linalg.norm(y))
+    if light.type in ("SUN", "SPOT", "AREA") and not np.linalg.norm(z) > 0:
+        raise ValueError("its object is scaled to zero, so it points nowhere and gives no light")
     direction = tuple(unit(-z))
     rgb = _rgb(light)
     kind = light.type
@@ -83,6 +89,8 @@ def convert_light(light, matrix) -> Light:
                      direction=direction, angle=float(light.angle))
     if kind == "AREA":
         shape, size, radius, area = _area_shape(light, sx, sy)
+        if not area > 0:
+            raise ValueError("its size (times its object's scale) is zero, so it gives no light")
         color = rgb * _power(light, area) * AREA_FACTOR
         return Light(position=position, color=tuple(color), kind=shape, size=size,
                      radius=radius, axis_u=tuple(unit(x)), axis_v=tuple(unit(-y)),
@@ -112,5 +120,5 @@ def light_from_instance(inst, warnings: list):
     try:
         return convert_light(obj.data, matrix)
     except ValueError as exc:
-        warnings.append(f"light {obj.name}: {exc}")
+        warnings.append(f"Skipped light '{obj.name}': {exc}")
         return None

@@ -49,12 +49,24 @@ def results(request, tmp_path_factory):
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 23
+    assert len(results.cases()) == 24
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
         error = results.error(case)
         assert not error or "Gridwalk: " in error or "no camera" in error, (case, error)
+
+
+def test_lights_scaled_to_zero_give_no_light_and_are_named(results):
+    # (Cycles renders such a scene as if the lights were not there)
+    assert results.error("zero_scale_lights") == ""
+    warnings = results.warnings("zero_scale_lights")
+    for name in ("ZeroSun", "ZeroSpot", "ZeroArea"):
+        assert (f"Warning: Gridwalk: Skipped light '{name}': its object is scaled to zero, so it points nowhere "
+                "and gives no light") in warnings
+    assert ("Warning: Gridwalk: Skipped light 'SizeZero': its size (times its object's scale) is zero, "
+            "so it gives no light") in warnings
+    np.testing.assert_array_equal(results.image("zero_scale_lights"), results.image("full_frame"))
 
 
 def test_empty_scene(results):

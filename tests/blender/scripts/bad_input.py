@@ -167,6 +167,14 @@ def case_nan_transforms(bpy, s):
     nan_vertex.data.vertices[0].co = (NAN, 0.0, 0.0)
 
 
+def case_zero_scale_lights(bpy, s):
+    """Lights switched off as artists do, by scaling them to zero, and an area light of size 0."""
+    _lit_cube_scene(bpy, s)
+    for kind, energy in (("SUN", 3.0), ("SPOT", 1000.0), ("AREA", 1000.0)):
+        s.add_light(f"Zero{kind.title()}", kind, (3, -6, 5), (0.7, 0.0, 0.4), energy=energy).scale = (0.0, 0.0, 0.0)
+    s.add_light("SizeZero", "AREA", (3, -6, 5), (0.7, 0.0, 0.4), energy=1000.0, size=0.0)
+
+
 def case_nan_only(bpy, s):
     s.reset()
     s.link(s.cube_object("NaNCube")).location = (0.0, NAN, 0.0)

@@ -19,7 +19,13 @@ Principled BSDF -> Whitted model (our shading has no 1/pi in the BRDF: that
 factor is folded into the light intensities, see lights.py):
   m = metallic, t = transmission * (1 - m), r = roughness
   color         = base color
-  kd            = (1 - m) * (1 - t)                (diffuse albedo = kd * color)
+  kd            = (1 - m) * (1 - t) * (1 - E)      (diffuse albedo = kd * color)
+  E             = the specular layer's albedo over the diffuse, Blender 4.0+
+                  only (its Principled BSDF takes it out of the diffuse; 3.x's
+                  adds the specular on top): the cosine-weighted average of the
+                  dielectric's Fresnel reflectance at that IOR, times
+                  2 * Specular IOR Level (0.092 at IOR 1.5 and level 0.5; the
+                  default material rendered 11% brighter than Cycles without it)
   F0            = 0.08 * Specular (3.x) or ((ior-1)/(ior+1))^2 * 2 * Specular IOR Level (4.x)
   shininess     = 2 / a^2 - 2 with a = max(r^2, 1e-3), capped at 1000 (Blinn-Phong ~ GGX)
   ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Blinn-Phong lobe)
@@ -33,6 +39,8 @@ recomputes shininess and ks per hit from the same formulas.
 """
 from __future__ import annotations
 
+import numpy as np
+
 from gridwalk.model import Material
 
 # Custom property of a material holding gridwalk.Material fields; when present
@@ -43,6 +51,16 @@ SHININESS_CAP = 1000.0
 DEFAULT_MATERIAL = Material(color=(0.8, 0.8, 0.8), kd=1.0, ks=0.0, shininess=32.0)
 
 
+def default_material(version) -> Material:
+    """What an object without material renders as in Blender `version`: a
+    grey diffuse surface, and from 5.0 on a default Principled BSDF (grey 0.8,
+    roughness 0.5, IOR 1.5, Specular IOR Level 0.5), as Cycles renders it."""
+    if tuple(version) < (5, 0, 0):
+        return DEFAULT_MATERIAL
+    f0 = ((1.5 - 1.0) / (1.5 + 1.0)) ** 2
+    return principled_material((0.8, 0.8, 0.8), 0.0, 0.5, 0.0, 1.5, f0, specular_albedo=dielectric_albedo(1.5))
+
+
 def _socket(node, *names):
     for name in names:
         socket = node.inputs.get(name)
@@ -51,16 +69,30 @@ def _socket(node, *names):
     return None
 
 
+def _through(node, out):
+    """The input socket a muted node passes to its output `out` (reroutes
+    pass their one input), or None when nothing reaches `out`."""
+    if node.type == "REROUTE":
+        return node.inputs[0]
+    for internal in node.internal_links:
+        if internal.to_socket.identifier == out.identifier and not internal.is_muted:
+            return internal.from_socket
+    return None
+
+
 def _source(socket):
-    """(node, output socket) linked into `socket`, through reroutes; (None, None) if unlinked."""
-    if not socket.is_linked:
-        return None, None
-    link = socket.links[0]
-    node, out = link.from_node, link.from_socket
-    while node.type == "REROUTE" and node.inputs[0].is_linked:
-        link = node.inputs[0].links[0]
+    """(node, output socket) linked into `socket`, through reroutes and muted
+    nodes as Blender passes them; (None, None) if unlinked, or if the link or
+    what reaches it is muted (the input's own value is then used, as Cycles does)."""
+    while socket is not None and socket.is_linked:
+        link = socket.links[0]
+        if link.is_muted:
+            return None, None
         node, out = link.from_node, link.from_socket
-    return (None, None) if node.type == "REROUTE" else (node, out)
+        if node.type != "REROUTE" and not node.mute:
+            return node, out
+        socket = _through(node, out)
+    return None, None
 
 
 class Links:
@@ -111,25 +143,41 @@ def _value(node, names, default, links: Links, field=None):
     socket = _socket(node, *names) if isinstance(names, tuple) else _socket(node, names)
     if socket is None:
         return default
-    if socket.is_linked and not (field and links.take(socket, field, True)) and not field:
-        src, _ = _source(socket)
-        links.textured.append(f"{socket.name} ({src.bl_idname if src is not None else 'link'})")
+    src, _ = _source(socket)
+    if src is not None and not (field and links.take(socket, field, True)) and not field:
+        links.textured.append(f"{socket.name} ({src.bl_idname})")
     value = socket.default_value
     if hasattr(value, "__len__"):
         return tuple(float(c) for c in value)[:3]
     return float(value)
 
 
-def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0):
+def dielectric_albedo(ior: float) -> float:
+    """The cosine-weighted hemispherical average of the unpolarised Fresnel
+    reflectance of light arriving from outside a dielectric of this IOR
+    (0.092 at 1.5; 0 at 1)."""
+    mu = (np.arange(256) + 0.5) / 256.0             # cosines of incidence, midpoints
+    eta = max(float(ior), 1e-3)
+    sin_t2 = (1.0 - mu * mu) / (eta * eta)
+    cos_t = np.sqrt(np.maximum(1.0 - sin_t2, 0.0))
+    rs = (mu - eta * cos_t) / (mu + eta * cos_t)
+    rp = (eta * mu - cos_t) / (eta * mu + cos_t)
+    fresnel = np.where(sin_t2 >= 1.0, 1.0, 0.5 * (rs * rs + rp * rp))   # (total internal reflection for ior < 1)
+    return float(np.mean(fresnel * 2.0 * mu))
+
+
+def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0, specular_albedo=0.0):
     """The documented Principled -> Whitted mapping (also used for viewport colours).
-    emission: a strength (colour * emission) or an RGB emitted colour."""
+    emission: a strength (colour * emission) or an RGB emitted colour;
+    specular_albedo: E, what the specular layer takes out of the diffuse."""
     m = min(max(metallic, 0.0), 1.0)
     t = min(max(transmission, 0.0), 1.0) * (1.0 - m)
     r = min(max(roughness, 0.0), 1.0)
     a = max(r * r, 1e-3)
     shininess = min(2.0 / (a * a) - 2.0, SHININESS_CAP)
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
-    return Material(color=tuple(color[:3]), kd=(1.0 - m) * (1.0 - t), ks=ks,
+    under = 1.0 - min(max(specular_albedo, 0.0), 1.0)
+    return Material(color=tuple(color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
                     mirror=m, roughness=r, **_emission(emission))
 
@@ -149,15 +197,17 @@ def _from_principled(node, textured):
     roughness = _value(node, "Roughness", 0.5, textured, "roughness_texture")
     transmission = _value(node, ("Transmission Weight", "Transmission"), 0.0, textured)
     ior = _value(node, "IOR", 1.45, textured)
+    specular_albedo = 0.0
     if _socket(node, "Specular IOR Level") is not None:          # Blender 4.0+
         level = _value(node, "Specular IOR Level", 0.5, textured)
         f0 = ((ior - 1.0) / (ior + 1.0)) ** 2 * 2.0 * level
+        specular_albedo = dielectric_albedo(ior) * 2.0 * level
     else:                                                       # Blender 3.x
         f0 = 0.08 * _value(node, "Specular", 0.5, textured)
     strength = _value(node, "Emission Strength", 1.0, textured)
     emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured)
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
-                                   tuple(c * strength for c in emission_color))
+                                   tuple(c * strength for c in emission_color), specular_albedo)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
     return material
 
@@ -181,21 +231,14 @@ def _from_other_bsdf(node, textured):
 
 
 def _output_node(tree):
-    outputs = [n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"]
-    for node in outputs:
-        if node.is_active_output and node.target in ("ALL", "CYCLES"):
-            return node
-    return outputs[0] if outputs else None
+    """The Material Output Cycles renders: the active one of those for all
+    renderers or for Cycles (an EEVEE-only output beside it is not it)."""
+    return tree.get_output_node("CYCLES")
 
 
 def _surface_node(tree):
     out = _output_node(tree)
-    if out is None or not out.inputs["Surface"].is_linked:
-        return None
-    node = out.inputs["Surface"].links[0].from_node
-    while node.type == "REROUTE" and node.inputs[0].is_linked:
-        node = node.inputs[0].links[0].from_node
-    return node
+    return None if out is None else _source(out.inputs["Surface"])[0]
 
 
 def viewport_material(mat) -> Material:
@@ -239,7 +282,9 @@ class MaterialTable:
     """Collects the scene's materials; index 0 is the default (objects without material)."""
 
     def __init__(self, textures=None):
-        self.materials = [DEFAULT_MATERIAL]
+        import bpy   # (the Blender running the export)
+
+        self.materials = [default_material(bpy.app.version)]
         self.textures = textures
         self.links = [None]          # per material: Links (UV / colour layers it needs) or None
         self._index = {None: 0}

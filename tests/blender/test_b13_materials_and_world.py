@@ -46,6 +46,10 @@ def renders(request, tmp_path_factory):
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
     r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
+    for material in ("true", "false"):
+        for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=64")):
+            r[f"principled_{material}_{engine.lower()}"] = _render(
+                kind, out, "principled_sphere", engine, option, f'scene={{"material": {material}}}')
     return r
 
 
@@ -62,6 +66,26 @@ def test_image_texture_on_uvs_matches_cycles(renders):
     assert lum.std() > 0.05 * lum.mean(), "the texture's pattern is missing"
     assert _ncc(lum, exr.luminance(cycles)[plane]) >= 0.95
     assert "Textured" not in renders["checker"]["stdout"], "the textured material was reported as unsupported"
+
+
+def test_default_principled_bsdf_is_as_bright_as_in_cycles(renders):
+    # Blender 4+'s Principled BSDF takes its specular layer's albedo out of the
+    # diffuse (the export's kd); without that this sphere was 5% brighter than
+    # in Cycles (1.054), and a sphere on a floor 11%. In 5.0 an object without
+    # material renders as that BSDF too. Measured since: 0.957 here (Cycles
+    # takes more out where the view grazes and less where it does not; the
+    # export's kd is one average) and 1.01 for the sphere on a floor.
+    # (3.4's older Principled adds its specular with a Fresnel rise the core's
+    # lobe lacks: 7% darker there, not checked.)
+    if renders["kind"] == "blender34":
+        pytest.skip("Principled BSDF v1 (Blender 3.x): the specular's Fresnel rise is not modelled")
+    for material in ("true", "false"):
+        ours = renders[f"principled_{material}_gridwalk"]["rgba"]
+        cycles = renders[f"principled_{material}_cycles"]["rgba"]
+        sphere = (ours[..., 3] > 0.99) & (cycles[..., 3] > 0.99)
+        assert sphere.mean() > 0.1          # (0.16 of the image)
+        ratio = ours[..., :3][sphere].mean() / cycles[..., :3][sphere].mean()
+        assert 0.94 < ratio < 1.03, (material, ratio)
 
 
 def test_non_color_roughness_map_is_read_as_data(renders):

@@ -63,6 +63,49 @@ def checker_scene(resolution=(64, 48)):
     return {}
 
 
+def principled_sphere_scene(resolution=(64, 48), material=True):
+    """A smooth sphere alone under a point light, in a black world (direct light
+    only, so Cycles and the Whitted core see the same light): a default
+    Principled BSDF, or no material at all (Blender 5.0 renders that as one)."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=1.5)
+    sphere = bpy.context.object
+    bpy.ops.object.shade_smooth()
+    if material:
+        sphere.data.materials.append(principled_material("Default", (0.8, 0.8, 0.8)))
+    add_light("Key", "POINT", (2, -4, 3), energy=600.0, shadow_soft_size=0.0)
+    bpy.context.scene.world = None
+    bpy.context.view_layer.update()
+    return {}
+
+
+def node_states_scene(resolution=(32, 24)):
+    """Three planes whose materials use node states Cycles honours: an output
+    for EEVEE only (active, green) beside one for Cycles (red); an Image
+    Texture node that is muted; a muted link from an Image Texture. The last
+    two leave Base Color at its own value (blue)."""
+    reset(resolution=tuple(resolution))
+    img = bpy.data.images.new("Grid", 16, 16)
+    img.generated_type = "COLOR_GRID"
+    targets = principled_material("Targets", (0.0, 0.8, 0.0))
+    tree = targets.node_tree
+    tree.nodes["Material Output"].target = "EEVEE"
+    cycles_out = tree.nodes.new("ShaderNodeOutputMaterial")
+    cycles_out.target = "CYCLES"
+    red = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    red.inputs["Base Color"].default_value = (0.8, 0.0, 0.0, 1.0)
+    tree.links.new(red.outputs[0], cycles_out.inputs["Surface"])
+    muted_node = principled_material("MutedNode", (0.1, 0.1, 0.8))
+    _image_node(muted_node, img).mute = True
+    muted_link = principled_material("MutedLink", (0.1, 0.1, 0.8))
+    _image_node(muted_link, img)
+    muted_link.node_tree.nodes["Principled BSDF"].inputs["Base Color"].links[0].is_muted = True
+    for i, mat in enumerate((targets, muted_node, muted_link)):
+        _plane(mat.name, 1.0, (2.0 * i - 2.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {"names": ["Targets", "MutedNode", "MutedLink"]}
+
+
 def roughness_map_scene(resolution=(64, 48), value=128, textured=True):
     """A glossy plane under a point light; its roughness comes from a Non-Color
     8-bit image of constant `value` (textured) or is set to value / 255."""

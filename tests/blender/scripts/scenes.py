@@ -449,7 +449,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
 
 
 from material_scenes import (bad_materials_scene, checker_scene, emission_mirror_scene,  # noqa: E402,F401
-                             environment_scene, pane_shadow_scene, roughness_map_scene,
-                             texture_links_scene)
+                             environment_scene, node_states_scene, pane_shadow_scene,
+                             principled_sphere_scene, roughness_map_scene, texture_links_scene)
 
 BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

@@ -214,6 +214,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             return
         for warning in warnings:
             self._warn(warning)
+        if depsgraph.scene.render.use_multiview:
+            self._warn("Stereoscopy is not supported: the first view is rendered, the others are left empty")
         t1 = time.perf_counter()
         if self._cancelled("after the export", writer):
             return

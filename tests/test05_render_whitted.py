@@ -67,6 +67,26 @@ def test_shadowed_floor_gets_only_the_mirror_term():
     assert np.all(img[lit, 0] > 0.3)
 
 
+def test_a_light_that_casts_no_shadows_lights_the_floor_under_an_occluder():
+    # Blender's Cast Shadow off: the floor under the sphere gets exactly what it
+    # gets with no sphere at all (a Lambertian floor, so the light alone decides)
+    mat = gw.Material(color=(1, 1, 1), kd=0.8)
+    cam = top_down_camera(n=33, height=30, fov=20)
+    ball = dict(sphere_centers=[[0, 0, 2]], sphere_radii=[1.0])
+    images = {}
+    for name, extra, shadows in (("shadowless", ball, False), ("shadowed", ball, True), ("no ball", {}, True)):
+        light = gw.Light(position=(0, 0, 4), color=(3, 3, 3), casts_shadows=shadows)
+        sc = gw.Scene(vertices=FLOOR_V, triangles=FLOOR_F, materials=[mat], lights=[light], camera=cam, **extra)
+        job = gw.RenderJob(sc).start()
+        job.wait()
+        images[name] = (job.image, job.depth)
+    img, z = images["shadowless"]
+    floor = np.abs(z - 30.0) < 1e-3
+    shadow = floor & (images["shadowed"][0][..., 0] < 0.5 * images["no ball"][0][..., 0])
+    assert shadow.sum() > 20 and floor.sum() > shadow.sum() + 100
+    np.testing.assert_array_equal(img[floor], images["no ball"][0][floor])
+
+
 @pytest.mark.parametrize("shape", ["sphere", "cube"])
 def test_clear_glass_in_a_white_world_is_invisible(shape):
     """Fresnel reflection + refraction (and total internal reflection in the

@@ -65,6 +65,7 @@ class Export:
                     self.lights.append(light)
             else:
                 self.meshes.add_instance(inst)
+        self.warnings.extend(_collection_warnings(depsgraph))
         self.world_warnings: list[str] = []
         self.background, self.world = convert_world(scene.world, self.textures, self.world_warnings)
         self.world.transparent = bool(scene.render.film_transparent)   # camera misses: RGB 0, alpha 0
@@ -109,6 +110,27 @@ def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True)
     Raises ExportError with a user-facing message when there is no camera or
     nothing to render."""
     return Export(depsgraph, cache, camera).kwargs()
+
+
+def _collection_warnings(depsgraph) -> list[str]:
+    """The view layer's collections set to Holdout or Indirect Only, which the
+    core does not model (their objects render as the others do)."""
+    view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
+    if view_layer is None:
+        return []
+    found = {"Holdout": [], "Indirect Only": []}
+    stack = list(view_layer.layer_collection.children)
+    while stack:
+        layer = stack.pop()
+        if layer.exclude:
+            continue
+        if getattr(layer, "holdout", False):
+            found["Holdout"].append(layer.name)
+        if getattr(layer, "indirect_only", False):
+            found["Indirect Only"].append(layer.name)
+        stack.extend(layer.children)
+    return [f"Collection setting {label} is not supported (its objects render as any other): "
+            + ", ".join(f"'{name}'" for name in sorted(names)) for label, names in found.items() if names]
 
 
 def _nothing_to_render(meshes) -> str:

@@ -16,6 +16,8 @@ P is multiplied by that area. Area lights are one-sided Lambertian emitters in
 both renderers (the core multiplies by the cosine at the emitter), so rect and
 disk lights match Cycles in every direction, not only on their axis.
 
+Cast Shadow off: the light reaches every point facing it (casts_shadows).
+
 Geometry. Lights point along their local -Z axis. A point light with radius
 r > 0 becomes a "sphere" light. Sun "angle" is its angular diameter. Area
 lights: SQUARE (size x size), RECTANGLE (size x size_y), DISK (diameter size),
@@ -56,6 +58,15 @@ def _power(light, area: float) -> float:
     return power
 
 
+def _casts_shadows(light) -> bool:
+    """Cast Shadow: Cycles' own setting in Blender 3.x (use_shadow is EEVEE's
+    there), the shared use_shadow from 4.0 on."""
+    cycles = getattr(light, "cycles", None)
+    if cycles is not None and hasattr(cycles, "cast_shadow"):
+        return bool(cycles.cast_shadow)
+    return bool(getattr(light, "use_shadow", True))
+
+
 def _area_shape(light, sx: float, sy: float):
     """(kind, size, radius, area) of an area light, scaled by the object's scale."""
     shape = light.shape
@@ -83,10 +94,11 @@ def convert_light(light, matrix) -> Light:
     direction = tuple(unit(-z))
     rgb = _rgb(light)
     kind = light.type
+    shadows = _casts_shadows(light)
     if kind == "SUN":
         color = rgb * float(light.energy) * 2.0 ** float(getattr(light, "exposure", 0.0)) * SUN_FACTOR
         return Light(position=position, color=tuple(color), kind="sun",
-                     direction=direction, angle=float(light.angle))
+                     direction=direction, angle=float(light.angle), casts_shadows=shadows)
     if kind == "AREA":
         shape, size, radius, area = _area_shape(light, sx, sy)
         if not area > 0:
@@ -94,17 +106,17 @@ def convert_light(light, matrix) -> Light:
         color = rgb * _power(light, area) * AREA_FACTOR
         return Light(position=position, color=tuple(color), kind=shape, size=size,
                      radius=radius, axis_u=tuple(unit(x)), axis_v=tuple(unit(-y)),
-                     direction=direction, inverse_square=True)
+                     direction=direction, inverse_square=True, casts_shadows=shadows)
     radius = float(light.shadow_soft_size)   # Blender does not scale it with the object
     color = rgb * _power(light, 4.0 * math.pi * radius * radius) * POINT_FACTOR
     if kind == "SPOT":
         return Light(position=position, color=tuple(color), kind="spot", radius=radius,
                      direction=direction, spot_size=float(light.spot_size),
-                     spot_blend=float(light.spot_blend), inverse_square=True)
+                     spot_blend=float(light.spot_blend), inverse_square=True, casts_shadows=shadows)
     if kind == "POINT":
         return Light(position=position, color=tuple(color),
                      kind="sphere" if radius > 0 else "point", radius=radius,
-                     inverse_square=True)
+                     inverse_square=True, casts_shadows=shadows)
     raise ValueError(f"unsupported light type {kind!r}")
 
 
@@ -118,7 +130,25 @@ def light_from_instance(inst, warnings: list):
         warnings.append(f"Skipped light '{obj.name}': its transform is not finite (NaN or Inf)")
         return None
     try:
-        return convert_light(obj.data, matrix)
+        light = convert_light(obj.data, matrix)
     except ValueError as exc:
         warnings.append(f"Skipped light '{obj.name}': {exc}")
         return None
+    warnings.extend(f"Light '{obj.name}': {what}" for what in _approximated(obj.data, matrix))
+    return light
+
+
+def _approximated(light, matrix) -> list[str]:
+    """What Gridwalk renders otherwise than Cycles in this light's settings."""
+    out = []
+    if light.type in ("POINT", "SPOT", "AREA", "SUN") and float(light.energy) < 0:
+        out.append("negative power (a light that darkens) is not supported; it gives no light")
+    spread = float(getattr(light, "spread", math.pi))
+    if light.type == "AREA" and spread < math.pi - 1e-6:
+        out.append(f"Spread {math.degrees(spread):.0f} degrees is not supported; it lights the whole "
+                   "half-space in front of it")
+    if light.type == "SPOT":
+        sx, sy = (float(np.linalg.norm(matrix[:3, i])) for i in range(2))
+        if abs(sx - sy) > 1e-4 * max(sx, sy):
+            out.append("a non-uniform scale does not stretch its cone; the cone stays round")
+    return out

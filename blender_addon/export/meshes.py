@@ -227,6 +227,16 @@ def renders(inst) -> bool:
     return not owner.original.hide_render
 
 
+# Object settings the Whitted core does not model (every ray sees every
+# object): (property, the value that asks for something else, what it is called).
+IGNORED_VISIBILITY = (("visible_camera", False, "Visibility > Camera off"),
+                      ("visible_shadow", False, "Visibility > Shadow off"),
+                      ("visible_glossy", False, "Visibility > Glossy off"),
+                      ("visible_transmission", False, "Visibility > Transmission off"),
+                      ("is_holdout", True, "Holdout"),
+                      ("is_shadow_catcher", True, "Shadow Catcher"))
+
+
 def as_sphere(obj) -> bool:
     settings = getattr(obj.original, "gridwalk", None)
     return settings is not None and settings.render_as_sphere
@@ -262,6 +272,7 @@ class MeshCollector:
         self.invalid = {}          # object name -> why it was skipped
         self.faceless = set()      # mesh objects without faces
         self.instancers = set()    # objects that instance others (a Geometry Nodes carrier's own mesh may be empty)
+        self.ignored = {}          # IGNORED_VISIBILITY label -> names of the objects that set it
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
@@ -272,6 +283,9 @@ class MeshCollector:
         if not renders(inst):
             return
         obj = inst.object
+        for prop, value, label in IGNORED_VISIBILITY:
+            if getattr(obj.original, prop, not value) == value:
+                self.ignored.setdefault(label, set()).add(obj.original.name)
         matrix = to_numpy(inst.matrix_world)
         if not np.isfinite(matrix).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
@@ -313,6 +327,9 @@ class MeshCollector:
 
     def warnings(self) -> list[str]:
         out = [f"Skipped object '{name}': {why}" for name, why in sorted(self.invalid.items())]
+        for label, names in sorted(self.ignored.items()):
+            out.append(f"{label} is not supported (every ray sees the object): "
+                       + ", ".join(f"'{name}'" for name in sorted(names)))
         if self.without_faces():
             out.append("Objects without faces (only vertices or edges) are not rendered: "
                        + ", ".join(f"'{name}'" for name in sorted(self.without_faces())))

@@ -108,8 +108,11 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             }
             const Vec3 c = f * ls.intensity;
             if (c.x <= 0 && c.y <= 0 && c.z <= 0) continue;
-            if (const float vis = visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx); vis > 0)
+            if (!L.casts_shadows) {
+                sum += c;
+            } else if (const float vis = visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx); vis > 0) {
                 sum += vis == 1 ? c : c * vis;
+            }
         }
         total += sum * (1.0f / float(count));
     }

@@ -25,6 +25,7 @@ struct Light {
     double spot_size = kPi / 4;           // spot: full cone angle (radians)
     float spot_blend = 0.15f;             // spot: soft edge, 0..1
     bool inverse_square = false;          // physical falloff (Blender's lights); NFF's lights have none
+    bool casts_shadows = true;            // false: lights every point it faces (Blender's Cast Shadow off)
     // Derived by prepare_light:
     float spot_cos = -1;                  // cos(spot_size / 2)
 };

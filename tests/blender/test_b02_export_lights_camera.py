@@ -23,6 +23,8 @@ def test_every_light_type_is_exported(export):
 
     point = get("Point")
     assert point["kind"] == "point"
+    assert [get(name)["casts_shadows"] for name in ("Point", "Sun", "Spot", "Disk", "Ellipse")] == \
+        [True, True, True, True, False]           # the ellipse's Cast Shadow is off
     np.testing.assert_allclose(point["color"], np.array([1, 0.5, 0.25]) * 100 * POINT, rtol=1e-5)
     sphere = get("Sphere")
     assert sphere["kind"] == "sphere" and sphere["radius"] == pytest.approx(0.5)

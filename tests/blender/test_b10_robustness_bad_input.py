@@ -49,7 +49,7 @@ def results(request, tmp_path_factory):
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 24
+    assert len(results.cases()) == 25
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
@@ -67,6 +67,19 @@ def test_lights_scaled_to_zero_give_no_light_and_are_named(results):
     assert ("Warning: Gridwalk: Skipped light 'SizeZero': its size (times its object's scale) is zero, "
             "so it gives no light") in warnings
     np.testing.assert_array_equal(results.image("zero_scale_lights"), results.image("full_frame"))
+
+
+def test_settings_the_core_does_not_model_are_named_in_warnings(results):
+    assert results.error("ignored_settings") == ""
+    warnings = "\n".join(results.warnings("ignored_settings"))
+    for expected in ("Visibility > Camera off is not supported (every ray sees the object): 'CameraInvisible'",
+                     "Holdout is not supported (every ray sees the object): 'Holdout'",
+                     "Collection setting Holdout is not supported (its objects render as any other): 'Mask'",
+                     "Light 'Narrow': Spread 29 degrees is not supported",
+                     "Light 'Negative': negative power (a light that darkens) is not supported",
+                     "Light 'Stretched': a non-uniform scale does not stretch its cone"):
+        assert expected in warnings, expected
+    assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
 
 
 def test_empty_scene(results):

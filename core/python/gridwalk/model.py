@@ -206,6 +206,7 @@ class Light(Record):
     angle: sun angular diameter (radians).
     spot_size: full cone angle (radians); spot_blend: 0..1 soft edge.
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
+    casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
     Area lights (rect, disk) emit along `direction` with a cosine falloff.
     """
     position: tuple = _LIGHT.position
@@ -220,6 +221,7 @@ class Light(Record):
     spot_size: float = _LIGHT.spot_size
     spot_blend: float = _f32(_LIGHT.spot_blend)
     inverse_square: bool = _LIGHT.inverse_square   # NFF lights have no falloff; Blender's do
+    casts_shadows: bool = _LIGHT.casts_shadows
     CORE = _core.Light
 
     def converters(self) -> dict:

@@ -175,6 +175,22 @@ def case_zero_scale_lights(bpy, s):
     s.add_light("SizeZero", "AREA", (3, -6, 5), (0.7, 0.0, 0.4), energy=1000.0, size=0.0)
 
 
+def case_ignored_settings(bpy, s):
+    """Settings Cycles honours and the Whitted core does not model: each is named in a warning."""
+    _lit_cube_scene(bpy, s)
+    hidden = s.link(s.cube_object("CameraInvisible"))
+    hidden.location, hidden.visible_camera = (-3.0, 0.0, 0.0), False
+    s.link(s.cube_object("Holdout")).is_holdout = True
+    layer = bpy.data.collections.new("Mask")
+    bpy.context.scene.collection.children.link(layer)
+    s.link(s.cube_object("InMask"), layer).location = (3.0, 0.0, 0.0)
+    bpy.context.view_layer.layer_collection.children["Mask"].holdout = True
+    s.add_light("Narrow", "AREA", (0, -4, 4), (0.8, 0.0, 0.0), energy=100.0, spread=0.5)
+    s.add_light("Negative", "POINT", (0, -4, 4), energy=-50.0)
+    s.add_light("Stretched", "SPOT", (0, -4, 4), (0.8, 0.0, 0.0), energy=100.0).scale = (1.0, 3.0, 1.0)
+    s.add_light("NoShadow", "POINT", (0, -4, 4), energy=10.0).data.use_shadow = False
+
+
 def case_nan_only(bpy, s):
     s.reset()
     s.link(s.cube_object("NaNCube")).location = (0.0, NAN, 0.0)

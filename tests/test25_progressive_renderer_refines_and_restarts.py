@@ -165,5 +165,14 @@ def test_bad_passes_are_refused_with_a_reason(scene):
             r.submit("scene", [(1, s, cam)], W, H)
         with pytest.raises(ValueError, match="at least 1 x 1"):
             r.submit(sc, [], 0, H)
+        # (an infinite delay overflowed the wait's deadline: stop() never returned)
+        for delay in (float("inf"), 1e20, -1.0, float("nan")):
+            with pytest.raises(ValueError, match="delay must be between 0 and 3600 seconds"):
+                r.submit(sc, [(1, s, cam)], W, H, delay=delay)
+        for limit in (-1.0, 0.0, float("nan")):
+            with pytest.raises(ValueError, match="limit must be a positive number"):
+                r.submit(sc, [(1, s, cam)], W, H, limit=limit)
     finally:
+        t0 = time.perf_counter()
         r.stop()
+        assert time.perf_counter() - t0 < 5.0

@@ -52,3 +52,22 @@ def test_uv_sphere_really_has_seam_and_pole_duplicates():
     assert len(uniq) < len(V) - 40            # poles and seam are duplicated vertices
     area = np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
     assert np.sum(area == 0) >= 48            # zero-area triangles at the poles
+
+
+@pytest.mark.parametrize("scale", [1e-20, 1e-12, 1e13, 1e21, 4e29])
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
+def test_meshes_far_above_and_below_unit_scale_stay_watertight_and_at_their_distance(scale, accel):
+    # The float test's T, a cubic in the corners' coordinates, overflowed from
+    # about 5e12 and lost its digits below about 1e-9: those triangles were
+    # never hit (an empty image). They are tested in double there.
+    V, F = icosphere(3, radius=2.0)
+    V = (V.astype(np.float64) * scale).astype(np.float32)
+    sc = gw.Scene(vertices=V, triangles=F)
+    o, d, nv, ne = inside_rays(V, F, np.zeros(3, np.float32), 20_000, seed=7)
+    hits = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel))
+    assert np.isfinite(hits.t).all(), f"{(~np.isfinite(hits.t)).sum()} escapes"
+    reach = hits.t.astype(np.float64) * np.linalg.norm(d.astype(np.float64), axis=1) / (2.0 * scale)
+    assert reach.min() > 0.99 and reach.max() < 1.0 + 1e-5   # the inscribed faces: within 1% of the radius
+    # and from outside, shadow rays towards the centre are blocked by the shell
+    far = np.float32(3.0 * scale) * d[nv + ne:] / np.linalg.norm(d[nv + ne:], axis=1, keepdims=True)
+    assert sc.occluded(far, -far, tmax=np.ones(len(far), np.float32), settings=gw.RenderSettings(accel=accel)).all()

@@ -44,6 +44,47 @@ inline bool triangle_shading_normal(const Vec3& n0, const Vec3& n1, const Vec3& 
     return true;
 }
 
+// The watertight test's second half in double, from the sheared corners
+// (Ax .. Ckz, floats, the same for every triangle sharing a corner): for
+// triangles whose float products leave float's range. T is a cubic in the
+// corners' coordinates relative to the ray's origin: from about 5e12 it
+// overflows, and below about 1e-9 its digits go (det under 2^-60), which made
+// such triangles invisible. The edge functions, det and T are exact or nearly
+// so in double over the whole float range.
+__attribute__((always_inline)) inline bool intersect_sheared_double(const RayPre& r, float Ax, float Ay, float Bx,
+                                                                    float By, float Cx, float Cy, float Akz,
+                                                                    float Bkz, float Ckz, float tmax, float& t_out,
+                                                                    float& b1, float& b2, float* t_err) {
+    double U = double(Cx) * double(By) - double(Cy) * double(Bx);
+    double V = double(Ax) * double(Cy) - double(Ay) * double(Cx);
+    double W = double(Bx) * double(Ay) - double(By) * double(Ax);
+    if (std::min(U, std::min(V, W)) < 0 && std::max(U, std::max(V, W)) > 0) return false;
+    double det = U + V + W;
+    if (!(det != 0)) return false;
+    const double sz = double(r.sz);
+    const double Az = sz * double(Akz), Bz = sz * double(Bkz), Cz = sz * double(Ckz);
+    double T = U * Az + V * Bz + W * Cz;
+    if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
+    const float t = float(T / det);
+    if (!(t > r.ray.tmin && t < tmax)) return false;
+    if (r.ray.spawned || t_err) {   // the float test's bound (below), in double
+        const double max_zt = std::max(std::abs(Az), std::max(std::abs(Bz), std::abs(Cz)));
+        const double max_xt = std::max(std::abs(double(Ax)), std::max(std::abs(double(Bx)), std::abs(double(Cx))));
+        const double max_yt = std::max(std::abs(double(Ay)), std::max(std::abs(double(By)), std::abs(double(Cy))));
+        const double dz = gamma_bound(3) * max_zt;
+        const double dx = gamma_bound(5) * (max_xt + max_zt), dy = gamma_bound(5) * (max_yt + max_zt);
+        const double de = 2.0 * (gamma_bound(2) * max_xt * max_yt + dy * max_xt + dx * max_yt);
+        const double max_e = std::max(std::abs(U), std::max(std::abs(V), std::abs(W)));
+        const float dt = float(3.0 * (gamma_bound(3) * max_e * max_zt + de * max_zt + dz * max_e) / det);
+        if (t_err) *t_err = dt;
+        if (r.ray.spawned && !(t > dt)) return false;
+    }
+    t_out = t;
+    b1 = float(V / det);
+    b2 = float(W / det);
+    return true;
+}
+
 // Returns true and sets t, b1, b2 (barycentrics of v1, v2) for a hit with
 // tmin < t < tmax. Triangles are two-sided.
 // v points at the triangle's 9 coordinates (v0, v1, v2), read in the ray's
@@ -62,15 +103,26 @@ __attribute__((always_inline)) inline bool intersect_triangle(const RayPre& r, c
     // Exactly zero (or a product that underflows, which only costs the
     // recompute): decide the edge in double.
     if (U * V * W == 0.0f) {
-        U = float(double(Cx) * double(By) - double(Cy) * double(Bx));
-        V = float(double(Ax) * double(Cy) - double(Ay) * double(Cx));
-        W = float(double(Bx) * double(Ay) - double(By) * double(Ax));
+        const double Ud = double(Cx) * double(By) - double(Cy) * double(Bx);
+        const double Vd = double(Ax) * double(Cy) - double(Ay) * double(Cx);
+        const double Wd = double(Bx) * double(Ay) - double(By) * double(Ax);
+        U = float(Ud);
+        V = float(Vd);
+        W = float(Wd);
+        // (An edge below float's range, at coordinates under about 1e-19: all in double.)
+        if (__builtin_expect((U == 0 && Ud != 0) || (V == 0 && Vd != 0) || (W == 0 && Wd != 0), 0))
+            return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
     }
     if (std::min(U, std::min(V, W)) < 0 && std::max(U, std::max(V, W)) > 0) return false;
     float det = U + V + W;
     if (det == 0.0f) return false;
     const float Az = r.sz * Akz, Bz = r.sz * Bkz, Cz = r.sz * Ckz;
     float T = U * Az + V * Bz + W * Cz;
+    // Outside float's range (an overflow, or det too small for T's digits):
+    // in double (the SIMD lanes hand these triangles to this test).
+    constexpr float kMax = std::numeric_limits<float>::max();
+    if (__builtin_expect(!(std::abs(det) <= kMax && std::abs(T) <= kMax) || std::abs(det) < 0x1p-60f, 0))
+        return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
     if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
     // The hit is decided on t itself (not on T against tmax * det, whose
     // rounding differs), so the nearest of several hits does not depend on

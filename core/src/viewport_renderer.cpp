@@ -33,6 +33,12 @@ ViewportRenderer::~ViewportRenderer() { stop(); }
 
 void ViewportRenderer::submit(ViewportRequest r) {
     if (r.width < 1 || r.height < 1) throw std::invalid_argument("viewport image must be at least 1 x 1");
+    // (An infinite or huge delay overflowed the wait's deadline: the
+    // controller spun and stop() never returned.)
+    if (!(r.delay >= 0 && r.delay <= kMaxViewportDelay))
+        throw std::invalid_argument("viewport delay must be between 0 and " + std::to_string(int(kMaxViewportDelay)) +
+                                    " seconds, got " + std::to_string(r.delay));
+    if (!(r.limit > 0)) throw std::invalid_argument("viewport limit must be a positive number (+inf: no clamp)");
     for (const ViewportPass& p : r.passes) {
         if (p.structure < 0 || size_t(p.structure) >= r.structures.size())
             throw std::invalid_argument("viewport pass names a structure it does not list");

@@ -45,6 +45,7 @@ struct ViewportStructure {
 // The largest |value| a viewport image holds by default: below the largest
 // half float (65504), which the viewport's RGBA16F texture would turn to inf.
 constexpr float kHalfFloatSafeLimit = 65000.0f;
+constexpr double kMaxViewportDelay = 3600.0;   // seconds: a debounce, not a schedule
 
 struct ViewportRequest {
     uint64_t id = 0;

@@ -50,8 +50,11 @@ inline bool triangle_shading_normal(const Vec3& n0, const Vec3& n1, const Vec3& 
 // corners' coordinates relative to the ray's origin: from about 5e12 it
 // overflows, and below about 1e-9 its digits go (det under 2^-60), which made
 // such triangles invisible. The edge functions, det and T are exact or nearly
-// so in double over the whole float range.
-__attribute__((always_inline)) inline bool intersect_sheared_double(const RayPre& r, float Ax, float Ay, float Bx,
+// so in double over the whole float range. (Out of line, and the only call
+// from the walks' hot code into plain x86-64 code: inlined, it cost the
+// 8-wide tests 2% more instructions in registers it took; it runs only for
+// such triangles.)
+__attribute__((noinline, cold)) inline bool intersect_sheared_double(const RayPre& r, float Ax, float Ay, float Bx,
                                                                     float By, float Cx, float Cy, float Akz,
                                                                     float Bkz, float Ckz, float tmax, float& t_out,
                                                                     float& b1, float& b2, float* t_err) {
@@ -109,8 +112,13 @@ __attribute__((always_inline)) inline bool intersect_triangle(const RayPre& r, c
         U = float(Ud);
         V = float(Vd);
         W = float(Wd);
-        // (An edge below float's range, at coordinates under about 1e-19: all in double.)
-        if (__builtin_expect((U == 0 && Ud != 0) || (V == 0 && Vd != 0) || (W == 0 && Wd != 0), 0))
+        // An edge below float's range (coordinates under about 1e-19), or a
+        // det too small for T's digits (under about 1e-9; then U V W
+        // underflows and every such test comes here, the SIMD lanes' too):
+        // all in double.
+        const double sum = Ud + Vd + Wd;
+        if (__builtin_expect((U == 0 && Ud != 0) || (V == 0 && Vd != 0) || (W == 0 && Wd != 0) ||
+                                 (sum != 0 && std::abs(sum) < 0x1p-60), 0))
             return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
     }
     if (std::min(U, std::min(V, W)) < 0 && std::max(U, std::max(V, W)) > 0) return false;
@@ -118,18 +126,20 @@ __attribute__((always_inline)) inline bool intersect_triangle(const RayPre& r, c
     if (det == 0.0f) return false;
     const float Az = r.sz * Akz, Bz = r.sz * Bkz, Cz = r.sz * Ckz;
     float T = U * Az + V * Bz + W * Cz;
-    // Outside float's range (an overflow, or det too small for T's digits):
-    // in double (the SIMD lanes hand these triangles to this test).
-    constexpr float kMax = std::numeric_limits<float>::max();
-    if (__builtin_expect(!(std::abs(det) <= kMax && std::abs(T) <= kMax) || std::abs(det) < 0x1p-60f, 0))
-        return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
     if (det < 0) { det = -det; T = -T; U = -U; V = -V; W = -W; }
     // The hit is decided on t itself (not on T against tmax * det, whose
     // rounding differs), so the nearest of several hits does not depend on
     // the order they are tested in.
     const float inv = 1.0f / det;
     const float t = T * inv;
-    if (!(t > r.ray.tmin && t < tmax)) return false;
+    if (!(t > r.ray.tmin && t < tmax)) {
+        // T overflowed (coordinates from about 5e12): t is inf or NaN, and
+        // worked out in double (the SIMD lanes hand these triangles here).
+        // An overflowing det makes T inf or NaN too.
+        if (__builtin_expect(!(std::abs(T) <= std::numeric_limits<float>::max()), 0))
+            return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
+        return false;
+    }
     // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): for a
     // ray leaving a surface, a hit closer than the bound may be that surface,
     // so it is rejected. This is what keeps a ray spawned exactly on a

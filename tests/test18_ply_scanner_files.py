@@ -326,3 +326,19 @@ def test_a_large_file_is_read_in_bounded_memory(tmp_path, encoding):
     print(f"{encoding}: {size_mb:.0f} MB file, peak memory grew {grown_mb} MB")
     assert triangles == 1 and size_mb > 50
     assert grown_mb < 32
+
+
+@pytest.mark.parametrize("corners, fmt", [(10_000, "%g"), (200_000, "%.9g")])
+def test_a_regular_polygon_written_with_rounded_coordinates_is_a_fan(corners, fmt):
+    # Six significant digits put more noise in a 10,000-gon's corners than its
+    # turns: it was judged concave and ear-clipped (11 s), and a 200,000-gon
+    # was refused as a non-convex polygon of too many corners.
+    a = np.linspace(0.0, 2.0 * np.pi, corners, endpoint=False)
+    text = "\n".join(f"{fmt} {fmt} 0" % (x, y) for x, y in zip(np.cos(a), np.sin(a)))
+    points = np.loadtxt(text.splitlines())
+    tri, poly = polygons(points, [corners])
+    assert len(tri) == corners - 2 and np.all(poly == 0)
+    assert np.all(tri[:, 0] == 0) and np.all(tri[:, 2] == tri[:, 1] + 1)      # the fan (0, j, j + 1)
+    p = points[tri]
+    area = 0.5 * np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2].sum()
+    assert area == pytest.approx(np.pi, rel=1e-6)

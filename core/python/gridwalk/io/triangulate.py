@@ -128,14 +128,26 @@ def _concave_quads(xy):
                      np.concatenate([r, r + 2, r + 3], axis=1)], axis=1) % 4
 
 
+# A corner that lies off the line of its neighbours' edges by less than this
+# fraction of the polygon's size, on the wrong side, still counts as convex:
+# a regular polygon of many corners written with six significant digits (C's
+# %g) has that much noise, more than its turns (a 10,000-gon took 11 s to
+# ear-clip, and one of 1,000,000 corners was refused as not convex). A fan
+# of such a polygon overlaps itself by slivers of that relative size.
+CONVEX_TOLERANCE = 1e-5
+
+
 def _convex(xy):
-    """Which (m, n, 2) counter-clockwise polygons are convex: no right turn, and
-    a total turn of one revolution (a pentagram turns left everywhere, twice)."""
+    """Which (m, n, 2) counter-clockwise polygons are convex: no right turn
+    beyond the coordinates' noise (CONVEX_TOLERANCE), and a total turn of one
+    revolution (a pentagram turns left everywhere, twice)."""
     ep, e, cross = _turns(xy)
     dot = (ep * e).sum(axis=-1)
-    scale = np.linalg.norm(ep, axis=-1) * np.linalg.norm(e, axis=-1)
+    length = np.maximum(np.linalg.norm(ep, axis=-1), np.linalg.norm(e, axis=-1))
+    size = np.ptp(xy, axis=1).max(axis=1)[:, None]
     turn = np.arctan2(cross, dot).sum(axis=1)
-    return np.all(cross >= -1e-12 * scale, axis=1) & (np.abs(turn - 2 * np.pi) < 1e-6)
+    # (cross / length: how far a corner's next edge leaves the line of the one before, at most)
+    return np.all(cross >= -CONVEX_TOLERANCE * size * length, axis=1) & (np.abs(turn - 2 * np.pi) < 1e-6)
 
 
 def ear_clip(xy) -> np.ndarray:

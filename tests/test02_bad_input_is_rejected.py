@@ -136,3 +136,19 @@ def test_the_private_module_checks_shapes_and_settings_itself():
     core.threads, core.aa_samples = 0, -1
     with pytest.raises(ValueError, match="RenderSettings.aa_samples"):
         gw._core.occluded(acc, o, d, one, one, core, False)
+
+
+def test_a_negative_instance_move_index_is_refused_by_name():
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], np.float32)
+    sc = gw.Scene(vertices=V, triangles=np.array([[0, 1, 2], [3, 4, 5]], np.int32))
+    for field in ("vertex_start", "triangle_start", "triangle_count"):
+        fields = dict(vertex_start=3, triangle_start=1, triangle_count=1, positions=V[3:], matrix=np.eye(4))
+        fields[field] = -1
+        with pytest.raises(ValueError, match=rf"moves\[0\]\.{field} must be a non-negative integer, got -1"):
+            sc.moved([gw.InstanceMove(**fields)])
+
+
+def test_an_image_wider_than_the_core_counts_says_so():
+    wide = np.zeros((1, 2 ** 31, 1), np.uint8)   # (2 GiB of untouched zero pages)
+    with pytest.raises(ValueError, match="has 2147483648 columns: at most 2147483647"):
+        gw.Image(wide)

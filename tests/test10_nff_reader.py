@@ -203,7 +203,7 @@ MALFORMED = {
     "bad_resolution": (VIEW.replace("64 48", "64.5 48") + TRIANGLE, 7, "positive integers"),
     "zero_patch_normal": (VIEW + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n",
                           VIEW_LINES + 1, "'pp' has a vertex normal of zero length"),
-    "starts_with_numbers": ("1 2 3\n" + VIEW + TRIANGLE, 1, "numbers; expected an entity"),
+    "starts_with_numbers": ("1 2 3\n" + VIEW + TRIANGLE, 1, "a number, '1', before any entity; expected an entity"),
 }
 
 

@@ -122,6 +122,12 @@ def test_bad_scene_files_give_a_one_line_error_and_exit_2(tmp_path, case, conten
         assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1
 
 
+def test_a_device_given_as_the_scene_file_is_named_as_such():
+    run = gridwalk("info", "/dev/null")
+    assert run.returncode == 2 and run.stderr.strip() == (
+        "gridwalk: error: /dev/null: not a regular file (a device or a pipe); give a scene file")
+
+
 @needs_spd
 @pytest.mark.parametrize("options, message", [
     (["--aa-samples", "0"], "aa_samples"),

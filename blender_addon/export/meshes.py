@@ -49,6 +49,7 @@ class MeshData:
         self.triangles = triangles     # (T, 3) indices into co
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
+        self.missing_uv_layer = None   # a UV map a material names that the mesh lacks (its render one was read)
         flat = co.reshape(-1)      # NaN propagates through max / min; Inf shows in them
         top, bottom = (float(flat.max()), float(flat.min())) if flat.size else (0.0, 0.0)
         self.finite = math.isfinite(top) and math.isfinite(bottom)
@@ -193,11 +194,15 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
         corner = _corner_colors(mesh, color_layer, n_loops, n_verts)
         colors = None if corner is None else corner[tri_loops]
     if domain == "CORNER":
-        return MeshData(co[_corner_verts(mesh, n_loops)], tri_loops, _corner_normals(mesh, n_loops), slots,
+        data = MeshData(co[_corner_verts(mesh, n_loops)], tri_loops, _corner_normals(mesh, n_loops), slots,
                         uvs, colors)
-    tri_verts = _corner_verts(mesh, n_loops)[tri_loops]
-    normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
-    return MeshData(co, tri_verts, normals, slots, uvs, colors)
+    else:
+        tri_verts = _corner_verts(mesh, n_loops)[tri_loops]
+        normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
+        data = MeshData(co, tri_verts, normals, slots, uvs, colors)
+    if uv_layer and uvs is not None and mesh.uv_layers.get(uv_layer) is None:
+        data.missing_uv_layer = uv_layer
+    return data
 
 
 def sphere_from_bounds(bound_box, matrix):
@@ -275,6 +280,7 @@ class MeshCollector:
         self.ignored = {}          # IGNORED_VISIBILITY label -> names of the objects that set it
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
+        self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
     def add_instance(self, inst):
@@ -319,6 +325,8 @@ class MeshCollector:
             self.degenerate[obj.name] = (data.degenerate, len(data.triangles))
         if layers[0] is not None and data.uvs is None:
             self.without_uvs.add(obj.name)
+        if data.missing_uv_layer:
+            self.missing_uv_layers[obj.name] = data.missing_uv_layer
         self.parts.append((key, data, matrix, lookup))
 
     def without_faces(self) -> set[str]:
@@ -335,6 +343,9 @@ class MeshCollector:
                        + ", ".join(f"'{name}'" for name in sorted(self.without_faces())))
         for name, (zero, total) in sorted(self.degenerate.items()):
             out.append(f"Object '{name}': {zero} of {total} triangles have zero area and are invisible")
+        for name, layer in sorted(self.missing_uv_layers.items()):
+            out.append(f"Object '{name}' has no UV map '{layer}', which its material's UV Map node names: "
+                       "its render UV map is used instead (Cycles reads UV (0, 0) there)")
         if self.without_uvs:
             out.append("Objects with image textures but no UV map show each texture's corner at UV (0, 0): "
                        + ", ".join(f"'{name}'" for name in sorted(self.without_uvs)))

@@ -156,6 +156,11 @@ NB_MODULE(_core, m) {
         .def("__init__",
              [](Image* self, nb::ndarray<nb::c_contig, nb::device::cpu> pixels, bool srgb, const std::string& where) {
                  if (pixels.ndim() != 3) throw std::invalid_argument(where + " must have shape (H, W, C)");
+                 for (size_t k = 0; k < 3; ++k)
+                     if (pixels.shape(k) > size_t(std::numeric_limits<int>::max()))
+                         throw std::invalid_argument(where + " has " + std::to_string(pixels.shape(k)) +
+                                                     (k == 0 ? " rows" : k == 1 ? " columns" : " channels") +
+                                                     ": at most 2147483647");
                  const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
                  std::vector<uint8_t> bytes;
                  std::vector<float> floats;

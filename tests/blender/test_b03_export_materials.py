@@ -66,3 +66,6 @@ def test_the_cycles_output_and_muted_nodes_and_links_are_honoured(export):
         np.testing.assert_allclose(mat["color"], [0.1, 0.1, 0.8], rtol=1e-5)
         assert mat["color_texture"] < 0
     assert not any("default value" in w for w in out.warnings)
+    # a UV Map node naming a layer the mesh lacks: the render layer is read, and said so
+    assert ("Object 'MissingMap' has no UV map 'Missing', which its material's UV Map node names: its render "
+            "UV map is used instead (Cycles reads UV (0, 0) there)") in out.warnings

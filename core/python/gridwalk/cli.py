@@ -165,8 +165,10 @@ def load(path) -> dict:
     path = Path(path)
     if path.is_dir():
         raise CliError(f"{path}: is a folder, not a scene file")
-    if not path.is_file():
+    if not path.exists():
         raise CliError(f"{path}: no such file")
+    if not path.is_file():
+        raise CliError(f"{path}: not a regular file (a device or a pipe); give a scene file")
     return io.load_scene(path)
 
 

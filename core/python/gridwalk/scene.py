@@ -216,6 +216,10 @@ class Scene:
         for i, m in enumerate(moves):
             if not isinstance(m, InstanceMove):
                 raise ValueError(f"moves[{i}] must be a gridwalk.InstanceMove, got {type(m).__name__}")
+            for name in ("vertex_start", "triangle_start", "triangle_count"):
+                value = getattr(m, name)
+                if not (isinstance(value, (int, np.integer)) and 0 <= value < 2 ** 63):
+                    raise ValueError(f"moves[{i}].{name} must be a non-negative integer, got {value!r}")
         matrices, previous = [], []
         for i, m in enumerate(moves):
             for name, value, out in (("matrix", m.matrix, matrices), ("previous_matrix", m.previous_matrix, previous)):

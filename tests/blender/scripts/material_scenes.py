@@ -82,8 +82,9 @@ def principled_sphere_scene(resolution=(64, 48), material=True):
 def node_states_scene(resolution=(32, 24)):
     """Three planes whose materials use node states Cycles honours: an output
     for EEVEE only (active, green) beside one for Cycles (red); an Image
-    Texture node that is muted; a muted link from an Image Texture. The last
-    two leave Base Color at its own value (blue)."""
+    Texture node that is muted; a muted link from an Image Texture (these two
+    leave Base Color at its own value, blue); a UV Map node naming a layer
+    the plane does not have."""
     reset(resolution=tuple(resolution))
     img = bpy.data.images.new("Grid", 16, 16)
     img.generated_type = "COLOR_GRID"
@@ -100,10 +101,12 @@ def node_states_scene(resolution=(32, 24)):
     muted_link = principled_material("MutedLink", (0.1, 0.1, 0.8))
     _image_node(muted_link, img)
     muted_link.node_tree.nodes["Principled BSDF"].inputs["Base Color"].links[0].is_muted = True
-    for i, mat in enumerate((targets, muted_node, muted_link)):
+    missing_map = principled_material("MissingMap", (0.5, 0.5, 0.5))
+    _image_node(missing_map, img, uv_map="Missing")              # a UV map the plane does not have
+    for i, mat in enumerate((targets, muted_node, muted_link, missing_map)):
         _plane(mat.name, 1.0, (2.0 * i - 2.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
     bpy.context.view_layer.update()
-    return {"names": ["Targets", "MutedNode", "MutedLink"]}
+    return {"names": ["Targets", "MutedNode", "MutedLink", "MissingMap"]}
 
 
 def roughness_map_scene(resolution=(64, 48), value=128, textured=True):

@@ -244,7 +244,8 @@ class Parser:
                     raise Refusal(at, f"unexpected number {excerpt(word)}: the '{NAMES[self.last[0]]}' "
                                       f"on line {{also}} has all its numbers; expected an entity "
                                       f"({ENTITIES})", also=self.last[1])
-                what = "numbers" if numeric(word) else f"unknown entity {excerpt(word)}"
+                what = (f"a number, {excerpt(word)}, before any entity" if numeric(word)
+                        else f"unknown entity {excerpt(word)}")
                 raise Refusal(at, f"{what}; expected an entity ({ENTITIES})")
             i += 1
             k = int(SIZE[kind])

@@ -149,16 +149,19 @@ def test_empty_space_skipping_changes_nothing_but_the_cell_count():
         assert np.array_equal(occ_skip, occ_walk)
 
 
-def test_rays_grazing_a_lone_triangles_corners_agree_with_brute_force():
+@pytest.mark.parametrize("scale", [1.0, 1e21, 1e-20])
+def test_rays_grazing_a_lone_triangles_corners_agree_with_brute_force(scale):
     # The float test may hit a corner within its rounding just outside the
     # scene's exact box: brute force checked rays against that exact box and
-    # missed 1,767 of these 30,000 rays that the grids (padded roots) hit.
-    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    # missed 1,767 of these 30,000 rays that the grids (padded roots) hit. At
+    # scales where every ray takes the full box test (a diagonal beyond
+    # 2^60 or under 2^-60), every structure must see the same padded box.
+    V = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float64) * scale).astype(np.float32)
     sc = gw.Scene(vertices=V, triangles=np.array([[0, 1, 2]], np.int32))
     rng = np.random.default_rng(1)
     target = V[rng.integers(0, 3, 30_000)]
-    o = (target + rng.normal(size=target.shape)).astype(np.float32)
-    d = (target - o).astype(np.float32)
+    o = (target + rng.normal(size=target.shape) * scale).astype(np.float32)
+    d = ((target - o) / scale).astype(np.float32)
     brute = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     assert np.isfinite(brute.t).sum() > 10_000
     for accel in ("adaptive", "grid"):

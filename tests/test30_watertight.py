@@ -71,3 +71,15 @@ def test_meshes_far_above_and_below_unit_scale_stay_watertight_and_at_their_dist
     # and from outside, shadow rays towards the centre are blocked by the shell
     far = np.float32(3.0 * scale) * d[nv + ne:] / np.linalg.norm(d[nv + ne:], axis=1, keepdims=True)
     assert sc.occluded(far, -far, tmax=np.ones(len(far), np.float32), settings=gw.RenderSettings(accel=accel)).all()
+
+
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
+def test_a_triangle_whose_det_overflows_float_is_still_hit(accel):
+    # Spanning +-1e19 in z = 0: the edge functions' sum overflows float while
+    # T stays finite, so the float t was 0 (a miss); it is found in double.
+    V = np.array([[-1e19, -1e19, 0], [1e19, -1e19, 0], [0, 1e19, 0]], np.float32)
+    sc = gw.Scene(vertices=V, triangles=np.array([[0, 1, 2]], np.int32))
+    o = np.array([[0, 0, 0.5], [1e18, 1e17, 3.0]], np.float32)
+    d = np.array([[0, 0, -1], [0, 0, -1]], np.float32)
+    hits = sc.intersect(o, d, settings=gw.RenderSettings(accel=accel))
+    np.testing.assert_allclose(hits.t, [0.5, 3.0], rtol=1e-6)

@@ -228,8 +228,14 @@ def renders(inst) -> bool:
     obj = inst.object
     if obj.type != "MESH" or not inst.show_self:
         return False
-    owner = inst.parent if inst.is_instance and inst.parent is not None else obj
-    return not owner.original.hide_render
+    if not inst.is_instance or inst.parent is None:
+        return not obj.original.hide_render
+    parent = inst.parent.original
+    if parent.hide_render:
+        return False
+    # A member of an instanced collection that is itself hidden in renders:
+    # the final render's depsgraph leaves it out, the viewport's lists it.
+    return not (obj.original.hide_render and getattr(parent, "instance_type", "") == "COLLECTION")
 
 
 # Object settings the Whitted core does not model (every ray sees every

@@ -132,14 +132,17 @@ __attribute__((always_inline)) inline bool intersect_triangle(const RayPre& r, c
     // the order they are tested in.
     const float inv = 1.0f / det;
     const float t = T * inv;
+    // T or det overflowed (coordinates from about 5e12): t is inf, NaN or
+    // (det inf, T finite) 0, and is worked out in double (the SIMD lanes
+    // hand these triangles here).
+    constexpr float kMax = std::numeric_limits<float>::max();
     if (!(t > r.ray.tmin && t < tmax)) {
-        // T overflowed (coordinates from about 5e12): t is inf or NaN, and
-        // worked out in double (the SIMD lanes hand these triangles here).
-        // An overflowing det makes T inf or NaN too.
-        if (__builtin_expect(!(std::abs(T) <= std::numeric_limits<float>::max()), 0))
+        if (__builtin_expect(!(std::abs(T) <= kMax && det <= kMax), 0))
             return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
         return false;
     }
+    if (__builtin_expect(!(det <= kMax), 0))   // (t = 0 accepted by a negative tmin)
+        return intersect_sheared_double(r, Ax, Ay, Bx, By, Cx, Cy, Akz, Bkz, Ckz, tmax, t_out, b1, b2, t_err);
     // Conservative bound on the rounding error of t (pbrt-v3 3.9.6): for a
     // ray leaving a surface, a hit closer than the bound may be that surface,
     // so it is rejected. This is what keeps a ray spawned exactly on a

@@ -84,6 +84,7 @@ def instances_scene():
     bpy.context.scene.collection.children.link(assets)
     cube = link(cube_object("AssetCube", size=1.0), assets)
     cube.location = (0.0, 0.0, 0.5)
+    link(cube_object("HiddenAsset", size=1.0), assets).hide_render = True   # not instanced in renders
     bpy.context.view_layer.layer_collection.children["Assets"].exclude = True
     expected = []
     for i, loc in enumerate([(-3.0, 0.0, 0.0), (3.0, 1.0, 0.0)]):

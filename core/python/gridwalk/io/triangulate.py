@@ -147,7 +147,14 @@ def _convex(xy):
     size = np.ptp(xy, axis=1).max(axis=1)[:, None]
     turn = np.arctan2(cross, dot).sum(axis=1)
     # (cross / length: how far a corner's next edge leaves the line of the one before, at most)
-    return np.all(cross >= -CONVEX_TOLERANCE * size * length, axis=1) & (np.abs(turn - 2 * np.pi) < 1e-6)
+    corners = np.all(cross >= -CONVEX_TOLERANCE * size * length, axis=1) & (np.abs(turn - 2 * np.pi) < 1e-6)
+    # The tolerance is per corner: a concave arc of many fine corners passes
+    # it everywhere, so the fan itself must not fold either (no fan triangle
+    # (0, j, j + 1) turning the wrong way by more than the tolerance).
+    spoke = xy - xy[:, :1]
+    fan = spoke[:, 1:-1, 0] * spoke[:, 2:, 1] - spoke[:, 1:-1, 1] * spoke[:, 2:, 0]
+    side = np.linalg.norm(xy[:, 2:] - xy[:, 1:-1], axis=-1)
+    return corners & np.all(fan >= -CONVEX_TOLERANCE * size * side, axis=1)
 
 
 def ear_clip(xy) -> np.ndarray:

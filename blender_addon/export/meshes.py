@@ -284,6 +284,7 @@ class MeshCollector:
         self.faceless = set()      # mesh objects without faces
         self.instancers = set()    # objects that instance others (a Geometry Nodes carrier's own mesh may be empty)
         self.ignored = {}          # IGNORED_VISIBILITY label -> names of the objects that set it
+        self.visibility_read = set()   # the objects whose settings were read for `ignored`
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
@@ -295,9 +296,12 @@ class MeshCollector:
         if not renders(inst):
             return
         obj = inst.object
-        for prop, value, label in IGNORED_VISIBILITY:
-            if getattr(obj.original, prop, not value) == value:
-                self.ignored.setdefault(label, set()).add(obj.original.name)
+        source = obj.original
+        if source.name not in self.visibility_read:   # once per object, not per instance (particles: millions)
+            self.visibility_read.add(source.name)
+            for prop, value, label in IGNORED_VISIBILITY:
+                if getattr(source, prop, not value) == value:
+                    self.ignored.setdefault(label, set()).add(source.name)
         matrix = to_numpy(inst.matrix_world)
         if not np.isfinite(matrix).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"

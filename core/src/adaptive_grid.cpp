@@ -159,12 +159,12 @@ public:
             maxext = std::max(maxext, double(sb.hi[a]) - double(sb.lo[a]));
             mag = std::max(mag, std::max(std::abs(double(sb.lo[a])), std::abs(double(sb.hi[a]))));
         }
-        // A size the DDA can divide by, even for a point scene; padding on every side.
-        const double scale = std::max(std::max(maxext, mag * 1e-6), 1e-12);
+        // A size the DDA can divide by, even for a point scene; padding on every
+        // side (padded_box, which the batch guard uses too), rounded outwards.
+        padded_box(sb, box.lo, box.hi);
         for (int a = 0; a < 3; ++a) {
-            const double pad = 1e-5 * scale;
-            box.lo[a] = next_down(float(double(sb.lo[a]) - pad - std::abs(double(sb.lo[a])) * 1e-6));
-            box.hi[a] = next_up(float(double(sb.hi[a]) + pad + std::abs(double(sb.hi[a])) * 1e-6));
+            box.lo[a] = next_down(float(box.lo[a]));
+            box.hi[a] = next_up(float(box.hi[a]));
         }
         std::vector<uint32_t> all(sc_.num_prims());
         for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);

@@ -110,24 +110,14 @@ struct SceneBox {
             diagonal2 += sq(hi[a] - lo[a]);
         }
         moderate = diagonal2 >= 0x1p-120 && diagonal2 <= 0x1p120;
-        // Padded as the grids pad their roots (1e-5 of the scene's size and
-        // 1e-6 of each coordinate), so that a ray grazing the box, which the
-        // float triangle test may hit within its rounding, reaches every
-        // structure's tests alike: on the exact box brute force missed 1,767
-        // of 30,000 rays aimed at a lone triangle's corners that the grids and
-        // Embree hit (and with brute force alone padded, the grids missed
-        // such rays where this test is taken for every ray: scenes beyond
-        // 2^60 or under 2^-60, rays from far away).
-        double maxext = 0, mag = 0;
-        for (int a = 0; a < 3; ++a) {
-            maxext = std::max(maxext, hi[a] - lo[a]);
-            mag = std::max(mag, std::max(std::abs(lo[a]), std::abs(hi[a])));
-        }
-        const double pad = 1e-5 * std::max(std::max(maxext, mag * 1e-6), 1e-12);
-        for (int a = 0; a < 3; ++a) {
-            lo[a] -= pad + std::abs(lo[a]) * 1e-6;
-            hi[a] += pad + std::abs(hi[a]) * 1e-6;
-        }
+        // Padded as the adaptive grid pads its root (padded_box), so that a ray
+        // grazing the box, which the float triangle test may hit within its
+        // rounding, reaches every structure's tests alike: on the exact box
+        // brute force missed 1,767 of 30,000 rays aimed at a lone triangle's
+        // corners that the grids and Embree hit (and with brute force alone
+        // padded, the grids missed such rays where this test is taken for
+        // every ray: scenes beyond 2^60 or under 2^-60, rays from far away).
+        padded_box(b, lo, hi);
         const double margin = clipped ? 0x1p16 * std::sqrt(diagonal2) : 0.0;
         for (int a = 0; a < 3; ++a) {
             near_lo[a] = lo[a] - margin;

@@ -80,19 +80,53 @@ def _through(node, out):
     return None
 
 
-def _source(socket):
-    """(node, output socket) linked into `socket`, through reroutes and muted
-    nodes as Blender passes them; (None, None) if unlinked, or if the link or
-    what reaches it is muted (the input's own value is then used, as Cycles does)."""
+CONSTANT_NODES = ("RGB", "VALUE")   # nodes whose output is a value set on it
+
+
+def _follow(socket):
+    """(node, output socket, value) for the input `socket`: the node and output
+    linked into it, through reroutes and muted nodes as Blender passes them;
+    else node None, and `value` the socket whose value the input takes:
+      - the input itself when it is unlinked, when its link or what reaches
+        it is muted, or when a muted node passes nothing to that output;
+      - the output of an RGB or Value node linked to it (not a shader input);
+      - None (the value 0, as Cycles reads it) when the chain ends at an
+        unlinked input of a reroute or muted node, not that input's value."""
+    first = socket
     while socket is not None and socket.is_linked:
         link = socket.links[0]
         if link.is_muted:
-            return None, None
+            break
         node, out = link.from_node, link.from_socket
+        if node.type in CONSTANT_NODES and not node.mute and first.type != "SHADER":
+            return None, None, out
         if node.type != "REROUTE" and not node.mute:
-            return node, out
+            return node, out, None
         socket = _through(node, out)
-    return None, None
+    return None, None, first if socket is None or socket is first else None
+
+
+def _source(socket):
+    """(node, output socket) linked into `socket` (see _follow), or (None, None)."""
+    node, out, _ = _follow(socket)
+    return node, out
+
+
+def input_value(socket):
+    """The value Cycles gives an input that no node feeds (see _follow), as a
+    float or a tuple like the input's own: its own value, an RGB or Value
+    node's (converted as Blender converts: a float to grey, a colour to its
+    Rec. 709 luminance), or 0."""
+    own = socket.default_value
+    value = _follow(socket)[2]
+    value = 0.0 if value is None else value.default_value
+    if hasattr(own, "__len__"):
+        if hasattr(value, "__len__"):
+            return tuple(float(c) for c in value)
+        return tuple(float(value) for _ in own)
+    if hasattr(value, "__len__"):
+        return 0.2126 * float(value[0]) + 0.7152 * float(value[1]) + 0.0722 * float(value[2])
+    return float(value)
 
 
 class Links:
@@ -146,10 +180,8 @@ def _value(node, names, default, links: Links, field=None):
     src, _ = _source(socket)
     if src is not None and not (field and links.take(socket, field, True)) and not field:
         links.textured.append(f"{socket.name} ({src.bl_idname})")
-    value = socket.default_value
-    if hasattr(value, "__len__"):
-        return tuple(float(c) for c in value)[:3]
-    return float(value)
+    value = input_value(socket)
+    return value[:3] if isinstance(value, tuple) else value
 
 
 def dielectric_albedo(ior: float) -> float:

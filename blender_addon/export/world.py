@@ -18,7 +18,8 @@ plain Background nodes (the NFF importer's world): the camera side is the
 background and the other side the ambient term (Cycles' mirror rays would see
 the other side; here they see the background). A world whose Ray Visibility
 > Diffuse is off (Cycles' switch) gives no ambient term, as Cycles' diffuse
-surfaces then get no light from it. No world: black, as in Blender. Film Transparent (World.transparent, set by the
+surfaces then get no light from it. Reroutes, muted nodes and links, and RGB
+and Value nodes are followed as for materials (materials._follow). No world: black, as in Blender. Film Transparent (World.transparent, set by the
 export) makes camera rays that miss see nothing: RGB 0 and alpha 0, as
 Cycles writes them; mirror and refraction rays still see the world.
 """
@@ -28,27 +29,26 @@ import dataclasses
 
 from gridwalk import World
 
-from .materials import _source
+from .materials import _source, input_value
 
 
 def _background_node(tree):
-    outputs = [n for n in tree.nodes if n.type == "OUTPUT_WORLD"]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if not active or not active[0].inputs["Surface"].is_linked:
-        return None
-    return active[0].inputs["Surface"].links[0].from_node
+    """The shader node feeding the World Output Cycles renders, through
+    reroutes and muted nodes and links as materials.py follows them."""
+    out = tree.get_output_node("CYCLES")
+    return None if out is None else _source(out.inputs["Surface"])[0]
 
 
 def _camera_ray_mix(node):
     """(camera rays' node, other rays' node) of a Mix Shader whose Fac is Light
     Path's Is Camera Ray (a background that camera rays see and that lights
     nothing, or lights in another colour); None for any other node."""
-    if node.type != "MIX_SHADER" or not node.inputs["Fac"].is_linked:
+    if node.type != "MIX_SHADER":
         return None
-    link = node.inputs["Fac"].links[0]
-    if link.from_node.type != "LIGHT_PATH" or link.from_socket.name != "Is Camera Ray":
+    fac, out = _source(node.inputs["Fac"])
+    if fac is None or fac.type != "LIGHT_PATH" or out.name != "Is Camera Ray":
         return None
-    other, camera = (n.links[0].from_node if n.is_linked else None for n in (node.inputs[1], node.inputs[2]))
+    other, camera = (_source(n)[0] for n in (node.inputs[1], node.inputs[2]))
     return camera, other
 
 
@@ -56,12 +56,12 @@ def _plain_background(world, node, warnings) -> tuple:
     """Color x Strength of an unlinked Background node; black for no node."""
     if node is None:
         return (0.0, 0.0, 0.0)
-    if node.type != "BACKGROUND" or node.inputs["Color"].is_linked or node.inputs["Strength"].is_linked:
+    if node.type != "BACKGROUND" or any(_source(node.inputs[k])[0] is not None for k in ("Color", "Strength")):
         warnings.append(f"World {world.name!r}: only a plain Background node is read on each side of the "
                         f"Is Camera Ray mix ({node.bl_idname} read as black)")
         return (0.0, 0.0, 0.0)
-    strength = float(node.inputs["Strength"].default_value)
-    return tuple(float(c) * strength for c in tuple(node.inputs["Color"].default_value)[:3])
+    strength = input_value(node.inputs["Strength"])
+    return tuple(c * strength for c in input_value(node.inputs["Color"])[:3])
 
 
 def convert_world(world, textures, warnings: list) -> tuple:
@@ -94,25 +94,25 @@ def _convert_world(world, textures, warnings: list) -> tuple:
                         "using the world viewport colour")
         return viewport, World(ambient=viewport)
     color_in, strength_in = node.inputs["Color"], node.inputs["Strength"]
-    if strength_in.is_linked:
+    if _source(strength_in)[0] is not None:
         warnings.append(f"World {world.name!r}: a linked Strength is not supported, using the world viewport colour")
         return viewport, World(ambient=viewport)
-    strength = float(strength_in.default_value)
+    strength = input_value(strength_in)
     source, _ = _source(color_in)
     if source is not None and source.type == "TEX_ENVIRONMENT" and textures is not None:
         if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
             warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
-        if source.inputs["Vector"].is_linked:
+        if _source(source.inputs["Vector"])[0] is not None:
             warnings.append(f"World {world.name!r}: the environment's Vector input (rotation) is ignored")
         index = textures.texture(source)
         mean = textures.mean_color(index)
         return (tuple(c * strength for c in mean),
                 World(ambient=tuple(c * strength for c in mean), environment=index, environment_strength=strength))
-    if color_in.is_linked:
-        name = source.bl_idname if source is not None else "link"
+    if source is not None:
+        name = source.bl_idname
         warnings.append(f"World {world.name!r}: a Color from {name} is not supported, using the world viewport colour")
         return viewport, World(ambient=viewport)
-    color = tuple(float(c) * strength for c in tuple(color_in.default_value)[:3])
+    color = tuple(c * strength for c in input_value(color_in)[:3])
     return color, World(ambient=color)
 
 

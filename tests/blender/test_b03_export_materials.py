@@ -59,12 +59,22 @@ def test_a_world_invisible_to_diffuse_rays_lights_nothing_but_is_still_seen(expo
 def test_the_cycles_output_and_muted_nodes_and_links_are_honoured(export):
     out = export("node_states")
     centres = out.vertices[out.triangles].mean(axis=1)[:, 0]
-    by_plane = [out.materials[int(out.triangle_materials[np.argmin(np.abs(centres - x))])] for x in (-2.0, 0.0, 2.0)]
-    targets, muted_node, muted_link = by_plane
+    by_plane = [out.materials[int(out.triangle_materials[np.argmin(np.abs(centres - x))])]
+                for x in (-4.0, -2.0, 0.0, 4.0, 6.0)]
+    targets, muted_node, muted_link, muted_mix, constants = by_plane
     np.testing.assert_allclose(targets["color"], [0.8, 0.0, 0.0], rtol=1e-5)   # not the active EEVEE output's green
     for mat in (muted_node, muted_link):          # Base Color's own value, no texture
         np.testing.assert_allclose(mat["color"], [0.1, 0.1, 0.8], rtol=1e-5)
         assert mat["color_texture"] < 0
+    # a muted Mix node passing its unlinked A: Cycles reads 0, not A's red nor Base Color's blue
+    np.testing.assert_allclose(muted_mix["color"], [0.0, 0.0, 0.0], atol=1e-7)
+    # RGB nodes are constants: Base Color takes the colour, Roughness a colour's Rec. 709 luminance
+    np.testing.assert_allclose(constants["color"], [0.2, 0.7, 0.3], rtol=1e-5)
+    assert constants["roughness"] == pytest.approx(0.2126 * 0.5 + 0.7152 * 0.25 + 0.0722 * 1.0, rel=1e-5)
+    # the world: through a reroute, its Color's muted link (own value) and Strength through a muted Math node
+    np.testing.assert_allclose(out.background, [0.4, 0.6, 0.8], rtol=1e-5)
+    np.testing.assert_allclose(out.world["ambient"], [0.4, 0.6, 0.8], rtol=1e-5)
+    assert not any("World" in w for w in out.warnings)
     assert not any("default value" in w for w in out.warnings)
     # a UV Map node naming a layer the mesh lacks: the render layer is read, and said so
     assert ("Object 'MissingMap' has no UV map 'Missing', which its material's UV Map node names: its render "

@@ -80,11 +80,16 @@ def principled_sphere_scene(resolution=(64, 48), material=True):
 
 
 def node_states_scene(resolution=(32, 24)):
-    """Three planes whose materials use node states Cycles honours: an output
+    """Six planes whose materials use node states Cycles honours: an output
     for EEVEE only (active, green) beside one for Cycles (red); an Image
     Texture node that is muted; a muted link from an Image Texture (these two
     leave Base Color at its own value, blue); a UV Map node naming a layer
-    the plane does not have."""
+    the plane does not have; a muted Mix node passing its unlinked A (red),
+    which Cycles reads as black; RGB nodes linked to Base Color and (as
+    their luminance) to Roughness. The world's Background reaches its output
+    through a reroute, and its Color through a muted link (its own value
+    counts); its Strength comes through a muted Math node from a linked Value
+    node."""
     reset(resolution=tuple(resolution))
     img = bpy.data.images.new("Grid", 16, 16)
     img.generated_type = "COLOR_GRID"
@@ -103,10 +108,48 @@ def node_states_scene(resolution=(32, 24)):
     muted_link.node_tree.nodes["Principled BSDF"].inputs["Base Color"].links[0].is_muted = True
     missing_map = principled_material("MissingMap", (0.5, 0.5, 0.5))
     _image_node(missing_map, img, uv_map="Missing")              # a UV map the plane does not have
-    for i, mat in enumerate((targets, muted_node, muted_link, missing_map)):
-        _plane(mat.name, 1.0, (2.0 * i - 2.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
+    muted_mix = principled_material("MutedMix", (0.1, 0.1, 0.8))
+    mix = muted_mix.node_tree.nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    colour_a = next(i for i in mix.inputs if i.identifier == "A_Color")     # (3.x: inputs["A"] is the float one)
+    colour_a.default_value = (1.0, 0.0, 0.0, 1.0)
+    mix.mute = True
+    result = next(o for o in mix.outputs if o.identifier == "Result_Color")
+    muted_mix.node_tree.links.new(result, muted_mix.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    constants = principled_material("Constants", (0.1, 0.1, 0.8))
+    ctree = constants.node_tree
+    rgb = ctree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.2, 0.7, 0.3, 1.0)
+    ctree.links.new(rgb.outputs[0], ctree.nodes["Principled BSDF"].inputs["Base Color"])
+    grey = ctree.nodes.new("ShaderNodeRGB")       # a colour into a float input: its luminance
+    grey.outputs[0].default_value = (0.5, 0.25, 1.0, 1.0)
+    ctree.links.new(grey.outputs[0], ctree.nodes["Principled BSDF"].inputs["Roughness"])
+    materials = (targets, muted_node, muted_link, missing_map, muted_mix, constants)
+    for i, mat in enumerate(materials):
+        _plane(mat.name, 1.0, (2.0 * i - 4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
+    world = bpy.data.worlds.new("NodeStates")
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = nodes["Background"]
+    background.inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)
+    background.inputs["Strength"].default_value = 5.0
+    reroute = nodes.new("NodeReroute")
+    links.new(background.outputs[0], reroute.inputs[0])
+    links.new(reroute.outputs[0], nodes["World Output"].inputs["Surface"])
+    rgb = nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (1.0, 0.0, 1.0, 1.0)
+    links.new(rgb.outputs[0], background.inputs["Color"]).is_muted = True
+    value = nodes.new("ShaderNodeValue")
+    value.outputs[0].default_value = 2.0
+    math_node = nodes.new("ShaderNodeMath")
+    math_node.operation = "MULTIPLY"
+    math_node.inputs[1].default_value = 100.0
+    links.new(value.outputs[0], math_node.inputs[0])
+    links.new(math_node.outputs[0], background.inputs["Strength"])
+    math_node.mute = True                                          # passes the Value node's 2
+    bpy.context.scene.world = world
     bpy.context.view_layer.update()
-    return {"names": ["Targets", "MutedNode", "MutedLink", "MissingMap"]}
+    return {"names": [m.name for m in materials]}
 
 
 def roughness_map_scene(resolution=(64, 48), value=128, textured=True):

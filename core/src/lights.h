@@ -83,9 +83,11 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         break;
     }
     Vec3 to = pos - p;
-    const float d2 = dot(to, to);
-    if (!(d2 > 0)) return false;
-    s.dist = std::sqrt(d2);
+    // The distance without squaring it in float, which overflows from about
+    // 1.8e19 (the direction came out 0, every point in shadow) and underflows
+    // below about 1e-19 (the light was lost).
+    s.dist = length(to);
+    if (!(s.dist > 0)) return false;
     s.wi = to / s.dist;
     s.intensity = L.color;
     if (L.kind == LightKind::Rect || L.kind == LightKind::Disk) {
@@ -99,7 +101,12 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         const float x = std::min((c - L.spot_cos) / edge, 1.0f);
         s.intensity *= x * x * (3.0f - 2.0f * x);   // smoothstep over the blend region
     }
-    if (L.inverse_square) s.intensity *= 1.0f / d2;
+    if (L.inverse_square) {
+        const float d2 = dot(to, to);
+        s.intensity *= d2 >= std::numeric_limits<float>::min() && d2 <= std::numeric_limits<float>::max()
+                           ? 1.0f / d2
+                           : float(std::min(1.0 / (double(s.dist) * double(s.dist)), double(std::numeric_limits<float>::max())));
+    }
     return true;
 }
 

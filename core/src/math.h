@@ -45,6 +45,31 @@ template <class T> inline V3<T> normalize(const V3<T>& a) {
     T l = length(a);
     return l > 0 ? a / l : a;
 }
+// Float vectors are first scaled by a power of two (exact) that brings their
+// largest component to [1, 2): their squared length then neither overflows
+// (from about 1.8e19 it did: a light 1e20 away had direction 0) nor loses its
+// digits to underflow (below about 1e-19). Scaling by 2^k commutes exactly
+// with the products, sums, square root and quotients below, so wherever the
+// plain formula neither overflows nor underflows the result is bit-identical
+// to it.
+inline V3<float> scaled_to_unit(const V3<float>& a, int& exponent) {
+    const float m = std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z)));
+    exponent = 0;
+    if (!(m > 0) || !std::isfinite(m)) return a;
+    exponent = std::ilogb(m);
+    return {std::ldexp(a.x, -exponent), std::ldexp(a.y, -exponent), std::ldexp(a.z, -exponent)};
+}
+inline float length(const V3<float>& a) {
+    int e;
+    const V3<float> s = scaled_to_unit(a, e);
+    return std::ldexp(std::sqrt(dot(s, s)), e);
+}
+inline V3<float> normalize(const V3<float>& a) {
+    int e;
+    const V3<float> s = scaled_to_unit(a, e);
+    const float l = std::sqrt(dot(s, s));
+    return l > 0 ? s / l : a;
+}
 template <class T> inline V3<T> vmin(const V3<T>& a, const V3<T>& b) {
     return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
 }

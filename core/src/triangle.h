@@ -18,9 +18,15 @@ inline Bounds triangle_bounds(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
     return b;
 }
 
-// Unit geometric normal; its side follows the winding v0 -> v1 -> v2.
+// Unit geometric normal; its side follows the winding v0 -> v1 -> v2. The
+// edges are scaled by powers of two (exact, see scaled_to_unit) before their
+// cross product, whose squared length otherwise overflowed for edges from
+// about 4e9 and underflowed below about 1e-10 (the normal came out 0 or
+// garbage, and spawned rays re-hit their own triangle). Bit-identical to the
+// plain formula wherever that stays in range.
 inline Vec3 triangle_normal(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
-    return normalize(cross(v1 - v0, v2 - v0));
+    int e1, e2;
+    return normalize(cross(scaled_to_unit(v1 - v0, e1), scaled_to_unit(v2 - v0, e2)));
 }
 
 // The point with barycentrics (b1, b2) of v1, v2, and a conservative bound of

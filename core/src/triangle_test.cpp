@@ -102,3 +102,49 @@ TEST_CASE("rays through a shared edge hit at least one of the two triangles (wat
         CHECK(hits >= 1);
     }
 }
+
+// Far from unit scale the float test's products leave float's range (T
+// overflows from about 5e12, det falls under 2^-60 below about 1e-9, edges
+// underflow below about 1e-19) and intersect_sheared_double finishes the
+// test: its t, error bound and spawned-ray rejection must hold there too,
+// with the geometric normal that offsets spawned rays (in float its squared
+// length overflowed or underflowed at these scales: the normal came out 0 and
+// spawned rays re-hit their own triangle).
+TEST_CASE("beyond float's products, the double path's t error bound holds and spawned rays do not re-hit") {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (float scale : {1e-21f, 1e-15f, 1e14f, 1e20f}) {
+        int checked = 0, spawned = 0;
+        for (int i = 0; i < 5000; ++i) {
+            Vec3 v[3];
+            const Vec3 base(u(rng) * scale * 10, u(rng) * scale * 10, u(rng) * scale * 10);
+            for (auto& p : v) p = base + Vec3(u(rng), u(rng), u(rng)) * scale;
+            Ray ray;
+            ray.o = Vec3(u(rng), u(rng), u(rng)) * (scale * 30);
+            ray.d = normalize(v[0] * 0.3f + v[1] * 0.3f + v[2] * 0.4f - ray.o);
+            const RayPre r(ray);
+            if (!r.valid) continue;
+            float t, b1, b2, err = -1;
+            if (intersect_triangle(r, &v[0].x, kInf, t, b1, b2, &err)) {
+                const long double te = exact_t(ray, v);
+                CHECK(std::fabs((long double)t - te) <= (long double)err);
+                ++checked;
+            }
+            Vec3 p, p_err;
+            triangle_point(v[0], v[1], v[2], 0.25f, 0.35f, p, p_err);
+            Ray out;
+            out.d = normalize(Vec3(u(rng), u(rng), u(rng)));
+            out.o = offset_origin(p, p_err, triangle_normal(v[0], v[1], v[2]), out.d);
+            out.spawned = true;
+            const RayPre ro(out);
+            if (!ro.valid) continue;
+            INFO("scale ", scale);
+            CHECK(std::fabs(length(triangle_normal(v[0], v[1], v[2])) - 1.0f) < 1e-6f);
+            CHECK_FALSE(intersect_triangle(ro, &v[0].x, kInf, t, b1, b2));
+            ++spawned;
+        }
+        INFO("scale ", scale);
+        CHECK(checked > 4500);
+        CHECK(spawned > 4500);
+    }
+}

@@ -39,6 +39,18 @@ def camera_enclosed(gw_scene, camera, settings) -> bool:
     return bool(np.all(np.isfinite(hits.t)) and np.all(facing > 0))
 
 
+def unsupported_render_settings(scene) -> list[str]:
+    """Warnings for render and camera settings that the final render does not model."""
+    out = []
+    if scene.render.use_motion_blur:
+        out.append("Motion blur is not supported: each object renders where it is at the current frame")
+    cam = scene.camera.data if scene.camera is not None and scene.camera.type == "CAMERA" else None
+    if cam is not None and cam.dof.use_dof and (cam.dof.aperture_blades >= 3 or cam.dof.aperture_ratio != 1.0):
+        out.append(f"Camera {scene.camera.name!r}: aperture blades, rotation and ratio are not supported "
+                   "(the aperture is round)")
+    return out
+
+
 def memory_limit(props, memory) -> tuple[int | None, str]:
     """(limit in bytes or None, where it comes from).
 
@@ -216,6 +228,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             self._warn(warning)
         if depsgraph.scene.render.use_multiview:
             self._warn("Stereoscopy is not supported: the first view is rendered, the others are left empty")
+        for warning in unsupported_render_settings(depsgraph.scene):
+            self._warn(warning)
         t1 = time.perf_counter()
         if self._cancelled("after the export", writer):
             return

@@ -89,6 +89,20 @@ def test_lookup_matches_a_numpy_reference(interpolation, extension):
     np.testing.assert_allclose(rgba[..., :3], expected, atol=2e-4)
 
 
+def test_a_colour_input_takes_alpha_as_grey_or_the_colour_premultiplied():
+    # Blender's Image Texture: its Alpha output into a colour input is grey;
+    # its Color output is premultiplied by alpha when the Alpha output is not linked.
+    rgba = np.zeros((2, 2, 4), np.float32)
+    rgba[...] = (0.8, 0.4, 0.2, 0.25)
+    image = gw.Image(rgba)
+    straight, _ = _render_texture(image, interpolation="closest")
+    grey, _ = _render_texture(image, interpolation="closest", use_alpha=True)
+    associated, _ = _render_texture(image, interpolation="closest", premultiply=True)
+    np.testing.assert_allclose(straight[..., :3], np.broadcast_to([0.8, 0.4, 0.2], (N, N, 3)), rtol=1e-6)
+    np.testing.assert_allclose(grey[..., :3], 0.25, rtol=1e-6)
+    np.testing.assert_allclose(associated[..., :3], np.broadcast_to([0.2, 0.1, 0.05], (N, N, 3)), rtol=1e-6)
+
+
 def test_colorspaces_decode_only_srgb():
     data, _ = _render_texture(gw.Image(BYTES, colorspace="data"), interpolation="closest")
     srgb, _ = _render_texture(gw.Image(BYTES), interpolation="closest")

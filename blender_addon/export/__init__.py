@@ -53,7 +53,8 @@ class Export:
             raise ExportError(str(exc)) from None
         cache = cache if cache is not None else MeshCache()
         self.textures = TextureTable(cache.images)
-        self.materials = MaterialTable(self.textures)
+        view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
+        self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
         self.meshes = MeshCollector(self.materials, cache)
         self.lights = []
         for inst in depsgraph.object_instances:

@@ -24,9 +24,10 @@ as Cycles mirrors it.
 
 Depth of field (when enabled). The thin-lens aperture radius in scene units is
     aperture = (lens [mm] / 1000) / (2 * f-stop) / unit_scale
-(unit_scale = scene length unit scale, metres per Blender unit). The focus
-distance is the focus object's distance along the view axis, or the camera's
-focus_distance.
+(unit_scale = scene length unit scale, metres per Blender unit); for an
+orthographic camera 1 / (2 * f-stop) / unit_scale, as Cycles sets it. The focus
+distance is the focus object's (or its focus bone's head's) distance along the
+view axis, or the camera's focus_distance.
 """
 from __future__ import annotations
 
@@ -99,7 +100,12 @@ def _focus_distance(cam, eye, forward) -> float | None:
     dof = cam.dof
     target = dof.focus_object
     if target is not None:
-        position = np.array(tuple(target.matrix_world.translation), dtype=np.float64)
+        matrix = to_numpy(target.matrix_world)
+        bone_name = getattr(dof, "focus_subtarget", "")
+        bone = target.pose.bones.get(bone_name) if bone_name and target.pose is not None else None
+        if bone is not None:                   # a bone of an armature: its head, as Cycles focuses
+            matrix = matrix @ to_numpy(bone.matrix)
+        position = matrix[:3, 3]
         distance = float(np.dot(position - eye, forward))
         return max(distance, 1e-6)
     return max(float(dof.focus_distance), 1e-6)
@@ -161,6 +167,8 @@ def convert_camera(cam_obj, render, unit_scale: float = 1.0) -> Camera:
             fields["fov"] = math.degrees(2.0 * math.atan(sensor / (2.0 * cam.lens) * height / side))
     if cam.dof.use_dof:
         eye, forward = np.array(frame["eye"]), np.subtract(frame["target"], frame["eye"])
-        fields["aperture"] = (cam.lens / 1000.0) / (2.0 * max(cam.dof.aperture_fstop, 1e-6)) / max(unit_scale, 1e-12)
+        # Cycles' aperture radius: (lens / 1000) / (2 f-stop), and 1 / (2 f-stop) for an orthographic camera
+        size = 1.0 if cam.type == "ORTHO" else cam.lens / 1000.0
+        fields["aperture"] = size / (2.0 * max(cam.dof.aperture_fstop, 1e-6)) / max(unit_scale, 1e-12)
         fields["focus_distance"] = _focus_distance(cam, eye, forward)
     return Camera(**fields)

@@ -313,7 +313,9 @@ def convert_material(mat, textures=None):
 class MaterialTable:
     """Collects the scene's materials; index 0 is the default (objects without material)."""
 
-    def __init__(self, textures=None):
+    def __init__(self, textures=None, override=None):
+        """override: the view layer's Material Override, which every object's
+        slots then use (as Cycles renders it), or None."""
         import bpy   # (the Blender running the export)
 
         self.materials = [default_material(bpy.app.version)]
@@ -321,6 +323,7 @@ class MaterialTable:
         self.links = [None]          # per material: Links (UV / colour layers it needs) or None
         self._index = {None: 0}
         self._problems = {}
+        self.override = override
 
     def index_of(self, mat) -> int:
         key = None if mat is None else mat.original.name_full
@@ -345,8 +348,15 @@ class MaterialTable:
                 color = color if color else links.color_layer if links.color_layer is not None else color
         return uv, color
 
+    def uv_layers_named(self, indices) -> list:
+        """The distinct UV maps that the materials `indices` name (UV Map nodes)."""
+        names = {self.links[i].uv_layer for i in indices if self.links[i] is not None}
+        return sorted(name for name in names if name)
+
     def slot_indices(self, obj):
         """Global material index for each material slot of `obj` (at least one entry)."""
+        if self.override is not None:
+            return [self.index_of(self.override)] * max(len(obj.material_slots), 1)
         slots = [self.index_of(slot.material) for slot in obj.material_slots]
         return slots or [0]
 

@@ -57,6 +57,14 @@ class MeshData:
         self.degenerate = _zero_area_count(co, triangles) if self.finite else 0
         if normals is not None and not np.isfinite(normals.reshape(-1).sum()):
             self.normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)  # the core falls back
+        # Corners whose UV or colour is NaN or Inf (the core refuses them): read as 0, and counted
+        self.non_finite_corners = 0
+        for name in ("uvs", "colors"):
+            values = getattr(self, name)
+            if values is not None and not np.isfinite(values.reshape(-1).sum()):
+                bad = ~np.isfinite(values)
+                self.non_finite_corners += int(bad.any(axis=-1).sum())
+                setattr(self, name, np.where(bad, np.float32(0.0), values))
 
 
 def _zero_area_count(co, triangles) -> int:
@@ -214,6 +222,10 @@ def sphere_from_bounds(bound_box, matrix):
     return centre, float((hi - lo).max() / 2.0 * scale)
 
 
+def _quoted(names) -> str:
+    return ", ".join(f"'{name}'" for name in sorted(names))
+
+
 def renders(inst) -> bool:
     """Whether a depsgraph object instance is geometry that the render shows.
 
@@ -288,6 +300,9 @@ class MeshCollector:
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
+        self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
+        self.uv_conflicts = {}     # object name -> (the UV maps its materials name, the one read for all)
+        self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
     def add_instance(self, inst):
@@ -316,6 +331,8 @@ class MeshCollector:
             if scales.max() - scales.min() > 1e-4 * scales.max():
                 self.non_uniform_spheres.append(obj.name)
             self.spheres.append((centre, radius, int(lookup[0])))
+            if self.materials.layers(lookup)[0] is not None:
+                self.textured_spheres.add(obj.name)
             return
         layers = self.materials.layers(lookup)
         key, data = self.cache.mesh(obj, layers)
@@ -337,6 +354,11 @@ class MeshCollector:
             self.without_uvs.add(obj.name)
         if data.missing_uv_layer:
             self.missing_uv_layers[obj.name] = data.missing_uv_layer
+        named = self.materials.uv_layers_named(lookup[np.unique(np.clip(data.material_slot, 0, len(lookup) - 1))])
+        if len(named) > 1:                     # (the slots its faces use)
+            self.uv_conflicts[obj.name] = (named, layers[0])
+        if data.non_finite_corners:
+            self.non_finite_corners[obj.name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
 
     def without_faces(self) -> set[str]:
@@ -347,10 +369,10 @@ class MeshCollector:
         out = [f"Skipped object '{name}': {why}" for name, why in sorted(self.invalid.items())]
         for label, names in sorted(self.ignored.items()):
             out.append(f"{label} is not supported (every ray sees the object): "
-                       + ", ".join(f"'{name}'" for name in sorted(names)))
+                       + _quoted(names))
         if self.without_faces():
             out.append("Objects without faces (only vertices or edges) are not rendered: "
-                       + ", ".join(f"'{name}'" for name in sorted(self.without_faces())))
+                       + _quoted(self.without_faces()))
         for name, (zero, total) in sorted(self.degenerate.items()):
             out.append(f"Object '{name}': {zero} of {total} triangles have zero area and are invisible")
         for name, layer in sorted(self.missing_uv_layers.items()):
@@ -358,7 +380,16 @@ class MeshCollector:
                        "its render UV map is used instead (Cycles reads UV (0, 0) there)")
         if self.without_uvs:
             out.append("Objects with image textures but no UV map show each texture's corner at UV (0, 0): "
-                       + ", ".join(f"'{name}'" for name in sorted(self.without_uvs)))
+                       + _quoted(self.without_uvs))
+        for name, (named, used) in sorted(self.uv_conflicts.items()):
+            out.append(f"Object '{name}': its materials' UV Map nodes name different UV maps "
+                       f"({', '.join(repr(n) for n in named)}); one UV map per object is read: {used!r}")
+        for name, count in sorted(self.non_finite_corners.items()):
+            out.append(f"Object '{name}': {count} triangle corners have a non-finite UV or colour (NaN or Inf), "
+                       "read as 0")
+        if self.textured_spheres:
+            out.append("'Render as sphere' objects have no UV map, so each image texture shows one texel: "
+                       + _quoted(self.textured_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append(f"'Render as sphere' objects with non-uniform scale use their largest axis ({names})")

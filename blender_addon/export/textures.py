@@ -12,7 +12,8 @@ shows them, with one warning naming each.
 
 Node settings: interpolation Closest stays closest, every other mode is
 bilinear; extension REPEAT / EXTEND / CLIP as set (MIRROR is read as REPEAT,
-with a warning). A texture is (image, interpolation, extension, output):
+with a warning). A texture is (image, interpolation, extension, output,
+premultiplied: the Color output when the node's Alpha output is not linked):
 the Color and Alpha outputs of one node are two textures of one image.
 """
 from __future__ import annotations
@@ -51,6 +52,8 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
         return None, "no image is set"
     if getattr(img, "source", "") == "TILED":
         return None, "UDIM tiles are not supported"
+    if getattr(img, "source", "") in ("SEQUENCE", "MOVIE"):
+        return None, f"image {img.source.lower()}s are not supported (use a single image)"
     try:
         w, h = (int(x) for x in img.size)
         if w == 0 or h == 0:
@@ -169,11 +172,20 @@ class TextureTable:
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
         if getattr(node, "extension", "REPEAT") not in EXTENSION:
             self.notes.add(f"image extension {node.extension} is read as Repeat")
-        key = (image, interpolation, extension, output == "Alpha")
+        if getattr(node, "projection", "FLAT") not in ("FLAT", "EQUIRECTANGULAR"):
+            self.notes.add(f"image projection {node.projection} is read as Flat (the UV map)")
+        # Cycles' Color output is associated (premultiplied) unless the node's
+        # Alpha output is linked; data images and channel-packed alpha stay as stored.
+        img = node.image
+        alpha_out = node.outputs.get("Alpha")
+        premultiply = (output != "Alpha" and alpha_out is not None and not alpha_out.is_linked
+                       and img is not None and not img.colorspace_settings.is_data
+                       and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
+        key = (image, interpolation, extension, output == "Alpha", premultiply)
         if key not in self._texture_index:
             self._texture_index[key] = len(self.textures)
             self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
-                                         use_alpha=output == "Alpha"))
+                                         use_alpha=output == "Alpha", premultiply=premultiply))
         return self._texture_index[key]
 
     def prune(self):

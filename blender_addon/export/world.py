@@ -56,9 +56,16 @@ def _plain_background(world, node, warnings) -> tuple:
     """Color x Strength of an unlinked Background node; black for no node."""
     if node is None:
         return (0.0, 0.0, 0.0)
-    if node.type != "BACKGROUND" or any(_source(node.inputs[k])[0] is not None for k in ("Color", "Strength")):
+    if node.type != "BACKGROUND":
         warnings.append(f"World {world.name!r}: only a plain Background node is read on each side of the "
                         f"Is Camera Ray mix ({node.bl_idname} read as black)")
+        return (0.0, 0.0, 0.0)
+    linked = [(k, _source(node.inputs[k])[0]) for k in ("Color", "Strength")]
+    linked = [(k, src) for k, src in linked if src is not None]
+    if linked:
+        what = ", ".join(f"its {k} from {src.bl_idname}" for k, src in linked)
+        warnings.append(f"World {world.name!r}: a Background node on one side of the Is Camera Ray mix has {what}; "
+                        "only constant colours and strengths are read there (read as black)")
         return (0.0, 0.0, 0.0)
     strength = input_value(node.inputs["Strength"])
     return tuple(c * strength for c in input_value(node.inputs["Color"])[:3])
@@ -72,6 +79,11 @@ def convert_world(world, textures, warnings: list) -> tuple:
     visibility = getattr(world, "cycles_visibility", None)
     if visibility is not None and not getattr(visibility, "diffuse", True):
         out = dataclasses.replace(out, ambient=(0.0, 0.0, 0.0))
+    ignored = [label for prop, label in (("camera", "Camera"), ("glossy", "Glossy"), ("transmission", "Transmission"))
+               if visibility is not None and not getattr(visibility, prop, True)]
+    if ignored:
+        warnings.append(f"World {world.name!r}: Ray Visibility > {', '.join(ignored)} off is not supported "
+                        "(camera, mirror and refraction rays that miss see the world)")
     return background, out
 
 

@@ -73,7 +73,7 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     float u, v;
     hit_uv(hit, u, v);
     if (m.color_texture >= 0) {
-        out.color = lookup(m.color_texture, u, v).rgb;
+        out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, u, v));
     } else if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
         const float* c = &colors_[9 * size_t(hit.prim)];
         const float b0 = 1.0f - hit.u - hit.v;

@@ -53,6 +53,9 @@ struct Texture {
     Interpolation interpolation = Interpolation::Linear;
     Extension extension = Extension::Repeat;
     bool use_alpha = false;                              // the Alpha output instead of Color
+    // The Color output multiplied by alpha: Blender's Image Texture gives
+    // associated (premultiplied) colour when its Alpha output is not linked.
+    bool premultiply = false;
 };
 
 // Checks the enums (the image index is checked by the scene, which knows the
@@ -62,10 +65,19 @@ void validate_texture(const Texture& t, const std::string& where);
 // The image under texture coordinates (u, v), filtered and extended as `t` says.
 Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 
+// Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
+// else its colour, times alpha when premultiply is set.
+inline Vec3 color_of(const Texture& t, const Rgba& c) {
+    if (t.use_alpha) return Vec3(c.a, c.a, c.a);
+    return t.premultiply ? c.rgb * c.a : c.rgb;
+}
+
 // Scalar value of a texture feeding a scalar input: its alpha (use_alpha), else
 // the colour's luminance (Rec. 709 weights, Blender's colour-to-float conversion).
 inline float scalar_of(const Texture& t, const Rgba& c) {
-    return t.use_alpha ? c.a : 0.2126f * c.rgb.x + 0.7152f * c.rgb.y + 0.0722f * c.rgb.z;
+    if (t.use_alpha) return c.a;
+    const Vec3 rgb = color_of(t, c);
+    return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z;
 }
 
 // Equirectangular coordinates of a direction, as Blender's Environment

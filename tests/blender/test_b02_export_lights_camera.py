@@ -94,6 +94,11 @@ def test_camera_depth_of_field(export):
     assert out.camera["focus_distance"] == pytest.approx(7.5, rel=1e-6)
     out = export("camera", dof=True, focus_object=True)
     assert out.camera["focus_distance"] == pytest.approx(14.0, rel=1e-5)
+    out = export("camera", dof=True, focus_bone=True)      # the bone's head, not the armature's origin (12)
+    assert out.camera["focus_distance"] == pytest.approx(18.0, rel=1e-5)
+    # orthographic: Cycles' aperture is 1 / (2 f-stop), not (lens / 1000) / (2 f-stop)
+    out = export("camera", dof=True, ortho=True)
+    assert out.camera["aperture"] == pytest.approx(1.0 / (2 * 2.8), rel=1e-6)
 
 
 def test_no_camera_is_a_clear_error(export):

@@ -79,3 +79,21 @@ def test_the_cycles_output_and_muted_nodes_and_links_are_honoured(export):
     # a UV Map node naming a layer the mesh lacks: the render layer is read, and said so
     assert ("Object 'MissingMap' has no UV map 'Missing', which its material's UV Map node names: its render "
             "UV map is used instead (Cycles reads UV (0, 0) there)") in out.warnings
+
+
+def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it(export):
+    out = export("unread_settings")
+    assert "error" not in out.info, out.info.get("error")
+    said = "\n".join(out.warnings)
+    assert "image projection BOX is read as Flat" in said
+    assert "Object 'TwoMaps': its materials' UV Map nodes name different UV maps ('Second', 'UVMap')" in said
+    assert "Object 'NanUV': 2 triangle corners have a non-finite UV or colour (NaN or Inf), read as 0" in said
+    assert "World 'Hidden': Ray Visibility > Camera off is not supported" in said
+    assert np.isfinite(out.uvs).all()
+
+
+def test_the_view_layers_material_override_replaces_every_material(export):
+    out = export("unread_settings", override=True)
+    used = np.unique(out.triangle_materials)
+    assert len(used) == 1                                        # every triangle, every object
+    np.testing.assert_allclose(out.materials[int(used[0])]["color"], [0.3, 0.3, 0.3], rtol=1e-5)

@@ -62,7 +62,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
         assert render[field] >= 0, field
     assert name(node["color_texture"]) == "Shared"
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
-                                               "interpolation": "closest", "extension": "clip", "use_alpha": False}
+                                               "interpolation": "closest", "extension": "clip", "use_alpha": False,
+                                               "premultiply": True}   # its Alpha output is not linked: associated
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert name(render["metallic_texture"]) == "MetalMap"
     # metallic 0: the core blends towards metal per hit; Blender 4+ takes the
@@ -73,6 +74,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     assert name(render["alpha_texture"]) == "Shared" and alpha["use_alpha"] and alpha["extension"] == "extend"
     colour = textures[render["color_texture"]]
     assert (colour["interpolation"], colour["extension"], colour["use_alpha"]) == ("linear", "extend", False)
+    # (its Alpha comes from a second node: the node on Base Color gives associated colour, as in Cycles)
+    assert colour["premultiply"]
 
 
 def test_each_image_is_stored_once_and_8_bit_stays_8_bit(links):

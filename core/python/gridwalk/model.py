@@ -149,12 +149,15 @@ class Texture(Record):
     """How a material (or the world) samples an image. image: a gridwalk.Image,
     or an index into Scene(images=...); an Image used by several textures is
     stored once. interpolation: linear | closest. extension: repeat | extend
-    | clip (transparent black outside). use_alpha: a scalar input takes the
-    image's alpha channel (Blender's Alpha output) instead of its luminance."""
+    | clip (transparent black outside). use_alpha: the image's alpha channel
+    (Blender's Alpha output): a scalar input takes it instead of the colour's
+    luminance, a colour input as grey. premultiply: the colour is multiplied by
+    alpha (Blender's Color output when the node's Alpha output is not linked)."""
     image: object = None
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
+    premultiply: bool = _TEX.premultiply
     CORE = _core.Texture
 
     def converters(self) -> dict:

@@ -350,3 +350,38 @@ def texture_links_scene(resolution=(32, 24)):
     add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
     bpy.context.view_layer.update()
     return {}
+
+
+def unread_settings_scene(override=False):
+    """Settings the export reads or warns about (found by an exploration
+    against Cycles): a Box-projected image, an object whose two materials
+    name different UV maps, a plane with a NaN UV (one loop: a corner of both its triangles), a world hidden from camera
+    rays; with override, the view layer's Material Override (grey)."""
+    reset(resolution=(32, 24))
+    img = bpy.data.images.new("Grid", 16, 16)
+    img.generated_type = "COLOR_GRID"
+    box = principled_material("Box", (0.5, 0.5, 0.5))
+    _image_node(box, img).projection = "BOX"
+    _plane("Boxed", 1.0, (-2.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(box)
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=3, y_subdivisions=3, size=1.0, location=(0.0, 0.0, 0.0),
+                                    rotation=(math.pi / 2, 0, 0))
+    two = bpy.context.object                   # faces alternating between the two materials
+    two.name = "TwoMaps"
+    two.data.uv_layers.new(name="Second")
+    for name, layer in (("FirstMap", "UVMap"), ("SecondMap", "Second")):
+        mat = principled_material(name, (0.5, 0.5, 0.5))
+        _image_node(mat, img, uv_map=layer)
+        two.data.materials.append(mat)
+    two.data.polygons.foreach_set("material_index", [i % 2 for i in range(len(two.data.polygons))])
+    nan_uv = _plane("NanUV", 1.0, (2.0, 0.0, 0.0), (math.pi / 2, 0, 0))
+    nan_uv.data.materials.append(box)
+    nan_uv.data.uv_layers.active.data[0].uv = (float("nan"), 0.5)
+    world = bpy.data.worlds.new("Hidden")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)
+    world.cycles_visibility.camera = False
+    bpy.context.scene.world = world
+    if override:
+        bpy.context.view_layer.material_override = principled_material("Override", (0.3, 0.3, 0.3))
+    bpy.context.view_layer.update()
+    return {}

@@ -226,10 +226,12 @@ def lights_scene():
     return {"lights": out}
 
 
-def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False):
+def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False):
     scene = reset(resolution=resolution)
     link(cube_object())
     cam = scene.camera
+    if ortho:
+        cam.data.type = "ORTHO"
     cam.data.lens = 50.0
     cam.data.sensor_width, cam.data.sensor_height = 36.0, 24.0
     cam.data.sensor_fit = fit
@@ -241,6 +243,16 @@ def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False
         target = link(bpy.data.objects.new("Focus", None))
         target.location = (2.0, 4.0, 1.0)     # 14 units in front of the camera along +y
         cam.data.dof.focus_object = target
+    if focus_bone:                              # an armature 12 units in front, its bone's head 18
+        rig = link(bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig")))
+        bpy.context.view_layer.objects.active = rig
+        bpy.ops.object.mode_set(mode="EDIT")
+        bone = rig.data.edit_bones.new("Head")
+        bone.head, bone.tail = (0.0, 6.0, 0.0), (0.0, 6.0, 1.0)
+        bpy.ops.object.mode_set(mode="OBJECT")
+        rig.location = (1.0, 2.0, 0.0)
+        cam.data.dof.focus_object = rig
+        cam.data.dof.focus_subtarget = "Head"
     bpy.context.view_layer.update()
     return {"eye": list(cam.matrix_world.translation)}
 
@@ -455,6 +467,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
 
 from material_scenes import (bad_materials_scene, checker_scene, emission_mirror_scene,  # noqa: E402,F401
                              environment_scene, node_states_scene, pane_shadow_scene,
-                             principled_sphere_scene, roughness_map_scene, texture_links_scene)
+                             principled_sphere_scene, roughness_map_scene, texture_links_scene,
+                             unread_settings_scene)
 
 BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

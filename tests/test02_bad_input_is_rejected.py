@@ -82,6 +82,15 @@ def test_bad_records():
         make(lights=[(1, 2, 3)])
 
 
+@pytest.mark.parametrize("field, value", [("color", (-1.0, 0.5, 0.5)), ("kd", -0.5), ("ks", -0.1),
+                                          ("mirror", -1.0), ("transmittance", -0.2), ("emission", -1.0),
+                                          ("emission_color", (0.0, -2.0, 0.0))])
+def test_negative_light_in_a_material_is_rejected(field, value):
+    # A negative colour gave negative pixels (clipped to black in a PNG, kept in .npy)
+    with pytest.raises(ValueError, match=rf"materials\[0\]\.{field} must "):
+        make(materials=[gw.Material(**{field: value})])
+
+
 def test_degenerate_cylinder_is_rejected():
     with pytest.raises(ValueError, match=r"cylinder_apex\[0\] coincides"):
         gw.Scene(cylinder_base=[[0, 0, 0]], cylinder_apex=[[0, 0, 0]], cylinder_base_radius=[1],

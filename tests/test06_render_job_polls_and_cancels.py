@@ -64,6 +64,11 @@ def test_cancel_returns_within_100ms_and_stops_all_workers():
     assert elapsed < 0.1, f"cancel took {elapsed * 1000:.1f} ms"
     assert job.cancelled and thread_count() == before and render_threads() == 0
     assert 0 < job.tiles_done < job.tiles_total
+    # A cancel after the end leaves a finished job, not a cancelled one.
+    done = gw.RenderJob(scene(size=1, res=16)).start()
+    done.wait()
+    done.cancel()
+    assert not done.cancelled and done.tiles_done == done.tiles_total
     # A new render after a cancel works and is complete.
     img = gw.render(scene(size=1, res=32))
     assert img.shape == (32, 32, 4) and np.all(np.isfinite(img))

@@ -163,6 +163,23 @@ def test_float_vertex_indices_are_rejected(tmp_path):
         load_ply(path)
 
 
+@pytest.mark.parametrize("encoding", sorted(ENCODINGS))
+def test_a_list_property_in_the_vertex_element_is_refused_not_misread(tmp_path, encoding):
+    # Read as fixed-size records, a binary file's vertices came out as values
+    # near 1e-40 (no error), or the next element was called truncated.
+    vertex = np.empty(3, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("ids", "O")])
+    vertex["x"], vertex["y"], vertex["z"] = [0, 1, 0], [0, 0, 1], 0
+    vertex["ids"] = [np.array([1, 2], np.int32)] * 3
+    face = np.empty(1, dtype=[("vertex_indices", "O")])
+    face["vertex_indices"] = [np.array([0, 1, 2], np.int32)]
+    text, byte_order = ENCODINGS[encoding]
+    path = tmp_path / "mesh.ply"
+    plyfile.PlyData([plyfile.PlyElement.describe(vertex, "vertex"), plyfile.PlyElement.describe(face, "face")],
+                    text=text, byte_order=byte_order).write(str(path))
+    with pytest.raises(SceneFileError, match=r"mesh\.ply:3: element 'vertex' has list properties \('ids'\)"):
+        load_ply(path)
+
+
 def test_missing_vertex_element_is_rejected(tmp_path):
     header = HEADER.replace("element vertex 3", "element point 3")
     with pytest.raises(SceneFileError, match="no 'vertex' element"):

@@ -134,11 +134,19 @@ def test_a_device_given_as_the_scene_file_is_named_as_such():
     (["--grid-density", "-1"], "grid_density"),
     (["--width", "0"], "Camera.width"),
     (["-o", "out.jpg"], "must end in .png or .npy"),
+    (["--npy", "also.png"], "also.png: output must end in .npy"),     # (was written as a PNG)
 ])
 def test_bad_settings_give_a_one_line_error_and_exit_2(tmp_path, options, message):
     run = gridwalk("render", SPD_DIR / "balls_s1.nff", "-o", tmp_path / "x.png", *options)
     assert run.returncode == 2 and run.stderr.startswith("gridwalk: error: "), run.stderr
     assert message in run.stderr and "Traceback" not in run.stderr
+
+
+def test_demo_refuses_a_resolution_of_zero(tmp_path):
+    # 0 read as "not given": the full 512 x 512 render ran
+    run = gridwalk("demo", "--resolution", "0", "-o", tmp_path / "demo.png")
+    assert run.returncode == 2 and run.stderr.startswith("gridwalk: error: "), run.stderr
+    assert "width" in run.stderr and not (tmp_path / "demo.png").exists()
 
 
 @needs_spd

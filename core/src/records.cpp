@@ -35,20 +35,27 @@ void need_at_least(const std::string& where, const char* field, double v, double
     if (v < lo) refuse(where, field, "must be >= " + show(lo) + ", got " + show(v));
 }
 
+// Reflected and emitted light cannot be negative: a negative colour or weight
+// gave negative pixels (clipped to black in a PNG, kept in .npy).
+void need_non_negative(const std::string& where, const char* field, const Vec3& v) {
+    need_finite(where, field, v);
+    if (v.x < 0 || v.y < 0 || v.z < 0) refuse(where, field, "must have no negative component, got " + show(v));
+}
+
 }  // namespace
 
 void validate_material(const Material& m, const std::string& where) {
-    need_finite(where, "color", m.color);
-    need_finite(where, "kd", m.kd);
-    need_finite(where, "ks", m.ks);
-    need_finite(where, "transmittance", m.transmittance);
-    need_finite(where, "mirror", m.mirror);
-    need_finite(where, "emission", m.emission);
+    need_non_negative(where, "color", m.color);
+    need_at_least(where, "kd", m.kd, 0);
+    need_at_least(where, "ks", m.ks, 0);
+    need_at_least(where, "transmittance", m.transmittance, 0);
+    need_at_least(where, "mirror", m.mirror, 0);
+    need_at_least(where, "emission", m.emission, 0);
     need_at_least(where, "shininess", m.shininess, 0);
     need_at_least(where, "roughness", m.roughness, 0);
     need_finite(where, "ior", m.ior);
     if (!(m.ior > 0)) refuse(where, "ior", "must be > 0, got " + show(m.ior));
-    need_finite(where, "emission_color", m.emission_color);
+    need_non_negative(where, "emission_color", m.emission_color);
     need_finite(where, "alpha", m.alpha);
     if (!(m.alpha >= 0 && m.alpha <= 1)) refuse(where, "alpha", "must be in [0, 1], got " + show(m.alpha));
     // Texture indices are checked against the scene's textures by the scene.

@@ -54,11 +54,11 @@ def demo_settings(quick: bool, threads: int) -> RenderSettings:
 
 
 # -- output -------------------------------------------------------------------
-def check_output(path) -> Path:
+def check_output(path, types=OUTPUT_TYPES) -> Path:
     """Refuse an unusable output path before rendering, not after."""
     path = Path(path)
-    if path.suffix.lower() not in OUTPUT_TYPES:
-        raise CliError(f"{path}: output must end in {' or '.join(OUTPUT_TYPES)}")
+    if path.suffix.lower() not in types:
+        raise CliError(f"{path}: output must end in {' or '.join(types)}")
     if not path.parent.is_dir():
         raise CliError(f"{path}: the folder {str(path.parent)!r} does not exist")
     if path.is_dir():
@@ -147,7 +147,7 @@ def stats_summary(stats: dict) -> str:
 # -- subcommands --------------------------------------------------------------
 def cmd_demo(args) -> int:
     out = check_output(args.output)
-    resolution = args.resolution or (256 if args.quick else 512)
+    resolution = args.resolution if args.resolution is not None else (256 if args.quick else 512)
     scene = Scene(**demo_scene(args.size, resolution))
     s = demo_settings(args.quick, args.threads)
     job = RenderJob(scene, s)
@@ -174,7 +174,7 @@ def load(path) -> dict:
 
 def cmd_render(args) -> int:
     out = check_output(args.output)
-    npy = check_output(args.npy) if args.npy else None
+    npy = check_output(args.npy, (".npy",)) if args.npy else None
     s = settings_from_args(args)
     kwargs = load(args.scene)
     cam = kwargs["camera"]

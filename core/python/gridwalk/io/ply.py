@@ -129,6 +129,11 @@ def _plan(h: Header):
     vertex = h.element("vertex")
     if vertex is None or any(vertex.get(c) is None or vertex.get(c).is_list for c in "xyz"):
         raise SceneFileError(f"{path}: no 'vertex' element with x, y and z properties")
+    listed = [p.name for p in vertex.properties if p.is_list]
+    if listed:                                 # (its records are read as fixed-size rows)
+        raise SceneFileError(f"{path}:{vertex.line}: element 'vertex' has list properties "
+                             f"({', '.join(repr(n) for n in listed)}); Gridwalk reads vertex elements of "
+                             f"single values only (positions, normals, colours, UVs)")
     if vertex.count >= 2 ** 31:
         raise SceneFileError(f"{path}: element 'vertex' declares {vertex.count} records; the core "
                              f"indexes at most 2^31 - 1 vertices")

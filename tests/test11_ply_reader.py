@@ -71,6 +71,15 @@ def test_float_colours_are_kept_and_missing_normals_and_colours_are_none(tmp_pat
     assert mesh.normals is None and mesh.colors is None
 
 
+def test_float_colours_outside_the_unit_range_render_clipped_not_refused(tmp_path):
+    # A negative colour is refused by the core (negative light): the reader clips to [0, 1]
+    dtype = [("x", "f4"), ("y", "f4"), ("z", "f4"), ("red", "f4"), ("green", "f4"), ("blue", "f4")]
+    vertices = [(0, 0, 0, -0.5, 2.0, 0.5), (1, 0, 0, -0.5, 2.0, 0.5), (0, 1, 0, -0.5, 2.0, 0.5)]
+    scene = load_ply(write_ply(tmp_path / "c.ply", vertices, [[0, 1, 2]], dtype))
+    colour = scene["materials"][int(scene["triangle_materials"][0])].color
+    assert colour[0] == 0.0 and colour[1] == pytest.approx(1.0) and 0.0 < colour[2] < 1.0
+
+
 def test_vertex_index_property_name_variant_is_accepted(tmp_path):
     mesh = load_ply_mesh(write_ply(tmp_path / "mesh.ply", index_name="vertex_index"))
     assert len(mesh.triangles) == 3

@@ -209,7 +209,7 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     shininess = min(2.0 / (a * a) - 2.0, SHININESS_CAP)
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
     under = 1.0 - min(max(specular_albedo, 0.0), 1.0)
-    return Material(color=tuple(color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
+    return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
                     mirror=m, roughness=r, **_emission(emission))
 
@@ -256,9 +256,10 @@ def _from_other_bsdf(node, textured):
                                    _value(node, "IOR", 1.45, textured), 0.04)
     if kind == "EMISSION":
         strength = _value(node, "Strength", 1.0, textured)
+        color = tuple(max(float(c), 0.0) for c in color)   # (the core refuses negative light)
         if "color_texture" in textured.fields:
-            return Material(color=color, kd=0.0, ks=0.0, emission=strength)   # texture x strength
-        return Material(color=color, kd=0.0, ks=0.0, emission_color=tuple(c * strength for c in color))
+            return Material(color=color, kd=0.0, ks=0.0, emission=max(strength, 0.0))   # texture x strength
+        return Material(color=color, kd=0.0, ks=0.0, emission_color=tuple(max(c * strength, 0.0) for c in color))
     return None
 
 

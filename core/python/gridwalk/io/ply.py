@@ -345,7 +345,9 @@ def colour_materials(colors, triangles) -> tuple[list, np.ndarray]:
     """(materials, triangle_materials) for per-vertex sRGB `colors` in [0, 1]:
     see the module docstring."""
     from ..model import Material
-    linear = _srgb_to_linear(np.asarray(colors, dtype=np.float64))
+    # (float colours outside [0, 1] clipped: a negative one is no light, and
+    # the quantisation below packs levels of [0, 1])
+    linear = _srgb_to_linear(np.clip(np.nan_to_num(np.asarray(colors, dtype=np.float64)), 0.0, 1.0))
     mean = (linear[triangles[:, 0]] + linear[triangles[:, 1]] + linear[triangles[:, 2]]) / 3.0
     srgb = _linear_to_srgb(mean)
     for bits in (8, 7, 6, 5, 4):

@@ -89,16 +89,18 @@ def _follow(socket):
     else node None, and `value` the socket whose value the input takes:
       - the input itself when it is unlinked, when its link or what reaches
         it is muted, or when a muted node passes nothing to that output;
-      - the output of an RGB or Value node linked to it (not a shader input);
+      - the output of an RGB or Value node linked to it (not a shader or
+        vector input: a constant texture coordinate is not read);
       - None (the value 0, as Cycles reads it) when the chain ends at an
         unlinked input of a reroute or muted node, not that input's value."""
-    first = socket
+    first, seen = socket, set()
     while socket is not None and socket.is_linked:
         link = socket.links[0]
-        if link.is_muted:
+        if link.is_muted or not link.is_valid or socket.as_pointer() in seen:   # (invalid: red; a reroute loop)
             break
+        seen.add(socket.as_pointer())
         node, out = link.from_node, link.from_socket
-        if node.type in CONSTANT_NODES and not node.mute and first.type != "SHADER":
+        if node.type in CONSTANT_NODES and not node.mute and first.type not in ("SHADER", "VECTOR"):
             return None, None, out
         if node.type != "REROUTE" and not node.mute:
             return node, out, None
@@ -228,14 +230,14 @@ def _from_principled(node, textured):
         metallic = 0.0                    # the core blends towards the metal per hit
     roughness = _value(node, "Roughness", 0.5, textured, "roughness_texture")
     transmission = _value(node, ("Transmission Weight", "Transmission"), 0.0, textured)
-    ior = _value(node, "IOR", 1.45, textured)
+    ior = max(_value(node, "IOR", 1.45, textured), 1e-3)        # (a Value node may give any number)
     specular_albedo = 0.0
     if _socket(node, "Specular IOR Level") is not None:          # Blender 4.0+
-        level = _value(node, "Specular IOR Level", 0.5, textured)
+        level = max(_value(node, "Specular IOR Level", 0.5, textured), 0.0)
         f0 = ((ior - 1.0) / (ior + 1.0)) ** 2 * 2.0 * level
         specular_albedo = dielectric_albedo(ior) * 2.0 * level
     else:                                                       # Blender 3.x
-        f0 = 0.08 * _value(node, "Specular", 0.5, textured)
+        f0 = 0.08 * max(_value(node, "Specular", 0.5, textured), 0.0)
     strength = _value(node, "Emission Strength", 1.0, textured)
     emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured)
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
@@ -288,7 +290,10 @@ def convert_material(mat, textures=None):
     stored = mat.get(GRIDWALK_MATERIAL) if hasattr(mat, "get") else None
     if stored is not None:   # set by the NFF importer: the exact Whitted material
         fields = stored.to_dict() if hasattr(stored, "to_dict") else dict(stored)
-        fields["color"] = tuple(float(c) for c in fields["color"])
+        fields["color"] = tuple(max(float(c), 0.0) for c in fields["color"])
+        for key in ("kd", "ks", "transmittance", "mirror", "emission"):   # (the core refuses negative light)
+            if key in fields:
+                fields[key] = max(float(fields[key]), 0.0)
         return Material(**fields), None, None
     tree = getattr(mat, "node_tree", None)
     use_nodes = getattr(mat, "use_nodes", True)

@@ -178,8 +178,9 @@ class TextureTable:
         # Alpha output is linked; data images and channel-packed alpha stay as stored.
         img = node.image
         alpha_out = node.outputs.get("Alpha")
+        # (Blender holds float images premultiplied already: only 8-bit ones are straight)
         premultiply = (output != "Alpha" and alpha_out is not None and not alpha_out.is_linked
-                       and img is not None and not img.colorspace_settings.is_data
+                       and img is not None and not img.is_float and not img.colorspace_settings.is_data
                        and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
         key = (image, interpolation, extension, output == "Alpha", premultiply)
         if key not in self._texture_index:

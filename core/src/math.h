@@ -55,6 +55,10 @@ template <class T> inline V3<T> normalize(const V3<T>& a) {
 inline V3<float> scaled_to_unit(const V3<float>& a, int& exponent) {
     const float m = std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z)));
     exponent = 0;
+    // Squares of components up to 2^40 cannot overflow, and those of
+    // components under 2^-63 are below the rounding of m^2 >= 2^-80: there the
+    // plain formula is the scaled one's result, without libm calls (per hit).
+    if (m >= 0x1p-40f && m <= 0x1p40f) return a;
     if (!(m > 0) || !std::isfinite(m)) return a;
     exponent = std::ilogb(m);
     return {std::ldexp(a.x, -exponent), std::ldexp(a.y, -exponent), std::ldexp(a.z, -exponent)};
@@ -62,7 +66,8 @@ inline V3<float> scaled_to_unit(const V3<float>& a, int& exponent) {
 inline float length(const V3<float>& a) {
     int e;
     const V3<float> s = scaled_to_unit(a, e);
-    return std::ldexp(std::sqrt(dot(s, s)), e);
+    const float l = std::sqrt(dot(s, s));
+    return e ? std::ldexp(l, e) : l;
 }
 inline V3<float> normalize(const V3<float>& a) {
     int e;

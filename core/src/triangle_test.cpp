@@ -28,6 +28,18 @@ long double exact_t(const Ray& ray, const Vec3 v[3]) {
     return num / den;
 }
 
+// A secondary ray leaving triangle v in direction d from a point inside it
+// rounded to float, offset as the renderer offsets it.
+Ray spawned_ray(const Vec3 v[3], const Vec3& d) {
+    Vec3 p, p_err;
+    triangle_point(v[0], v[1], v[2], 0.25f, 0.35f, p, p_err);
+    Ray ray;
+    ray.d = d;
+    ray.o = offset_origin(p, p_err, triangle_normal(v[0], v[1], v[2]), ray.d);
+    ray.spawned = true;
+    return ray;
+}
+
 }  // namespace
 
 TEST_CASE("the t error bound contains the true error at every scale") {
@@ -65,17 +77,9 @@ TEST_CASE("a ray spawned from its own triangle, offset as the renderer offsets i
         const float scale = std::pow(10.0f, u(rng) * 4);
         Vec3 v[3];
         for (auto& p : v) p = Vec3(u(rng), u(rng), u(rng)) * scale + Vec3(scale * 3, 0, 0);
-        // A point in the triangle, rounded to float: the origin of a secondary ray.
-        float b1, b2;
-        Vec3 p, p_err;
-        triangle_point(v[0], v[1], v[2], 0.25f, 0.35f, p, p_err);
-        Ray ray;
-        ray.d = normalize(Vec3(u(rng), u(rng), u(rng)));
-        ray.o = offset_origin(p, p_err, triangle_normal(v[0], v[1], v[2]), ray.d);
-        ray.spawned = true;
-        const RayPre r(ray);
+        const RayPre r(spawned_ray(v, normalize(Vec3(u(rng), u(rng), u(rng)))));
         if (!r.valid) continue;
-        float t;
+        float t, b1, b2;
         CHECK_FALSE(intersect_triangle(r, &v[0].x, kInf, t, b1, b2));
         ++spawned;
     }
@@ -130,13 +134,7 @@ TEST_CASE("beyond float's products, the double path's t error bound holds and sp
                 CHECK(std::fabs((long double)t - te) <= (long double)err);
                 ++checked;
             }
-            Vec3 p, p_err;
-            triangle_point(v[0], v[1], v[2], 0.25f, 0.35f, p, p_err);
-            Ray out;
-            out.d = normalize(Vec3(u(rng), u(rng), u(rng)));
-            out.o = offset_origin(p, p_err, triangle_normal(v[0], v[1], v[2]), out.d);
-            out.spawned = true;
-            const RayPre ro(out);
+            const RayPre ro(spawned_ray(v, normalize(Vec3(u(rng), u(rng), u(rng)))));
             if (!ro.valid) continue;
             INFO("scale ", scale);
             CHECK(std::fabs(length(triangle_normal(v[0], v[1], v[2])) - 1.0f) < 1e-6f);

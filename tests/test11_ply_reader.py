@@ -222,6 +222,28 @@ def test_non_ply_or_truncated_header_is_rejected(tmp_path, data):
         load_ply(write_text(tmp_path, data))
 
 
+@pytest.mark.parametrize("variant", ["crlf", "cr", "byte order mark", "blanks after ply", "cr, binary"])
+def test_header_variants_from_other_editors_are_read(tmp_path, variant):
+    """Windows (CRLF), classic Mac OS (CR alone) line ends, a UTF-8 byte order
+    mark and blanks after 'ply' (all read as "not a PLY file" before); line
+    numbers in messages count the same lines."""
+    text = (HEADER + BODY).replace("element vertex 3", "element vertex 4").replace("0 1 0\n", "0 1 0\n1 1 0\n")
+    data = {"crlf": text.replace("\n", "\r\n").encode(), "cr": text.replace("\n", "\r").encode(),
+            "byte order mark": b"\xef\xbb\xbf" + text.encode(),
+            "blanks after ply": text.replace("ply\n", "ply \t\n", 1).encode()}.get(variant)
+    if variant == "cr, binary":
+        head = HEADER.replace("ascii", "binary_little_endian").replace("element vertex 3", "element vertex 4")
+        data = (head.replace("\n", "\r").encode() + np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], "<f4").tobytes()
+                + b"\x03" + np.array([0, 1, 2], "<i4").tobytes())
+    mesh = load_ply_mesh(write_text(tmp_path, data))
+    assert mesh.vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
+    assert mesh.triangles.tolist() == [[0, 1, 2]]
+    if variant != "cr, binary":
+        bad = data.replace(b"3 0 1 2", b"3 0 7 2")
+        with pytest.raises(SceneFileError, match=r"element 'face' record 0 \(line 14\): uses vertex index 7"):
+            load_ply_mesh(write_text(tmp_path, bad))
+
+
 def test_unknown_format_is_rejected(tmp_path):
     path = write_text(tmp_path, HEADER.replace("ascii 1.0", "binary_middle_endian 1.0") + BODY)
     with pytest.raises(SceneFileError, match=r"mesh\.ply:2: unsupported format"):

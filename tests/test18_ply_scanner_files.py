@@ -328,6 +328,46 @@ def test_a_large_file_is_read_in_bounded_memory(tmp_path, encoding):
     assert grown_mb < 32
 
 
+STRIP_LIMIT = """
+import sys
+from gridwalk import memory
+from gridwalk.io import SceneFileError, load_ply_mesh
+
+memory.default_limit = lambda fraction=0.5: 300 << 20     # as on a machine with 600 MiB
+with open("/proc/self/clear_refs", "w") as f:
+    f.write("5")
+before = int(next(l for l in open("/proc/self/status") if l.startswith("VmRSS")).split()[1])
+try:
+    load_ply_mesh(sys.argv[1])
+    print("loaded", 0)
+except SceneFileError as err:
+    grown = int(next(l for l in open("/proc/self/status") if l.startswith("VmHWM")).split()[1]) - before
+    print(str(err).replace(" ", "_"), grown // 1024)
+"""
+
+
+def test_a_strip_too_large_for_memory_is_refused_before_it_becomes_triangles(tmp_path):
+    """A strip's triangles are not in the header: one record of 2.5 M indices
+    (10 MB) makes 2.5 M triangles, about 0.7 GB to read and render. Under a
+    limit of 300 MiB it is refused after its indices are read, before the
+    triangles are built (building them peaked at about 340 MB)."""
+    n = 2_500_000
+    path = tmp_path / "strip.ply"
+    header = ("ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\n"
+              "property float y\nproperty float z\nelement tristrips 1\n"
+              "property list int int vertex_indices\nend_header\n")
+    rng = np.random.default_rng(5)
+    with open(path, "wb") as f:
+        f.write(header.encode() + rng.random((1000, 3)).astype("<f4").tobytes())
+        f.write(np.array([n], "<i4").tobytes() + rng.integers(0, 1000, n).astype("<i4").tobytes())
+    out = subprocess.run([sys.executable, "-c", textwrap.dedent(STRIP_LIMIT), str(path)],
+                         capture_output=True, text=True, timeout=120, check=True).stdout.split()
+    message, grown_mb = out[0].replace("_", " "), int(out[1])
+    assert "1,000 vertices and 2,500,000 faces and strip triangles (up to the record read)" in message
+    assert "more than the limit of 300 MiB" in message
+    assert grown_mb < 100
+
+
 @pytest.mark.parametrize("corners, fmt", [(10_000, "%g"), (200_000, "%g"), (200_000, "%.9g")])
 def test_a_regular_polygon_written_with_rounded_coordinates_is_a_fan(corners, fmt):
     # Six significant digits put more noise in a 10,000-gon's corners than its

@@ -22,6 +22,8 @@ file must be large enough for it, and the memory estimate of loading and
 rendering the mesh (gridwalk.memory, at the default 512 x 512) must fit in
 memory.default_limit(); the body is then read a chunk at a time into the
 output arrays, so a file larger than memory can be read when its mesh fits.
+Strips declare no triangle count: before a chunk of strip records becomes
+triangles, the estimate is checked again with its indices as triangles.
 
 Refused, with the file, element, record and what was expected: NaN, infinite
 or beyond-float32 values; a vertex used by a face beyond +-1e30 (the core's
@@ -58,6 +60,7 @@ from .ply_header import Element, Header, read_header
 _INDEX_NAMES = ("vertex_indices", "vertex_index")
 _COLOUR_NAMES = (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue"))
 _F32_MAX = float(np.finfo(np.float32).max)
+_STRIP_BYTES = 128              # peak bytes per strip index while a chunk becomes triangles (138 measured with the 12 kept)
 CORE_LIMIT = 1e30               # the core refuses primitives beyond +-1e30
 MAX_COLOURS = 4096
 GREY = dict(kd=0.8, ks=0.2, shininess=40.0)
@@ -159,19 +162,22 @@ def _plan(h: Header):
     return vertex, lists
 
 
-def _check_memory(h: Header, vertex: Element, lists: dict) -> None:
-    """Refuse up front a mesh whose estimated memory (the reader's arrays and
-    the render's, gridwalk.memory) exceeds memory.default_limit()."""
+def _check_memory(h: Header, vertex: Element, lists: dict, strip_triangles: int = 0) -> None:
+    """Refuse a mesh whose estimated memory (the reader's arrays and the
+    render's, gridwalk.memory) exceeds memory.default_limit(): up front from
+    the header's counts, and again while strips are read (their triangles are
+    known only from their lists), with `strip_triangles` at most so far."""
     from .. import memory
-    faces = sum(e.count for e in lists if e.name == "face")
+    faces = sum(e.count for e in lists if e.name == "face") + strip_triangles
     normals = all(vertex.get(c) is not None for c in ("nx", "ny", "nz"))
     colours = any(all(vertex.get(c) is not None for c in names) for names in _COLOUR_NAMES)
     est = memory.estimate(triangles=faces, vertices=vertex.count, normals=normals, width=512, height=512)
-    reading = vertex.count * 12 * (1 + normals + colours) + faces * 3 * 4
+    reading = vertex.count * 12 * (1 + normals + colours) + faces * 3 * 4 + strip_triangles * _STRIP_BYTES
     limit = memory.default_limit()
     if limit is not None and est.total + reading > limit:
+        what = "faces" if not strip_triangles else "faces and strip triangles (up to the record read)"
         raise SceneFileError(
-            f"{h.path}: the header declares {vertex.count:,} vertices and {faces:,} faces: reading and "
+            f"{h.path}: the header declares {vertex.count:,} vertices and {faces:,} {what}: reading and "
             f"rendering them needs an estimated {memory.format_bytes(est.total + reading)} of memory "
             f"(reader {memory.format_bytes(reading)}, {est.breakdown()}), more than the limit of "
             f"{memory.format_bytes(limit)} ({memory.DEFAULT_FRACTION:.0%} of physical memory)")
@@ -182,6 +188,7 @@ class _Reader:
 
     def __init__(self, h: Header, vertex: Element, lists: dict):
         self.h, self.n, self.vertex, self.body = h, vertex.count, vertex, None
+        self.lists_of = lists
         self.xyz = np.empty((self.n, 3), np.float32)
         self.normals = self.colours = None
         if all(vertex.get(c) is not None for c in ("nx", "ny", "nz")):
@@ -220,6 +227,7 @@ class _Reader:
         if prop.type[0] == "u" and np.iinfo(prop.type).max >= self.n:
             restart = np.iinfo(prop.type).max          # -1 as written to an unsigned type
         corners, counts, per_record = [], [], []
+        strip_total = sum(len(t) for _, tris, _ in self.strips for t in tris)
         for first, items, c in body.lists(e, name):
             if items.dtype.kind == "f":
                 bad = ~np.isfinite(items) | (items != np.round(items))
@@ -235,8 +243,10 @@ class _Reader:
                 k = self._record_of(c, int(np.argmax(bad)))
                 body.fail(e, first + k, f"uses vertex index {items[bad][0]}, but there are {self.n} "
                                         f"vertices (0 to {self.n - 1})")
-            if strips:
+            if strips:                     # a chunk's n items give at most n triangles
+                _check_memory(self.h, self.vertex, self.lists_of, strip_total + len(items))
                 tris, records = self._strips(items, is_restart, c)
+                strip_total += len(tris)
                 corners.append(tris)
                 per_record.append(np.bincount(records, minlength=len(c)))
                 continue

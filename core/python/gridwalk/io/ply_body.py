@@ -236,7 +236,7 @@ class Body:
                 self._truncated(e, record)
             self._rows, self._row, self._text = [self._text], 0, b""
             return
-        rows = (self._text + data).split(b"\n")
+        rows = (self._text + data).split(self.h.newline)
         self._text = rows.pop()
         if len(self._text) > MAX_LINE:
             self.fail(e, record, f"a line of more than {MAX_LINE >> 20} MiB")

@@ -69,6 +69,7 @@ class Header:
     body_start: int
     file_size: int
     lines: int                     # header lines, end_header included
+    newline: bytes = b"\n"         # b"\r" in a file with classic Mac OS line ends
 
     @property
     def ascii(self) -> bool:
@@ -82,15 +83,20 @@ class Header:
         return next((e for e in self.elements if e.name == name), None)
 
 
-_END = re.compile(rb"(?m)^end_header[ \t]*\r?\n")
+_MAGIC = re.compile(rb"(\xef\xbb\xbf)?ply[ \t]*(\r\n|\n|\r)")
+_END = {b"\n": re.compile(rb"(?m)^end_header[ \t]*\r?\n"), b"\r": re.compile(rb"\rend_header[ \t]*\r")}
 
 
 def read_header(path: Path) -> Header:
+    """Lines end in LF, CRLF or (as classic Mac OS wrote them) CR alone, as the
+    first line does; a UTF-8 byte order mark and blanks after 'ply' are allowed."""
     with open_scene_file(path) as f:
         head = f.read(MAX_HEADER)
         size = os.fstat(f.fileno()).st_size
-    end = _END.search(head)
-    if not head.startswith(b"ply") or end is None or head[3:4] not in (b"\n", b"\r"):
+    magic = _MAGIC.match(head)
+    newline = b"\r" if magic and magic.group(2) == b"\r" else b"\n"
+    end = _END[newline].search(head) if magic else None
+    if end is None:
         raise SceneFileError(f"{path}: not a PLY file, or a truncated one (no 'ply' ... 'end_header' "
                              f"header in the first {MAX_HEADER >> 20} MiB)")
 
@@ -98,7 +104,7 @@ def read_header(path: Path) -> Header:
         raise SceneFileError(f"{path}:{lineno}: {message}")
 
     fmt, elements = None, []
-    rows = head[:end.start()].split(b"\n")
+    rows = head[magic.start(2):end.start()].split(newline)
     for lineno, raw in enumerate(rows[1:], 2):
         words = raw.split()                      # ASCII whitespace only (not 0x1c-0x1f)
         if not words or words[0] in (b"comment", b"obj_info"):
@@ -130,7 +136,7 @@ def read_header(path: Path) -> Header:
         dup = next((n for n in names if names.count(n) > 1), None)
         if dup:
             fail(e.line, f"element {e.name!r} has two properties named {dup!r}")
-    return Header(path, fmt, elements, end.end(), size, head[:end.end()].count(b"\n"))
+    return Header(path, fmt, elements, end.end(), size, head[:end.end()].count(newline), newline)
 
 
 def _property(tokens, line, fail) -> Property:

@@ -42,6 +42,10 @@ FINDINGS = {
                                   "view: 'resolution' width x height = 10000000000 pixels: more than the "
                                   "limit of 2^28"),
     "a_folder": ("folder.nff", None, ": ", "is a folder, not a scene file"),
+    "a_second_view_block": ("scene.nff", VIEW + "s 0 0 0 1\n" + VIEW.replace("-5", "5"), ":7: ",
+                            "a second 'v' view block (the first is on line 1); an NFF file has one view"),
+    "ctrl_z_before_more_entities": ("scene.nff", VIEW + "s 0 0 0 1\n\x1as 1 1 1 1\n", ":7: ",
+                                    "binary or non-ASCII data"),
     "ply_face_index_out_of_range": ("mesh.ply", HEADER.format(comment="") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
                                     ": ", "element 'face' record 0 (line 13): uses vertex index 7"),
     "ply_coordinate_1e35": ("mesh.ply", HEADER.format(comment="") + "0 0 0\n1e35 0 0\n0 1 0\n3 0 1 2\n", ": ",
@@ -85,6 +89,21 @@ def test_unicode_and_control_separators_inside_comments_are_just_comment_text(tm
     path.write_bytes(("# \u2028 \u0085 \x0c \x1c \x1d \x1e\n" + VIEW + "s 0 0 0 1 # \u2028 s 9 9 9 9\n")
                      .encode("utf-8"))
     assert load_nff(path)["sphere_radii"].tolist() == [1.0]
+
+
+@pytest.mark.parametrize("tail", ["\x1a", "\x1a\r\n", "\x1a \n\n  "])
+def test_a_dos_end_of_file_mark_ends_the_file(tmp_path, tail):
+    """DOS editors end a text file with ^Z (0x1a); with only blanks after it,
+    it ends the file (it was refused as binary data), also where it falls on
+    the edge of a chunk of the reader's."""
+    from gridwalk.io.tokens import TokenStream
+    path = tmp_path / "scene.nff"
+    path.write_bytes((VIEW + "s 0 0 0 1\ns 3 0 0 2").encode() + tail.encode())
+    assert load_nff(path)["sphere_radii"].tolist() == [1.0, 2.0]
+    for chunk in range(3, 12):
+        with open(path, "rb") as f:
+            words = [t for tokens, _ in TokenStream(f, chunk_bytes=chunk).segments() for t in tokens]
+        assert words[-5:] == [b"s", b"3", b"0", b"0", b"2"], chunk
 
 
 JUNK = {   # file content (written sparse where it is zeros), error phrase

@@ -195,7 +195,10 @@ class Parser:
             self.materials.append((Material(color=(r, g, b), kd=kd, ks=ks, shininess=shine,
                                             transmittance=t, ior=ior, mirror=ks), index))
         elif kind == V:
-            self.view.setdefault(V, (None, index))
+            if V in self.view:             # its from / at / up / angle would replace the first's
+                raise Refusal(index, "a second 'v' view block (the first is on line {also}); an NFF "
+                                     "file has one view", also=self.view[V][1])
+            self.view[V] = (None, index)
         else:
             self.view[kind] = (v[0] if kind in (ANGLE, HITHER) else v, index)
 

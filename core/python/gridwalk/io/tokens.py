@@ -11,6 +11,8 @@ content:
 * Lines end at LF, CRLF or a lone CR, and nowhere else: form feed, vertical
   tab, U+2028, U+0085 or the ASCII separators 0x1c-0x1e do not end a line
   (only space, tab, VT and FF separate tokens, as in C's scanf).
+* A ^Z (0x1a, DOS's end-of-file mark) followed by nothing but blanks ends
+  the file; anywhere else it is binary data.
 * `#` starts a comment that runs to the end of its line, wherever it stands;
   a comment may be of any length and hold any bytes.
 * A token longer than MAX_TOKEN bytes, or one holding a control byte or a
@@ -84,6 +86,13 @@ class TokenStream:
                 data = data[len(_BOM):]
         if data.endswith(b"\r"):              # keep a CRLF pair together
             data += self._f.read(1)
+        eof_mark = data.find(b"\x1a")
+        while eof_mark >= 0 and not data[eof_mark + 1:].strip():
+            more = self._f.read(4096)          # a DOS end-of-file mark, if only blanks follow
+            if not more:
+                data = data[:eof_mark]
+                break
+            data += more
         if not data:
             self._eof = True
         return data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")

@@ -176,3 +176,34 @@ def test_bad_passes_are_refused_with_a_reason(scene):
         t0 = time.perf_counter()
         r.stop()
         assert time.perf_counter() - t0 < 5.0
+
+
+OUT_OF_MEMORY = """
+import dataclasses, resource, sys, time
+import gridwalk as gw
+from gridwalk.scenes import balls
+
+sc = gw.Scene(**balls(1))
+n = 16384                                             # 2^28 pixels: allowed, 4 GiB of RGBA floats
+camera = dataclasses.replace(sc.camera, width=n, height=n)
+resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+r = gw.ProgressiveRenderer()
+rid, _ = r.submit(sc, [(1, gw.RenderSettings(), camera)], n, n)
+end = time.monotonic() + 60
+while not r.status["error"] and r.status["finished"] != rid and time.monotonic() < end:
+    time.sleep(0.01)
+print(r.status["error"])
+r.stop()
+sys.stdout.flush()
+"""
+
+
+def test_a_viewport_image_larger_than_memory_reports_out_of_memory():
+    """A 16384 x 16384 viewport under a 3 GiB address-space limit: the
+    controller reports what ran out (the status said only "std::bad_alloc")."""
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", OUT_OF_MEMORY], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == ("out of memory for a 16384 x 16384 image of this scene (its structure, its "
+                                  "passes' images and their threads' buffers)"), out.stdout

@@ -2,6 +2,7 @@
 #include "render_job.h"
 
 #include <chrono>
+#include <new>
 #include <stdexcept>
 
 #include "pixel_estimator.h"
@@ -104,6 +105,10 @@ void RenderJob::worker() {
                 ready_cv_.notify_all();
             }
         }
+    } catch (const std::bad_alloc&) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (error_.empty()) error_ = "out of memory in a render thread (its tile's buffers)";
+        cancel_.store(true);
     } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mu_);
         if (error_.empty()) error_ = e.what();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <new>
 #include <cmath>
 #include <string>
 
@@ -124,6 +125,11 @@ void ViewportRenderer::run() {
             render(r, submitted);
         } catch (const BuildCancelled&) {
             // a newer request or stop: the loop takes it
+        } catch (const std::bad_alloc&) {
+            std::lock_guard<std::mutex> lock(mu_);
+            if (status_.request == r.id)
+                status_.error = "out of memory for a " + std::to_string(r.width) + " x " + std::to_string(r.height) +
+                                " image of this scene (its structure, its passes' images and their threads' buffers)";
         } catch (const std::exception& e) {
             std::lock_guard<std::mutex> lock(mu_);
             if (status_.request == r.id) status_.error = e.what();

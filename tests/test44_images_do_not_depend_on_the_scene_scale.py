@@ -51,3 +51,27 @@ def test_a_scaled_scene_renders_the_same_image(unit_images, scale, accel):
     image = render(scale, accel)
     assert np.isfinite(image).all()
     np.testing.assert_allclose(image, reference, atol=2e-3)
+
+
+def falloff_image(scale: float) -> np.ndarray:
+    """A floor lit by one inverse-square point light of intensity 30 * scale^2
+    (Blender's lights fall off so): the same image at every scale."""
+    vertices = (FLOOR_V * scale).astype(np.float32)
+    camera = gw.Camera(eye=(0, -6 * scale, 8 * scale), target=(0, 0, 0), up=(0, 0, 1), fov=50,
+                       width=24, height=18)
+    power = np.float32(30.0 * scale * scale)
+    light = gw.Light(position=(1 * scale, 0, 4 * scale), color=(power,) * 3, inverse_square=True)
+    scene = gw.Scene(vertices=vertices, triangles=FLOOR_F, triangle_materials=np.zeros(2, np.int32),
+                     materials=[gw.Material(color=(0.8, 0.8, 0.8), kd=1.0, ks=0.0)], lights=[light],
+                     camera=camera, background=(0.0, 0.0, 0.0))
+    return gw.render(scene, gw.RenderSettings(threads=2))
+
+
+@pytest.mark.parametrize("scale", [1e-21, 1e-12, 1e15])
+def test_inverse_square_falloff_is_scale_free_below_the_floats_square(scale):
+    """At 1e-21 the light's squared distance (about 2e-41) is below float's
+    smallest normal and its inverse beyond float's range: it is divided in
+    double. (The intensity, 3e-41, is a subnormal float good to about 1e-4.)"""
+    reference = falloff_image(1.0)
+    assert reference[..., 0].max() > 0.5 and (reference[..., 0] > 0.05).mean() > 0.5
+    np.testing.assert_allclose(falloff_image(scale), reference, rtol=2e-3, atol=1e-4)

@@ -104,8 +104,11 @@ def _follow(socket):
             return None, None, out
         if node.type != "REROUTE" and not node.mute:
             return node, out, None
-        socket = _through(node, out)
-    return None, None, first if socket is None or socket is first else None
+        fed, socket = socket, _through(node, out)
+        if socket is None:                 # a muted node passing nothing: the input it fed
+            socket = fed                   # stays unlinked (a reroute's gives 0)
+            break
+    return None, None, first if socket is first else None
 
 
 def _source(socket):

@@ -77,7 +77,10 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "Collection setting Holdout is not supported (its objects render as any other): 'Mask'",
                      "Light 'Narrow': Spread 29 degrees is not supported",
                      "Light 'Negative': negative power (a light that darkens) is not supported",
-                     "Light 'Stretched': a non-uniform scale does not stretch its cone"):
+                     "Light 'Stretched': a non-uniform scale does not stretch its cone",
+                     "Motion blur is not supported: each object renders where it is at the current frame",
+                     "Camera 'Camera': aperture blades, rotation and ratio are not supported (the aperture "
+                     "is round)"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
 

@@ -65,6 +65,7 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "interpolation": "closest", "extension": "clip", "use_alpha": False,
                                                "premultiply": True}   # its Alpha output is not linked: associated
     assert name(node["roughness_texture"]) == "RoughHDR"
+    assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"
     # metallic 0: the core blends towards metal per hit; Blender 4+ takes the
     # specular layer's albedo at IOR 1.5 (0.0918, test_b03) out of the diffuse

@@ -189,6 +189,9 @@ def case_ignored_settings(bpy, s):
     s.add_light("Negative", "POINT", (0, -4, 4), energy=-50.0)
     s.add_light("Stretched", "SPOT", (0, -4, 4), (0.8, 0.0, 0.0), energy=100.0).scale = (1.0, 3.0, 1.0)
     s.add_light("NoShadow", "POINT", (0, -4, 4), energy=10.0).data.use_shadow = False
+    bpy.context.scene.render.use_motion_blur = True
+    dof = bpy.context.scene.camera.data.dof
+    dof.use_dof, dof.focus_distance, dof.aperture_fstop, dof.aperture_blades = True, 10.0, 64.0, 6
 
 
 def case_nan_only(bpy, s):

@@ -86,7 +86,9 @@ def node_states_scene(resolution=(32, 24)):
     leave Base Color at its own value, blue); a UV Map node naming a layer
     the plane does not have; a muted Mix node passing its unlinked A (red),
     which Cycles reads as black; RGB nodes linked to Base Color and (as
-    their luminance) to Roughness. The world's Background reaches its output
+    their luminance) to Roughness; a reroute from a muted Image Texture and a
+    loop of two reroutes (both black Base Color in Cycles 4.5, unlike the
+    muted Image Texture linked directly). The world's Background reaches its output
     through a reroute, and its Color through a muted link (its own value
     counts); its Strength comes through a muted Math node from a linked Value
     node."""
@@ -124,7 +126,21 @@ def node_states_scene(resolution=(32, 24)):
     grey = ctree.nodes.new("ShaderNodeRGB")       # a colour into a float input: its luminance
     grey.outputs[0].default_value = (0.5, 0.25, 1.0, 1.0)
     ctree.links.new(grey.outputs[0], ctree.nodes["Principled BSDF"].inputs["Roughness"])
-    materials = (targets, muted_node, muted_link, missing_map, muted_mix, constants)
+    rerouted = []                      # a reroute from a muted Image Texture, and a loop of reroutes
+    for name in ("RerouteMuted", "RerouteLoop"):
+        mat = principled_material(name, (0.1, 0.1, 0.8))
+        tree = mat.node_tree
+        first, second = tree.nodes.new("NodeReroute"), tree.nodes.new("NodeReroute")
+        tree.links.new(first.outputs[0], tree.nodes["Principled BSDF"].inputs["Base Color"])
+        if name == "RerouteMuted":
+            tex = tree.nodes.new("ShaderNodeTexImage")
+            tex.image, tex.mute = img, True
+            tree.links.new(tex.outputs["Color"], first.inputs[0])
+        else:
+            tree.links.new(second.outputs[0], first.inputs[0])
+            tree.links.new(first.outputs[0], second.inputs[0])        # (Blender marks this link invalid)
+        rerouted.append(mat)
+    materials = (targets, muted_node, muted_link, missing_map, muted_mix, constants, *rerouted)
     for i, mat in enumerate(materials):
         _plane(mat.name, 1.0, (2.0 * i - 4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
     world = bpy.data.worlds.new("NodeStates")
@@ -255,9 +271,9 @@ def _file_image(name, path):
 
 
 def bad_materials_scene(resolution=(48, 36)):
-    """Five planes, each with one problem: a missing image file, a 0 x 0 image,
-    a 16k x 16k image, a textured mesh without UVs, and a node Gridwalk does
-    not understand (a Noise Texture on Base Color)."""
+    """Six planes, each with one problem: a missing image file, a 0 x 0 image,
+    a 16k x 16k image, a textured mesh without UVs, a node Gridwalk does
+    not understand (a Noise Texture on Base Color), and an image sequence."""
     reset(resolution=tuple(resolution))
     missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
     zero_file = os.path.join(tempfile.mkdtemp(prefix="gridwalk_"), "zero_size.png")
@@ -265,7 +281,10 @@ def bad_materials_scene(resolution=(48, 36)):
     zero = _file_image("ZeroSizeImage", zero_file)
     small = bpy.data.images.new("SmallImage", 4, 4)
     huge = bpy.data.images.new("HugeImage", 16384, 16384)
-    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Noise": None}
+    frames = bpy.data.images.new("Frames", 4, 4)
+    frames.source, frames.filepath = "SEQUENCE", "/nonexistent/gridwalk_frame_0001.png"
+    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Noise": None,
+             "Sequence": frames}
     for i, (name, image) in enumerate(cases.items()):
         plane = _plane(name, 1.5, location=(-4 + 2 * i, 0, 0), rotation=(math.pi / 2, 0, 0))
         mat = principled_material(name, (0.5, 0.5, 0.5))

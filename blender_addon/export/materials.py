@@ -1,9 +1,11 @@
 """Blender materials -> gridwalk.model.Material.
 
 Supported surface shaders (the node linked to the active Material Output):
-Principled BSDF, Diffuse BSDF, Glossy BSDF, Glass BSDF and Emission. Anything
-else, and materials without nodes, use the viewport display settings
-(diffuse_color, metallic, roughness).
+Principled BSDF, Diffuse BSDF, Glossy BSDF, Glass BSDF and Emission, and a
+Mix Shader of one of these with a Transparent BSDF (an alpha cut-out: the
+coverage becomes the material's alpha, Fac or 1 - Fac). Anything else, and
+materials without nodes, use the viewport display settings (diffuse_color,
+metallic, roughness).
 
 Linked inputs the core evaluates per hit (textures.py reads the images):
   Image Texture (Color or Alpha output) -> Principled Base Color, Roughness,
@@ -268,6 +270,44 @@ def _from_other_bsdf(node, textured):
     return None
 
 
+def _mixed(mix):
+    """The nodes linked into a Mix Shader's two shader inputs (None where unlinked)."""
+    return _source(mix.inputs[1])[0], _source(mix.inputs[2])[0]
+
+
+def _cut_shader(mix):
+    """The shader a Mix Shader mixes with a Transparent BSDF (an alpha cut-out,
+    as downloaded assets build leaves and decals), or None."""
+    first, second = _mixed(mix)
+    kinds = [n.type if n is not None else None for n in (first, second)]
+    if kinds.count("BSDF_TRANSPARENT") != 1 or None in kinds:
+        return None
+    return second if kinds[0] == "BSDF_TRANSPARENT" else first
+
+
+def _cut_out(mix, material, links):
+    """The coverage of a Transparent / shader mix as the material's alpha:
+    Fac where the Transparent BSDF is the first shader (a texture where Fac
+    is linked to one), 1 - Fac where it is the second (a constant only)."""
+    first, second = _mixed(mix)
+    clear = first if first.type == "BSDF_TRANSPARENT" else second
+    fac = mix.inputs[0]
+    if "alpha_texture" in links.fields or material.alpha < 1.0:
+        links.textured.append(f"Fac ({mix.bl_idname}: the shader's own Alpha is kept, the mix is not read)")
+        return
+    tint = input_value(clear.inputs["Color"])
+    if min(tint[:3]) < 1.0:
+        links.textured.append(f"Color ({clear.bl_idname}: a tinted Transparent BSDF is read as clear)")
+    if clear is first:
+        material.alpha = min(max(_value(mix, "Fac", 0.5, links, "alpha_texture"), 0.0), 1.0)
+        return
+    value = input_value(fac)
+    if _source(fac)[0] is not None:        # (1 - a texture is not read: Fac's own value is used)
+        links.textured.append(f"Fac ({mix.bl_idname}: a linked Fac with the Transparent BSDF second)")
+        value = float(fac.default_value)
+    material.alpha = min(max(1.0 - value, 0.0), 1.0)
+
+
 def _output_node(tree):
     """The Material Output Cycles renders: the active one of those for all
     renderers or for Cycles (an EEVEE-only output beside it is not it)."""
@@ -306,12 +346,17 @@ def convert_material(mat, textures=None):
     if node is None:
         return viewport_material(mat), "no surface shader", None
     links = Links(textures)
-    if node.type == "BSDF_PRINCIPLED":
-        result = _from_principled(node, links)
+    mix, node = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, node)
+    if node is None or node.type == "BSDF_PRINCIPLED":
+        result = None if node is None else _from_principled(node, links)
     else:
         result = _from_other_bsdf(node, links)
     if result is None:
-        return viewport_material(mat), f"unsupported shader {node.bl_idname}: its viewport colour is used", None
+        shader = node.bl_idname if node is not None else \
+            f"{mix.bl_idname} (only a Transparent BSDF mixed with one shader is read)"
+        return viewport_material(mat), f"unsupported shader {shader}: its viewport colour is used", None
+    if mix is not None:
+        _cut_out(mix, result, links)
     for field, value in links.fields.items():
         setattr(result, field, value)
     if links.textured:

@@ -13,7 +13,8 @@ shows them, with one warning naming each.
 Node settings: interpolation Closest stays closest, every other mode is
 bilinear; extension REPEAT / EXTEND / CLIP as set (MIRROR is read as REPEAT,
 with a warning). A texture is (image, interpolation, extension, output,
-premultiplied: the Color output when the node's Alpha output is not linked):
+premultiplied (8-bit images' colour, associated as Cycles gives it),
+unassociated (divided by alpha again where the node's Alpha output is used)):
 the Color and Alpha outputs of one node are two textures of one image.
 """
 from __future__ import annotations
@@ -28,6 +29,27 @@ MAGENTA = (1.0, 0.0, 1.0)
 MAX_IMAGE_BYTES = 2 << 30
 INTERPOLATION = {"Closest": "closest"}
 EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip"}
+
+
+def _alpha_used(node) -> bool:
+    """Whether the node's Alpha output feeds a node that reaches the output
+    Cycles renders (Cycles drops nodes that lead nowhere, and their links)."""
+    alpha = node.outputs.get("Alpha")
+    if alpha is None or not alpha.is_linked:
+        return False
+    tree = node.id_data
+    output = tree.get_output_node("CYCLES") if hasattr(tree, "get_output_node") else None
+    if output is None:                     # (a node group's tree: taken as used)
+        return True
+    feeding, todo = {output.as_pointer()}, [output]
+    while todo:                            # every node upstream of the output
+        for socket in todo.pop().inputs:
+            for link in socket.links:
+                if link.is_valid and not link.is_muted and link.from_node.as_pointer() not in feeding:
+                    feeding.add(link.from_node.as_pointer())
+                    todo.append(link.from_node)
+    return any(link.is_valid and not link.is_muted and link.to_node.as_pointer() in feeding
+               for link in alpha.links)
 
 
 def image_read_bytes(img) -> int:
@@ -174,19 +196,21 @@ class TextureTable:
             self.notes.add(f"image extension {node.extension} is read as Repeat")
         if getattr(node, "projection", "FLAT") not in ("FLAT", "EQUIRECTANGULAR"):
             self.notes.add(f"image projection {node.projection} is read as Flat (the UV map)")
-        # Cycles' Color output is associated (premultiplied) unless the node's
-        # Alpha output is linked; data images and channel-packed alpha stay as stored.
+        # Cycles' Color output is associated (premultiplied); where the node's
+        # Alpha output is used, Cycles divides the filtered colour by alpha again.
+        # Data images and channel-packed alpha stay as stored. (Blender holds
+        # float images associated already: only 8-bit ones are straight.)
         img = node.image
-        alpha_out = node.outputs.get("Alpha")
-        # (Blender holds float images premultiplied already: only 8-bit ones are straight)
-        premultiply = (output != "Alpha" and alpha_out is not None and not alpha_out.is_linked
-                       and img is not None and not img.is_float and not img.colorspace_settings.is_data
-                       and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
-        key = (image, interpolation, extension, output == "Alpha", premultiply)
+        has_alpha = (output != "Alpha" and img is not None and not img.colorspace_settings.is_data
+                     and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
+        premultiply = has_alpha and not img.is_float
+        unassociate = has_alpha and _alpha_used(node)
+        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate)
         if key not in self._texture_index:
             self._texture_index[key] = len(self.textures)
             self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
-                                         use_alpha=output == "Alpha", premultiply=premultiply))
+                                         use_alpha=output == "Alpha", premultiply=premultiply,
+                                         unassociate=unassociate))
         return self._texture_index[key]
 
     def prune(self):

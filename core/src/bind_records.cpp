@@ -45,6 +45,7 @@ void bind_records(nb::module_& m) {
         .def_rw("extension", &Texture::extension)
         .def_rw("use_alpha", &Texture::use_alpha)
         .def_rw("premultiply", &Texture::premultiply)
+        .def_rw("unassociate", &Texture::unassociate)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
 
     nb::class_<World>(m, "World")

@@ -57,15 +57,18 @@ Image::Image(int width, int height, int channels, bool srgb, std::vector<uint8_t
             throw std::invalid_argument(where + " has a non-finite pixel value at index " + std::to_string(i / size_t(c_)));
 }
 
-Rgba Image::texel(int x, int y) const {
+Rgba Image::texel(int x, int y, bool decode, bool premultiply) const {
     const size_t k = (size_t(h_ - 1 - y) * size_t(w_) + size_t(x)) * size_t(c_);
+    const bool has_alpha = c_ == 2 || c_ == 4;
     float v[4];
     if (floats_.empty()) {
         const auto& lut = srgb_table();
+        const unsigned alpha = premultiply && has_alpha ? bytes_[k + size_t(c_ - 1)] : 255u;
         for (int i = 0; i < c_; ++i) {
-            const uint8_t b = bytes_[k + size_t(i)];
             const bool colour = c_ >= 3 ? i < 3 : i == 0;
-            v[i] = srgb_ && colour ? lut[b] : float(b) * (1.0f / 255.0f);
+            // (premultiplied in bytes, truncating, as Cycles associates 8-bit images)
+            const uint8_t b = colour ? uint8_t(unsigned(bytes_[k + size_t(i)]) * alpha / 255u) : bytes_[k + size_t(i)];
+            v[i] = decode && srgb_ && colour ? lut[b] : float(b) * (1.0f / 255.0f);
         }
     } else {
         for (int i = 0; i < c_; ++i) {
@@ -73,6 +76,8 @@ Rgba Image::texel(int x, int y) const {
             const bool colour = c_ >= 3 ? i < 3 : i == 0;
             v[i] = srgb_ && colour ? srgb_to_linear(f) : f;
         }
+        if (premultiply && has_alpha)
+            for (int i = 0; i < c_ - 1; ++i) v[i] *= v[c_ - 1];
     }
     Rgba out;
     if (c_ >= 3) {
@@ -93,18 +98,32 @@ void validate_texture(const Texture& t, const std::string& where) {
 Rgba sample_image(const Image& img, const Texture& t, float u, float v) {
     const int w = img.width(), h = img.height();
     if (t.extension == Extension::Clip && !(u >= 0 && u <= 1 && v >= 0 && v <= 1)) return Rgba{Vec3(), 0};
+    // As Cycles: an 8-bit sRGB image is premultiplied, filtered and
+    // unassociated as stored (encoded), and decoded last; a float image is
+    // linear texel by texel. (Decoding first made a small linear-filtered
+    // checker 12% brighter and a premultiplied transparent PNG 14%.) Closest
+    // texels that are not divided again take the decoding table.
+    const bool late =
+        !img.is_float() && img.srgb() && (t.unassociate || t.interpolation != Interpolation::Closest);
     auto fetch = [&](int x, int y) {
         const int xi = wrap(x, w, t.extension), yi = wrap(y, h, t.extension);
-        return xi < 0 || yi < 0 ? Rgba{Vec3(), 0} : img.texel(xi, yi);
+        return xi < 0 || yi < 0 ? Rgba{Vec3(), 0} : img.texel(xi, yi, !late, t.premultiply);
     };
     const float x = u * float(w), y = v * float(h);
-    if (t.interpolation == Interpolation::Closest) return fetch(ifloor(x), ifloor(y));
-    const float xs = x - 0.5f, ys = y - 0.5f;
-    const int x0 = ifloor(xs), y0 = ifloor(ys);
-    const float fx = std::isfinite(xs) ? xs - std::floor(xs) : 0, fy = std::isfinite(ys) ? ys - std::floor(ys) : 0;
-    const Rgba a = fetch(x0, y0), b = fetch(x0 + 1, y0), c = fetch(x0, y0 + 1), d = fetch(x0 + 1, y0 + 1);
-    const float wa = (1 - fx) * (1 - fy), wb = fx * (1 - fy), wc = (1 - fx) * fy, wd = fx * fy;
-    return Rgba{a.rgb * wa + b.rgb * wb + c.rgb * wc + d.rgb * wd, a.a * wa + b.a * wb + c.a * wc + d.a * wd};
+    Rgba out;
+    if (t.interpolation == Interpolation::Closest) {
+        out = fetch(ifloor(x), ifloor(y));
+    } else {
+        const float xs = x - 0.5f, ys = y - 0.5f;
+        const int x0 = ifloor(xs), y0 = ifloor(ys);
+        const float fx = std::isfinite(xs) ? xs - std::floor(xs) : 0, fy = std::isfinite(ys) ? ys - std::floor(ys) : 0;
+        const Rgba a = fetch(x0, y0), b = fetch(x0 + 1, y0), c = fetch(x0, y0 + 1), d = fetch(x0 + 1, y0 + 1);
+        const float wa = (1 - fx) * (1 - fy), wb = fx * (1 - fy), wc = (1 - fx) * fy, wd = fx * fy;
+        out = Rgba{a.rgb * wa + b.rgb * wb + c.rgb * wc + d.rgb * wd, a.a * wa + b.a * wb + c.a * wc + d.a * wd};
+    }
+    if (t.unassociate && out.a != 0 && out.a != 1) out.rgb = out.rgb / out.a;
+    if (late) out.rgb = Vec3(srgb_to_linear(out.rgb.x), srgb_to_linear(out.rgb.y), srgb_to_linear(out.rgb.z));
+    return out;
 }
 
 void equirect_uv(const Vec3& d, float& u, float& v) {

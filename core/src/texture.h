@@ -1,6 +1,6 @@
 // Images and the textures that sample them. An Image is a pixel array stored
 // once however many textures use it: 8-bit images stay 8-bit (decoded from
-// sRGB through a table at lookup), float images stay float. A Texture is the
+// sRGB at lookup, after filtering), float images stay float. A Texture is the
 // record a material (or the world) points at: which image, how to filter it,
 // what lies outside it, and whether it gives the colour or the alpha channel
 // (Blender's Image Texture node: Color and Alpha outputs). Row 0 of the pixel
@@ -37,8 +37,10 @@ public:
     size_t memory_bytes() const { return bytes_.size() + floats_.size() * sizeof(float); }
     const std::vector<uint8_t>& bytes() const { return bytes_; }
     const std::vector<float>& floats() const { return floats_; }
-    // The texel in column x, row y counted from the BOTTOM (in range), linear.
-    Rgba texel(int x, int y) const;
+    // The texel in column x, row y counted from the BOTTOM (in range), linear;
+    // with decode false an 8-bit sRGB texel's colour stays encoded (byte / 255);
+    // premultiply: the colour times alpha (in bytes for an 8-bit image).
+    Rgba texel(int x, int y, bool decode = true, bool premultiply = false) const;
 
 private:
     int w_, h_, c_;
@@ -56,20 +58,25 @@ struct Texture {
     // The Color output multiplied by alpha: Blender's Image Texture gives
     // associated (premultiplied) colour when its Alpha output is not linked.
     bool premultiply = false;
+    // The colour divided by alpha after filtering and decoding (where alpha is
+    // neither 0 nor 1): Cycles' Color output when the node's Alpha output is
+    // used, which makes associated colour straight again.
+    bool unassociate = false;
 };
 
 // Checks the enums (the image index is checked by the scene, which knows the
 // images); throws std::invalid_argument naming `where` and the field.
 void validate_texture(const Texture& t, const std::string& where);
 
-// The image under texture coordinates (u, v), filtered and extended as `t` says.
+// The image under texture coordinates (u, v), filtered and extended as `t`
+// says; its colour times alpha when t.premultiply is set, divided by it after
+// filtering when t.unassociate is (before decoding an 8-bit sRGB image).
 Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 
 // Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
-// else its colour, times alpha when premultiply is set.
+// else its colour (premultiplied by sample_image where the texture says).
 inline Vec3 color_of(const Texture& t, const Rgba& c) {
-    if (t.use_alpha) return Vec3(c.a, c.a, c.a);
-    return t.premultiply ? c.rgb * c.a : c.rgb;
+    return t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
 }
 
 // Scalar value of a texture feeding a scalar input: its alpha (use_alpha), else

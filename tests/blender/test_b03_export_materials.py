@@ -101,3 +101,25 @@ def test_the_view_layers_material_override_replaces_every_material(export):
     used = np.unique(out.triangle_materials)
     assert len(used) == 1                                        # every triangle, every object
     np.testing.assert_allclose(out.materials[int(used[0])]["color"], [0.3, 0.3, 0.3], rtol=1e-5)
+
+
+def test_a_mix_with_a_transparent_bsdf_is_an_alpha_cut_out(export):
+    out = export("mix_shaders")
+    centres = out.vertices[out.triangles].mean(axis=1)[:, 0]
+    mats = [out.materials[int(out.triangle_materials[np.argmin(np.abs(centres - (2.0 * i - 5.0)))])]
+            for i in range(6)]
+    clear_first, clear_second, linked_second, tinted, own_alpha, two_shaders = mats
+    assert clear_first["alpha"] == pytest.approx(0.3) and clear_second["alpha"] == pytest.approx(0.7)
+    for mat in (clear_first, clear_second, linked_second, tinted, own_alpha):
+        np.testing.assert_allclose(mat["color"], [0.2, 0.4, 0.6], rtol=1e-5)     # the Principled BSDF's
+        assert mat["alpha_texture"] < 0
+    assert linked_second["alpha"] == pytest.approx(0.7)        # 1 - Fac's own value (a texture would need 1 - it)
+    assert tinted["alpha"] == pytest.approx(0.3)
+    assert own_alpha["alpha"] == pytest.approx(0.5)            # the Principled BSDF's own Alpha
+    said = "\n".join(out.warnings)
+    assert "LinkedFacSecond: inputs Fac (ShaderNodeMixShader: a linked Fac with the Transparent BSDF second)" in said
+    assert "Tinted: inputs Color (ShaderNodeBsdfTransparent: a tinted Transparent BSDF is read as clear)" in said
+    assert "OwnAlpha: inputs Fac (ShaderNodeMixShader: the shader's own Alpha is kept, the mix is not read)" in said
+    assert ("TwoShaders: unsupported shader ShaderNodeMixShader (only a Transparent BSDF mixed with one shader "
+            "is read): its viewport colour is used") in said
+    assert "ClearFirst" not in said and "ClearSecond" not in said

@@ -63,7 +63,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     assert name(node["color_texture"]) == "Shared"
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
                                                "interpolation": "closest", "extension": "clip", "use_alpha": False,
-                                               "premultiply": True}   # its Alpha output is not linked: associated
+                                               "premultiply": True,   # its Alpha output is not linked: associated
+                                               "unassociate": False}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

@@ -152,12 +152,16 @@ class Texture(Record):
     | clip (transparent black outside). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's
     luminance, a colour input as grey. premultiply: the colour is multiplied by
-    alpha (Blender's Color output when the node's Alpha output is not linked)."""
+    alpha (Blender's Color output when the node's Alpha output is not linked);
+    unassociate: divided by it after filtering (where alpha is not 0 or 1; Cycles'
+    Color output when the Alpha output is used: with premultiply, an 8-bit
+    image's colour comes out darkened where alpha is partial, as in Cycles)."""
     image: object = None
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
     premultiply: bool = _TEX.premultiply
+    unassociate: bool = _TEX.unassociate
     CORE = _core.Texture
 
     def converters(self) -> dict:

@@ -262,6 +262,78 @@ def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     return {}
 
 
+def cutout_scene(resolution=(64, 32)):
+    """Two emissive planes side by side under an orthographic camera, textured
+    with one 8 x 8 8-bit image whose left half is opaque and right half a
+    quarter opaque, in a grey world. Left, "Cutout": a Mix Shader of a
+    Transparent BSDF and an Emission, Fac from the image's Alpha (the Color
+    is then straight: Cycles divides it by alpha again). Right, "Dangling":
+    the Emission alone, the Alpha output linked to a Math node that reaches
+    nothing (the Color is associated, as with the Alpha output unlinked)."""
+    reset(resolution=tuple(resolution))
+    cam = bpy.context.scene.camera.data
+    cam.type, cam.ortho_scale = "ORTHO", 8.0
+    px = np.random.default_rng(1).random((8, 8, 4))
+    px[..., 3] = np.where(np.arange(8)[None, :] < 4, 1.0, 0.25)
+    img = _filled_image("Leaves", px, float_buffer=False)
+    for name, x in (("Cutout", -2.0), ("Dangling", 2.0)):
+        mat = bpy.data.materials.new(name)
+        if bpy.app.version < (5, 0, 0):
+            mat.use_nodes = True
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        for node in [n for n in nodes if n.type != "OUTPUT_MATERIAL"]:
+            nodes.remove(node)
+        emission, tex = nodes.new("ShaderNodeEmission"), nodes.new("ShaderNodeTexImage")
+        tex.image, tex.interpolation = img, "Closest"
+        links.new(tex.outputs["Color"], emission.inputs["Color"])
+        surface = emission.outputs[0]
+        if name == "Cutout":
+            mix, clear = nodes.new("ShaderNodeMixShader"), nodes.new("ShaderNodeBsdfTransparent")
+            links.new(tex.outputs["Alpha"], mix.inputs[0])
+            links.new(clear.outputs[0], mix.inputs[1])
+            links.new(emission.outputs[0], mix.inputs[2])
+            surface = mix.outputs[0]
+        else:
+            links.new(tex.outputs["Alpha"], nodes.new("ShaderNodeMath").inputs[0])
+        links.new(surface, nodes["Material Output"].inputs["Surface"])
+        _plane(name, 4.0, location=(x, 0, 0), rotation=(math.pi / 2, 0, 0)).data.materials.append(mat)
+    world = bpy.data.worlds.new("Grey")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    bpy.context.scene.world = world
+    bpy.context.view_layer.update()
+    return {}
+
+
+def mix_shaders_scene(resolution=(32, 24)):
+    """Planes whose surface is a Mix Shader: a Transparent BSDF first with Fac
+    0.3 (alpha 0.3), second (alpha 0.7), second with a linked Fac, tinted,
+    beside a Principled BSDF whose own Alpha is 0.5, and a Mix of two other
+    shaders (not read: the viewport colour)."""
+    reset(resolution=tuple(resolution))
+    img = _filled_image("Mask", np.full((4, 4, 4), 0.5), float_buffer=False)
+    cases = ("ClearFirst", "ClearSecond", "LinkedFacSecond", "Tinted", "OwnAlpha", "TwoShaders")
+    for i, name in enumerate(cases):
+        mat = principled_material(name, (0.2, 0.4, 0.6), Alpha=0.5 if name == "OwnAlpha" else 1.0)
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        mix = nodes.new("ShaderNodeMixShader")
+        mix.inputs[0].default_value = 0.3
+        other = nodes.new("ShaderNodeBsdfDiffuse" if name == "TwoShaders" else "ShaderNodeBsdfTransparent")
+        if name == "Tinted":
+            other.inputs["Color"].default_value = (1.0, 0.5, 0.5, 1.0)
+        first, second = (nodes["Principled BSDF"], other) if "Second" in name else (other, nodes["Principled BSDF"])
+        links.new(first.outputs[0], mix.inputs[1])
+        links.new(second.outputs[0], mix.inputs[2])
+        if name == "LinkedFacSecond":
+            tex = nodes.new("ShaderNodeTexImage")
+            tex.image = img
+            links.new(tex.outputs["Alpha"], mix.inputs[0])
+        links.new(mix.outputs[0], nodes["Material Output"].inputs["Surface"])
+        _plane(name, 1.0, (2.0 * i - 5.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {"names": list(cases)}
+
+
 def _file_image(name, path):
     """An image datablock reading `path`, as a .blend that points at a file would have it."""
     img = bpy.data.images.new(name, 4, 4)

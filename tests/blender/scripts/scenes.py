@@ -465,8 +465,8 @@ def viewport_scene(resolution=(480, 270), factory=True):
     return {}
 
 
-from material_scenes import (bad_materials_scene, checker_scene, emission_mirror_scene,  # noqa: E402,F401
-                             environment_scene, node_states_scene, pane_shadow_scene,
+from material_scenes import (bad_materials_scene, checker_scene, cutout_scene, emission_mirror_scene,  # noqa: E402,F401
+                             environment_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,
                              principled_sphere_scene, roughness_map_scene, texture_links_scene,
                              unread_settings_scene)
 

@@ -26,6 +26,8 @@ SCENES = (   # (scene, label, options for both engines)
     ("emission_mirror", "Emission seen in a mirror", ["transparent=false"]),
     ("pane_shadow", "Glass pane: transparent shadow", ['scene={"pane": "glass", "resolution": [128, 128]}',
                                                       "transparent=false"]),
+    ("cutout", "Transparent BSDF cut-out (left); image alpha (right)",
+     ['scene={"resolution": [128, 64]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -9,6 +9,9 @@
 #include <nanobind/stl/vector.h>
 #include <nanobind/stl/array.h>
 
+#include <cstdlib>
+#include <string>
+
 #include "batch.h"
 #include "bind_casters.h"
 #include "bindings.h"
@@ -82,6 +85,13 @@ void check_rays(const In<float>& o, const In<float>& d, const In<float>& tmin, c
 
 NB_MODULE(_core, m) {
     m.doc() = "Gridwalk native core (private: use the gridwalk package)";
+    // nanobind lists every instance alive when the interpreter ends: a script
+    // that exits while a daemon thread still holds a scene printed some 180
+    // lines of "leaked" instances, types and functions. Developers turn the
+    // list back on with GRIDWALK_LEAK_WARNINGS=1 (test01 does, on a script
+    // that should leave nothing behind).
+    const char* leaks = std::getenv("GRIDWALK_LEAK_WARNINGS");
+    nb::set_leak_warnings(leaks != nullptr && std::string(leaks) == "1");
 
     bind_settings(m);
     bind_records(m);

@@ -91,7 +91,7 @@ def test_unicode_and_control_separators_inside_comments_are_just_comment_text(tm
     assert load_nff(path)["sphere_radii"].tolist() == [1.0]
 
 
-@pytest.mark.parametrize("tail", ["\x1a", "\x1a\r\n", "\x1a \n\n  "])
+@pytest.mark.parametrize("tail", ["\x1a", "\x1a\r\n", "\x1a \n\n  ", "\n# a ^Z \x1a in a comment\n\x1a"])
 def test_a_dos_end_of_file_mark_ends_the_file(tmp_path, tail):
     """DOS editors end a text file with ^Z (0x1a); with only blanks after it,
     it ends the file (it was refused as binary data), also where it falls on

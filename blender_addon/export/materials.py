@@ -125,7 +125,9 @@ def input_value(socket):
     node's (converted as Blender converts: a float to grey, a colour to its
     Rec. 709 luminance), or 0."""
     own = socket.default_value
-    value = _follow(socket)[2]
+    node, _, value = _follow(socket)
+    if node is not None:                   # a node the export does not read: the input's own value
+        value = socket
     value = 0.0 if value is None else value.default_value
     if hasattr(own, "__len__"):
         if hasattr(value, "__len__"):
@@ -301,11 +303,9 @@ def _cut_out(mix, material, links):
     if clear is first:
         material.alpha = min(max(_value(mix, "Fac", 0.5, links, "alpha_texture"), 0.0), 1.0)
         return
-    value = input_value(fac)
     if _source(fac)[0] is not None:        # (1 - a texture is not read: Fac's own value is used)
         links.textured.append(f"Fac ({mix.bl_idname}: a linked Fac with the Transparent BSDF second)")
-        value = float(fac.default_value)
-    material.alpha = min(max(1.0 - value, 0.0), 1.0)
+    material.alpha = min(max(1.0 - input_value(fac), 0.0), 1.0)
 
 
 def _output_node(tree):

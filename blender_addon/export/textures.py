@@ -96,10 +96,15 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
         if non_finite:
             px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
     mean = _mean_rgb(px, _colorspace(img) == "srgb")
+    associated = mean
     if not img.is_float:
         px = np.rint(np.clip(px, 0.0, 1.0) * 255.0).astype(np.uint8)
+        if c in (2, 4):                # the mean of the colour premultiplied as the core does it (in bytes)
+            times_alpha = px[..., :c - 1].astype(np.uint32) * px[..., c - 1:] // 255
+            associated = _mean_rgb(np.concatenate([times_alpha / 255.0, px[..., c - 1:] / 255.0], axis=2),
+                                   _colorspace(img) == "srgb")
     image = Image(px, _colorspace(img), name=img.name)
-    image.mean_rgb = mean
+    image.mean_rgb, image.mean_rgb_associated = mean, associated
     image.non_finite = non_finite
     return image, None
 
@@ -219,8 +224,11 @@ class TextureTable:
             del self.cache[signature]
 
     def mean_color(self, index: int) -> tuple:
-        """The average colour of a texture's image (linear RGB): the ambient of an environment."""
-        return self.images[self.textures[index].image].mean_rgb
+        """The average colour a texture gives (linear RGB; premultiplied where the
+        texture premultiplies): the ambient of an environment."""
+        image = self.images[self.textures[index].image]
+        return getattr(image, "mean_rgb_associated", image.mean_rgb) if self.textures[index].premultiply \
+            else image.mean_rgb
 
     def warnings(self) -> list[str]:
         out = [f"Image '{name}' renders magenta: {why}" for name, why in sorted(self.problems.items())]

@@ -103,9 +103,11 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
     }
     if (L.inverse_square) {
         const float d2 = dot(to, to);
-        if (d2 >= std::numeric_limits<float>::min() && d2 <= std::numeric_limits<float>::max()) {
-            s.intensity *= 1.0f / d2;
-        } else {   // beyond float's square (or below its smallest normal): the product in double
+        const Vec3 quick = s.intensity * (1.0f / d2);
+        if (d2 >= std::numeric_limits<float>::min() && d2 <= std::numeric_limits<float>::max() &&
+            std::max(quick.x, std::max(quick.y, quick.z)) <= std::numeric_limits<float>::max()) {
+            s.intensity = quick;
+        } else {   // beyond float's square or its range (a light nearer than ~1e-19): the product in double
             const double inv = 1.0 / (double(s.dist) * double(s.dist));
             const double top = std::numeric_limits<float>::max();
             s.intensity = Vec3(float(std::min(double(s.intensity.x) * inv, top)),

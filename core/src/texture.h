@@ -55,12 +55,12 @@ struct Texture {
     Interpolation interpolation = Interpolation::Linear;
     Extension extension = Extension::Repeat;
     bool use_alpha = false;                              // the Alpha output instead of Color
-    // The Color output multiplied by alpha: Blender's Image Texture gives
-    // associated (premultiplied) colour when its Alpha output is not linked.
+    // The colour multiplied by alpha before filtering (an 8-bit image's in its
+    // bytes, truncating): Cycles' Image Texture gives associated colour.
     bool premultiply = false;
-    // The colour divided by alpha after filtering and decoding (where alpha is
-    // neither 0 nor 1): Cycles' Color output when the node's Alpha output is
-    // used, which makes associated colour straight again.
+    // The colour divided by alpha after filtering (before decoding an 8-bit
+    // sRGB image; where alpha is neither 0 nor 1): Cycles' Color output when
+    // the node's Alpha output is used, which makes associated colour straight again.
     bool unassociate = false;
 };
 

@@ -1,4 +1,6 @@
 """Materials (Principled BSDF across Blender versions, per-triangle slots) and the world."""
+import re
+
 import numpy as np
 import pytest
 
@@ -107,8 +109,8 @@ def test_a_mix_with_a_transparent_bsdf_is_an_alpha_cut_out(export):
     out = export("mix_shaders")
     centres = out.vertices[out.triangles].mean(axis=1)[:, 0]
     mats = [out.materials[int(out.triangle_materials[np.argmin(np.abs(centres - (2.0 * i - 5.0)))])]
-            for i in range(6)]
-    clear_first, clear_second, linked_second, tinted, own_alpha, two_shaders = mats
+            for i in range(7)]
+    clear_first, clear_second, linked_second, tinted, own_alpha, two_shaders, from_math = mats
     assert clear_first["alpha"] == pytest.approx(0.3) and clear_second["alpha"] == pytest.approx(0.7)
     for mat in (clear_first, clear_second, linked_second, tinted, own_alpha):
         np.testing.assert_allclose(mat["color"], [0.2, 0.4, 0.6], rtol=1e-5)     # the Principled BSDF's
@@ -116,10 +118,40 @@ def test_a_mix_with_a_transparent_bsdf_is_an_alpha_cut_out(export):
     assert linked_second["alpha"] == pytest.approx(0.7)        # 1 - Fac's own value (a texture would need 1 - it)
     assert tinted["alpha"] == pytest.approx(0.3)
     assert own_alpha["alpha"] == pytest.approx(0.5)            # the Principled BSDF's own Alpha
+    assert from_math["alpha"] == pytest.approx(0.3)            # Fac's own value, as the warning says (was 0)
     said = "\n".join(out.warnings)
     assert "LinkedFacSecond: inputs Fac (ShaderNodeMixShader: a linked Fac with the Transparent BSDF second)" in said
     assert "Tinted: inputs Color (ShaderNodeBsdfTransparent: a tinted Transparent BSDF is read as clear)" in said
     assert "OwnAlpha: inputs Fac (ShaderNodeMixShader: the shader's own Alpha is kept, the mix is not read)" in said
     assert ("TwoShaders: unsupported shader ShaderNodeMixShader (only a Transparent BSDF mixed with one shader "
             "is read): its viewport colour is used") in said
+    assert re.search(r"FacFromMath: inputs Fac(tor)? \(ShaderNodeMath\) use their default values", said)  # (5.0: Factor)
     assert "ClearFirst" not in said and "ClearSecond" not in said
+
+
+def _srgb_decode(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _sphere_mean(rgb):
+    """Mean of an equirectangular image's (h, w, 3) pixels over the sphere (cos latitude weights)."""
+    rows = rgb.shape[0]
+    weight = np.cos((np.arange(rows) + 0.5) / rows * np.pi - np.pi / 2)[:, None, None]
+    return (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * rgb.shape[1])
+
+
+def test_an_8_bit_environment_with_alpha_lights_with_the_colour_it_shows(export):
+    """Cycles' Environment Texture gives associated colour (it has no Alpha
+    output): the background is premultiplied per texel (in bytes, then
+    decoded), so the ambient is that colour's mean over the sphere; it was the
+    straight colour's mean, as bright as an opaque image's."""
+    opaque = export("environment", eight_bit_alpha=1.0).world["ambient"]
+    out = export("environment", eight_bit_alpha=0.25)
+    assert [t["premultiply"] for t in out.textures] == [True]
+    px = out.image_0.astype(np.int64)                        # (h, w, 4) bytes
+    assert out.images[0]["dtype"] == "uint8" and (px[:, :, 3] == 64).mean() == 0.5
+    straight = _sphere_mean(_srgb_decode(px[..., :3] / 255.0))
+    associated = _sphere_mean(_srgb_decode((px[..., :3] * px[..., 3:] // 255) / 255.0))
+    np.testing.assert_allclose(opaque, straight, rtol=2e-3)
+    np.testing.assert_allclose(out.world["ambient"], associated, rtol=2e-3)
+    assert np.all(associated < 0.9 * straight)

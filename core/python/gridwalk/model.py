@@ -152,10 +152,10 @@ class Texture(Record):
     | clip (transparent black outside). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's
     luminance, a colour input as grey. premultiply: the colour is multiplied by
-    alpha (Blender's Color output when the node's Alpha output is not linked);
-    unassociate: divided by it after filtering (where alpha is not 0 or 1; Cycles'
-    Color output when the Alpha output is used: with premultiply, an 8-bit
-    image's colour comes out darkened where alpha is partial, as in Cycles)."""
+    alpha before filtering (an 8-bit image's in its bytes; Cycles' associated
+    colour); unassociate: divided by it after filtering, before an 8-bit sRGB
+    image is decoded (where alpha is not 0 or 1; Cycles' Color output when the
+    node's Alpha output is used)."""
     image: object = None
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]

@@ -41,6 +41,9 @@ def main(argv):
         result["error"] = str(exc)
     else:
         arrays = {k: v for k, v in scene_kwargs.items() if isinstance(v, np.ndarray)}
+        for i, image in enumerate(scene_kwargs.get("images", [])):     # small images' pixels (row 0 at the top)
+            if image.pixels().size <= 1 << 16:
+                arrays[f"image_{i}"] = image.pixels()
         np.savez(os.path.join(out_dir, "arrays.npz"), **arrays)
         result["has_normals"] = scene_kwargs["normals"] is not None
         result["materials"] = [dataclasses.asdict(m) for m in scene_kwargs["materials"]]

@@ -196,9 +196,10 @@ def sky_pixels(w=64, h=32):
     return px
 
 
-def environment_scene(resolution=(64, 48), broken=False):
+def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None):
     """A mirror sphere in an HDR environment (a float image on an Environment Texture);
-    broken: a few of its pixels are +Inf and NaN, as broken HDR files hold."""
+    broken: a few of its pixels are +Inf and NaN, as broken HDR files hold;
+    eight_bit_alpha: an 8-bit sRGB image instead, of this alpha in its right half."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=2.5, segments=64, ring_count=32)
     sphere = bpy.context.object
@@ -215,7 +216,10 @@ def environment_scene(resolution=(64, 48), broken=False):
     if broken:
         sky[16, 10:14, :3] = np.inf
         sky[5, 3, 0] = np.nan
-    env.image = _filled_image("SkyHDR", sky, float_buffer=True)
+    if eight_bit_alpha is not None:
+        sky = np.clip(sky, 0.0, 1.0)
+        sky[:, sky.shape[1] // 2:, 3] = eight_bit_alpha
+    env.image = _filled_image("SkyHDR", sky, float_buffer=eight_bit_alpha is None)
     world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
     bpy.context.view_layer.update()
     return {}
@@ -308,11 +312,12 @@ def cutout_scene(resolution=(64, 32)):
 def mix_shaders_scene(resolution=(32, 24)):
     """Planes whose surface is a Mix Shader: a Transparent BSDF first with Fac
     0.3 (alpha 0.3), second (alpha 0.7), second with a linked Fac, tinted,
-    beside a Principled BSDF whose own Alpha is 0.5, and a Mix of two other
-    shaders (not read: the viewport colour)."""
+    beside a Principled BSDF whose own Alpha is 0.5, a Mix of two other
+    shaders (not read: the viewport colour), and first with Fac from a Math
+    node (not read: Fac's own value)."""
     reset(resolution=tuple(resolution))
     img = _filled_image("Mask", np.full((4, 4, 4), 0.5), float_buffer=False)
-    cases = ("ClearFirst", "ClearSecond", "LinkedFacSecond", "Tinted", "OwnAlpha", "TwoShaders")
+    cases = ("ClearFirst", "ClearSecond", "LinkedFacSecond", "Tinted", "OwnAlpha", "TwoShaders", "FacFromMath")
     for i, name in enumerate(cases):
         mat = principled_material(name, (0.2, 0.4, 0.6), Alpha=0.5 if name == "OwnAlpha" else 1.0)
         nodes, links = mat.node_tree.nodes, mat.node_tree.links
@@ -328,6 +333,8 @@ def mix_shaders_scene(resolution=(32, 24)):
             tex = nodes.new("ShaderNodeTexImage")
             tex.image = img
             links.new(tex.outputs["Alpha"], mix.inputs[0])
+        if name == "FacFromMath":              # a node the export does not read: Fac's own 0.3
+            links.new(nodes.new("ShaderNodeMath").outputs[0], mix.inputs[0])
         links.new(mix.outputs[0], nodes["Material Output"].inputs["Surface"])
         _plane(name, 1.0, (2.0 * i - 5.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
     bpy.context.view_layer.update()

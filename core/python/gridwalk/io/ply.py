@@ -60,7 +60,7 @@ from .ply_header import Element, Header, read_header
 _INDEX_NAMES = ("vertex_indices", "vertex_index")
 _COLOUR_NAMES = (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue"))
 _F32_MAX = float(np.finfo(np.float32).max)
-_STRIP_BYTES = 128              # peak bytes per strip index while a chunk becomes triangles (138 measured with the 12 kept)
+_STRIP_BYTES = 128              # peak bytes per index of a chunk becoming triangles, beside the 12 kept (138 measured)
 CORE_LIMIT = 1e30               # the core refuses primitives beyond +-1e30
 MAX_COLOURS = 4096
 GREY = dict(kd=0.8, ks=0.2, shininess=40.0)
@@ -162,20 +162,21 @@ def _plan(h: Header):
     return vertex, lists
 
 
-def _check_memory(h: Header, vertex: Element, lists: dict, strip_triangles: int = 0) -> None:
+def _check_memory(h: Header, vertex: Element, lists: dict, strip_triangles: int = 0, pending: int = 0) -> None:
     """Refuse a mesh whose estimated memory (the reader's arrays and the
     render's, gridwalk.memory) exceeds memory.default_limit(): up front from
     the header's counts, and again while strips are read (their triangles are
-    known only from their lists), with `strip_triangles` at most so far."""
+    known only from their lists): `strip_triangles` kept so far, and at most
+    `pending` more from the chunk about to become triangles."""
     from .. import memory
-    faces = sum(e.count for e in lists if e.name == "face") + strip_triangles
+    faces = sum(e.count for e in lists if e.name == "face") + strip_triangles + pending
     normals = all(vertex.get(c) is not None for c in ("nx", "ny", "nz"))
     colours = any(all(vertex.get(c) is not None for c in names) for names in _COLOUR_NAMES)
     est = memory.estimate(triangles=faces, vertices=vertex.count, normals=normals, width=512, height=512)
-    reading = vertex.count * 12 * (1 + normals + colours) + faces * 3 * 4 + strip_triangles * _STRIP_BYTES
+    reading = vertex.count * 12 * (1 + normals + colours) + faces * 3 * 4 + pending * _STRIP_BYTES
     limit = memory.default_limit()
     if limit is not None and est.total + reading > limit:
-        what = "faces" if not strip_triangles else "faces and strip triangles (up to the record read)"
+        what = "faces" if not pending else "faces and strip triangles (up to the record read)"
         raise SceneFileError(
             f"{h.path}: the header declares {vertex.count:,} vertices and {faces:,} {what}: reading and "
             f"rendering them needs an estimated {memory.format_bytes(est.total + reading)} of memory "
@@ -244,7 +245,7 @@ class _Reader:
                 body.fail(e, first + k, f"uses vertex index {items[bad][0]}, but there are {self.n} "
                                         f"vertices (0 to {self.n - 1})")
             if strips:                     # a chunk's n items give at most n triangles
-                _check_memory(self.h, self.vertex, self.lists_of, strip_total + len(items))
+                _check_memory(self.h, self.vertex, self.lists_of, strip_total, len(items))
                 tris, records = self._strips(items, is_restart, c)
                 strip_total += len(tris)
                 corners.append(tris)

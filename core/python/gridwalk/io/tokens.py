@@ -86,9 +86,11 @@ class TokenStream:
                 data = data[len(_BOM):]
         if data.endswith(b"\r"):              # keep a CRLF pair together
             data += self._f.read(1)
-        eof_mark = data.find(b"\x1a")
-        while eof_mark >= 0 and not data[eof_mark + 1:].strip():
-            more = self._f.read(4096)          # a DOS end-of-file mark, if only blanks follow
+        while True:                            # a DOS end-of-file mark, if only blanks follow it
+            eof_mark = data.rfind(b"\x1a")    # (the last: an earlier one, in a comment say, is data)
+            if eof_mark < 0 or data[eof_mark + 1:].strip():
+                break
+            more = self._f.read(4096)
             if not more:
                 data = data[:eof_mark]
                 break

@@ -91,6 +91,12 @@ def test_negative_light_in_a_material_is_rejected(field, value):
         make(materials=[gw.Material(**{field: value})])
 
 
+@pytest.mark.parametrize("value", [-0.1, 1.5, float("nan")])
+def test_a_metallic_weight_outside_0_1_is_rejected(value):
+    with pytest.raises(ValueError, match=r"materials\[0\]\.metallic must"):
+        make(materials=[gw.Material(metallic=value)])
+
+
 def test_degenerate_cylinder_is_rejected():
     with pytest.raises(ValueError, match=r"cylinder_apex\[0\] coincides"):
         gw.Scene(cylinder_base=[[0, 0, 0]], cylinder_apex=[[0, 0, 0]], cylinder_base_radius=[1],

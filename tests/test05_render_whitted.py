@@ -20,14 +20,9 @@ def top_down_camera(n=65, height=10.0, fov=60.0):
     return gw.Camera(eye=(0, 0, height), target=(0, 0, 0), up=(0, 1, 0), fov=fov, width=n, height=n)
 
 
-def test_blinn_phong_and_mirror_match_analytic_values():
-    kd, ks, shine, mirror, I, h = 0.5, 0.3, 20.0, 0.25, 2.0, 5.0
-    color, bg = np.array([1.0, 0.5, 0.25]), np.array([0.2, 0.3, 0.4])
-    mat = gw.Material(color=tuple(color), kd=kd, ks=ks, shininess=shine, mirror=mirror)
-    cam = top_down_camera()
-    sc = gw.Scene(vertices=FLOOR_V, triangles=FLOOR_F, materials=[mat],
-                  lights=[gw.Light(position=(0, 0, h), color=(I, I, I))], camera=cam, background=tuple(bg))
-    img = gw.render(sc, gw.RenderSettings(threads=2))
+def floor_directions(cam, h):
+    """At each pixel's floor point under top_down_camera: the unit direction to
+    a light at height h above the origin, and the half vector with the eye's."""
     n = cam.width
     t = np.tan(np.radians(cam.fov) / 2)
     c = (np.arange(n) + 0.5) / n
@@ -38,10 +33,41 @@ def test_blinn_phong_and_mirror_match_analytic_values():
     wo = np.array([0, 0, 10.0]) - P
     wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
     H = wi + wo
-    H /= np.linalg.norm(H, axis=-1, keepdims=True)
+    return wi, H / np.linalg.norm(H, axis=-1, keepdims=True)
+
+
+def test_blinn_phong_and_mirror_match_analytic_values():
+    kd, ks, shine, mirror, I, h = 0.5, 0.3, 20.0, 0.25, 2.0, 5.0
+    color, bg = np.array([1.0, 0.5, 0.25]), np.array([0.2, 0.3, 0.4])
+    mat = gw.Material(color=tuple(color), kd=kd, ks=ks, shininess=shine, mirror=mirror)
+    cam = top_down_camera()
+    sc = gw.Scene(vertices=FLOOR_V, triangles=FLOOR_F, materials=[mat],
+                  lights=[gw.Light(position=(0, 0, h), color=(I, I, I))], camera=cam, background=tuple(bg))
+    img = gw.render(sc, gw.RenderSettings(threads=2))
+    wi, H = floor_directions(cam, h)
     expected = (kd * color * wi[..., 2:3] + ks * H[..., 2:3] ** shine) * I + mirror * bg
     assert np.allclose(img[..., :3], expected, rtol=2e-5, atol=2e-6)
     assert np.all(img[..., 3] == 1.0)
+
+
+@pytest.mark.parametrize("metallic", [0.0, 0.6, 1.0])
+def test_a_metal_tints_its_highlight_and_reflection_with_its_colour(metallic):
+    """The analytic floor above, now partly metal: the metal's share of the
+    highlight (metallic * (shine + 8) / (8 ks)) and of the mirror term takes
+    the base colour (a gold Principled BSDF rendered a grey mirror)."""
+    shine, I, h, mirror = 20.0, 2.0, 5.0, metallic
+    ks = ((1 - metallic) * 0.04 + metallic) * (shine + 8) / 8
+    color, bg = np.array([1.0, 0.5, 0.25]), np.array([0.2, 0.3, 0.4])
+    mat = gw.Material(color=tuple(color), kd=0.0, ks=ks, shininess=shine, mirror=mirror, metallic=metallic)
+    cam = top_down_camera()
+    sc = gw.Scene(vertices=FLOOR_V, triangles=FLOOR_F, materials=[mat],
+                  lights=[gw.Light(position=(0, 0, h), color=(I, I, I))], camera=cam, background=tuple(bg))
+    img = gw.render(sc, gw.RenderSettings(threads=2))
+    wi, H = floor_directions(cam, h)
+    metal = min(1.0, metallic * (shine + 8) / (8 * ks))
+    tint = 1 + (color - 1) * metal
+    expected = ks * H[..., 2:3] ** shine * I * tint + mirror * bg * color
+    np.testing.assert_allclose(img[..., :3], expected, rtol=2e-5, atol=2e-6)
 
 
 def test_shadowed_floor_gets_only_the_mirror_term():

@@ -32,6 +32,8 @@ factor is folded into the light intensities, see lights.py):
   shininess     = 2 / a^2 - 2 with a = max(r^2, 1e-3), capped at 1000 (Blinn-Phong ~ GGX)
   ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Blinn-Phong lobe)
   mirror        = m,  roughness = r  (glossy when r > 0)
+  metallic      = m   (the metal's share of the highlight and of the mirror
+                  reflection takes the base colour: gold reflects gold)
   transmittance = t,  ior = IOR
   emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength)
   alpha         = Alpha
@@ -220,7 +222,7 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     under = 1.0 - min(max(specular_albedo, 0.0), 1.0)
     return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, roughness=r, **_emission(emission))
+                    mirror=m, metallic=m, roughness=r, **_emission(emission))
 
 
 def _emission(emission) -> dict:
@@ -415,7 +417,18 @@ class MaterialTable:
         return slots or [0]
 
     def warnings(self) -> list[str]:
-        if not self._problems:
-            return []
-        items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
-        return [f"{len(self._problems)} material(s) only partly supported ({items})"]
+        out = []
+        if self._problems:
+            items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
+            out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
+        emissive = sorted(name for name, i in self._index.items() if name is not None and _emits(self.materials[i]))
+        if emissive:
+            out.append("Emissive materials are seen by camera, mirror and refraction rays but light nothing "
+                       "(Whitted shading: only lamps and the world give light; put a lamp, e.g. an area "
+                       "light, where they should shine): " + ", ".join(repr(n) for n in emissive))
+        return out
+
+
+def _emits(material) -> bool:
+    return (material.emission > 0 and any(c > 0 for c in material.color)) or any(
+        c > 0 for c in material.emission_color)

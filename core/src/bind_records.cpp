@@ -27,6 +27,7 @@ void bind_records(nb::module_& m) {
         .def_rw("transmittance", &Material::transmittance)
         .def_rw("ior", &Material::ior)
         .def_rw("mirror", &Material::mirror)
+        .def_rw("metallic", &Material::metallic)
         .def_rw("roughness", &Material::roughness)
         .def_rw("emission", &Material::emission)
         .def_rw("emission_color", &Material::emission_color)

@@ -5,6 +5,14 @@
 #include "offset.h"
 
 namespace gw {
+namespace {
+
+// White, with the share `metal` (in [0, 1]) of it taking the base colour.
+Vec3 metal_tint(const Material& m, float metal) {
+    return Vec3(1, 1, 1) + (m.color - Vec3(1, 1, 1)) * metal;
+}
+
+}  // namespace
 
 Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx,
                             FirstHit* fh) const {
@@ -104,7 +112,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (m.ks > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = m.ks * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
-                f += Vec3(sp_, sp_, sp_);
+                f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * sp_
+                                    : Vec3(sp_, sp_, sp_);
             }
             const Vec3 c = f * ls.intensity;
             if (c.x <= 0 && c.y <= 0 && c.z <= 0) continue;
@@ -257,7 +266,9 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (refl > 0 && weight * refl > s_.min_weight) {
         Vec3 rdir = d - ns * (2.0f * dot(d, ns));
         if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));
-        color += reflect_glossy(sp, ng, normalize(rdir), m, depth, weight * refl, split, st, ctx) * refl;
+        const Vec3 reflected = reflect_glossy(sp, ng, normalize(rdir), m, depth, weight * refl, split, st, ctx);
+        color += m.metallic > 0 ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
+                                : reflected * refl;
     }
     if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
         Ray tr;

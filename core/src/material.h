@@ -16,6 +16,10 @@ struct Material {
     float kd = 0.8f, ks = 0, shininess = 32, transmittance = 0, ior = 1, mirror = 0, roughness = 0, emission = 0;
     Vec3 emission_color{0, 0, 0};   // emitted radiance, added to color * emission
     float alpha = 1;                // coverage: 1 opaque, 0 invisible (see-through to every ray)
+    // How much of the surface is metal (Principled Metallic): that share of
+    // the specular highlight (metallic * (shininess + 8) / (8 ks) of it) and of
+    // the mirror reflection takes the base colour, as a metal's reflection does.
+    float metallic = 0;
     int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
     bool vertex_color = false;      // the base colour is the mesh's per-corner colour (colour attribute)
 

@@ -92,6 +92,7 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         out.kd = m.kd * (1 - mt);
         out.transmittance = m.transmittance * (1 - mt);
         out.mirror = mt;
+        out.metallic = mt;
         out.ks = ((1 - mt) * f0 + mt) * norm;
     }
     if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);

@@ -83,6 +83,9 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "is round)"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
+    if results["blender"][0] >= 4:             # (light linking came with 4.0)
+        assert ("Light and shadow linking are not supported (every light reaches every object, every object "
+                "casts shadows): 'Key'") in warnings
 
 
 def test_empty_scene(results):

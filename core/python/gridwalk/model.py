@@ -101,7 +101,10 @@ class Material(Record):
     roughness: 0 = exact mirror, > 0 glossy. emission: self-lit strength
     (color * emission is added to the shaded colour); emission_color: emitted
     radiance added as it is. alpha: coverage in [0, 1] (< 1 lets camera,
-    secondary and shadow rays through the uncovered part).
+    secondary and shadow rays through the uncovered part). metallic in [0, 1]:
+    the share of the surface that is metal, whose part of the highlight
+    (metallic * (shininess + 8) / (8 ks)) and of the mirror reflection takes
+    the colour (a gold Principled BSDF reflects gold).
 
     Textures (indices into Scene(textures=...), -1 = none) replace an input
     per hit, sampled at the triangle's corner UVs (Scene(uvs=...)):
@@ -119,6 +122,7 @@ class Material(Record):
     transmittance: float = _MAT.transmittance
     ior: float = _MAT.ior
     mirror: float = _MAT.mirror
+    metallic: float = _MAT.metallic
     roughness: float = _MAT.roughness
     emission: float = _MAT.emission
     emission_color: tuple = _MAT.emission_color

@@ -190,6 +190,9 @@ def case_ignored_settings(bpy, s):
     s.add_light("Stretched", "SPOT", (0, -4, 4), (0.8, 0.0, 0.0), energy=100.0).scale = (1.0, 3.0, 1.0)
     s.add_light("NoShadow", "POINT", (0, -4, 4), energy=10.0).data.use_shadow = False
     bpy.context.scene.render.use_motion_blur = True
+    key = bpy.data.objects["Key"]
+    if hasattr(key, "light_linking"):                              # Blender 4.0+
+        key.light_linking.receiver_collection = bpy.data.collections.new("OnlyTheCube")
     dof = bpy.context.scene.camera.data.dof
     dof.use_dof, dof.focus_distance, dof.aperture_fstop, dof.aperture_blades = True, 10.0, 64.0, 6
 

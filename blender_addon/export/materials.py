@@ -150,6 +150,7 @@ class Links:
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
         self.color_layer = None    # likewise for the colour attribute
         self.textured = []         # "input (node)" left at its default value
+        self.unmodelled = []       # "input value" of layers the Whitted model does not have
 
     def take(self, socket, field, colour: bool = True) -> bool:
         """Turn a linked input into `field` (a texture index); True if it did."""
@@ -252,6 +253,10 @@ def _from_principled(node, textured):
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
                                    tuple(c * strength for c in emission_color), specular_albedo)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
+    for names in (("Coat Weight", "Clearcoat"), ("Sheen Weight", "Sheen"), ("Subsurface Weight", "Subsurface")):
+        socket = _socket(node, *names)         # (4.x names, then 3.x)
+        if socket is not None and (_source(socket)[0] is not None or input_value(socket) > 0):
+            textured.unmodelled.append(f"{socket.name} {input_value(socket):g}")
     return material
 
 
@@ -361,9 +366,12 @@ def convert_material(mat, textures=None):
         _cut_out(mix, result, links)
     for field, value in links.fields.items():
         setattr(result, field, value)
+    problems = []
     if links.textured:
-        return result, "inputs " + ", ".join(sorted(set(links.textured))) + " use their default values", links
-    return result, None, links
+        problems.append("inputs " + ", ".join(sorted(set(links.textured))) + " use their default values")
+    if links.unmodelled:
+        problems.append(", ".join(links.unmodelled) + " not modelled (rendered as 0)")
+    return result, "; ".join(problems) or None, links
 
 
 class MaterialTable:

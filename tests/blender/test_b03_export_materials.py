@@ -95,6 +95,8 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
     assert "Object 'TwoMaps': its materials' UV Map nodes name different UV maps ('Second', 'UVMap')" in said
     assert "Object 'NanUV': 2 triangle corners have a non-finite UV or colour (NaN or Inf), read as 0" in said
     assert "World 'Hidden': Ray Visibility > Camera off is not supported" in said
+    assert re.search(r"Layers: (Coat Weight|Clearcoat) 0\.5, (Sheen Weight|Sheen) 1 not modelled \(rendered as 0\)",
+                     said), said
     assert np.isfinite(out.uvs).all()
 
 

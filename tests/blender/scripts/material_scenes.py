@@ -453,8 +453,8 @@ def texture_links_scene(resolution=(32, 24)):
 def unread_settings_scene(override=False):
     """Settings the export reads or warns about (found by an exploration
     against Cycles): a Box-projected image, an object whose two materials
-    name different UV maps, a plane with a NaN UV (one loop: a corner of both its triangles), a world hidden from camera
-    rays; with override, the view layer's Material Override (grey)."""
+    name different UV maps, a plane with a NaN UV (one loop: a corner of both its triangles), a Principled
+    BSDF with a coat and a sheen, a world hidden from camera rays; with override, the view layer's Material Override (grey)."""
     reset(resolution=(32, 24))
     img = bpy.data.images.new("Grid", 16, 16)
     img.generated_type = "COLOR_GRID"
@@ -474,6 +474,11 @@ def unread_settings_scene(override=False):
     nan_uv = _plane("NanUV", 1.0, (2.0, 0.0, 0.0), (math.pi / 2, 0, 0))
     nan_uv.data.materials.append(box)
     nan_uv.data.uv_layers.active.data[0].uv = (float("nan"), 0.5)
+    layers = principled_material("Layers", (0.5, 0.5, 0.5))       # a coat and a sheen (3.x: Clearcoat, Sheen)
+    bsdf = layers.node_tree.nodes["Principled BSDF"]
+    for names, value in ((("Coat Weight", "Clearcoat"), 0.5), (("Sheen Weight", "Sheen"), 1.0)):
+        bsdf.inputs[next(n for n in names if n in bsdf.inputs)].default_value = value
+    _plane("Layered", 1.0, (4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(layers)
     world = bpy.data.worlds.new("Hidden")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)

@@ -255,8 +255,9 @@ def _from_principled(node, textured):
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
     for names in (("Coat Weight", "Clearcoat"), ("Sheen Weight", "Sheen"), ("Subsurface Weight", "Subsurface")):
         socket = _socket(node, *names)         # (4.x names, then 3.x)
-        if socket is not None and (_source(socket)[0] is not None or input_value(socket) > 0):
-            textured.unmodelled.append(f"{socket.name} {input_value(socket):g}")
+        value = input_value(socket) if socket is not None else 0.0
+        if socket is not None and (_source(socket)[0] is not None or value > 0):
+            textured.unmodelled.append(f"{socket.name} {value:g}")
     return material
 
 
@@ -279,27 +280,20 @@ def _from_other_bsdf(node, textured):
     return None
 
 
-def _mixed(mix):
-    """The nodes linked into a Mix Shader's two shader inputs (None where unlinked)."""
-    return _source(mix.inputs[1])[0], _source(mix.inputs[2])[0]
-
-
 def _cut_shader(mix):
-    """The shader a Mix Shader mixes with a Transparent BSDF (an alpha cut-out,
-    as downloaded assets build leaves and decals), or None."""
-    first, second = _mixed(mix)
+    """(the shader, the Transparent BSDF) a Mix Shader mixes (an alpha cut-out,
+    as downloaded assets build leaves and decals), or (None, None)."""
+    first, second = _source(mix.inputs[1])[0], _source(mix.inputs[2])[0]
     kinds = [n.type if n is not None else None for n in (first, second)]
     if kinds.count("BSDF_TRANSPARENT") != 1 or None in kinds:
-        return None
-    return second if kinds[0] == "BSDF_TRANSPARENT" else first
+        return None, None
+    return (second, first) if kinds[0] == "BSDF_TRANSPARENT" else (first, second)
 
 
-def _cut_out(mix, material, links):
+def _cut_out(mix, clear, material, links):
     """The coverage of a Transparent / shader mix as the material's alpha:
-    Fac where the Transparent BSDF is the first shader (a texture where Fac
-    is linked to one), 1 - Fac where it is the second (a constant only)."""
-    first, second = _mixed(mix)
-    clear = first if first.type == "BSDF_TRANSPARENT" else second
+    Fac where the Transparent BSDF (`clear`) is the first shader (a texture
+    where Fac is linked to one), 1 - Fac where it is the second (a constant only)."""
     fac = mix.inputs[0]
     if "alpha_texture" in links.fields or material.alpha < 1.0:
         links.textured.append(f"Fac ({mix.bl_idname}: the shader's own Alpha is kept, the mix is not read)")
@@ -307,7 +301,7 @@ def _cut_out(mix, material, links):
     tint = input_value(clear.inputs["Color"])
     if min(tint[:3]) < 1.0:
         links.textured.append(f"Color ({clear.bl_idname}: a tinted Transparent BSDF is read as clear)")
-    if clear is first:
+    if _source(mix.inputs[1])[0].type == "BSDF_TRANSPARENT":       # (the only one: see _cut_shader)
         material.alpha = min(max(_value(mix, "Fac", 0.5, links, "alpha_texture"), 0.0), 1.0)
         return
     if _source(fac)[0] is not None:        # (1 - a texture is not read: Fac's own value is used)
@@ -353,7 +347,7 @@ def convert_material(mat, textures=None):
     if node is None:
         return viewport_material(mat), "no surface shader", None
     links = Links(textures)
-    mix, node = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, node)
+    mix, (node, clear) = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, (node, None))
     if node is None or node.type == "BSDF_PRINCIPLED":
         result = None if node is None else _from_principled(node, links)
     else:
@@ -363,7 +357,7 @@ def convert_material(mat, textures=None):
             f"{mix.bl_idname} (only a Transparent BSDF mixed with one shader is read)"
         return viewport_material(mat), f"unsupported shader {shader}: its viewport colour is used", None
     if mix is not None:
-        _cut_out(mix, result, links)
+        _cut_out(mix, clear, result, links)
     for field, value in links.fields.items():
         setattr(result, field, value)
     problems = []

@@ -16,6 +16,7 @@
 #include "bind_casters.h"
 #include "bindings.h"
 #include "build_job.h"
+#include "ear_clip.h"
 #include "render_job.h"
 #include "adaptive_grid.h"
 #include "moved_grid.h"
@@ -291,6 +292,20 @@ NB_MODULE(_core, m) {
               }
               return nb::make_tuple(hit, stats_dict(st));
           });
+
+    m.def("ear_clip",
+          [](In<double> xy) {
+              if (xy.ndim() != 2 || xy.shape(1) != 2) throw std::invalid_argument("ear_clip: points must have shape (N, 2)");
+              std::vector<int64_t> tri;
+              {
+                  nb::gil_scoped_release release;
+                  tri = ear_clip(xy.data(), xy.shape(0));
+              }
+              auto out = owned<int64_t>({tri.size() / 3, 3});
+              std::copy(tri.begin(), tri.end(), out.data());
+              return out;
+          },
+          "xy"_a, "Triangles (N - 2, 3) of corner indices covering the counter-clockwise polygon xy (ear_clip.h).");
 
     m.def("spawn_origins",
           [](std::shared_ptr<Accel> accel, In<float> o, In<float> d, In<float> t, In<int32_t> prim, In<float> u,

@@ -3,10 +3,12 @@
 polygons(points, counts): polygon k has the counts[k] corners that follow
 those of polygon k-1 in `points`. Each polygon is projected onto the plane of
 its dominant normal axis (Newell's normal). A convex polygon becomes a fan
-(0, j, j+1); any other one is ear-clipped, so that a concave polygon (SPD's
-gears, an L-shaped scan face) is covered exactly once. Triangles keep the
-polygon's winding. A non-convex polygon needs Python work per corner, so
-those with more than MAX_CLIPPED_CORNERS corners are refused (TooManyCorners).
+(0, j, j+1); any other one is ear-clipped (in the core, core/src/ear_clip.h),
+so that a concave polygon (SPD's gears, an L-shaped scan face) is covered
+exactly once. Triangles keep the polygon's winding. Non-convex polygons of
+more than MAX_CLIPPED_CORNERS corners are refused (TooManyCorners): one of a
+million corners takes up to about 10 s to clip (a self-intersecting outline
+of random points; a gear of thin spikes 3 s, a spiral band 1.3 s).
 
 strips(indices, restart): triangle strips in one index stream, a strip
 ending wherever `restart` is set; triangle j of a strip is (s[j], s[j+1],
@@ -18,7 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-MAX_CLIPPED_CORNERS = 100_000
+from .. import _core
+
+MAX_CLIPPED_CORNERS = 1_000_000
 
 
 class TooManyCorners(ValueError):
@@ -167,59 +171,9 @@ def _convex(xy):
 def ear_clip(xy) -> np.ndarray:
     """Triangles (n-2, 3) of local corner indices covering the counter-clockwise
     polygon `xy` (n, 2). An ear is a convex corner whose triangle holds no other
-    non-convex corner; after each clip only the two neighbours change. Where no
+    reflex corner; after each clip only the two neighbours change. Where no
     ear is left (a self-intersecting or degenerate outline) the most convex
-    corner is clipped anyway, so the result always has n - 2 triangles."""
-    xy = np.asarray(xy, dtype=np.float64)
-    n = len(xy)
-    prev, nxt = list(range(-1, n - 1)), list(range(1, n + 1))
-    prev[0], nxt[-1] = n - 1, 0
-    alive = np.ones(n, dtype=bool)
-
-    def turn(i):
-        a, b, c = xy[prev[i]], xy[i], xy[nxt[i]]
-        return (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
-
-    reflex = np.array([turn(i) <= 0 for i in range(n)])
-
-    def is_ear(i):
-        if reflex[i]:
-            return False
-        a, b, c = xy[prev[i]], xy[i], xy[nxt[i]]
-        others = np.flatnonzero(reflex & alive)
-        p = xy[others]
-        p = p[~((p == a).all(1) | (p == b).all(1) | (p == c).all(1))]
-        if not len(p):
-            return True
-        d1 = (b[0] - a[0]) * (p[:, 1] - a[1]) - (b[1] - a[1]) * (p[:, 0] - a[0])
-        d2 = (c[0] - b[0]) * (p[:, 1] - b[1]) - (c[1] - b[1]) * (p[:, 0] - b[0])
-        d3 = (a[0] - c[0]) * (p[:, 1] - c[1]) - (a[1] - c[1]) * (p[:, 0] - c[0])
-        return not np.any((d1 >= 0) & (d2 >= 0) & (d3 >= 0))
-
-    ear = [is_ear(i) for i in range(n)]
-    queue = [i for i in range(n - 1, -1, -1) if ear[i]]      # popped from the end: 0 first
-    out, left = [], n
-    while left > 3:
-        i = None
-        while queue:
-            k = queue.pop()
-            if alive[k] and ear[k]:
-                i = k
-                break
-        if i is None:                                         # no ear: clip the most convex corner
-            live = np.flatnonzero(alive)
-            i = int(live[np.argmax([turn(k) for k in live])])
-        a, c = prev[i], nxt[i]
-        out.append((a, i, c))
-        alive[i], ear[i] = False, False
-        nxt[a], prev[c] = c, a
-        left -= 1
-        for k in (a, c):
-            reflex[k] = turn(k) <= 0
-        for k in (c, a):
-            ear[k] = is_ear(k)
-            if ear[k]:
-                queue.append(k)
-    i = int(np.flatnonzero(alive)[0])
-    out.append((prev[i], i, nxt[i]))
-    return np.array(out, dtype=np.int64)
+    corner is clipped anyway, so the result always has n - 2 triangles. In the
+    core (core/src/ear_clip.h), with a grid of the corners, so that a clip
+    costs about as much as the corners near it."""
+    return _core.ear_clip(np.ascontiguousarray(xy, dtype=np.float64))

@@ -396,20 +396,22 @@ class MaterialTable:
         return index
 
     def layers(self, indices) -> tuple:
-        """(uv layer, colour layer) the materials `indices` need: None when none
-        does, "" for the active render layer, else the first layer named."""
-        uv = color = None
+        """(uv, colour layer) the materials `indices` (an object's slots) need.
+        The colour layer: None when none does, "" for the active render layer,
+        else the first layer named. The UV layer likewise, or, where the slots'
+        materials name different UV maps, a tuple of each slot's (None for a
+        material without textures): meshes.read_mesh then reads each
+        triangle's corners from its own material's map."""
+        uvs, color = [], None
         for i in indices:
             links = self.links[i]
+            uvs.append(None if links is None else links.uv_layer)
             if links is not None:
-                uv = uv if uv else links.uv_layer if links.uv_layer is not None else uv
                 color = color if color else links.color_layer if links.color_layer is not None else color
-        return uv, color
-
-    def uv_layers_named(self, indices) -> list:
-        """The distinct UV maps that the materials `indices` name (UV Map nodes)."""
-        names = {self.links[i].uv_layer for i in indices if self.links[i] is not None}
-        return sorted(name for name in names if name)
+        named = {uv for uv in uvs if uv is not None}
+        if len(named) > 1:
+            return tuple(uvs), color
+        return (named.pop() if named else None), color
 
     def slot_indices(self, obj):
         """Global material index for each material slot of `obj` (at least one entry)."""

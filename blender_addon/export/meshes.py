@@ -184,7 +184,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
     them, the generic attributes, whose foreach_get is much faster than the
     per-element RNA collections (~0.3 s for 1M triangles). Corner UVs and
     colours are read only when a material needs them (uv_layer / color_layer
-    not None; "" = the active render layer).
+    not None; "" = the active render layer; uv_layer may also be a tuple of
+    each material slot's layer, MaterialTable.layers).
     """
     if hasattr(mesh, "calc_loop_triangles"):
         mesh.calc_loop_triangles()
@@ -195,9 +196,13 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
     slots = _material_slots(mesh, tris, n_tris)
     domain = _domain(mesh, tris, n_tris) if n_tris else "FACE"
     uvs = colors = None
-    if uv_layer is not None:
+    missing = None
+    if isinstance(uv_layer, tuple):   # each slot's material its own UV map
+        uvs, missing = _slot_uvs(mesh, uv_layer, slots, tri_loops, n_loops)
+    elif uv_layer is not None:
         corner = _corner_uvs(mesh, uv_layer, n_loops)
         uvs = None if corner is None else corner[tri_loops]
+        missing = uv_layer if uv_layer and mesh.uv_layers.get(uv_layer) is None else None
     if color_layer is not None:
         corner = _corner_colors(mesh, color_layer, n_loops, n_verts)
         colors = None if corner is None else corner[tri_loops]
@@ -208,9 +213,26 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
         tri_verts = _corner_verts(mesh, n_loops)[tri_loops]
         normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
         data = MeshData(co, tri_verts, normals, slots, uvs, colors)
-    if uv_layer and uvs is not None and mesh.uv_layers.get(uv_layer) is None:
-        data.missing_uv_layer = uv_layer
+    if uvs is not None:
+        data.missing_uv_layer = missing
     return data
+
+
+def _slot_uvs(mesh, layers, slots, tri_loops, n_loops):
+    """((T, 3, 2) corner UVs, each triangle's from the UV map its slot's
+    material names (layers[slot]; the render one where it names none), a
+    named map the mesh lacks or None); (None, None) without UV maps."""
+    if not len(mesh.uv_layers):
+        return None, None
+    slot = np.clip(slots, 0, len(layers) - 1)
+    uvs = np.empty(tri_loops.shape + (2,), np.float32)
+    missing = None
+    for name in sorted({layer or "" for layer in layers}):
+        which = np.isin(slot, [k for k, layer in enumerate(layers) if (layer or "") == name])
+        uvs[which] = _corner_uvs(mesh, name, n_loops)[tri_loops[which]]
+        if name and mesh.uv_layers.get(name) is None and which.any():
+            missing = missing or name
+    return uvs, missing
 
 
 def sphere_from_bounds(bound_box, matrix):
@@ -301,7 +323,6 @@ class MeshCollector:
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
-        self.uv_conflicts = {}     # object name -> (the UV maps its materials name, the one read for all)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
@@ -354,9 +375,6 @@ class MeshCollector:
             self.without_uvs.add(obj.name)
         if data.missing_uv_layer:
             self.missing_uv_layers[obj.name] = data.missing_uv_layer
-        named = self.materials.uv_layers_named(lookup[np.unique(np.clip(data.material_slot, 0, len(lookup) - 1))])
-        if len(named) > 1:                     # (the slots its faces use)
-            self.uv_conflicts[obj.name] = (named, layers[0])
         if data.non_finite_corners:
             self.non_finite_corners[obj.name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
@@ -381,9 +399,6 @@ class MeshCollector:
         if self.without_uvs:
             out.append("Objects with image textures but no UV map show each texture's corner at UV (0, 0): "
                        + _quoted(self.without_uvs))
-        for name, (named, used) in sorted(self.uv_conflicts.items()):
-            out.append(f"Object '{name}': its materials' UV Map nodes name different UV maps "
-                       f"({', '.join(repr(n) for n in named)}); one UV map per object is read: {used!r}")
         for name, count in sorted(self.non_finite_corners.items()):
             out.append(f"Object '{name}': {count} triangle corners have a non-finite UV or colour (NaN or Inf), "
                        "read as 0")

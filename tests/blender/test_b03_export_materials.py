@@ -92,12 +92,20 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
     assert "error" not in out.info, out.info.get("error")
     said = "\n".join(out.warnings)
     assert "image projection BOX is read as Flat" in said
-    assert "Object 'TwoMaps': its materials' UV Map nodes name different UV maps ('Second', 'UVMap')" in said
+    assert "TwoMaps" not in said                  # each material its own UV map, below
     assert "Object 'NanUV': 2 triangle corners have a non-finite UV or colour (NaN or Inf), read as 0" in said
     assert "World 'Hidden': Ray Visibility > Camera off is not supported" in said
     assert re.search(r"Layers: (Coat Weight|Clearcoat) 0\.5, (Sheen Weight|Sheen) 1 not modelled \(rendered as 0\)",
                      said), said
     assert np.isfinite(out.uvs).all()
+    # TwoMaps (the grid at the origin, faces alternating between two materials):
+    # the material naming 'UVMap' gets [0, 1], the one naming 'Second' [0.25, 0.75]
+    centre = out.vertices[out.triangles].mean(axis=1)
+    mine = np.abs(centre).max(axis=1) < 0.6
+    ranges = sorted((float(out.uvs[mine & (out.triangle_materials == m)].min()),
+                     float(out.uvs[mine & (out.triangle_materials == m)].max()))
+                    for m in np.unique(out.triangle_materials[mine]))
+    np.testing.assert_allclose(ranges, [(0.0, 1.0), (0.25, 0.75)], atol=1e-6)
 
 
 def test_the_view_layers_material_override_replaces_every_material(export):

@@ -453,7 +453,7 @@ def texture_links_scene(resolution=(32, 24)):
 def unread_settings_scene(override=False):
     """Settings the export reads or warns about (found by an exploration
     against Cycles): a Box-projected image, an object whose two materials
-    name different UV maps, a plane with a NaN UV (one loop: a corner of both its triangles), a Principled
+    name different UV maps (the second the first shrunk to [0.25, 0.75]), a plane with a NaN UV (one loop: a corner of both its triangles), a Principled
     BSDF with a coat and a sheen, a world hidden from camera rays; with override, the view layer's Material Override (grey)."""
     reset(resolution=(32, 24))
     img = bpy.data.images.new("Grid", 16, 16)
@@ -465,7 +465,9 @@ def unread_settings_scene(override=False):
                                     rotation=(math.pi / 2, 0, 0))
     two = bpy.context.object                   # faces alternating between the two materials
     two.name = "TwoMaps"
-    two.data.uv_layers.new(name="Second")
+    second = two.data.uv_layers.new(name="Second")
+    for loop in second.data:                   # the first map shrunk about its centre
+        loop.uv = (0.25 + 0.5 * loop.uv[0], 0.25 + 0.5 * loop.uv[1])
     for name, layer in (("FirstMap", "UVMap"), ("SecondMap", "Second")):
         mat = principled_material(name, (0.5, 0.5, 0.5))
         _image_node(mat, img, uv_map=layer)

@@ -235,6 +235,10 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             self._warn("Stereoscopy is not supported: the first view is rendered, the others are left empty")
         for warning in unsupported_render_settings(depsgraph.scene):
             self._warn(warning)
+        unwritten = passes.unwritten_passes(depsgraph.view_layer)
+        if unwritten:
+            self._warn("Render passes not written (only Combined, Depth, Normal and the denoising data are): "
+                       + ", ".join(unwritten))
         t1 = time.perf_counter()
         if self._cancelled("after the export", writer):
             return

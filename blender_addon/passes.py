@@ -52,3 +52,26 @@ def _asked(p: Pass, view_layer, scene) -> bool:
 def enabled(view_layer, scene=None) -> list[Pass]:
     """The passes this view layer (and the scene's Gridwalk settings) ask for (Combined always)."""
     return [p for p in PASSES if _asked(p, view_layer, scene)]
+
+
+# The view layer's other passes (use_pass_* -> Cycles' name): GRIDWALK does not
+# write them, and an enabled one is named in a warning (a compositor fed from
+# it would get nothing without a word).
+UNWRITTEN = {
+    "use_pass_mist": "Mist", "use_pass_position": "Position", "use_pass_vector": "Vector", "use_pass_uv": "UV",
+    "use_pass_object_index": "Object Index", "use_pass_material_index": "Material Index",
+    "use_pass_diffuse_direct": "Diffuse Direct", "use_pass_diffuse_indirect": "Diffuse Indirect",
+    "use_pass_diffuse_color": "Diffuse Color", "use_pass_glossy_direct": "Glossy Direct",
+    "use_pass_glossy_indirect": "Glossy Indirect", "use_pass_glossy_color": "Glossy Color",
+    "use_pass_transmission_direct": "Transmission Direct", "use_pass_transmission_indirect": "Transmission Indirect",
+    "use_pass_transmission_color": "Transmission Color", "use_pass_emit": "Emission",
+    "use_pass_environment": "Environment", "use_pass_ambient_occlusion": "Ambient Occlusion",
+    "use_pass_shadow": "Shadow", "use_pass_cryptomatte_object": "Cryptomatte Object",
+    "use_pass_cryptomatte_material": "Cryptomatte Material", "use_pass_cryptomatte_asset": "Cryptomatte Asset",
+}
+
+
+def unwritten_passes(view_layer) -> list[str]:
+    """The passes enabled on `view_layer` that GRIDWALK leaves out."""
+    return [name for flag, name in UNWRITTEN.items() if getattr(view_layer, flag, False) is True]
+

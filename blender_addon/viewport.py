@@ -376,7 +376,7 @@ def view_from_context(engine, context, depsgraph):
         cam_obj = scene.camera.evaluated_get(depsgraph)
         camera_frame(cam_obj)          # a camera without a view (zero scale, NaN) raises CameraError, named
         try:
-            lens = convert_camera(cam_obj, scene.render, scene.unit_settings.scale_length)
+            lens = convert_camera(cam_obj, scene.render)
         except CameraError:            # (an unsupported panorama: its frame, in perspective)
             lens = None
         if lens is not None:

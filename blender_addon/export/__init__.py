@@ -47,7 +47,7 @@ class Export:
         scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
         self.warnings: list[str] = []
         try:
-            self.camera = convert_camera(scene.camera, scene.render, scene.unit_settings.scale_length) \
+            self.camera = convert_camera(scene.camera, scene.render) \
                 if camera else None
         except CameraError as exc:
             raise ExportError(str(exc)) from None
@@ -57,6 +57,7 @@ class Export:
         self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
         self.meshes = MeshCollector(self.materials, cache)
         self.lights = []
+        unrendered = {}   # label -> names of objects of a kind the core has no primitive for
         for inst in depsgraph.object_instances:
             if should_stop is not None and should_stop():
                 raise ExportCancelled()
@@ -64,8 +65,16 @@ class Export:
                 light = light_from_instance(inst, self.warnings)
                 if light is not None:
                     self.lights.append(light)
+            elif inst.object.type in UNRENDERED_TYPES:
+                if inst.show_self and not inst.object.original.hide_render:
+                    unrendered.setdefault(UNRENDERED_TYPES[inst.object.type], set()).add(inst.object.original.name)
             else:
                 self.meshes.add_instance(inst)
+            for psys in getattr(inst.object, "particle_systems", ()) if inst.show_self else ():
+                if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
+                    unrendered.setdefault("Particle hair is", set()).add(inst.object.original.name)
+        self.warnings.extend(f"{label} not rendered: " + ", ".join(f"'{n}'" for n in sorted(names))
+                             for label, names in sorted(unrendered.items()))
         self.warnings.extend(_collection_warnings(depsgraph))
         self.world_warnings: list[str] = []
         self.background, self.world = convert_world(scene.world, self.textures, self.world_warnings)
@@ -111,6 +120,11 @@ def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True)
     Raises ExportError with a user-facing message when there is no camera or
     nothing to render."""
     return Export(depsgraph, cache, camera).kwargs()
+
+
+# Object types whose geometry the core has no primitive for (warned, not rendered).
+UNRENDERED_TYPES = {"POINTCLOUD": "Point clouds are", "CURVES": "Hair curves objects are",
+                    "VOLUME": "Volume objects are"}
 
 
 def _collection_warnings(depsgraph) -> list[str]:

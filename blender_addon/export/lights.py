@@ -48,7 +48,35 @@ def _rgb(light) -> np.ndarray:
     rgb = np.array(tuple(light.color)[:3], dtype=np.float64)
     if getattr(light, "use_temperature", False):
         rgb *= np.array(tuple(light.temperature_color)[:3], dtype=np.float64)
+    emission = _node_emission(light)
+    if emission is not None:
+        rgb *= emission
     return rgb
+
+
+def _light_output(light):
+    """The light's node tree's Light Output (the active one), or None without nodes."""
+    tree = getattr(light, "node_tree", None)
+    if not getattr(light, "use_nodes", False) or tree is None:
+        return None
+    outputs = [n for n in tree.nodes if n.type == "OUTPUT_LIGHT"]
+    return next((n for n in outputs if getattr(n, "is_active_output", False)), outputs[0] if outputs else None)
+
+
+def _node_emission(light):
+    """Colour x Strength of an Emission node with unlinked inputs feeding the
+    light's node output (Cycles multiplies the light by it), 0 for an output
+    fed nothing, None without nodes or for trees that are not that (warned)."""
+    out = _light_output(light)
+    if out is None:
+        return None
+    surface = out.inputs.get("Surface")
+    if surface is None or not surface.is_linked:
+        return np.zeros(3)
+    node = surface.links[0].from_node
+    if node.type != "EMISSION" or node.mute or any(i.is_linked for i in node.inputs if i.name in ("Color", "Strength")):
+        return None
+    return np.array(tuple(node.inputs["Color"].default_value)[:3], np.float64) * float(node.inputs["Strength"].default_value)
 
 
 def _power(light, area: float) -> float:
@@ -141,6 +169,9 @@ def light_from_instance(inst, warnings: list):
 def _approximated(light, matrix) -> list[str]:
     """What Gridwalk renders otherwise than Cycles in this light's settings."""
     out = []
+    if _light_output(light) is not None and _node_emission(light) is None:
+        out.append("its nodes are not read (only an Emission node with unlinked Color and Strength "
+                   "into the Light Output is): it gives the light's own colour and power")
     if light.type in ("POINT", "SPOT", "AREA", "SUN") and float(light.energy) < 0:
         out.append("negative power (a light that darkens) is not supported; it gives no light")
     spread = float(getattr(light, "spread", math.pi))

@@ -55,6 +55,17 @@ def test_every_light_type_is_exported(export):
     assert len(out.lights) == 8
 
 
+def test_a_light_dimmed_by_its_nodes_is_dimmed_and_other_light_nodes_are_named(export):
+    out = export("lights", nodes=True)
+    lights = _by_position(out)
+    point = lights[tuple(np.round(out.expected["lights"]["Point"]["position"], 3))]
+    # Cycles multiplies the light by its Emission node's Color x Strength (measured: 4x darker at 0.25)
+    np.testing.assert_allclose(point["color"], np.array([1, 0.5, 0.125]) * 0.25 * 100 * POINT, rtol=1e-5)
+    assert ("Light 'Sphere': its nodes are not read (only an Emission node with unlinked Color and Strength "
+            "into the Light Output is): it gives the light's own colour and power") in out.warnings
+    assert not any("Light 'Point'" in w for w in out.warnings)
+
+
 def test_lights_fall_off_with_distance_squared(export):
     out = export("lights")
     local = [light for light in out.lights if light["kind"] != "sun"]
@@ -90,6 +101,9 @@ def test_camera_shift_is_in_units_of_the_larger_side(export):
 
 def test_camera_depth_of_field(export):
     out = export("camera", dof=True)
+    assert out.camera["aperture"] == pytest.approx(0.050 / (2 * 2.8), rel=1e-6)
+    # Cycles' aperture does not depend on the Unit Scale (EEVEE's does)
+    out = export("camera", dof=True, unit_scale=0.1)
     assert out.camera["aperture"] == pytest.approx(0.050 / (2 * 2.8), rel=1e-6)
     assert out.camera["focus_distance"] == pytest.approx(7.5, rel=1e-6)
     out = export("camera", dof=True, focus_object=True)

@@ -80,7 +80,10 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "Light 'Stretched': a non-uniform scale does not stretch its cone",
                      "Motion blur is not supported: each object renders where it is at the current frame",
                      "Camera 'Camera': aperture blades, rotation and ratio are not supported (the aperture "
-                     "is round)"):
+                     "is round)",
+                     "Particle hair is not rendered: 'Furry'",
+                     "Render passes not written (only Combined, Depth, Normal and the denoising data are): "
+                     "Mist, Object Index"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
     if results["blender"][0] >= 4:             # (light linking came with 4.0)

@@ -195,6 +195,12 @@ def case_ignored_settings(bpy, s):
         key.light_linking.receiver_collection = bpy.data.collections.new("OnlyTheCube")
     dof = bpy.context.scene.camera.data.dof
     dof.use_dof, dof.focus_distance, dof.aperture_fstop, dof.aperture_blades = True, 10.0, 64.0, 6
+    furry = s.link(s.cube_object("Furry"))                          # particle hair: not rendered
+    furry.location = (0.0, 3.0, 0.0)
+    hair = furry.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings
+    hair.type, hair.count = "HAIR", 20
+    view_layer = bpy.context.view_layer
+    view_layer.use_pass_mist = view_layer.use_pass_object_index = True   # passes GRIDWALK does not write
 
 
 def case_nan_only(bpy, s):

@@ -198,11 +198,24 @@ def add_light(name, kind, location=(0, 0, 5), rotation=(0, 0, 0), **props):
     return obj
 
 
-def lights_scene():
+def lights_scene(nodes=False):
+    """Every light type; with nodes, the Point light's node tree dims it (an
+    Emission of Strength 0.25, Color (1, 1, 0.5)) and the Sphere light's is a
+    Blackbody node into the Emission (not read)."""
     reset()
     link(cube_object())
-    add_light("Point", "POINT", (1, 2, 3), energy=100.0, shadow_soft_size=0.0, color=(1, 0.5, 0.25))
-    add_light("Sphere", "POINT", (0, 0, 4), energy=50.0, shadow_soft_size=0.5)
+    point = add_light("Point", "POINT", (1, 2, 3), energy=100.0, shadow_soft_size=0.0, color=(1, 0.5, 0.25))
+    sphere = add_light("Sphere", "POINT", (0, 0, 4), energy=50.0, shadow_soft_size=0.5)
+    if nodes:
+        for light, dim in ((point, True), (sphere, False)):
+            light.data.use_nodes = True
+            emission = next(n for n in light.data.node_tree.nodes if n.type == "EMISSION")
+            if dim:
+                emission.inputs["Strength"].default_value = 0.25
+                emission.inputs["Color"].default_value = (1.0, 1.0, 0.5, 1.0)
+            else:
+                blackbody = light.data.node_tree.nodes.new("ShaderNodeBlackbody")
+                light.data.node_tree.links.new(blackbody.outputs[0], emission.inputs["Color"])
     add_light("Sun", "SUN", (0, 0, 9), (0.5, 0, 0), energy=3.0, angle=math.radians(10))
     add_light("Spot", "SPOT", (2, 0, 5), (0, 0.3, 0), energy=200.0, spot_size=math.radians(60),
               spot_blend=0.25, shadow_soft_size=0.1)
@@ -226,8 +239,10 @@ def lights_scene():
     return {"lights": out}
 
 
-def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False):
+def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False,
+                 unit_scale=1.0):
     scene = reset(resolution=resolution)
+    scene.unit_settings.scale_length = unit_scale
     link(cube_object())
     cam = scene.camera
     if ortho:

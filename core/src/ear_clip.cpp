@@ -20,19 +20,19 @@ struct Pt {
 class ReflexGrid {
 public:
     ReflexGrid(const std::vector<Pt>& p, const std::vector<char>& alive, const std::vector<char>& reflex)
-        : p_(p), alive_(alive), reflex_(reflex), listed_(p.size(), 0) {
+        : alive_(alive), reflex_(reflex), listed_(p.size(), 0) {
         const size_t n = p.size();
         size_t count = 0;
-        lo_ = hi_ = p[0];
+        Pt hi = lo_ = p[0];
         bool finite = true;
         for (size_t i = 0; i < n; ++i) {
             const Pt q = p[i];
             finite &= std::isfinite(q.x) && std::isfinite(q.y);
             lo_.x = std::min(lo_.x, q.x); lo_.y = std::min(lo_.y, q.y);
-            hi_.x = std::max(hi_.x, q.x); hi_.y = std::max(hi_.y, q.y);
+            hi.x = std::max(hi.x, q.x); hi.y = std::max(hi.y, q.y);
             count += reflex[i] != 0;
         }
-        const double w = hi_.x - lo_.x, h = hi_.y - lo_.y, cells = double(std::max<size_t>(count, 1));
+        const double w = hi.x - lo_.x, h = hi.y - lo_.y, cells = double(std::max<size_t>(count, 1));
         if (finite && w > 0 && h > 0) {   // about one cell per reflex corner, square cells
             const double side = std::sqrt(w * h / cells);
             nx_ = int(std::clamp(w / side, 1.0, cells));
@@ -143,11 +143,10 @@ private:
     }
     size_t cell(Pt q) const { return size_t(cy(q.y)) * size_t(nx_) + size_t(cx(q.x)); }
 
-    const std::vector<Pt>& p_;
     const std::vector<char>& alive_;
     const std::vector<char>& reflex_;
     std::vector<char> listed_;
-    Pt lo_, hi_;
+    Pt lo_;   // the grid's corner
     int nx_ = 1, ny_ = 1;
     double sx_ = 0, sy_ = 0;
     std::vector<uint32_t> first_, end_, items_, extra_;

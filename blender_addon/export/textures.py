@@ -91,7 +91,7 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
         return None, f"it cannot be read ({exc})"
     px = px.reshape(h, w, c)[::-1]
     non_finite = 0
-    if img.is_float:                # (NaN and Inf, which broken HDR files hold, before the mean: the world's ambient)
+    if img.is_float:                # (NaN and Inf, which broken HDR files hold, before the mean and the lighting)
         non_finite = int(px.size - np.count_nonzero(np.isfinite(px)))
         if non_finite:
             px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
@@ -225,7 +225,7 @@ class TextureTable:
 
     def mean_color(self, index: int) -> tuple:
         """The average colour a texture gives (linear RGB; premultiplied where the
-        texture premultiplies): the ambient of an environment."""
+        texture premultiplies): the background colour of an environment world."""
         image = self.images[self.textures[index].image]
         return getattr(image, "mean_rgb_associated", image.mean_rgb) if self.textures[index].premultiply \
             else image.mean_rgb

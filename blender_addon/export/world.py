@@ -10,7 +10,9 @@ Color x Strength is
     occlusion, so creases are as bright as roofs).
 A Color linked from an Environment Texture (equirectangular, HDR/EXR or 8-bit)
 makes the environment what missing rays see (times Strength), and its
-average colour (cos-latitude weighted) x Strength the ambient term. Any other
+irradiance on each surface's normal the ambient term (World.environment_light:
+nine spherical-harmonic coefficients, so a sky over dark ground lights tops
+and leaves undersides dark, as in Cycles, still without occlusion). Any other
 linked Color or Strength falls back to the world's viewport colour, with a
 warning naming the node. Without nodes: world.color, both as background and
 ambient. A Mix Shader whose Fac is Light Path's Is Camera Ray, between two
@@ -78,7 +80,7 @@ def convert_world(world, textures, warnings: list) -> tuple:
     background, out = _convert_world(world, textures, warnings)
     visibility = getattr(world, "cycles_visibility", None)
     if visibility is not None and not getattr(visibility, "diffuse", True):
-        out = dataclasses.replace(out, ambient=(0.0, 0.0, 0.0))
+        out = dataclasses.replace(out, ambient=(0.0, 0.0, 0.0), environment_light=False)
     ignored = [label for prop, label in (("camera", "Camera"), ("glossy", "Glossy"), ("transmission", "Transmission"))
                if visibility is not None and not getattr(visibility, prop, True)]
     if ignored:
@@ -119,7 +121,7 @@ def _convert_world(world, textures, warnings: list) -> tuple:
         index = textures.texture(source)
         mean = textures.mean_color(index)
         return (tuple(c * strength for c in mean),
-                World(ambient=tuple(c * strength for c in mean), environment=index, environment_strength=strength))
+                World(environment=index, environment_strength=strength, environment_light=True))
     if source is not None:
         name = source.bl_idname
         warnings.append(f"World {world.name!r}: a Color from {name} is not supported, using the world viewport colour")

@@ -23,6 +23,8 @@ AA = '{"aa": "JITTERED", "aa_samples": 4}'
 SCENES = (   # (scene, label, options for both engines)
     ("checker", "Image Texture on UVs", ["resolution"]),
     ("environment", "HDR Environment, mirror sphere", ["transparent=false"]),
+    ("environment", "HDR Environment lighting a matte sphere",
+     ['scene={"matte": true, "resolution": [128, 96]}', "transparent=false"]),
     ("emission_mirror", "Emission seen in a mirror", ["transparent=false"]),
     ("pane_shadow", "Glass pane: transparent shadow", ['scene={"pane": "glass", "resolution": [128, 128]}',
                                                       "transparent=false"]),
@@ -33,10 +35,10 @@ SIZE = '[128, 96]'
 
 
 def render(scene, engine, options, out: Path) -> np.ndarray:
-    folder = out / f"{scene}_{engine}"
+    folder = out / f"{scene}_{engine}_{len(list(out.iterdir()))}"
     folder.mkdir()
     opts = [o if o != "resolution" else f'scene={{"resolution": {SIZE}}}' for o in options]
-    if scene in ("environment", "emission_mirror"):
+    if scene in ("environment", "emission_mirror") and not any(o.startswith("scene=") for o in options):
         opts.append(f'scene={{"resolution": {SIZE}}}')
     opts += [f"settings={AA}"] if engine == "GRIDWALK" else ["samples=128"]
     run_script("bpy45", "render_scene.py", scene, folder, engine, *opts, timeout=600)

@@ -54,6 +54,7 @@ void bind_records(nb::module_& m) {
         .def_rw("ambient", &World::ambient)
         .def_rw("environment", &World::environment)
         .def_rw("environment_strength", &World::environment_strength)
+        .def_rw("environment_light", &World::environment_light)
         .def_rw("transparent", &World::transparent)
         .def("validate", &validate_world);
 

@@ -241,8 +241,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: use the true one
     Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
-    const Vec3& ambient = scene_.world().ambient;
-    if (ambient.x != 0 || ambient.y != 0 || ambient.z != 0) color += m.color * ambient * m.kd;
+    if (scene_.has_ambient()) color += m.color * scene_.ambient(ns) * m.kd;
     if (depth >= s_.max_depth) return color;
 
     float refl = m.mirror, trans = 0;

@@ -10,6 +10,7 @@
 #include "buffer_pool.h"
 #include "camera.h"
 #include "cone.h"
+#include "irradiance.h"
 #include "lights.h"
 #include "material.h"
 #include "ray.h"
@@ -144,6 +145,15 @@ public:
         const Texture& t = textures_[size_t(world_.environment)];
         return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
     }
+    // The ambient light a diffuse surface facing n gets (times its colour and
+    // kd): World.ambient plus the environment's irradiance / pi where
+    // World.environment_light is set.
+    Vec3 ambient(const Vec3& n) const {
+        return env_light_ ? world_.ambient + env_irradiance_.at(n) : world_.ambient;
+    }
+    bool has_ambient() const {
+        return env_light_ || world_.ambient.x != 0 || world_.ambient.y != 0 || world_.ambient.z != 0;
+    }
     // Whether some material lets light through: shadow rays then look at what they hit.
     bool transparent_shadows() const { return transparent_shadows_; }
     // The material at a hit with its textures and colour attribute applied
@@ -183,6 +193,8 @@ private:
     std::vector<std::shared_ptr<const Image>> images_;
     std::vector<Texture> textures_;
     World world_;
+    bool env_light_ = false;          // world_.environment_light with an environment
+    Irradiance env_irradiance_;
     bool transparent_shadows_ = false;
     Bounds bounds_;
     uint64_t id_ = next_id();

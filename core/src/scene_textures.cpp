@@ -57,6 +57,11 @@ void Scene::check_textures() {
     }
     validate_world(world_);
     check_index(world_.environment, "World.environment");
+    env_light_ = world_.environment_light && world_.environment >= 0;
+    if (env_light_) {
+        const Texture& t = textures_[size_t(world_.environment)];
+        env_irradiance_ = environment_irradiance(*images_[size_t(t.image)], t, world_.environment_strength);
+    }
 }
 
 void Scene::hit_uv(const Hit& hit, float& u, float& v) const {

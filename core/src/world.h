@@ -8,6 +8,10 @@
 // the surface sees the whole sky.
 // environment: a texture (equirectangular) that rays which miss everything see,
 // times environment_strength; -1 = none (they see the background colour).
+// environment_light: surfaces also get the environment's diffuse light: the
+// irradiance its image x environment_strength sends on their shading normal
+// (irradiance.h), also without occlusion, added to the ambient term. Blender's
+// image worlds set it (a sky over dark ground lights roofs, not floors' undersides).
 // transparent: camera rays that miss see nothing (RGB 0 with alpha 0, a
 // premultiplied transparent film, Blender's Film > Transparent); mirror and
 // refraction rays still see the background or environment.
@@ -23,6 +27,7 @@ struct World {
     Vec3 ambient{0, 0, 0};
     int32_t environment = -1;
     float environment_strength = 1;
+    bool environment_light = false;
     bool transparent = false;
 };
 

@@ -153,15 +153,18 @@ def _sphere_mean(rgb):
 def test_an_8_bit_environment_with_alpha_lights_with_the_colour_it_shows(export):
     """Cycles' Environment Texture gives associated colour (it has no Alpha
     output): the background is premultiplied per texel (in bytes, then
-    decoded), so the ambient is that colour's mean over the sphere; it was the
-    straight colour's mean, as bright as an opaque image's."""
-    opaque = export("environment", eight_bit_alpha=1.0).world["ambient"]
+    decoded), so the world's colour is that colour's mean over the sphere; it was
+    the straight colour's mean, as bright as an opaque image's. The light it
+    gives surfaces comes from the same premultiplied texels (the core's
+    environment_light: test46)."""
+    opaque = export("environment", eight_bit_alpha=1.0).background
     out = export("environment", eight_bit_alpha=0.25)
     assert [t["premultiply"] for t in out.textures] == [True]
+    assert out.world["environment_light"] and out.world["environment"] == 0 and out.world["ambient"] == [0, 0, 0]
     px = out.image_0.astype(np.int64)                        # (h, w, 4) bytes
     assert out.images[0]["dtype"] == "uint8" and (px[:, :, 3] == 64).mean() == 0.5
     straight = _sphere_mean(_srgb_decode(px[..., :3] / 255.0))
     associated = _sphere_mean(_srgb_decode((px[..., :3] * px[..., 3:] // 255) / 255.0))
     np.testing.assert_allclose(opaque, straight, rtol=2e-3)
-    np.testing.assert_allclose(out.world["ambient"], associated, rtol=2e-3)
+    np.testing.assert_allclose(out.background, associated, rtol=2e-3)
     assert np.all(associated < 0.9 * straight)

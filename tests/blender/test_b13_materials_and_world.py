@@ -42,6 +42,9 @@ def renders(request, tmp_path_factory):
     r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
     r["environment_broken"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque,
                                       'scene={"broken": true}')
+    for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=64")):
+        r[f"environment_matte_{engine.lower()}"] = _render(kind, out, "environment", engine, option, opaque,
+                                                           'scene={"matte": true}')
     r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
@@ -102,6 +105,25 @@ def test_hdr_environment_in_a_mirror_sphere_matches_cycles(renders):
     assert corr >= 0.95
     assert abs(ours[..., :3].mean() / cycles[..., :3].mean() - 1) < 0.05
     assert "no lights" not in renders["environment"]["stdout"]
+
+
+def test_hdr_environment_lights_a_matte_sphere_by_direction_as_in_cycles(renders):
+    # The environment's light on each normal (its irradiance), not one average colour: the sky's
+    # blue top lights the sphere's top, its colours by longitude its sides.
+    ours, cycles = (renders[f"environment_matte_{e}"]["rgba"] for e in ("gridwalk", "cycles"))
+    sphere = (ours[..., 3] == 1) & (cycles[..., 3] == 1)
+    inner = sphere & np.roll(sphere, 2, 0) & np.roll(sphere, -2, 0) & np.roll(sphere, 2, 1) & np.roll(sphere, -2, 1)
+    a, b = ours[inner][:, :3], cycles[inner][:, :3]
+    assert inner.sum() > 300
+    for c in range(3):
+        assert np.corrcoef(a[:, c], b[:, c])[0, 1] > 0.95, c              # one average colour: no correlation
+    assert np.abs(a.mean(axis=0) / b.mean(axis=0) - 1).max() < 0.05
+    rows = np.nonzero(inner.any(axis=1))[0]
+    top, bottom = inner.copy(), inner.copy()
+    top[rows[len(rows) // 4]:] = False
+    bottom[:rows[-len(rows) // 4]] = False
+    assert ours[top][:, 2].mean() > 1.5 * ours[bottom][:, 2].mean()
+    assert abs(ours[top][:, 2].mean() / cycles[top][:, 2].mean() - 1) < 0.08
 
 
 def test_film_transparent_hides_the_environment_but_not_its_reflection(renders):

@@ -188,12 +188,18 @@ class World(Record):
     occlusion: a crease gets as much as a roof). environment: an index into
     Scene(textures=...) of an equirectangular image (Z up; its centre looks
     along +X) that rays which miss everything see, times
-    environment_strength; -1: they see the background colour. transparent:
+    environment_strength; -1: they see the background colour.
+    environment_light: surfaces also get the environment's diffuse light,
+    color * kd * E(n) / pi for the irradiance E its image (times
+    environment_strength) sends on the shading normal n, from nine
+    spherical-harmonic coefficients (Ramamoorthi & Hanrahan 2001), added to
+    ambient and likewise unoccluded. transparent:
     camera rays that miss see nothing (RGB 0, alpha 0: a premultiplied
     transparent film); reflections still see the environment."""
     ambient: tuple = _WORLD.ambient
     environment: int = _WORLD.environment
     environment_strength: float = _WORLD.environment_strength
+    environment_light: bool = _WORLD.environment_light
     transparent: bool = _WORLD.transparent
     CORE = _core.World
 

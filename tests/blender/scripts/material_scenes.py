@@ -196,16 +196,29 @@ def sky_pixels(w=64, h=32):
     return px
 
 
-def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None):
+def _diffuse_material(name):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    mat.node_tree.links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
+    return mat
+
+
+def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None, matte=False):
     """A mirror sphere in an HDR environment (a float image on an Environment Texture);
     broken: a few of its pixels are +Inf and NaN, as broken HDR files hold;
-    eight_bit_alpha: an 8-bit sRGB image instead, of this alpha in its right half."""
+    eight_bit_alpha: an 8-bit sRGB image instead, of this alpha in its right half;
+    matte: the sphere is a grey Diffuse BSDF, lit by the environment alone."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=2.5, segments=64, ring_count=32)
     sphere = bpy.context.object
     sphere.data.polygons.foreach_set("use_smooth", [True] * len(sphere.data.polygons))
     sphere.data.update()
-    sphere.data.materials.append(principled_material("Mirror", (1.0, 1.0, 1.0), Metallic=1.0, Roughness=0.0))
+    sphere.data.materials.append(_diffuse_material("Matte") if matte else
+                                 principled_material("Mirror", (1.0, 1.0, 1.0), Metallic=1.0, Roughness=0.0))
     world = bpy.data.worlds.new("Sky")
     bpy.context.scene.world = world
     if bpy.app.version < (5, 0, 0):

@@ -82,10 +82,11 @@ class Export:
 
     def signature(self) -> tuple:
         """What the scene arrays and records are made of: each instance's mesh
-        entry, matrix and materials, the spheres, materials, lights, background."""
+        entry, matrix and materials, the spheres (point clouds by a hash), materials, lights, background."""
         parts = tuple((key, matrix.tobytes(), lookup.tobytes()) for key, _, matrix, lookup in self.meshes.parts)
         spheres = tuple((tuple(c), r, m) for c, r, m in self.meshes.spheres)
-        return (parts, spheres, repr(self.materials.materials), repr(self.lights), self.background,
+        points = tuple(p.digest() for p in self.meshes.point_sets)
+        return (parts, spheres, points, repr(self.materials.materials), repr(self.lights), self.background,
                 repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
 
     def kwargs(self) -> tuple[dict, list[str]]:
@@ -123,7 +124,7 @@ def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True)
 
 
 # Object types whose geometry the core has no primitive for (warned, not rendered).
-UNRENDERED_TYPES = {"POINTCLOUD": "Point clouds are", "CURVES": "Hair curves objects are",
+UNRENDERED_TYPES = {"CURVES": "Hair curves objects are",
                     "VOLUME": "Volume objects are"}
 
 

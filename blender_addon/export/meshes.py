@@ -18,7 +18,8 @@ corner, since the core takes one normal per vertex.
 
 An object with "Render as sphere" becomes one analytic sphere: centre =
 matrix_world @ (centre of its local bounding box), radius = (largest local
-half extent) * (largest axis scale of matrix_world).
+half extent) * (largest axis scale of matrix_world). A point cloud object
+becomes one sphere per point (point_clouds.py).
 
 Bad input never reaches the core: an instance whose transform or vertex
 coordinates are not finite, or lie beyond +-MAX_COORDINATE in world space, is
@@ -35,6 +36,7 @@ import math
 import numpy as np
 
 from ._matrix import to_numpy, transform_normals, transform_points
+from .point_clouds import point_count, point_set
 
 MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 extents overflow)
 
@@ -251,7 +253,7 @@ def _quoted(names) -> str:
 def renders(inst) -> bool:
     """Whether a depsgraph object instance is geometry that the render shows.
 
-    Meshes only: Blender lists the evaluated geometry of a curve, surface,
+    Meshes and point clouds only: Blender lists the evaluated geometry of a curve, surface,
     text or metaball as a mesh instance whose parent is the object itself,
     beside the object, whose data is the unevaluated datablock that every
     object using it shares (exporting both gave each such object twice, and
@@ -260,7 +262,7 @@ def renders(inst) -> bool:
     instances is usually hidden in renders, and Blender renders them all the
     same (the depsgraph of a final render holds no hidden object itself)."""
     obj = inst.object
-    if obj.type != "MESH" or not inst.show_self:
+    if obj.type not in ("MESH", "POINTCLOUD") or not inst.show_self:
         return False
     if not inst.is_instance or inst.parent is None:
         return not obj.original.hide_render
@@ -313,6 +315,7 @@ class MeshCollector:
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
+        self.point_sets = []       # point_clouds.PointSet per point cloud instance
         self.non_uniform_spheres = []
         self.invalid = {}          # object name -> why it was skipped
         self.faceless = set()      # mesh objects without faces
@@ -343,6 +346,17 @@ class MeshCollector:
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
         lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        if obj.type == "POINTCLOUD":
+            points, why, non_uniform = point_set(obj, matrix, lookup, MAX_COORDINATE)
+            if why is not None:
+                self.invalid[obj.name] = why
+            elif len(points.radii):
+                self.point_sets.append(points)
+                if non_uniform:
+                    self.non_uniform_spheres.append(obj.name)
+                if self.materials.layers(lookup)[0] is not None:
+                    self.textured_spheres.add(obj.name)
+            return
         if as_sphere(obj):
             centre, radius = sphere_from_bounds(obj.bound_box, matrix)
             if not _in_range(np.append(centre, radius)):
@@ -403,21 +417,26 @@ class MeshCollector:
             out.append(f"Object '{name}': {count} triangle corners have a non-finite UV or colour (NaN or Inf), "
                        "read as 0")
         if self.textured_spheres:
-            out.append("'Render as sphere' objects have no UV map, so each image texture shows one texel: "
-                       + _quoted(self.textured_spheres))
+            out.append("Objects rendered as spheres ('Render as sphere', point clouds) have no UV map, "
+                       "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
-            out.append(f"'Render as sphere' objects with non-uniform scale use their largest axis ({names})")
+            out.append("Objects rendered as spheres ('Render as sphere', point clouds) with non-uniform scale "
+                       f"use their largest axis ({names})")
         return out
 
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
         out, self.layout = assemble_triangles(self.parts, self.cache)
         self.cache.prune(self.used)
-        centres = np.array([s[0] for s in self.spheres], dtype=np.float32).reshape(-1, 3)
-        out["sphere_centers"] = centres
-        out["sphere_radii"] = np.array([s[1] for s in self.spheres], dtype=np.float32)
-        out["sphere_materials"] = np.array([s[2] for s in self.spheres], dtype=np.int32)
+        sets = self.point_sets
+        out["sphere_centers"] = np.concatenate(
+            [np.array([s[0] for s in self.spheres], np.float64).reshape(-1, 3)] + [p.centres for p in sets]
+        ).astype(np.float32)
+        out["sphere_radii"] = np.concatenate(
+            [np.array([s[1] for s in self.spheres], np.float64)] + [p.radii for p in sets]).astype(np.float32)
+        out["sphere_materials"] = np.concatenate(
+            [np.array([s[2] for s in self.spheres], np.int32)] + [p.materials for p in sets]).astype(np.int32)
         return out
 
 
@@ -436,6 +455,9 @@ def count_geometry(depsgraph) -> dict:
         if not renders(inst):
             continue
         obj = inst.object
+        if obj.type == "POINTCLOUD":
+            spheres += point_count(obj)
+            continue
         if as_sphere(obj):
             spheres += 1
             continue

@@ -332,6 +332,42 @@ def sphere_scene():
     return {"center": [1.0, 2.0, 3.0], "radius": 2.0}
 
 
+def point_cloud_scene(resolution=(96, 72)):
+    """A Geometry Nodes point cloud (Mesh to Points of a 5 x 4 grid facing the
+    camera, radius 0.25) on an object scaled 1.5, given the Red material by a
+    Set Material node (a point cloud takes one material: the node ignores a
+    per-point selection); a sun and a grey world light it."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=5, y_subdivisions=4, size=4, rotation=(math.pi / 2, 0, 0))
+    grid = bpy.context.object
+    grid.name = "Points"
+    grid.location, grid.scale = (0.5, 0.0, 0.2), (1.5, 1.5, 1.5)
+    group = bpy.data.node_groups.new("ToPoints", "GeometryNodeTree")
+    if hasattr(group, "interface"):
+        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        group.inputs.new("NodeSocketGeometry", "Geometry")
+        group.outputs.new("NodeSocketGeometry", "Geometry")
+    nodes, links = group.nodes, group.links
+    to_points = nodes.new("GeometryNodeMeshToPoints")
+    to_points.inputs["Radius"].default_value = 0.25
+    links.new(nodes.new("NodeGroupInput").outputs[0], to_points.inputs["Mesh"])
+    setter = nodes.new("GeometryNodeSetMaterial")
+    setter.inputs["Material"].default_value = principled_material("Red", (0.8, 0.05, 0.05))
+    links.new(to_points.outputs[0], setter.inputs["Geometry"])
+    links.new(setter.outputs[0], nodes.new("NodeGroupOutput").inputs[0])
+    grid.modifiers.new("ToPoints", "NODES").node_group = group
+    add_light("Sun", "SUN", rotation=(0.6, 0.2, 0.0), energy=3.0)
+    world = bpy.data.worlds.new("Grey")
+    world.color = (0.1, 0.1, 0.1)
+    world.use_nodes = False
+    bpy.context.scene.world = world
+    bpy.context.view_layer.update()
+    centres = [list(grid.matrix_world @ v.co) for v in grid.data.vertices]
+    return {"centres": centres, "radius": 0.25 * 1.5}
+
+
 
 
 def showcase_scene(resolution=(96, 72), fresh=True):

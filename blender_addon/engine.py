@@ -183,13 +183,14 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         counts = count_geometry(depsgraph)
         width, height = resolution(scene.render)
         texture_bytes = scene_texture_bytes(depsgraph)
-        estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"],
+        estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"], counts["cylinders"],
                                    width=width, height=height, settings=settings, normals=counts["normals"],
                                    texture_bytes=texture_bytes, uvs=texture_bytes > 0)
         limit, source = memory_limit(scene.gridwalk, memory)
         print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
               f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")
-        what = (f"This scene ({counts['triangles']:,} triangles, {counts['spheres']:,} spheres, "
+        hair = f"{counts['cylinders']:,} hair segments, " if counts["cylinders"] else ""
+        what = (f"This scene ({counts['triangles']:,} triangles, {counts['spheres']:,} spheres, {hair}"
                 f"{width} x {height} pixels)")
         memory.check(estimate, limit, what, source)
 

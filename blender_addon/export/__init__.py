@@ -82,10 +82,10 @@ class Export:
 
     def signature(self) -> tuple:
         """What the scene arrays and records are made of: each instance's mesh
-        entry, matrix and materials, the spheres (point clouds by a hash), materials, lights, background."""
+        entry, matrix and materials, the spheres (point clouds and hair by a hash), materials, lights, background."""
         parts = tuple((key, matrix.tobytes(), lookup.tobytes()) for key, _, matrix, lookup in self.meshes.parts)
         spheres = tuple((tuple(c), r, m) for c, r, m in self.meshes.spheres)
-        points = tuple(p.digest() for p in self.meshes.point_sets)
+        points = tuple(p.digest() for p in self.meshes.point_sets + self.meshes.cone_sets)
         return (parts, spheres, points, repr(self.materials.materials), repr(self.lights), self.background,
                 repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
 
@@ -97,7 +97,7 @@ class Export:
         warning naming them."""
         warnings = list(self.warnings)
         kwargs = self.meshes.arrays()
-        if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0:
+        if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0 and "cylinder_materials" not in kwargs:
             raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
         if not self.lights and not any(self.world.ambient) and self.world.environment < 0:
             warnings.append("The scene has no lights and a black world: only emissive materials will be visible")
@@ -124,8 +124,7 @@ def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True)
 
 
 # Object types whose geometry the core has no primitive for (warned, not rendered).
-UNRENDERED_TYPES = {"CURVES": "Hair curves objects are",
-                    "VOLUME": "Volume objects are"}
+UNRENDERED_TYPES = {"VOLUME": "Volume objects are"}
 
 
 def _collection_warnings(depsgraph) -> list[str]:

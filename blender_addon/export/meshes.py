@@ -19,7 +19,8 @@ corner, since the core takes one normal per vertex.
 An object with "Render as sphere" becomes one analytic sphere: centre =
 matrix_world @ (centre of its local bounding box), radius = (largest local
 half extent) * (largest axis scale of matrix_world). A point cloud object
-becomes one sphere per point (point_clouds.py).
+becomes one sphere per point (point_clouds.py), a hair curves object one cone
+frustum per segment (hair.py).
 
 Bad input never reaches the core: an instance whose transform or vertex
 coordinates are not finite, or lie beyond +-MAX_COORDINATE in world space, is
@@ -36,6 +37,7 @@ import math
 import numpy as np
 
 from ._matrix import to_numpy, transform_normals, transform_points
+from .hair import cone_set, segment_count
 from .point_clouds import point_count, point_set
 
 MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 extents overflow)
@@ -253,7 +255,7 @@ def _quoted(names) -> str:
 def renders(inst) -> bool:
     """Whether a depsgraph object instance is geometry that the render shows.
 
-    Meshes and point clouds only: Blender lists the evaluated geometry of a curve, surface,
+    Meshes, point clouds and hair curves only: Blender lists the evaluated geometry of a curve, surface,
     text or metaball as a mesh instance whose parent is the object itself,
     beside the object, whose data is the unevaluated datablock that every
     object using it shares (exporting both gave each such object twice, and
@@ -262,7 +264,7 @@ def renders(inst) -> bool:
     instances is usually hidden in renders, and Blender renders them all the
     same (the depsgraph of a final render holds no hidden object itself)."""
     obj = inst.object
-    if obj.type not in ("MESH", "POINTCLOUD") or not inst.show_self:
+    if obj.type not in ("MESH", "POINTCLOUD", "CURVES") or not inst.show_self:
         return False
     if not inst.is_instance or inst.parent is None:
         return not obj.original.hide_render
@@ -316,6 +318,7 @@ class MeshCollector:
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
         self.point_sets = []       # point_clouds.PointSet per point cloud instance
+        self.cone_sets = []        # hair.ConeSet per hair curves instance
         self.non_uniform_spheres = []
         self.invalid = {}          # object name -> why it was skipped
         self.faceless = set()      # mesh objects without faces
@@ -346,12 +349,13 @@ class MeshCollector:
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
         lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
-        if obj.type == "POINTCLOUD":
-            points, why, non_uniform = point_set(obj, matrix, lookup, MAX_COORDINATE)
+        if obj.type in ("POINTCLOUD", "CURVES"):
+            read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
+            found, why, non_uniform = read(obj, matrix, lookup, MAX_COORDINATE)
             if why is not None:
                 self.invalid[obj.name] = why
-            elif len(points.radii):
-                self.point_sets.append(points)
+            elif len(found):
+                sets.append(found)
                 if non_uniform:
                     self.non_uniform_spheres.append(obj.name)
                 if self.materials.layers(lookup)[0] is not None:
@@ -417,11 +421,11 @@ class MeshCollector:
             out.append(f"Object '{name}': {count} triangle corners have a non-finite UV or colour (NaN or Inf), "
                        "read as 0")
         if self.textured_spheres:
-            out.append("Objects rendered as spheres ('Render as sphere', point clouds) have no UV map, "
+            out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
-            out.append("Objects rendered as spheres ('Render as sphere', point clouds) with non-uniform scale "
+            out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "
                        f"use their largest axis ({names})")
         return out
 
@@ -437,6 +441,13 @@ class MeshCollector:
             [np.array([s[1] for s in self.spheres], np.float64)] + [p.radii for p in sets]).astype(np.float32)
         out["sphere_materials"] = np.concatenate(
             [np.array([s[2] for s in self.spheres], np.int32)] + [p.materials for p in sets]).astype(np.int32)
+        if self.cone_sets:
+            joined = lambda field, shape: np.concatenate([getattr(c, field).reshape(shape) for c in self.cone_sets])
+            out.update(cylinder_base=joined("base", (-1, 3)).astype(np.float32),
+                       cylinder_apex=joined("apex", (-1, 3)).astype(np.float32),
+                       cylinder_base_radius=joined("base_radius", -1).astype(np.float32),
+                       cylinder_apex_radius=joined("apex_radius", -1).astype(np.float32),
+                       cylinder_materials=joined("materials", -1).astype(np.int32))
         return out
 
 
@@ -449,7 +460,7 @@ def count_geometry(depsgraph) -> dict:
     per triangle for flat meshes in a scene that needs normals (as exported).
     Non-mesh geometry (curves, text, metaballs) is converted to count it.
     """
-    per_mesh, triangles, spheres, flat, any_normals = {}, 0, 0, [0, 0], False
+    per_mesh, triangles, spheres, cylinders, flat, any_normals = {}, 0, 0, 0, [0, 0], False
     vertices = 0
     for inst in depsgraph.object_instances:
         if not renders(inst):
@@ -457,6 +468,9 @@ def count_geometry(depsgraph) -> dict:
         obj = inst.object
         if obj.type == "POINTCLOUD":
             spheres += point_count(obj)
+            continue
+        if obj.type == "CURVES":
+            cylinders += segment_count(obj)
             continue
         if as_sphere(obj):
             spheres += 1
@@ -473,7 +487,8 @@ def count_geometry(depsgraph) -> dict:
             vertices += verts
             any_normals = any_normals or tris > 0
     vertices += 3 * flat[0] if any_normals else flat[1]
-    return {"triangles": triangles, "vertices": vertices, "spheres": spheres, "normals": any_normals}
+    return {"triangles": triangles, "vertices": vertices, "spheres": spheres, "cylinders": cylinders,
+            "normals": any_normals}
 
 
 def _mesh_counts(obj) -> tuple[int, int, str]:

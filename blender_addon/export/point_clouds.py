@@ -22,10 +22,10 @@ from ._matrix import transform_points
 DEFAULT_RADIUS = 0.01   # a point without a radius attribute (Blender's PointCloud default)
 
 
-def _values(attributes, name, prop, data_type, count, width, dtype):
-    """A point-domain attribute's values, or None where the cloud has none of that type."""
+def attribute_values(attributes, name, prop, data_type, domain, count, width, dtype):
+    """An attribute's values, or None where the geometry has none of that type and domain."""
     attribute = attributes.get(name)
-    if attribute is None or attribute.data_type != data_type or attribute.domain != "POINT" \
+    if attribute is None or attribute.data_type != data_type or attribute.domain != domain \
             or len(attribute.data) != count:
         return None
     out = np.empty(count * width, dtype)
@@ -38,15 +38,15 @@ def read_points(cloud) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(positions (n, 3) float64, radii (n,), material slots (n,) int32) in object space."""
     n = len(cloud.points)
     attributes = cloud.attributes
-    positions = _values(attributes, "position", "vector", "FLOAT_VECTOR", n, 3, np.float32)
+    positions = attribute_values(attributes, "position", "vector", "FLOAT_VECTOR", "POINT", n, 3, np.float32)
     if positions is None:
         positions = np.empty((n, 3), np.float32)
         if n:
             cloud.points.foreach_get("co", positions.reshape(-1))
-    radii = _values(attributes, "radius", "value", "FLOAT", n, 1, np.float32)
+    radii = attribute_values(attributes, "radius", "value", "FLOAT", "POINT", n, 1, np.float32)
     if radii is None:
         radii = np.full(n, DEFAULT_RADIUS, np.float32)
-    slots = _values(attributes, "material_index", "value", "INT", n, 1, np.int32)
+    slots = attribute_values(attributes, "material_index", "value", "INT", "POINT", n, 1, np.int32)
     if slots is None:
         slots = np.zeros(n, np.int32)
     return positions.astype(np.float64), radii.astype(np.float64), slots
@@ -58,11 +58,19 @@ class PointSet:
     def __init__(self, name, centres, radii, materials):
         self.name, self.centres, self.radii, self.materials = name, centres, radii, materials
 
+    def __len__(self):
+        return len(self.radii)
+
     def digest(self) -> bytes:
-        h = hashlib.blake2b(digest_size=16)
-        for a in (self.centres, self.radii, self.materials):
-            h.update(np.ascontiguousarray(a).tobytes())
-        return h.digest()
+        return array_digest(self.centres, self.radii, self.materials)
+
+
+def array_digest(*arrays) -> bytes:
+    """A short hash of the arrays' bytes (the viewport compares exports by it)."""
+    h = hashlib.blake2b(digest_size=16)
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.digest()
 
 
 def point_set(obj, matrix, lookup, max_coordinate) -> tuple[PointSet | None, str | None, bool]:

@@ -332,6 +332,15 @@ def sphere_scene():
     return {"center": [1.0, 2.0, 3.0], "radius": 2.0}
 
 
+def _sun_and_grey_world():
+    add_light("Sun", "SUN", rotation=(0.6, 0.2, 0.0), energy=3.0)
+    world = bpy.data.worlds.new("Grey")
+    world.color = (0.1, 0.1, 0.1)
+    world.use_nodes = False
+    bpy.context.scene.world = world
+    bpy.context.view_layer.update()
+
+
 def point_cloud_scene(resolution=(96, 72)):
     """A Geometry Nodes point cloud (Mesh to Points of a 5 x 4 grid facing the
     camera, radius 0.25) on an object scaled 1.5, given the Red material by a
@@ -358,16 +367,38 @@ def point_cloud_scene(resolution=(96, 72)):
     links.new(to_points.outputs[0], setter.inputs["Geometry"])
     links.new(setter.outputs[0], nodes.new("NodeGroupOutput").inputs[0])
     grid.modifiers.new("ToPoints", "NODES").node_group = group
-    add_light("Sun", "SUN", rotation=(0.6, 0.2, 0.0), energy=3.0)
-    world = bpy.data.worlds.new("Grey")
-    world.color = (0.1, 0.1, 0.1)
-    world.use_nodes = False
-    bpy.context.scene.world = world
-    bpy.context.view_layer.update()
+    _sun_and_grey_world()
     centres = [list(grid.matrix_world @ v.co) for v in grid.data.vertices]
     return {"centres": centres, "radius": 0.25 * 1.5}
 
 
+
+
+def hair_scene(resolution=(96, 72)):
+    """A hair curves object (Blender's Curves, as Add > Curves makes): five
+    straight strands standing in a row facing the camera, four points each,
+    radius 0.12 at the root tapering to 0.03 at the tip, on an object scaled
+    1.5; material Brown in its slot; a sun and a grey world light it. Expected:
+    each segment's world-space ends and radii, computed with mathutils."""
+    reset(resolution=tuple(resolution))
+    curves = bpy.data.hair_curves.new("Hair")
+    if not hasattr(curves, "add_curves"):        # (Blender 3.x: no Python API to add curves)
+        return {"segments": None}
+    curves.add_curves([4] * 5)
+    for k in range(5):
+        for j in range(4):
+            point = curves.points[4 * k + j]
+            point.position = (-1.6 + 0.8 * k, 0.0, -1.2 + 0.8 * j)
+            point.radius = 0.12 - 0.03 * j
+    curves.materials.append(principled_material("Brown", (0.4, 0.2, 0.05)))
+    hair = link(bpy.data.objects.new("Hair", curves))
+    hair.location, hair.scale = (0.3, 0.0, 0.1), (1.5, 1.5, 1.5)
+    _sun_and_grey_world()
+    m = hair.matrix_world
+    segments = [[list(m @ Vector(curves.points[4 * k + j].position)), list(m @ Vector(curves.points[4 * k + j + 1].position)),
+                 1.5 * curves.points[4 * k + j].radius, 1.5 * curves.points[4 * k + j + 1].radius]
+                for k in range(5) for j in range(3)]
+    return {"segments": segments}
 
 
 def showcase_scene(resolution=(96, 72), fresh=True):

@@ -320,6 +320,16 @@ def _surface_node(tree):
     return None if out is None else _source(out.inputs["Surface"])[0]
 
 
+# A material whose output has a Volume and no Surface: Cycles' surface is
+# then clear (rays pass it), and the core renders no volume, so nothing shows.
+VOLUME_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, alpha=0.0)
+
+
+def _volume_only(tree) -> bool:
+    out = _output_node(tree)
+    return out is not None and _source(out.inputs["Volume"])[0] is not None
+
+
 def viewport_material(mat) -> Material:
     """The material's viewport display settings as a Principled-like material."""
     return principled_material(tuple(mat.diffuse_color)[:3], mat.metallic, mat.roughness,
@@ -344,6 +354,9 @@ def convert_material(mat, textures=None):
     if tree is None or not use_nodes:
         return viewport_material(mat), None, None
     node = _surface_node(tree)
+    if node is None and _volume_only(tree):
+        return VOLUME_SURFACE, "a volume shader without a surface: volumes are not rendered, its surface is clear " \
+                               "(as Cycles' is)", None
     if node is None:
         return viewport_material(mat), "no surface shader", None
     links = Links(textures)

@@ -49,6 +49,8 @@ def renders(request, tmp_path_factory):
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
     r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
+    for engine, option in (("GRIDWALK", "settings={}"), ("CYCLES", "samples=16")):
+        r[f"fog_{engine.lower()}"] = _render(kind, out, "fog_box", engine, option)
     r["cutout"] = _render(kind, out, "cutout", "GRIDWALK", f"settings={AA}", opaque)
     r["cutout_cycles"] = _render(kind, out, "cutout", "CYCLES", "samples=16", opaque)
     for material in ("true", "false"):
@@ -169,6 +171,18 @@ def test_glass_and_alpha_panes_cast_lighter_shadows_than_an_opaque_pane(renders)
     assert opaque < 0.01 * lit
     assert alpha == pytest.approx(0.5 * lit, rel=0.02)
     assert 0.8 * lit < glass < lit            # the glass reflects a little (Fresnel), passes the rest
+
+
+def test_a_volume_only_material_leaves_what_is_behind_it_visible(renders):
+    # A fog box (Principled Volume, no surface) around a red cube: Cycles' surface is clear and the
+    # thin fog hardly shows; it rendered as an opaque grey box that hid the cube.
+    ours, cycles = renders["fog_gridwalk"], renders["fog_cycles"]["rgba"]
+    assert "Fog: a volume shader without a surface: volumes are not rendered" in ours["stdout"]
+    rgba = ours["rgba"]
+    red = lambda im: (im[..., 3] > 0.5) & (im[..., 0] > 3 * im[..., 2] + 0.01)
+    assert 0.02 < red(rgba).mean() < 0.5
+    assert np.mean(red(rgba) != red(cycles)) < 0.02
+    assert np.mean((rgba[..., 3] > 0.5) != (cycles[..., 3] > 0.5)) < 0.02
 
 
 def test_bad_textures_warn_and_the_image_finishes(renders):

@@ -255,6 +255,27 @@ def emission_mirror_scene(resolution=(64, 48)):
     return {}
 
 
+def fog_box_scene(resolution=(48, 36)):
+    """A red cube behind a large box whose material is a Principled Volume with
+    no surface (thin fog); a sun lights it."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_cube_add(size=1.5, location=(0, 2, 0))
+    bpy.context.object.data.materials.append(principled_material("Red", (0.8, 0.05, 0.05)))
+    bpy.ops.mesh.primitive_cube_add(size=6.0, location=(0, 0, 0))
+    fog = bpy.context.object
+    mat = bpy.data.materials.new("Fog")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    volume = nodes.new("ShaderNodeVolumePrincipled")
+    volume.inputs["Density"].default_value = 0.01
+    mat.node_tree.links.new(volume.outputs[0], nodes["Material Output"].inputs["Volume"])
+    fog.data.materials.append(mat)
+    add_light("Sun", "SUN", rotation=(0.5, 0.3, 0.0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
 def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     """A white floor seen from straight above (orthographic) and a pane 2 units
     above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,

@@ -69,7 +69,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     const auto& lights = scene_.lights();
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
-        const bool has_area = L.kind == LightKind::Sphere ? L.radius > 0
+        const bool has_area = L.kind == LightKind::Sphere || L.kind == LightKind::Spot ? L.radius > 0
                             : L.kind == LightKind::Rect   ? L.size[0] > 0 || L.size[1] > 0
                             : L.kind == LightKind::Disk   ? L.radius > 0
                             : L.kind == LightKind::Sun    ? L.angle > 0

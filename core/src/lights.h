@@ -1,7 +1,10 @@
 // Sampling a point on a light as seen from a shading point. Every light kind
-// is "a point light whose position is drawn from its shape": point and spot
-// lights are exact points; sphere, rect and disk lights spread their
-// intensity over their shape (soft shadows); the sun is a direction cone.
+// is "a point light whose position is drawn from its shape": point lights
+// are exact points; sphere, rect and disk lights spread their intensity over
+// their shape (soft shadows), and so does a spot light with a radius (its cone
+// then weighs each sampled point by that point's direction to the shading
+// point, which softens the cone's edge and lowers its peak when the light is
+// near, as Cycles' spot lights do); the sun is a direction cone.
 #pragma once
 #include <array>
 #include <string>
@@ -17,7 +20,7 @@ namespace gw {
 struct Light {
     LightKind kind = LightKind::Point;
     Vec3 position, color{1, 1, 1};
-    float radius = 0;                     // sphere, disk
+    float radius = 0;                     // sphere, disk, spot
     std::array<float, 2> size{1, 1};      // rect: along axis_u, axis_v
     Vec3 axis_u{1, 0, 0}, axis_v{0, 1, 0};
     Vec3 direction{0, 0, -1};             // sun, spot, rect, disk: where the light goes
@@ -60,6 +63,9 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         s.intensity = L.color;
         return true;
     }
+    case LightKind::Spot:   // a spot with a radius is a sphere light whose cone is
+        if (!(L.radius > 0)) break;   // applied to each sampled point's direction, as in Cycles
+        [[fallthrough]];
     case LightKind::Sphere: {
         // A disk of the sphere's radius facing the shading point: the sphere's
         // silhouette (exact for distant points, close otherwise).

@@ -216,7 +216,8 @@ class Light(Record):
 
     position: centre (point, sphere, rect, disk, spot).
     color: RGB radiant intensity scale (already multiplied by strength).
-    radius: sphere / disk radius (a point light with radius > 0 is a sphere).
+    radius: sphere / disk radius (a point light with radius > 0 is a sphere; a spot
+    with radius > 0 is a sphere whose cone weighs each sampled point, as in Cycles).
     size: (w, h) of a rect light, along axis_u and axis_v.
     axis_u, axis_v: orientation of rect / disk lights (emitting along u x v).
     direction: direction light travels (sun), or spot axis.

@@ -239,6 +239,29 @@ def lights_scene(nodes=False):
     return {"lights": out}
 
 
+def near_spot_scene(radius=0.5, resolution=(64, 64)):
+    """A grey Diffuse wall facing the camera (orthographic, 2 units across) and a
+    spot light 1 unit in front of it pointing at it: 45 degree cone, blend 0.15,
+    the given radius, 10 W. No world light."""
+    scene = reset(resolution=tuple(resolution))
+    scene.camera.data.type = "ORTHO"
+    scene.camera.data.ortho_scale = 2.0
+    bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, 0, 0), rotation=(math.pi / 2, 0, 0))
+    wall = bpy.context.object
+    mat = bpy.data.materials.new("Wall")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    mat.node_tree.links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
+    wall.data.materials.append(mat)
+    add_light("Spot", "SPOT", (0, -1.0, 0), (math.pi / 2, 0, 0), energy=10.0, spot_size=math.radians(45),
+              spot_blend=0.15, shadow_soft_size=radius)
+    bpy.context.view_layer.update()
+    return {}
+
+
 def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False,
                  unit_scale=1.0):
     scene = reset(resolution=resolution)

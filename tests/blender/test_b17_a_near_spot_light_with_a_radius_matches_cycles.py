@@ -1,0 +1,47 @@
+"""A spot light with a radius is a sphere light whose cone weighs each point
+sampled on it by that point's direction, as in Cycles: 1 unit from a wall,
+with radius 0.5, its cone's edge spreads and its peak falls to about half of
+a point spot's. GRIDWALK rendered it as a point spot (peak 1.8x Cycles' here,
+2.85x at 0.6 units). Scene: near_spot_scene, a Diffuse wall seen head-on."""
+import numpy as np
+import pytest
+
+import exr
+from runner import ALL_BLENDERS, missing_reason, run_script
+
+
+def _render(kind, folder, engine, radius, option):
+    folder.mkdir()
+    run_script(kind, "render_scene.py", "near_spot", folder, engine, f'scene={{"radius": {radius}}}',
+               "transparent=false", option)
+    return exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined."))
+
+
+@pytest.fixture(scope="module", params=ALL_BLENDERS)
+def walls(request, tmp_path_factory):
+    reason = missing_reason(request.param)
+    if reason:
+        pytest.skip(reason)
+    out = tmp_path_factory.mktemp(f"spot_{request.param}")
+    gw = 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'
+    return {(engine, radius): _render(request.param, out / f"{engine}_{radius}", engine, radius, option)
+            for engine, option in (("GRIDWALK", gw), ("CYCLES", "samples=64"))
+            for radius in (0.5, 0.0)}
+
+
+@pytest.mark.parametrize("radius", [0.5, 0.0])
+def test_the_spot_lights_the_wall_as_in_cycles(walls, radius):
+    ours, cycles = walls[("GRIDWALK", radius)], walls[("CYCLES", radius)]
+    lit = cycles > 0.05 * cycles.max()
+    assert 0.1 < lit.mean() < 0.9
+    # (the sphere is sampled as the disk facing each point: 4% more light than Cycles 4.5 and 5.0
+    # give at this distance, 8% more than Blender 3.4's Cycles)
+    assert abs(ours.sum() / cycles.sum() - 1) < 0.1
+    assert abs(np.percentile(ours, 99) / np.percentile(cycles, 99) - 1) < 0.1
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.97
+
+
+def test_a_radius_spreads_the_cone_and_lowers_its_peak(walls):
+    wide, point = walls[("GRIDWALK", 0.5)], walls[("GRIDWALK", 0.0)]
+    assert np.percentile(wide, 99) < 0.6 * np.percentile(point, 99)
+    assert (wide > 0.02 * point.max()).mean() > 1.2 * (point > 0.02 * point.max()).mean()

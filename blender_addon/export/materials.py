@@ -47,6 +47,8 @@ import numpy as np
 
 from gridwalk.model import Material
 
+from .hair_color import hair_color
+
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
 GRIDWALK_MATERIAL = "gridwalk_material"
@@ -271,6 +273,13 @@ def _from_other_bsdf(node, textured):
     if kind == "BSDF_GLASS":
         return principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
                                    _value(node, "IOR", 1.45, textured), 0.04)
+    if kind == "BSDF_HAIR_PRINCIPLED":
+        hair = hair_color(getattr(node, "parametrization", "COLOR"),
+                          lambda name, default: _value(node, name, default, textured))
+        return principled_material(hair, 0.0, _value(node, "Roughness", 0.3, textured), 0.0,
+                                   _value(node, "IOR", 1.55, textured), 0.04)
+    if kind == "BSDF_HAIR":
+        return principled_material(color, 0.0, 0.5, 0.0, 1.55, 0.04)
     if kind == "EMISSION":
         strength = _value(node, "Strength", 1.0, textured)
         color = tuple(max(float(c), 0.0) for c in color)   # (the core refuses negative light)

@@ -150,6 +150,27 @@ def _sphere_mean(rgb):
     return (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * rgb.shape[1])
 
 
+@pytest.mark.parametrize("parametrization", ["COLOR", "MELANIN", "ABSORPTION"])
+def test_a_principled_hair_bsdf_gives_its_fibre_colour(export, parametrization):
+    """Hair curves with a Principled Hair BSDF: the fibre colour its inputs give
+    (Chiang et al. 2016: colour = exp(-sqrt(sigma_a) f(radial roughness))). It
+    was the material's viewport colour, with a warning."""
+    out = export("hair", material=parametrization)
+    if out.expected["segments"] is None:
+        pytest.skip(f"Blender {out.blender} has no Python API to add hair curves")
+    colour = np.asarray(out.materials[int(out.cylinder_materials[0])]["color"])
+    assert not [w for w in out.warnings if "Hair" in w]
+    if parametrization == "COLOR":                                   # Direct Coloring: the Color itself
+        np.testing.assert_allclose(colour, [0.6, 0.25, 0.05], rtol=1e-5)
+        return
+    if parametrization == "ABSORPTION":                              # sigma_a (0.2, 0.6, 1.5), beta 0.3
+        b = 0.3
+        f = 5.969 - 0.215 * b + 2.532 * b ** 2 - 10.73 * b ** 3 + 5.574 * b ** 4 + 0.245 * b ** 5
+        np.testing.assert_allclose(colour, np.exp(-np.sqrt([0.2, 0.6, 1.5]) * f), rtol=1e-4)
+        return
+    assert 0.5 > colour[0] > colour[1] > colour[2] > 0                # Melanin 0.5, Redness 0.4: a brown
+
+
 def test_an_8_bit_environment_with_alpha_lights_with_the_colour_it_shows(export):
     """Cycles' Environment Texture gives associated colour (it has no Alpha
     output): the background is premultiplied per texel (in bytes, then

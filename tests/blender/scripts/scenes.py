@@ -397,11 +397,28 @@ def point_cloud_scene(resolution=(96, 72)):
 
 
 
-def hair_scene(resolution=(96, 72)):
+def _hair_material(parametrization):
+    """A Principled Hair BSDF material (Melanin 0.5, Redness 0.4; or Direct
+    Coloring orange; or an Absorption Coefficient)."""
+    mat = bpy.data.materials.new(f"Hair{parametrization.title()}")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
+    for name, value in (("Melanin", 0.5), ("Melanin Redness", 0.4), ("Color", (0.6, 0.25, 0.05, 1.0)),
+                        ("Absorption Coefficient", (0.2, 0.6, 1.5))):
+        next(socket for socket in hair.inputs if socket.name == name).default_value = value
+    hair.parametrization = parametrization
+    mat.node_tree.links.new(hair.outputs[0], nodes["Material Output"].inputs["Surface"])
+    return mat
+
+
+def hair_scene(resolution=(96, 72), material=None):
     """A hair curves object (Blender's Curves, as Add > Curves makes): five
     straight strands standing in a row facing the camera, four points each,
     radius 0.12 at the root tapering to 0.03 at the tip, on an object scaled
-    1.5; material Brown in its slot; a sun and a grey world light it. Expected:
+    1.5; material Brown in its slot (material: a Principled Hair BSDF of that
+    parametrization instead); a sun and a grey world light it. Expected:
     each segment's world-space ends and radii, computed with mathutils."""
     reset(resolution=tuple(resolution))
     curves = bpy.data.hair_curves.new("Hair")
@@ -413,7 +430,8 @@ def hair_scene(resolution=(96, 72)):
             point = curves.points[4 * k + j]
             point.position = (-1.6 + 0.8 * k, 0.0, -1.2 + 0.8 * j)
             point.radius = 0.12 - 0.03 * j
-    curves.materials.append(principled_material("Brown", (0.4, 0.2, 0.05)))
+    curves.materials.append(principled_material("Brown", (0.4, 0.2, 0.05)) if material is None
+                            else _hair_material(material))
     hair = link(bpy.data.objects.new("Hair", curves))
     hair.location, hair.scale = (0.3, 0.0, 0.1), (1.5, 1.5, 1.5)
     _sun_and_grey_world()

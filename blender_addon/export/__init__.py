@@ -99,7 +99,8 @@ class Export:
         kwargs = self.meshes.arrays()
         if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0 and "cylinder_materials" not in kwargs:
             raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
-        if not self.lights and not any(self.world.ambient) and self.world.environment < 0:
+        if not self.lights and not any(self.world.ambient) and self.world.environment < 0 \
+                and not any(m.emits_light for m in self.materials.materials):
             warnings.append("The scene has no lights and a black world: only emissive materials will be visible")
         warnings.extend(self.world_warnings)
         if self.camera is not None:

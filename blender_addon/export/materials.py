@@ -410,6 +410,9 @@ class MaterialTable:
         index = self._index.get(key)
         if index is None:
             material, problem, links = convert_material(mat, self.textures)
+            if mat is not None and (mat.get(GRIDWALK_MATERIAL) if hasattr(mat, "get") else None) is None:
+                # (an NFF material's self-lit colour lights nothing; every other emission does,
+                material.emits_light = _emits(material)   # as Cycles' mesh lights)
             if problem:
                 self._problems[key] = problem
             index = self._index[key] = len(self.materials)
@@ -447,11 +450,6 @@ class MaterialTable:
         if self._problems:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
-        emissive = sorted(name for name, i in self._index.items() if name is not None and _emits(self.materials[i]))
-        if emissive:
-            out.append("Emissive materials are seen by camera, mirror and refraction rays but light nothing "
-                       "(Whitted shading: only lamps and the world give light; put a lamp, e.g. an area "
-                       "light, where they should shine): " + ", ".join(repr(n) for n in emissive))
         return out
 
 

@@ -37,6 +37,7 @@ void bind_records(nb::module_& m) {
         .def_rw("metallic_texture", &Material::metallic_texture)
         .def_rw("alpha_texture", &Material::alpha_texture)
         .def_rw("vertex_color", &Material::vertex_color)
+        .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 
     nb::class_<Texture>(m, "Texture")

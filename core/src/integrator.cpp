@@ -125,7 +125,73 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         }
         total += sum * (1.0f / float(count));
     }
+    if (!scene_.emitters().empty()) total += from_emitters(sp, ng, ns, wo, m, depth, split, st, ctx);
     return total;
+}
+
+Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo,
+                               const Material& m, int depth, bool split, SampleState& st, TraceContext& ctx) const {
+    // The emissive triangles as one area light after the lamps (its index in
+    // the light grid's key): the same number of points per shading point and
+    // the same stratification as a lamp with a size.
+    const uint32_t li = uint32_t(scene_.lights().size());
+    int count = 1;
+    const uint32_t n = uint32_t(std::max(1, s_.shadow_samples)), grid = n * n;
+    if (s_.shadow == ShadowMode::Random) count = int(n);
+    if (s_.shadow == ShadowMode::Area) count = int(std::max<uint32_t>(1, (grid + st.samples - 1) / st.samples));
+    const Vec3* corners = scene_.triangle_vertices();
+    Vec3 sum;
+    for (int j = 0; j < count; ++j) {
+        float u1, u2;
+        if (s_.shadow == ShadowMode::Area && !split) {
+            const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
+            const uint32_t key = hash4(st.seed, st.pixel, li + uint32_t(depth - 1) * kGoldenRatio32,
+                                       uint32_t(Stream::AreaLightGrid));
+            const uint32_t cell = permute(slot, grid, key);
+            u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
+            u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
+        } else {   // (Hard has no centre to aim at: a random point, as Random)
+            u1 = st.rng.next();
+            u2 = st.rng.next();
+        }
+        float probability, u_rest;
+        const int32_t tri = scene_.emitters().pick(u1, probability, u_rest);
+        // A uniform point on the triangle: barycentrics (1 - s, s (1 - u2), s u2), s = sqrt(u_rest).
+        const float s = std::sqrt(u_rest);
+        Hit at;
+        at.prim = tri;
+        at.u = s * (1.0f - u2);
+        at.v = s * u2;
+        const Vec3 *v = corners + 3 * size_t(tri);
+        const Vec3 e1 = v[1] - v[0], e2 = v[2] - v[0];
+        const Vec3 q = v[0] + e1 * at.u + e2 * at.v;
+        const Vec3 area_normal = cross(e1, e2);   // twice the area, along the normal
+        const Vec3 to = q - sp.p;
+        const float dist = length(to);
+        if (!(dist > 0)) continue;
+        const Vec3 wi = to / dist;
+        if (dot(ng, wi) <= 0) continue;
+        const float cos_i = dot(ns, wi);
+        if (cos_i <= 0) continue;
+        // Both sides emit: |cos| at the light. Radiance L over area A seen from
+        // distance d lights like an intensity L cos A / d^2; the diffuse term's
+        // 1 / pi is folded in here, as in every light's colour.
+        const float cos_l = std::abs(dot(area_normal, wi));   // (x 2 A)
+        const Material& em = scene_.materials()[size_t(scene_.triangle_material(tri))];
+        const Vec3 radiance = emitted(em.varies() ? scene_.shade(em, at) : em);
+        const Vec3 intensity = radiance * (0.5f * cos_l / (float(kPi) * dist * dist * probability));
+        Vec3 f = m.color * (m.kd * cos_i);
+        if (m.ks > 0 && m.mirror < 1) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
+            const Vec3 h = normalize(wi + wo);
+            const float spec = m.ks * (1.0f - m.mirror) * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
+            f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * spec
+                                : Vec3(spec, spec, spec);
+        }
+        const Vec3 c = f * intensity;
+        if (!(c.x > 0 || c.y > 0 || c.z > 0)) continue;
+        if (const float vis = visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx); vis > 0) sum += vis == 1 ? c : c * vis;
+    }
+    return sum * (1.0f / float(count));
 }
 
 Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m,

@@ -36,6 +36,9 @@ private:
                TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     Vec3 direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                 int depth, bool split, SampleState& st, TraceContext& ctx) const;
+    // The emissive triangles' light (scene.emitters()), sampled as one area light.
+    Vec3 from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
+                       int depth, bool split, SampleState& st, TraceContext& ctx) const;
     Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
                         float weight, bool split, SampleState& st, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,

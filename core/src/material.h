@@ -22,6 +22,9 @@ struct Material {
     float metallic = 0;
     int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
     bool vertex_color = false;      // the base colour is the mesh's per-corner colour (colour attribute)
+    // Its triangles light other surfaces with what they emit (emitters.h), as
+    // area lights do; without it emission is only seen.
+    bool emits_light = false;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.

@@ -112,6 +112,7 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
     if (!finite3(background_)) bad("background has a non-finite component");
     check_textures();
     validate_camera(camera_);
+    emitters_ = Emitters(tri_verts_, tri_mat_, materials_);
 
     compute_bounds(tri_bounds);
 }

@@ -10,6 +10,7 @@
 #include "buffer_pool.h"
 #include "camera.h"
 #include "cone.h"
+#include "emitters.h"
 #include "irradiance.h"
 #include "lights.h"
 #include "material.h"
@@ -154,6 +155,9 @@ public:
     bool has_ambient() const {
         return env_light_ || world_.ambient.x != 0 || world_.ambient.y != 0 || world_.ambient.z != 0;
     }
+    // The emissive triangles that light the scene (materials with emits_light).
+    const Emitters& emitters() const { return emitters_; }
+    int32_t triangle_material(int32_t tri) const { return tri_mat_[size_t(tri)]; }
     // Whether some material lets light through: shadow rays then look at what they hit.
     bool transparent_shadows() const { return transparent_shadows_; }
     // The material at a hit with its textures and colour attribute applied
@@ -193,6 +197,7 @@ private:
     std::vector<std::shared_ptr<const Image>> images_;
     std::vector<Texture> textures_;
     World world_;
+    Emitters emitters_;
     bool env_light_ = false;          // world_.environment_light with an environment
     Irradiance env_irradiance_;
     bool transparent_shadows_ = false;

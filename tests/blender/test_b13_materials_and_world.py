@@ -46,6 +46,9 @@ def renders(request, tmp_path_factory):
         r[f"environment_matte_{engine.lower()}"] = _render(kind, out, "environment", engine, option, opaque,
                                                            'scene={"matte": true}')
     r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
+    for engine, option in (("GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'),
+                           ("CYCLES", "samples=128")):
+        r[f"panel_{engine.lower()}"] = _render(kind, out, "emission_panel", engine, option, opaque)
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
     r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
@@ -155,10 +158,17 @@ def test_emissive_object_is_seen_in_a_mirror(renders):
     centre = rgba[h // 2 - 2:h // 2 + 2, w // 2 - 2:w // 2 + 2, :3].mean(axis=(0, 1))
     assert centre[1] > 1.5 and centre[0] < 0.05 and centre[2] < 0.05   # green x strength 3, mirrored
     assert rgba[2, 2, :3].max() < 0.05                                  # elsewhere: the black world
-    # (Cycles would light the mirror's surroundings with it: the user is told it lights nothing)
-    said = [line for line in renders["emission"]["stdout"].splitlines() if "Emissive materials" in line]
-    assert said and said[0].endswith("light nothing (Whitted shading: only lamps and the world give light; put "
-                                     "a lamp, e.g. an area light, where they should shine): 'Glow'")
+
+
+def test_an_emission_plane_lights_the_floor_as_in_cycles(renders):
+    # Emissive meshes light the scene as Cycles' mesh lights do; they lit nothing, with a warning.
+    ours, cycles = (exr.luminance(renders[f"panel_{e}"]["rgba"]) for e in ("gridwalk", "cycles"))
+    floor = (ours > 0.01) & (ours < 1.5) & (cycles < 1.5)               # (not the panel's own 4 x colour)
+    assert floor.mean() > 0.3
+    assert abs(ours[floor].mean() / cycles[floor].mean() - 1) < 0.06
+    assert np.corrcoef(ours[floor], cycles[floor])[0, 1] > 0.95
+    assert "light nothing" not in renders["panel_gridwalk"]["stdout"]
+    assert "no lights" not in renders["panel_gridwalk"]["stdout"]
 
 
 def _shadow(render):

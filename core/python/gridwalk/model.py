@@ -114,7 +114,11 @@ class Material(Record):
     scaled towards a mirror); alpha_texture the alpha. A texture feeding a
     scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
-    (Scene(colors=...)) interpolated, unless a color_texture is set."""
+    (Scene(colors=...)) interpolated, unless a color_texture is set.
+    emits_light: the material's triangles also light other surfaces with what
+    they emit (color * emission + emission_color, textures applied), from both
+    sides, sampled as area lights are (Cycles' mesh lights); spheres and
+    cylinders do not."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -132,6 +136,7 @@ class Material(Record):
     metallic_texture: int = _MAT.metallic_texture
     alpha_texture: int = _MAT.alpha_texture
     vertex_color: bool = _MAT.vertex_color
+    emits_light: bool = _MAT.emits_light
     CORE = _core.Material
 
     def texture_indices(self) -> dict:

@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 
 from blender_addon.scripting import principled_material
-from scenes import add_light, link, reset
+from scenes import add_light, link, plain_world, reset, shader_material
 
 
 def _plane(name, size, location=(0, 0, 0), rotation=(0, 0, 0)):
@@ -197,14 +197,7 @@ def sky_pixels(w=64, h=32):
 
 
 def _diffuse_material(name):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
-    mat.node_tree.links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
-    return mat
+    return shader_material(name, "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
 
 
 def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None, matte=False):
@@ -263,15 +256,25 @@ def fog_box_scene(resolution=(48, 36)):
     bpy.context.object.data.materials.append(principled_material("Red", (0.8, 0.05, 0.05)))
     bpy.ops.mesh.primitive_cube_add(size=6.0, location=(0, 0, 0))
     fog = bpy.context.object
-    mat = bpy.data.materials.new("Fog")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    volume = nodes.new("ShaderNodeVolumePrincipled")
-    volume.inputs["Density"].default_value = 0.01
-    mat.node_tree.links.new(volume.outputs[0], nodes["Material Output"].inputs["Volume"])
-    fog.data.materials.append(mat)
+    fog.data.materials.append(shader_material("Fog", "ShaderNodeVolumePrincipled", [("Density", 0.01)], "Volume"))
     add_light("Sun", "SUN", rotation=(0.5, 0.3, 0.0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def emission_panel_scene(resolution=(64, 48)):
+    """A 2 x 2 Emission plane (strength 4, warm white) 1.5 above the middle of
+    a grey Diffuse floor, facing it; no lamps, a black world. The camera looks
+    down at the floor from the front."""
+    scene = reset(resolution=tuple(resolution))
+    scene.camera.location = (0.0, -7.0, 5.0)
+    scene.camera.rotation_euler = (math.radians(55), 0.0, 0.0)
+    floor = _plane("Floor", 12.0)
+    floor.data.materials.append(_diffuse_material("Floor"))
+    panel = _plane("Panel", 2.0, location=(0, 0, 1.5), rotation=(math.pi, 0, 0))
+    panel.data.materials.append(shader_material("Panel", "ShaderNodeEmission",
+                                                [("Color", (1.0, 0.8, 0.6, 1.0)), ("Strength", 4.0)]))
+    plain_world("Black", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}
 

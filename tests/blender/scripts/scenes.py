@@ -189,6 +189,31 @@ def hidden_sources_scene():
     return expected
 
 
+def plain_world(name, color):
+    """A world of one colour, without nodes, made the scene's."""
+    world = bpy.data.worlds.new(name)
+    world.color = color
+    world.use_nodes = False
+    bpy.context.scene.world = world
+    return world
+
+
+def shader_material(name, node_type, inputs=(), socket="Surface", settings=None):
+    """A material whose output's `socket` takes one shader node of `node_type`:
+    its inputs set from (name, value) pairs, then its properties from `settings`."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    node = nodes.new(node_type)
+    for key, value in inputs:
+        next(socket_ for socket_ in node.inputs if socket_.name == key).default_value = value
+    for key, value in (settings or {}).items():
+        setattr(node, key, value)
+    mat.node_tree.links.new(node.outputs[0], nodes["Material Output"].inputs[socket])
+    return mat
+
+
 def add_light(name, kind, location=(0, 0, 5), rotation=(0, 0, 0), **props):
     data = bpy.data.lights.new(name, kind)
     for key, value in props.items():
@@ -248,14 +273,7 @@ def near_spot_scene(radius=0.5, resolution=(64, 64)):
     scene.camera.data.ortho_scale = 2.0
     bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, 0, 0), rotation=(math.pi / 2, 0, 0))
     wall = bpy.context.object
-    mat = bpy.data.materials.new("Wall")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
-    mat.node_tree.links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
-    wall.data.materials.append(mat)
+    wall.data.materials.append(shader_material("Wall", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))]))
     add_light("Spot", "SPOT", (0, -1.0, 0), (math.pi / 2, 0, 0), energy=10.0, spot_size=math.radians(45),
               spot_blend=0.15, shadow_soft_size=radius)
     bpy.context.view_layer.update()
@@ -357,10 +375,7 @@ def sphere_scene():
 
 def _sun_and_grey_world():
     add_light("Sun", "SUN", rotation=(0.6, 0.2, 0.0), energy=3.0)
-    world = bpy.data.worlds.new("Grey")
-    world.color = (0.1, 0.1, 0.1)
-    world.use_nodes = False
-    bpy.context.scene.world = world
+    plain_world("Grey", (0.1, 0.1, 0.1))
     bpy.context.view_layer.update()
 
 
@@ -400,17 +415,9 @@ def point_cloud_scene(resolution=(96, 72)):
 def _hair_material(parametrization):
     """A Principled Hair BSDF material (Melanin 0.5, Redness 0.4; or Direct
     Coloring orange; or an Absorption Coefficient)."""
-    mat = bpy.data.materials.new(f"Hair{parametrization.title()}")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
-    for name, value in (("Melanin", 0.5), ("Melanin Redness", 0.4), ("Color", (0.6, 0.25, 0.05, 1.0)),
-                        ("Absorption Coefficient", (0.2, 0.6, 1.5))):
-        next(socket for socket in hair.inputs if socket.name == name).default_value = value
-    hair.parametrization = parametrization
-    mat.node_tree.links.new(hair.outputs[0], nodes["Material Output"].inputs["Surface"])
-    return mat
+    return shader_material(f"Hair{parametrization.title()}", "ShaderNodeBsdfHairPrincipled",
+                           [("Melanin", 0.5), ("Melanin Redness", 0.4), ("Color", (0.6, 0.25, 0.05, 1.0)),
+                            ("Absorption Coefficient", (0.2, 0.6, 1.5))], settings={"parametrization": parametrization})
 
 
 def hair_scene(resolution=(96, 72), material=None):
@@ -580,16 +587,13 @@ def viewport_scene(resolution=(480, 270), factory=True):
     sphere.location = (0.5, 2.0, 0.0)
     sphere.data.materials.append(principled_material("Green", (0.2, 0.7, 0.2), Roughness=0.5))
     add_light("Key", "SUN", (0, -20, 20), (math.radians(40), 0, math.radians(5)), energy=3.0)
-    world = bpy.data.worlds.new("World")
-    world.color = (0.05, 0.05, 0.06)
-    world.use_nodes = False
-    scene.world = world
+    plain_world("World", (0.05, 0.05, 0.06))
     bpy.context.view_layer.update()
     return {}
 
 
 from material_scenes import (bad_materials_scene, checker_scene, cutout_scene, emission_mirror_scene,  # noqa: E402,F401
-                             environment_scene, fog_box_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,
+                             emission_panel_scene, environment_scene, fog_box_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,
                              principled_sphere_scene, roughness_map_scene, texture_links_scene,
                              unread_settings_scene)
 

@@ -75,34 +75,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                             : L.kind == LightKind::Sun    ? L.angle > 0
                                                           : false;
         // How many light points this shading point uses, and where they come from.
-        int count = 1;
-        ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
-        const uint32_t n = uint32_t(std::max(1, s_.shadow_samples));
-        const uint32_t grid = n * n;
-        if (mode == ShadowMode::Random) count = int(n);
-        if (mode == ShadowMode::Area) count = int(std::max<uint32_t>(1, (grid + st.samples - 1) / st.samples));
+        const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
+        const int count = light_points(mode, st);
         Vec3 sum;
         for (int j = 0; j < count; ++j) {
-            float u1 = 0.5f, u2 = 0.5f;
-            // (The rays of a split glossy bounce share their sample's index, so
-            // the light grid would give them all one point: they draw at random.)
-            if (mode == ShadowMode::Random || (mode == ShadowMode::Area && split)) {
-                u1 = st.rng.next();
-                u2 = st.rng.next();
-            } else if (mode == ShadowMode::Area) {
-                // The seed's area-light method: an n x n jittered grid of light
-                // positions, shuffled per pixel so that the pixel's sub-samples
-                // meet different positions. At every hit of a sample's path:
-                // each depth has its own shuffle and jitter (depth 1 keeps the
-                // primary hits' key), so a mirror's or a refraction's hits are
-                // stratified over the pixel's samples too.
-                const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
-                const uint32_t light_key = uint32_t(li) + uint32_t(depth - 1) * kGoldenRatio32;
-                const uint32_t key = hash4(st.seed, st.pixel, light_key, uint32_t(Stream::AreaLightGrid));
-                const uint32_t cell = permute(slot, grid, key);
-                u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
-                u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
-            }
+            float u1, u2;
+            light_point(mode, uint32_t(li), j, count, depth, split, st, u1, u2);
             LightSample ls;
             if (!sample_light(L, sp.p, u1, u2, ls)) continue;
             if (dot(ng, ls.wi) <= 0) continue;
@@ -129,31 +107,82 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     return total;
 }
 
+int Integrator::light_points(ShadowMode mode, const SampleState& st) const {
+    const uint32_t n = uint32_t(std::max(1, s_.shadow_samples));
+    if (mode == ShadowMode::Random) return int(n);
+    if (mode == ShadowMode::Area) return int(std::max<uint32_t>(1, (n * n + st.samples - 1) / st.samples));
+    return 1;
+}
+
+void Integrator::light_point(ShadowMode mode, uint32_t li, int j, int count, int depth, bool split,
+                             SampleState& st, float& u1, float& u2) const {
+    u1 = u2 = 0.5f;   // Hard: the light's centre
+    // (The rays of a split glossy bounce share their sample's index, so
+    // the light grid would give them all one point: they draw at random.)
+    if (mode == ShadowMode::Random || (mode == ShadowMode::Area && split)) {
+        u1 = st.rng.next();
+        u2 = st.rng.next();
+    } else if (mode == ShadowMode::Area) {
+        // The seed's area-light method: an n x n jittered grid of light
+        // positions, shuffled per pixel so that the pixel's sub-samples
+        // meet different positions. At every hit of a sample's path:
+        // each depth has its own shuffle and jitter (depth 1 keeps the
+        // primary hits' key), so a mirror's or a refraction's hits are
+        // stratified over the pixel's samples too.
+        const uint32_t n = uint32_t(std::max(1, s_.shadow_samples)), grid = n * n;
+        const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
+        const uint32_t light_key = li + uint32_t(depth - 1) * kGoldenRatio32;
+        const uint32_t key = hash4(st.seed, st.pixel, light_key, uint32_t(Stream::AreaLightGrid));
+        const uint32_t cell = permute(slot, grid, key);
+        u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
+        u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
+    }
+}
+
+Vec3 Integrator::world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
+                               SampleState& st, TraceContext& ctx) const {
+    // World shadows (world_shadows.h): the world's light these directions
+    // would bring that the scene blocks, as a mean of L (1 - V) cos / pdf / pi,
+    // over the points a light with a size gets (the world is the light after
+    // the emitters in the grid's key).
+    const ShadowMode mode = spread_mode();
+    const int count = light_points(s_.shadow, st);
+    const WorldMap& map = scene_.world_map();
+    Vec3 sum;
+    for (int j = 0; j < count; ++j) {
+        float u1, u2;
+        light_point(mode, uint32_t(scene_.lights().size()) + 1, j, count, depth, split, st, u1, u2);
+        Vec3 wi;
+        if (!map.empty() && u1 < 0.5f) {
+            wi = map.sample(u1 * 2.0f, u2);
+        } else {
+            wi = cosine_direction(ns, map.empty() ? u1 : (u1 - 0.5f) * 2.0f, u2);
+        }
+        const float cos_i = dot(ns, wi);
+        if (!(cos_i > 0)) continue;
+        const float cosine_pdf = cos_i * float(1 / kPi);
+        const float pdf = map.empty() ? cosine_pdf : 0.5f * (map.pdf(wi) + cosine_pdf);
+        if (!(pdf > 0)) continue;
+        // Below the true surface the surface itself blocks the world.
+        const float vis = dot(ng, wi) > 0 ? visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) : 0.0f;
+        if (vis >= 1) continue;
+        sum += scene_.world_light(wi) * ((1.0f - vis) * cos_i * float(1 / kPi) / pdf);
+    }
+    return sum * (1.0f / float(count));
+}
+
 Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo,
                                const Material& m, int depth, bool split, SampleState& st, TraceContext& ctx) const {
     // The emissive triangles as one area light after the lamps (its index in
     // the light grid's key): the same number of points per shading point and
     // the same stratification as a lamp with a size.
-    const uint32_t li = uint32_t(scene_.lights().size());
-    int count = 1;
-    const uint32_t n = uint32_t(std::max(1, s_.shadow_samples)), grid = n * n;
-    if (s_.shadow == ShadowMode::Random) count = int(n);
-    if (s_.shadow == ShadowMode::Area) count = int(std::max<uint32_t>(1, (grid + st.samples - 1) / st.samples));
+    const ShadowMode mode = spread_mode();
+    const int count = light_points(s_.shadow, st);
     const Vec3* corners = scene_.triangle_vertices();
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
-        if (s_.shadow == ShadowMode::Area && !split) {
-            const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
-            const uint32_t key = hash4(st.seed, st.pixel, li + uint32_t(depth - 1) * kGoldenRatio32,
-                                       uint32_t(Stream::AreaLightGrid));
-            const uint32_t cell = permute(slot, grid, key);
-            u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
-            u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
-        } else {   // (Hard has no centre to aim at: a random point, as Random)
-            u1 = st.rng.next();
-            u2 = st.rng.next();
-        }
+        light_point(mode, uint32_t(scene_.lights().size()), j, count, depth, split, st, u1, u2);
         float probability, u_rest;
         const int32_t tri = scene_.emitters().pick(u1, probability, u_rest);
         // A uniform point on the triangle: barycentrics (1 - s, s (1 - u2), s u2), s = sqrt(u_rest).
@@ -307,7 +336,14 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: use the true one
     Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
-    if (scene_.has_ambient()) color += m.color * scene_.ambient(ns) * m.kd;
+    if (scene_.has_ambient() && m.kd > 0) {
+        Vec3 a = scene_.ambient(ns);
+        if (s_.world_shadows) {
+            a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
+            a = Vec3(std::max(a.x, 0.0f), std::max(a.y, 0.0f), std::max(a.z, 0.0f));
+        }
+        color += m.color * a * m.kd;
+    }
     if (depth >= s_.max_depth) return color;
 
     float refl = m.mirror, trans = 0;

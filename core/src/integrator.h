@@ -39,6 +39,17 @@ private:
     // The emissive triangles' light (scene.emitters()), sampled as one area light.
     Vec3 from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                        int depth, bool split, SampleState& st, TraceContext& ctx) const;
+    // What the scene blocks of the world's light at a diffuse point (world_shadows.h).
+    Vec3 world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
+                       SampleState& st, TraceContext& ctx) const;
+    // How many points on a light a shading point uses in this shadow mode, and
+    // the j-th of them as (u1, u2) in [0, 1)^2 for light li (stratified per pixel in Area mode).
+    int light_points(ShadowMode mode, const SampleState& st) const;
+    // The mode that places the points of a light with no centre to aim at
+    // (emitters, the world): Hard draws one at random, as Random does.
+    ShadowMode spread_mode() const { return s_.shadow == ShadowMode::Hard ? ShadowMode::Random : s_.shadow; }
+    void light_point(ShadowMode mode, uint32_t li, int j, int count, int depth, bool split, SampleState& st,
+                     float& u1, float& u2) const;
     Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
                         float weight, bool split, SampleState& st, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,

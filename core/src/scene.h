@@ -20,6 +20,7 @@
 #include "texture.h"
 #include "triangle.h"
 #include "world.h"
+#include "world_shadows.h"
 
 namespace gw {
 
@@ -152,6 +153,11 @@ public:
     Vec3 ambient(const Vec3& n) const {
         return env_light_ ? world_.ambient + env_irradiance_.at(n) : world_.ambient;
     }
+    // The environment's luminance map for drawing world shadow rays (empty without environment light).
+    const WorldMap& world_map() const { return world_map_; }
+    // The world's radiance along d where it lights surfaces: the ambient colour,
+    // plus the environment where World.environment_light is set.
+    Vec3 world_light(const Vec3& d) const { return env_light_ ? world_.ambient + miss(d) : world_.ambient; }
     bool has_ambient() const {
         return env_light_ || world_.ambient.x != 0 || world_.ambient.y != 0 || world_.ambient.z != 0;
     }
@@ -200,6 +206,7 @@ private:
     Emitters emitters_;
     bool env_light_ = false;          // world_.environment_light with an environment
     Irradiance env_irradiance_;
+    WorldMap world_map_;
     bool transparent_shadows_ = false;
     Bounds bounds_;
     uint64_t id_ = next_id();

@@ -61,6 +61,7 @@ void Scene::check_textures() {
     if (env_light_) {
         const Texture& t = textures_[size_t(world_.environment)];
         env_irradiance_ = environment_irradiance(*images_[size_t(t.image)], t, world_.environment_strength);
+        world_map_ = WorldMap(*images_[size_t(t.image)], t);
     }
 }
 

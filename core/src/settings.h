@@ -58,6 +58,9 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
     X(ShadowMode, shadow, ShadowMode::Hard, 0, 0, "lights", "", "Soft Shadows", "Where shadow rays go on a light") \
     X(int, shadow_samples, 1, 1, 64, "lights", "shadow!=hard", "Shadow Samples",                                   \
       "random: rays per light; area: n of the n x n light grid")                                                   \
+    X(bool, world_shadows, false, 0, 1, "lights", "", "World Shadows",                                             \
+      "The scene blocks the world's light (ambient colour, environment): shadow rays toward the world, as many "   \
+      "as a light with a size gets")                                                                              \
     X(int, dof_samples, 1, 1, 4096, "lens", "", "DoF Samples",                                                     \
       "Lens samples per camera sample (used when the camera has an aperture)")                                     \
     X(int, glossy_samples, 1, 1, 4096, "lens", "", "Glossy Samples", "Rays at the first glossy bounce")            \
@@ -74,7 +77,9 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
                       "Cycles and EEVEE render their soft shadows; the library keeps the seed's hard "  \
                       "shadows, the baseline its tables compare against")                                \
     X(shadow_samples, "2", "The light's 2 x 2 strata, one per pixel sample of the 2 x 2 anti-aliasing: " \
-                           "soft shadows for one shadow ray per light and hit, the cost of hard ones")
+                           "soft shadows for one shadow ray per light and hit, the cost of hard ones")   \
+    X(world_shadows, "true", "Cycles' world light is blocked by the scene (contact shadows, dark "        \
+                             "interiors); the library keeps Whitted's unoccluded ambient term")
 
 #define GW_SETTING_FIELD(type, name, def, lo, hi, group, when, label, help) type name = def;
 struct RenderSettings {

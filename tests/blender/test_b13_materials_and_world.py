@@ -52,6 +52,11 @@ def renders(request, tmp_path_factory):
     for pane in ("glass", "alpha", "opaque"):
         r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
     r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
+    for key, engine, option in (("gridwalk", "GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4, '
+                                                         '"shadow_samples": 8}'),
+                                ("unblocked", "GRIDWALK", 'settings={"world_shadows": false}'),
+                                ("cycles", "CYCLES", "samples=128")):
+        r[f"contact_{key}"] = _render(kind, out, "world_shadow", engine, option, opaque)
     for engine, option in (("GRIDWALK", "settings={}"), ("CYCLES", "samples=16")):
         r[f"fog_{engine.lower()}"] = _render(kind, out, "fog_box", engine, option)
     r["cutout"] = _render(kind, out, "cutout", "GRIDWALK", f"settings={AA}", opaque)
@@ -193,6 +198,21 @@ def test_a_volume_only_material_leaves_what_is_behind_it_visible(renders):
     assert 0.02 < red(rgba).mean() < 0.5
     assert np.mean(red(rgba) != red(cycles)) < 0.02
     assert np.mean((rgba[..., 3] > 0.5) != (cycles[..., 3] > 0.5)) < 0.02
+
+
+def test_the_worlds_light_is_blocked_under_a_ball_as_in_cycles(renders):
+    # Blender's default world_shadows: a ball on a floor under a white world casts a contact shadow
+    # as in Cycles; Whitted's unoccluded ambient term (world_shadows off) lights the floor evenly.
+    ours, flat, cycles = (exr.luminance(renders[k]["rgba"]) for k in
+                          ("contact_gridwalk", "contact_unblocked", "contact_cycles"))
+    floor = (cycles > 0.1) & (ours > 0.1)                              # (not the black ball)
+    assert floor.mean() > 0.5
+    assert abs(ours[floor].mean() / cycles[floor].mean() - 1) < 0.04
+    assert np.corrcoef(ours[floor], cycles[floor])[0, 1] > 0.9
+    shade = floor & (cycles < 0.9 * np.percentile(cycles[floor], 90))  # around the contact point
+    assert shade.mean() > 0.01
+    assert abs(ours[shade].mean() / cycles[shade].mean() - 1) < 0.08
+    assert flat[shade].mean() > 1.15 * cycles[shade].mean()
 
 
 def test_bad_textures_warn_and_the_image_finishes(renders):

@@ -135,6 +135,8 @@ def _check_region(where, value):
 def _host_value(row, text):
     if text is None:
         return None
+    if row["ctype"] == "bool":
+        return {"true": True, "false": False}[text]
     return int(text) if row["ctype"].startswith(("int", "uint")) else \
         float(text) if row["ctype"].startswith("float") else text
 

@@ -279,6 +279,23 @@ def emission_panel_scene(resolution=(64, 48)):
     return {}
 
 
+def world_shadow_scene(resolution=(64, 48)):
+    """A nearly black Diffuse ball (radius 1) resting on a grey Diffuse floor
+    under a plain white world, no lamps: the world's light alone, blocked by
+    the ball around its contact point (its own bounce light is negligible)."""
+    scene = reset(resolution=tuple(resolution))
+    scene.camera.location = (0.0, -6.0, 6.0)
+    scene.camera.rotation_euler = (math.radians(45), 0.0, 0.0)
+    _plane("Floor", 20.0).data.materials.append(_diffuse_material("Floor"))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(0, 0, 1.0), segments=48, ring_count=24)
+    ball = bpy.context.object
+    ball.data.polygons.foreach_set("use_smooth", [True] * len(ball.data.polygons))
+    ball.data.materials.append(shader_material("Ball", "ShaderNodeBsdfDiffuse", [("Color", (0.02, 0.02, 0.02, 1.0))]))
+    plain_world("White", (1.0, 1.0, 1.0))
+    bpy.context.view_layer.update()
+    return {}
+
+
 def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     """A white floor seen from straight above (orthographic) and a pane 2 units
     above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,

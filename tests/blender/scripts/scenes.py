@@ -190,10 +190,16 @@ def hidden_sources_scene():
 
 
 def plain_world(name, color):
-    """A world of one colour, without nodes, made the scene's."""
+    """A world of one colour, made the scene's: without nodes before Blender 5.0,
+    whose worlds always use theirs (the Background node's Color then)."""
     world = bpy.data.worlds.new(name)
     world.color = color
-    world.use_nodes = False
+    if bpy.app.version >= (5, 0, 0):
+        background = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
+        background.inputs["Color"].default_value = (*color, 1.0)
+        background.inputs["Strength"].default_value = 1.0
+    else:
+        world.use_nodes = False
     bpy.context.scene.world = world
     return world
 
@@ -595,6 +601,6 @@ def viewport_scene(resolution=(480, 270), factory=True):
 from material_scenes import (bad_materials_scene, checker_scene, cutout_scene, emission_mirror_scene,  # noqa: E402,F401
                              emission_panel_scene, environment_scene, fog_box_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,
                              principled_sphere_scene, roughness_map_scene, texture_links_scene,
-                             unread_settings_scene)
+                             unread_settings_scene, world_shadow_scene)
 
 BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

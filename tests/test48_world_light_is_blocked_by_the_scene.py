@@ -1,0 +1,87 @@
+"""RenderSettings.world_shadows: the scene blocks the world's light (the
+ambient colour and the environment's irradiance), as Cycles' world light is
+blocked. Checked on a white floor under a unit sphere 2 above it, seen from
+above beside the sphere, against the exact light at each pixel: for a uniform
+world, 1 - (R/d)^2 cos(beta) of it (the cosine-weighted share of a spherical
+cap); for a sky of degree 2 in the direction, the integral over every texel
+of L cos V with V the ray's analytic miss of the sphere."""
+import numpy as np
+
+import gridwalk as gw
+
+N = 20
+SETTINGS = dict(aa="jittered", aa_samples=4, shadow="area", shadow_samples=16, threads=2, world_shadows=True)
+CENTRE, R = np.array([0.0, 0.0, 2.0]), 1.0
+
+
+def _scene(world, textures=None):
+    floor = np.array([[-30, -30, 0], [30, -30, 0], [30, 30, 0], [-30, 30, 0]], np.float32)
+    cam = gw.Camera(eye=(2.5, 0, 10), target=(2.5, 0, 0), up=(0, 1, 0), projection="orthographic",
+                    ortho_height=2.0, width=N, height=N)
+    return gw.Scene(floor, [[0, 1, 2], [0, 2, 3]], sphere_centers=[CENTRE], sphere_radii=[R],
+                    materials=[gw.Material(color=(1, 1, 1), kd=1.0, ks=0.0)], camera=cam, world=world,
+                    textures=textures)
+
+
+def _floor_points():
+    c = (np.arange(N) + 0.5) / N * 2.0 - 1.0
+    x, y = np.meshgrid(2.5 + c, c[::-1])
+    return np.stack([x.ravel(), y.ravel(), np.zeros(N * N)], axis=1)
+
+
+def test_a_sphere_blocks_a_uniform_worlds_light_as_its_cap_says():
+    rgba = gw.render(_scene(gw.World(ambient=(0.5, 1.0, 2.0))), gw.RenderSettings(**SETTINGS))
+    to = CENTRE[None, :] - _floor_points()
+    d = np.linalg.norm(to, axis=1)
+    seen = 1 - (R / d) ** 2 * (to[:, 2] / d)
+    expected = seen[:, None] * [0.5, 1.0, 2.0]
+    got = rgba[..., :3].reshape(-1, 3)
+    assert seen.min() < 0.97                                          # the shadow is there to find
+    assert np.abs(got / expected - 1).mean() < 0.01
+    assert np.abs(got / expected - 1).max() < 0.04
+    unblocked = gw.render(_scene(gw.World(ambient=(0.5, 1.0, 2.0))),
+                          gw.RenderSettings(**dict(SETTINGS, world_shadows=False)))
+    np.testing.assert_allclose(unblocked[..., :3].reshape(-1, 3), np.broadcast_to([0.5, 1.0, 2.0], got.shape),
+                               rtol=1e-6)
+
+
+def _sky(h=64, w=128):
+    """A sky of degree 2 in the direction (exact in nine coefficients), bright overhead."""
+    u = (np.arange(w) + 0.5) / w
+    v = 1 - (np.arange(h) + 0.5) / h
+    phi, e = (0.5 - u) * 2 * np.pi, (v - 0.5) * np.pi
+    x = np.cos(e)[:, None] * np.cos(phi)[None, :]
+    z = np.broadcast_to(np.sin(e)[:, None], (h, w))
+    sky = np.stack([1.2 + 0.9 * z + 0.3 * x, 1.0 + 0.8 * z, 0.8 + 0.7 * z + 0.4 * z * z], axis=-1)
+    return sky.astype(np.float32), x, np.cos(e)[:, None] * np.sin(phi)[None, :], z, e
+
+
+def test_a_sphere_blocks_an_environments_light_where_its_rays_meet_it():
+    sky, dx, dy, dz, e = _sky()
+    world = gw.World(environment=0, environment_light=True)
+    rgba = gw.render(_scene(world, textures=[gw.Texture(gw.Image(sky))]), gw.RenderSettings(**SETTINGS))
+    h, w = sky.shape[:2]
+    edges = (0.5 - np.arange(h + 1) / h) * np.pi
+    omega = np.broadcast_to(((np.sin(edges[:-1]) - np.sin(edges[1:])) * 2 * np.pi / w)[:, None], (h, w))
+    dirs = np.stack([dx, dy, dz], axis=-1).reshape(-1, 3)
+    weight = (omega.reshape(-1, 1) * sky.reshape(-1, 3)).astype(np.float64)
+    expected = []
+    for p in _floor_points():
+        oc = p - CENTRE
+        b = dirs @ oc
+        hits = (b * b - (oc @ oc - R * R) > 0) & (b < 0)              # the ray from p meets the sphere
+        cos = np.clip(dirs[:, 2], 0, None) * ~hits
+        expected.append(cos @ weight / np.pi)
+    expected = np.array(expected)
+    got = rgba[..., :3].reshape(-1, 3)
+    open_sky = np.clip(dirs[:, 2], 0, None) @ weight / np.pi
+    assert (expected / open_sky).min() < 0.95                         # the sphere's shadow is in view
+    assert np.abs(got / expected - 1).mean() < 0.01
+    assert np.abs(got / expected - 1).max() < 0.04
+
+
+def test_world_shadows_are_the_same_for_any_thread_count_and_tile_size():
+    scene = _scene(gw.World(ambient=(1.0, 1.0, 1.0)))
+    one = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, threads=1, tile_size=7)))
+    two = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, threads=2, tile_size=16)))
+    np.testing.assert_array_equal(one, two)

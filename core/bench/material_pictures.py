@@ -19,13 +19,17 @@ sys.path.insert(0, str(ROOT / "tests" / "blender"))
 import exr  # noqa: E402
 from runner import run_script  # noqa: E402
 
-AA = '{"aa": "JITTERED", "aa_samples": 4}'
+AA = '{"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'
 SCENES = (   # (scene, label, options for both engines)
     ("checker", "Image Texture on UVs", ["resolution"]),
     ("environment", "HDR Environment, mirror sphere", ["transparent=false"]),
     ("environment", "HDR Environment lighting a matte sphere",
      ['scene={"matte": true, "resolution": [128, 96]}', "transparent=false"]),
     ("emission_mirror", "Emission seen in a mirror", ["transparent=false"]),
+    ("emission_panel", "An Emission panel lighting a floor (no lamps)",
+     ['scene={"resolution": [128, 96]}', "transparent=false"]),
+    ("world_shadow", "A white world's light blocked by a ball (no lamps)",
+     ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("pane_shadow", "Glass pane: transparent shadow", ['scene={"pane": "glass", "resolution": [128, 128]}',
                                                       "transparent=false"]),
     ("cutout", "Transparent BSDF cut-out (left); image alpha (right)",

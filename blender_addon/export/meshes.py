@@ -377,7 +377,10 @@ class MeshCollector:
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):
-            if obj.original.type == "MESH":   # (curves without bevel are paths, not mistakes)
+            # (curves without bevel are paths, and a mesh that had faces before
+            # its modifiers took them all is what they were set up to do: no mistakes)
+            original = obj.original
+            if original.type == "MESH" and not (original.data is not None and len(original.data.polygons)):
                 self.faceless.add(obj.name)
             return
         if not data.finite:

@@ -217,6 +217,12 @@ def _faceless(bpy, s):
 def case_no_faces(bpy, s):
     _lit_cube_scene(bpy, s)
     _faceless(bpy, s)
+    # A cube whose Mask modifier keeps an empty vertex group: its modifiers leave
+    # nothing, which is what they are for (Cycles renders nothing either).
+    masked = s.link(s.cube_object("Masked"))
+    masked.vertex_groups.new(name="Nothing")
+    mask = masked.modifiers.new("Mask", "MASK")
+    mask.vertex_group = "Nothing"
 
 
 def case_no_faces_only(bpy, s):

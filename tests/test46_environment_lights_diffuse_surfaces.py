@@ -151,3 +151,25 @@ def test_a_premultiplied_8_bit_sky_lights_with_its_associated_colour():
     centre = rgba[rgba[..., 3] == 1][:, :3]
     np.testing.assert_allclose(centre, np.broadcast_to(associated, centre.shape), rtol=1e-4)
     np.testing.assert_allclose(srgb[hit], np.broadcast_to(straight, srgb[hit].shape), rtol=1e-4)
+
+
+def test_a_rotated_environment_lights_and_shows_as_the_rotated_image():
+    # environment_rotation R looks the image up along R d: a quarter turn about +Z is the image's
+    # columns rolled by a quarter (u - 0.25), in what rays see and in the light surfaces get.
+    sky = _sky_with_ground(32, 64)
+    sky[..., 1] *= (1.0 + 0.8 * np.sin(np.linspace(0, 2 * np.pi, 64, endpoint=False)))[None, :]
+    quarter = (0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0)          # R d: d turned +90 degrees about +Z
+
+    def render(image, rotation):
+        cam = gw.Camera(eye=(0.3, -5, 0.4), target=(0, 0, 0), up=(0, 0, 1), fov=40.0, width=N, height=N)
+        scene = gw.Scene(sphere_centers=[[0, 0, 0]], sphere_radii=[1.0], camera=cam,
+                         materials=[gw.Material(color=(1, 1, 1), kd=1.0, ks=0.0)],
+                         textures=[gw.Texture(gw.Image(image), interpolation="closest")],
+                         world=gw.World(environment=0, environment_light=True, environment_rotation=rotation))
+        return gw.render(scene, gw.RenderSettings(threads=2, world_shadows=True))
+
+    turned = render(sky, quarter)
+    rolled = render(np.roll(sky, 16, axis=1), tuple(np.eye(3).ravel()))
+    plain = render(sky, tuple(np.eye(3).ravel()))
+    np.testing.assert_allclose(turned, rolled, rtol=2e-4, atol=1e-6)
+    assert np.abs(turned - plain).max() > 0.1                        # the turn is visible

@@ -31,6 +31,7 @@ import dataclasses
 
 from gridwalk import World
 
+from .environment_rotation import environment_rotation
 from .materials import _source, input_value
 
 
@@ -116,12 +117,14 @@ def _convert_world(world, textures, warnings: list) -> tuple:
     if source is not None and source.type == "TEX_ENVIRONMENT" and textures is not None:
         if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
             warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
-        if _source(source.inputs["Vector"])[0] is not None:
-            warnings.append(f"World {world.name!r}: the environment's Vector input (rotation) is ignored")
+        rotation, problem = environment_rotation(source)
+        if problem:
+            warnings.append(f"World {world.name!r}: {problem}")
         index = textures.texture(source)
         mean = textures.mean_color(index)
         return (tuple(c * strength for c in mean),
-                World(environment=index, environment_strength=strength, environment_light=True))
+                World(environment=index, environment_strength=strength, environment_light=True,
+                      environment_rotation=rotation))
     if source is not None:
         name = source.bl_idname
         warnings.append(f"World {world.name!r}: a Color from {name} is not supported, using the world viewport colour")

@@ -56,6 +56,7 @@ void bind_records(nb::module_& m) {
         .def_rw("environment", &World::environment)
         .def_rw("environment_strength", &World::environment_strength)
         .def_rw("environment_light", &World::environment_light)
+        .def_rw("environment_rotation", &World::environment_rotation)
         .def_rw("transparent", &World::transparent)
         .def("validate", &validate_world);
 

@@ -154,14 +154,14 @@ Vec3 Integrator::world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec
         light_point(mode, uint32_t(scene_.lights().size()) + 1, j, count, depth, split, st, u1, u2);
         Vec3 wi;
         if (!map.empty() && u1 < 0.5f) {
-            wi = map.sample(u1 * 2.0f, u2);
+            wi = scene_.from_environment(map.sample(u1 * 2.0f, u2));
         } else {
             wi = cosine_direction(ns, map.empty() ? u1 : (u1 - 0.5f) * 2.0f, u2);
         }
         const float cos_i = dot(ns, wi);
         if (!(cos_i > 0)) continue;
         const float cosine_pdf = cos_i * float(1 / kPi);
-        const float pdf = map.empty() ? cosine_pdf : 0.5f * (map.pdf(wi) + cosine_pdf);
+        const float pdf = map.empty() ? cosine_pdf : 0.5f * (map.pdf(scene_.to_environment(wi)) + cosine_pdf);
         if (!(pdf > 0)) continue;
         // Below the true surface the surface itself blocks the world.
         const float vis = dot(ng, wi) > 0 ? visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) : 0.0f;

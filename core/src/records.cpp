@@ -71,6 +71,20 @@ void validate_material(const Material& m, const std::string& where) {
 void validate_world(const World& w) {
     need_finite("World", "ambient", w.ambient);
     need_finite("World", "environment_strength", w.environment_strength);
+    for (float x : w.environment_rotation)
+        if (!std::isfinite(x)) refuse("World", "environment_rotation", "has a non-finite value");
+    const auto& R = w.environment_rotation;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const double dot_ij = double(R[3 * i]) * R[3 * j] + double(R[3 * i + 1]) * R[3 * j + 1] +
+                                  double(R[3 * i + 2]) * R[3 * j + 2];
+            if (std::abs(dot_ij - (i == j ? 1.0 : 0.0)) > 1e-3)
+                refuse("World", "environment_rotation", "must be a rotation (orthonormal rows, row-major 3 x 3)");
+        }
+    const double det = double(R[0]) * (double(R[4]) * R[8] - double(R[5]) * R[7]) -
+                       double(R[1]) * (double(R[3]) * R[8] - double(R[5]) * R[6]) +
+                       double(R[2]) * (double(R[3]) * R[7] - double(R[4]) * R[6]);
+    if (det < 0) refuse("World", "environment_rotation", "must be a rotation, not a reflection (determinant -1)");
     if (w.environment < -1)
         refuse("World", "environment", "must be a texture index or -1 (none), got " + std::to_string(w.environment));
 }

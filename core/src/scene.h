@@ -143,7 +143,7 @@ public:
     Vec3 miss(const Vec3& d) const {
         if (world_.environment < 0) return background_;
         float u, v;
-        equirect_uv(d, u, v);
+        equirect_uv(to_environment(d), u, v);
         const Texture& t = textures_[size_t(world_.environment)];
         return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
     }
@@ -151,7 +151,12 @@ public:
     // kd): World.ambient plus the environment's irradiance / pi where
     // World.environment_light is set.
     Vec3 ambient(const Vec3& n) const {
-        return env_light_ ? world_.ambient + env_irradiance_.at(n) : world_.ambient;
+        return env_light_ ? world_.ambient + env_irradiance_.at(to_environment(n)) : world_.ambient;
+    }
+    // A world direction in the environment image's frame (World.environment_rotation), and back.
+    Vec3 to_environment(const Vec3& d) const { return env_rotated_ ? rotate(world_.environment_rotation, d) : d; }
+    Vec3 from_environment(const Vec3& d) const {
+        return env_rotated_ ? rotate_back(world_.environment_rotation, d) : d;
     }
     // The environment's luminance map for drawing world shadow rays (empty without environment light).
     const WorldMap& world_map() const { return world_map_; }
@@ -205,6 +210,7 @@ private:
     World world_;
     Emitters emitters_;
     bool env_light_ = false;          // world_.environment_light with an environment
+    bool env_rotated_ = false;        // world_.environment_rotation is not the identity
     Irradiance env_irradiance_;
     WorldMap world_map_;
     bool transparent_shadows_ = false;

@@ -58,6 +58,7 @@ void Scene::check_textures() {
     validate_world(world_);
     check_index(world_.environment, "World.environment");
     env_light_ = world_.environment_light && world_.environment >= 0;
+    env_rotated_ = world_.environment_rotation != std::array<float, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (env_light_) {
         const Texture& t = textures_[size_t(world_.environment)];
         env_irradiance_ = environment_irradiance(*images_[size_t(t.image)], t, world_.environment_strength);

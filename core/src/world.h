@@ -8,6 +8,8 @@
 // the surface sees the whole sky.
 // environment: a texture (equirectangular) that rays which miss everything see,
 // times environment_strength; -1 = none (they see the background colour).
+// environment_rotation: the image is looked up along R d for a direction d
+// (R row-major, a rotation): Blender's Mapping node rotating an environment.
 // environment_light: surfaces also get the environment's diffuse light: the
 // irradiance its image x environment_strength sends on their shading normal
 // (irradiance.h), also without occlusion, added to the ambient term. Blender's
@@ -16,6 +18,7 @@
 // premultiplied transparent film, Blender's Film > Transparent); mirror and
 // refraction rays still see the background or environment.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -27,9 +30,20 @@ struct World {
     Vec3 ambient{0, 0, 0};
     int32_t environment = -1;
     float environment_strength = 1;
+    std::array<float, 9> environment_rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
     bool environment_light = false;
     bool transparent = false;
 };
+
+// R d and R^T d for a row-major 3 x 3 matrix R.
+inline Vec3 rotate(const std::array<float, 9>& R, const Vec3& d) {
+    return Vec3(R[0] * d.x + R[1] * d.y + R[2] * d.z, R[3] * d.x + R[4] * d.y + R[5] * d.z,
+                R[6] * d.x + R[7] * d.y + R[8] * d.z);
+}
+inline Vec3 rotate_back(const std::array<float, 9>& R, const Vec3& d) {
+    return Vec3(R[0] * d.x + R[3] * d.y + R[6] * d.z, R[1] * d.x + R[4] * d.y + R[7] * d.z,
+                R[2] * d.x + R[5] * d.y + R[8] * d.z);
+}
 
 // Throws std::invalid_argument naming the field (the texture index is checked by the scene).
 void validate_world(const World& w);

@@ -40,6 +40,9 @@ def renders(request, tmp_path_factory):
     r["environment"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque)
     r["environment_cycles"] = _render(kind, out, "environment", "CYCLES", "samples=32", opaque)
     r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
+    for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=32")):
+        r[f"environment_turned_{engine.lower()}"] = _render(kind, out, "environment", engine, option, opaque,
+                                                            'scene={"matte": true, "turn": [20, -35, 70]}')
     r["environment_broken"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque,
                                       'scene={"broken": true}')
     for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=64")):
@@ -134,6 +137,19 @@ def test_hdr_environment_lights_a_matte_sphere_by_direction_as_in_cycles(renders
     bottom[:rows[-len(rows) // 4]] = False
     assert ours[top][:, 2].mean() > 1.5 * ours[bottom][:, 2].mean()
     assert abs(ours[top][:, 2].mean() / cycles[top][:, 2].mean() - 1) < 0.08
+
+
+def test_an_environment_turned_by_a_mapping_node_is_seen_and_lights_as_in_cycles(renders):
+    # Texture Coordinate (Generated) -> Mapping (rotation 20, -35, 70 degrees) -> Environment: the
+    # background and the matte sphere's light turn with it; the Vector was ignored, with a warning.
+    ours, cycles = (renders[f"environment_turned_{e}"] for e in ("gridwalk", "cycles"))
+    assert "Vector" not in ours["stdout"] and "not rotated" not in ours["stdout"]
+    a, b = ours["rgba"][..., :3], cycles["rgba"][..., :3]
+    for c in range(3):
+        assert np.corrcoef(a[..., c].ravel(), b[..., c].ravel())[0, 1] > 0.97, c
+    assert np.abs(a.mean(axis=(0, 1)) / b.mean(axis=(0, 1)) - 1).max() < 0.03
+    unturned = renders["environment_matte_gridwalk"]["rgba"][..., :3]
+    assert np.abs(a - unturned).mean() > 0.05
 
 
 def test_film_transparent_hides_the_environment_but_not_its_reflection(renders):

@@ -194,6 +194,9 @@ class World(Record):
     Scene(textures=...) of an equirectangular image (Z up; its centre looks
     along +X) that rays which miss everything see, times
     environment_strength; -1: they see the background colour.
+    environment_rotation: 9 numbers, a row-major rotation R: the image is
+    looked up along R d for a direction d (Blender's Mapping node rotating
+    the environment); the identity by default.
     environment_light: surfaces also get the environment's diffuse light,
     color * kd * E(n) / pi for the irradiance E its image (times
     environment_strength) sends on the shading normal n, from nine
@@ -205,6 +208,7 @@ class World(Record):
     environment: int = _WORLD.environment
     environment_strength: float = _WORLD.environment_strength
     environment_light: bool = _WORLD.environment_light
+    environment_rotation: tuple = tuple(_WORLD.environment_rotation)
     transparent: bool = _WORLD.transparent
     CORE = _core.World
 

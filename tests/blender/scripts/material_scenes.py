@@ -200,11 +200,13 @@ def _diffuse_material(name):
     return shader_material(name, "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
 
 
-def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None, matte=False):
+def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None, matte=False, turn=None):
     """A mirror sphere in an HDR environment (a float image on an Environment Texture);
     broken: a few of its pixels are +Inf and NaN, as broken HDR files hold;
     eight_bit_alpha: an 8-bit sRGB image instead, of this alpha in its right half;
-    matte: the sphere is a grey Diffuse BSDF, lit by the environment alone."""
+    matte: the sphere is a grey Diffuse BSDF, lit by the environment alone;
+    turn: (x, y, z) degrees, a Mapping node (Point) from the Generated
+    coordinates turns the environment."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=2.5, segments=64, ring_count=32)
     sphere = bpy.context.object
@@ -227,6 +229,12 @@ def environment_scene(resolution=(64, 48), broken=False, eight_bit_alpha=None, m
         sky[:, sky.shape[1] // 2:, 3] = eight_bit_alpha
     env.image = _filled_image("SkyHDR", sky, float_buffer=eight_bit_alpha is None)
     world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
+    if turn is not None:
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = tuple(math.radians(a) for a in turn)
+        coords = nodes.new("ShaderNodeTexCoord")
+        world.node_tree.links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+        world.node_tree.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
     bpy.context.view_layer.update()
     return {}
 

@@ -6,6 +6,7 @@ world, 1 - (R/d)^2 cos(beta) of it (the cosine-weighted share of a spherical
 cap); for a sky of degree 2 in the direction, the integral over every texel
 of L cos V with V the ray's analytic miss of the sphere."""
 import numpy as np
+import pytest
 
 import gridwalk as gw
 
@@ -46,7 +47,7 @@ def test_a_sphere_blocks_a_uniform_worlds_light_as_its_cap_says():
 
 
 def _sky(h=64, w=128):
-    """A sky of degree 2 in the direction (exact in nine coefficients), bright overhead."""
+    """A smooth sky of degree 2 in the direction, bright overhead."""
     u = (np.arange(w) + 0.5) / w
     v = 1 - (np.arange(h) + 0.5) / h
     phi, e = (0.5 - u) * 2 * np.pi, (v - 0.5) * np.pi
@@ -56,32 +57,57 @@ def _sky(h=64, w=128):
     return sky.astype(np.float32), x, np.cos(e)[:, None] * np.sin(phi)[None, :], z, e
 
 
-def test_a_sphere_blocks_an_environments_light_where_its_rays_meet_it():
-    sky, dx, dy, dz, e = _sky()
-    world = gw.World(environment=0, environment_light=True)
-    rgba = gw.render(_scene(world, textures=[gw.Texture(gw.Image(sky))]), gw.RenderSettings(**SETTINGS))
+def _exact_blocked(sky, dirs):
+    """The light each floor point gets from the sky, the sphere blocking it: the
+    integral over every texel of L cos V / pi, V the ray's analytic miss of the sphere."""
     h, w = sky.shape[:2]
     edges = (0.5 - np.arange(h + 1) / h) * np.pi
     omega = np.broadcast_to(((np.sin(edges[:-1]) - np.sin(edges[1:])) * 2 * np.pi / w)[:, None], (h, w))
-    dirs = np.stack([dx, dy, dz], axis=-1).reshape(-1, 3)
     weight = (omega.reshape(-1, 1) * sky.reshape(-1, 3)).astype(np.float64)
-    expected = []
+    out = []
     for p in _floor_points():
         oc = p - CENTRE
         b = dirs @ oc
         hits = (b * b - (oc @ oc - R * R) > 0) & (b < 0)              # the ray from p meets the sphere
-        cos = np.clip(dirs[:, 2], 0, None) * ~hits
-        expected.append(cos @ weight / np.pi)
-    expected = np.array(expected)
+        out.append((np.clip(dirs[:, 2], 0, None) * ~hits) @ weight / np.pi)
+    return np.array(out), np.clip(dirs[:, 2], 0, None) @ weight / np.pi
+
+
+def test_a_sphere_blocks_an_environments_light_where_its_rays_meet_it():
+    sky, dx, dy, dz, e = _sky()
+    world = gw.World(environment=0, environment_light=True)
+    rgba = gw.render(_scene(world, textures=[gw.Texture(gw.Image(sky))]), gw.RenderSettings(**SETTINGS))
+    expected, open_sky = _exact_blocked(sky, np.stack([dx, dy, dz], axis=-1).reshape(-1, 3))
     got = rgba[..., :3].reshape(-1, 3)
-    open_sky = np.clip(dirs[:, 2], 0, None) @ weight / np.pi
     assert (expected / open_sky).min() < 0.95                         # the sphere's shadow is in view
     assert np.abs(got / expected - 1).mean() < 0.01
     assert np.abs(got / expected - 1).max() < 0.04
 
 
-def test_world_shadows_are_the_same_for_any_thread_count_and_tile_size():
-    scene = _scene(gw.World(ambient=(1.0, 1.0, 1.0)))
-    one = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, threads=1, tile_size=7)))
-    two = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, threads=2, tile_size=16)))
+def test_a_sphere_in_front_of_a_sun_casts_its_shadow():
+    # A sun 2,000 times its sky, in the west (-X): the sphere's shadow falls on the view. (Texels of
+    # 0.7 degrees: the reference's V, taken at their centres, must resolve the sun's 3 degrees.)
+    sky, dx, dy, dz, e = _sky(256, 512)
+    sky = np.full_like(sky, 0.2)
+    sun = np.array([-0.62, 0.0, 0.78]) / np.hypot(0.62, 0.78)          # from the view's middle past the sphere
+    dirs = np.stack([dx, dy, dz], axis=-1)
+    sky[(dirs @ sun) > np.cos(np.radians(3.0))] = 400.0
+    world = gw.World(environment=0, environment_light=True)
+    rgba = gw.render(_scene(world, textures=[gw.Texture(gw.Image(sky))]), gw.RenderSettings(**SETTINGS))
+    expected, open_sky = _exact_blocked(sky, dirs.reshape(-1, 3))
+    got = rgba[..., :3].reshape(-1, 3)[:, 0]
+    expected = expected[:, 0]
+    shadow = expected < 0.5 * open_sky[0]
+    assert 0.05 < shadow.mean() < 0.7                                 # umbra and lit floor both in view
+    assert np.abs(got - expected).mean() < 0.02 * open_sky[0]
+    assert abs(got[shadow].mean() / expected[shadow].mean() - 1) < 0.1
+
+
+@pytest.mark.parametrize("shadow", ["area", "random", "hard"])
+def test_world_shadows_are_the_same_for_any_thread_count_and_tile_size(shadow):
+    sky = _sky()[0]
+    scene = _scene(gw.World(ambient=(0.2, 0.2, 0.2), environment=0, environment_light=True),
+                   textures=[gw.Texture(gw.Image(sky))])
+    one = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, shadow=shadow, threads=1, tile_size=7)))
+    two = gw.render(scene, gw.RenderSettings(**dict(SETTINGS, shadow=shadow, threads=2, tile_size=16)))
     np.testing.assert_array_equal(one, two)

@@ -43,6 +43,8 @@ class ConeSet:
 def read_curves(curves) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(positions (n, 3) float64, radii (n,), offsets (curves + 1,), material slots per curve)."""
     n, m = len(curves.points), len(curves.curves)
+    if n == 0 or m == 0:   # (an empty hair object: Blender lists one offset but holds none)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(1, np.int32), np.zeros(0, np.int32)
     attributes = curves.attributes
     positions = attribute_values(attributes, "position", "vector", "FLOAT_VECTOR", "POINT", n, 3, np.float32)
     if positions is None:

@@ -43,6 +43,8 @@ recomputes shininess and ks per hit from the same formulas.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from gridwalk.model import Material
@@ -265,6 +267,11 @@ def _from_principled(node, textured):
 
 def _from_other_bsdf(node, textured):
     kind = node.type
+    if kind == "BSDF_HAIR_PRINCIPLED":   # (its Color is one of three parametrizations: read by hair_color)
+        hair = hair_color(getattr(node, "parametrization", "COLOR"),
+                          lambda name, default: _value(node, name, default, textured))
+        return principled_material(hair, 0.0, _value(node, "Roughness", 0.3, textured), 0.0,
+                                   _value(node, "IOR", 1.55, textured), 0.04)
     color = _value(node, "Color", (0.8, 0.8, 0.8), textured, "color_texture")
     if kind == "BSDF_DIFFUSE":
         return principled_material(color, 0.0, 1.0, 0.0, 1.45, 0.0)
@@ -273,11 +280,6 @@ def _from_other_bsdf(node, textured):
     if kind == "BSDF_GLASS":
         return principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
                                    _value(node, "IOR", 1.45, textured), 0.04)
-    if kind == "BSDF_HAIR_PRINCIPLED":
-        hair = hair_color(getattr(node, "parametrization", "COLOR"),
-                          lambda name, default: _value(node, name, default, textured))
-        return principled_material(hair, 0.0, _value(node, "Roughness", 0.3, textured), 0.0,
-                                   _value(node, "IOR", 1.55, textured), 0.04)
     if kind == "BSDF_HAIR":
         return principled_material(color, 0.0, 0.5, 0.0, 1.55, 0.04)
     if kind == "EMISSION":
@@ -364,7 +366,7 @@ def convert_material(mat, textures=None):
         return viewport_material(mat), None, None
     node = _surface_node(tree)
     if node is None and _volume_only(tree):
-        return VOLUME_SURFACE, "a volume shader without a surface: volumes are not rendered, its surface is clear " \
+        return dataclasses.replace(VOLUME_SURFACE), "a volume shader without a surface: volumes are not rendered, its surface is clear " \
                                "(as Cycles' is)", None
     if node is None:
         return viewport_material(mat), "no surface shader", None

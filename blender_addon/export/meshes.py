@@ -330,6 +330,7 @@ class MeshCollector:
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
+        self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
 
     def add_instance(self, inst):
@@ -349,6 +350,9 @@ class MeshCollector:
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
         lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        if (obj.type in ("POINTCLOUD", "CURVES") or as_sphere(obj)) and \
+                any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
+            self.emissive_shapes.add(obj.name)
         if obj.type in ("POINTCLOUD", "CURVES"):
             read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
             found, why, non_uniform = read(obj, matrix, lookup, MAX_COORDINATE)
@@ -423,6 +427,9 @@ class MeshCollector:
         for name, count in sorted(self.non_finite_corners.items()):
             out.append(f"Object '{name}': {count} triangle corners have a non-finite UV or colour (NaN or Inf), "
                        "read as 0")
+        if self.emissive_shapes:
+            out.append("Emissive spheres, point clouds and hair are seen but light nothing (only emissive "
+                       "meshes light the scene): " + _quoted(self.emissive_shapes))
         if self.textured_spheres:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))

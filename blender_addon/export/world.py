@@ -11,8 +11,9 @@ Color x Strength is
 A Color linked from an Environment Texture (equirectangular, HDR/EXR or 8-bit)
 makes the environment what missing rays see (times Strength), and its
 irradiance on each surface's normal the ambient term (World.environment_light:
-nine spherical-harmonic coefficients, so a sky over dark ground lights tops
-and leaves undersides dark, as in Cycles, still without occlusion). Any other
+a table of the image's cosine integral over normals, so a sky over dark ground
+lights tops and leaves undersides dark, as in Cycles; blocked by the scene
+with World Shadows on). Any other
 linked Color or Strength falls back to the world's viewport colour, with a
 warning naming the node. Without nodes: world.color, both as background and
 ambient. A Mix Shader whose Fac is Light Path's Is Camera Ray, between two

@@ -207,8 +207,12 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         // 1 / pi is folded in here, as in every light's colour.
         const float cos_l = std::abs(dot(area_normal, wi));   // (x 2 A)
         const Material& em = scene_.materials()[size_t(scene_.triangle_material(tri))];
-        const Vec3 radiance = emitted(em.varies() ? scene_.shade(em, at) : em);
-        const Vec3 intensity = radiance * (0.5f * cos_l / (float(kPi) * dist * dist * probability));
+        // (what an emitter's alpha leaves uncovered emits nothing, as the camera sees it)
+        const Material e = em.varies() ? scene_.shade(em, at) : em;
+        const Vec3 radiance = emitted(e) * e.alpha;
+        // (in double: a point nearer than ~1e-19 would square to 0 in float)
+        const double scale = 0.5 * double(cos_l) / (kPi * double(dist) * double(dist) * double(probability));
+        const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i);
         if (m.ks > 0 && m.mirror < 1) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
@@ -338,10 +342,9 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
     if (scene_.has_ambient() && m.kd > 0) {
         Vec3 a = scene_.ambient(ns);
-        if (s_.world_shadows) {
-            a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
-            a = Vec3(std::max(a.x, 0.0f), std::max(a.y, 0.0f), std::max(a.z, 0.0f));
-        }
+        // (unclamped: a shading point's estimate may dip below 0 where a sun is
+        // blocked; the pixel's mean is the estimate, clamped once, in pixel())
+        if (s_.world_shadows) a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
         color += m.color * a * m.kd;
     }
     if (depth >= s_.max_depth) return color;

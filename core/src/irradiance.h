@@ -1,28 +1,53 @@
-// The diffuse light of an environment image: its irradiance E(n) as nine
-// spherical-harmonic coefficients per colour (Ramamoorthi & Hanrahan, "An
-// Efficient Representation for Irradiance Environment Maps", 2001). The
-// radiance is projected on the real harmonics up to order 2 and convolved with
-// the clamped cosine (factors pi, 2 pi / 3, pi / 4 for orders 0, 1, 2); the
-// nine numbers keep E within a few percent of the exact integral for smooth
-// skies (the convolution leaves little above order 2). at(n) returns E(n) / pi,
-// the radiance a white Lambertian surface facing n sends back, so a uniform
-// environment of radiance L gives L, as Whitted's ambient term does.
+// The diffuse light of an environment image, tabulated over normals.
+//
+// A RadianceMap averages the image (every texel once, weighted by its solid
+// angle) into at most max_w x max_w / 2 cells of the same equirectangular
+// layout. The Irradiance table integrates a map of at most 128 x 64 cells
+// against the clamped cosine for 64 x 32 normal directions (the same layout)
+// and interpolates between them bilinearly. Each entry is divided by the
+// same sum over the cosine alone (pi, up to the cells' quadrature), so a
+// uniform environment of radiance L gives exactly L, as Whitted's ambient
+// term does. at(n) returns E(n) / pi, the radiance a white Lambertian surface
+// facing n sends back. The table is exact for every environment up to the
+// cells' size, suns included (a sun's light on faces turned away from it is
+// 0, as it should be; nine spherical-harmonic coefficients, tried first, gave
+// those faces 6% of it and rang around its terminator).
 #pragma once
+#include <vector>
+
 #include "math.h"
 #include "texture.h"
 
 namespace gw {
 
-struct Irradiance {
-    Vec3 c[9]{};   // order 0, then 1 (y, z, x), then 2 (xy, yz, 3z^2 - 1, xz, x^2 - y^2), times the basis constants
-    // E(n) / pi for a unit normal n, clamped at 0 (the truncated series can
-    // dip below 0 opposite a small bright source such as a sun).
-    Vec3 at(const Vec3& n) const;
+// The band [z0, z1] (z = sin elevation) of row y of h in the equirectangular layout, row 0 at the bottom.
+void elevation_band(int y, int h, double& z0, double& z1);
+
+struct RadianceMap {
+    int w = 0, h = 0;            // cells; row 0 at the bottom (as Image::texel)
+    std::vector<Vec3> rgb;       // the mean radiance of each cell
+    // Cell (x, y)'s solid angle and its centre's direction (equirect_uv's layout).
+    double solid_angle(int y) const;
+    Vec3 direction(int x, int y) const;
 };
 
-// The irradiance of texture `t` over `img` as an equirectangular environment
-// (Blender's mapping, equirect_uv), times `strength`: every texel once,
-// weighted by its exact solid angle.
-Irradiance environment_irradiance(const Image& img, const Texture& t, float strength);
+// The image of texture t (its colour, premultiplied as the texture says)
+// times strength, in at most max_w x max_w / 2 cells.
+RadianceMap radiance_map(const Image& img, const Texture& t, float strength, int max_w);
+// The same map in at most max_w x max_w / 2 cells.
+RadianceMap coarser(const RadianceMap& map, int max_w);
+
+class Irradiance {
+public:
+    Irradiance() = default;
+    explicit Irradiance(const RadianceMap& radiance);
+    bool empty() const { return e_.empty(); }
+    // E(n) / pi for a unit normal n.
+    Vec3 at(const Vec3& n) const;
+
+private:
+    std::vector<Vec3> e_;   // kNormalW x kNormalH, row 0 at the bottom
+    Vec3 south_, north_;    // at the poles (normals -z and +z), beyond the rows' centres
+};
 
 }  // namespace gw

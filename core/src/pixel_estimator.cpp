@@ -2,6 +2,13 @@
 #include "pixel_estimator.h"
 
 namespace gw {
+namespace {
+
+// A pixel's light, never below 0: world shadows' samples may be (their mean is not).
+Vec3 non_negative(const Vec3& c) { return Vec3(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)); }
+
+}  // namespace
+
 PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera)
     : s_(s), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
 
@@ -68,7 +75,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
         for (int c = 0; c < 4; ++c) acc[c] += out[c];
         wsum += 1;
     }
-    pv.rgb = Vec3(acc[0], acc[1], acc[2]) * (1.0f / wsum);
+    pv.rgb = non_negative(Vec3(acc[0], acc[1], acc[2]) * (1.0f / wsum));
     pv.alpha = acc[3] / wsum;
     return pv;
 }
@@ -159,7 +166,7 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
             for (int ch = 0; ch < 4; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
         }
     }
-    pv.rgb = Vec3(acc[0], acc[1], acc[2]);
+    pv.rgb = non_negative(Vec3(acc[0], acc[1], acc[2]));
     pv.alpha = acc[3];
     return pv;
 }

@@ -161,8 +161,11 @@ public:
     // The environment's luminance map for drawing world shadow rays (empty without environment light).
     const WorldMap& world_map() const { return world_map_; }
     // The world's radiance along d where it lights surfaces: the ambient colour,
-    // plus the environment where World.environment_light is set.
-    Vec3 world_light(const Vec3& d) const { return env_light_ ? world_.ambient + miss(d) : world_.ambient; }
+    // plus the environment where World.environment_light is set (its radiance
+    // map's, which the irradiance table integrates).
+    Vec3 world_light(const Vec3& d) const {
+        return env_light_ ? world_.ambient + world_map_.radiance(to_environment(d)) : world_.ambient;
+    }
     bool has_ambient() const {
         return env_light_ || world_.ambient.x != 0 || world_.ambient.y != 0 || world_.ambient.z != 0;
     }

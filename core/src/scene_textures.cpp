@@ -61,8 +61,11 @@ void Scene::check_textures() {
     env_rotated_ = world_.environment_rotation != std::array<float, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (env_light_) {
         const Texture& t = textures_[size_t(world_.environment)];
-        env_irradiance_ = environment_irradiance(*images_[size_t(t.image)], t, world_.environment_strength);
-        world_map_ = WorldMap(*images_[size_t(t.image)], t);
+        // Every texel read once into 512 x 256 cells: the world shadows' map, and the
+        // irradiance table's 128 x 64 source.
+        const RadianceMap fine = radiance_map(*images_[size_t(t.image)], t, world_.environment_strength, 512);
+        env_irradiance_ = Irradiance(coarser(fine, 128));
+        world_map_ = WorldMap(fine);
     }
 }
 

@@ -8,42 +8,27 @@
 namespace gw {
 namespace {
 
-constexpr int kMaxWidth = 512;
-
-// Elevation band [z0, z1] (z = sin elevation) of coarse row y of h, from the bottom.
-void band(int y, int h, double& z0, double& z1) {
-    z0 = std::sin((double(y) / h - 0.5) * kPi);
-    z1 = std::sin((double(y + 1) / h - 0.5) * kPi);
-}
-
 size_t pick(const double* cdf, size_t n, double u) {
     return std::min(size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
 }
 
 }  // namespace
 
-WorldMap::WorldMap(const Image& img, const Texture& t) {
-    const int W = img.width(), H = img.height();
-    const int fx = std::max(1, (W + kMaxWidth - 1) / kMaxWidth), fy = std::max(1, (H + kMaxWidth / 2 - 1) / (kMaxWidth / 2));
-    w_ = (W + fx - 1) / fx;
-    h_ = (H + fy - 1) / fy;
-    lum_.assign(size_t(w_) * size_t(h_), 0.0f);
-    std::vector<float> count(lum_.size(), 0.0f);
-    const bool premultiply = t.premultiply && !t.unassociate;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const Vec3 c = color_of(t, img.texel(x, y, true, premultiply));
-            const size_t k = size_t(y / fy) * size_t(w_) + size_t(x / fx);
-            lum_[k] += std::max(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
-            count[k] += 1;
-        }
-    for (size_t k = 0; k < lum_.size(); ++k) lum_[k] /= count[k];
+WorldMap::WorldMap(const RadianceMap& radiance) {
+    w_ = radiance.w;
+    h_ = radiance.h;
+    rgb_ = radiance.rgb;
+    lum_.resize(radiance.rgb.size());
+    for (size_t k = 0; k < lum_.size(); ++k) {
+        const Vec3& c = radiance.rgb[k];
+        lum_[k] = std::max(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+    }
     // The coarse texels' shares: luminance x solid angle.
     rows_.assign(size_t(h_), 0.0);
     cols_.assign(lum_.size(), 0.0);
     for (int y = 0; y < h_; ++y) {
         double z0, z1;
-        band(y, h_, z0, z1);
+        elevation_band(y, h_, z0, z1);
         const double omega = (z1 - z0) * 2 * kPi / w_;
         double run = 0;
         for (int x = 0; x < w_; ++x) {
@@ -78,7 +63,7 @@ Vec3 WorldMap::sample(float u1, float u2) const {
     const double c0 = x ? row[x - 1] : 0.0, c1 = row[x];
     const double b = std::min(std::max((double(u2) - c0) / std::max(c1 - c0, 1e-300), 0.0), 1.0);
     double z0, z1;
-    band(int(y), h_, z0, z1);
+    elevation_band(int(y), h_, z0, z1);
     const double z = z0 + (z1 - z0) * a;
     const double u = (double(x) + b) / w_;
     const double phi = (0.5 - u) * 2 * kPi;                     // equirect_uv's longitude
@@ -86,14 +71,17 @@ Vec3 WorldMap::sample(float u1, float u2) const {
     return Vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z));
 }
 
-float WorldMap::pdf(const Vec3& d) const {
-    if (empty()) return 0;
+size_t WorldMap::cell(const Vec3& d) const {
     float u, v;
     equirect_uv(d, u, v);
     const int x = std::min(std::max(int(u * float(w_)), 0), w_ - 1);
     const int y = std::min(std::max(int(v * float(h_)), 0), h_ - 1);
-    return float(double(lum_[size_t(y) * size_t(w_) + size_t(x)]) / total_);
+    return size_t(y) * size_t(w_) + size_t(x);
 }
+
+float WorldMap::pdf(const Vec3& d) const { return empty() ? 0.0f : float(double(lum_[cell(d)]) / total_); }
+
+Vec3 WorldMap::radiance(const Vec3& d) const { return rgb_.empty() ? Vec3() : rgb_[cell(d)]; }
 
 Vec3 cosine_direction(const Vec3& n, float u1, float u2) {
     float x, y;

@@ -199,9 +199,9 @@ class World(Record):
     the environment); the identity by default.
     environment_light: surfaces also get the environment's diffuse light,
     color * kd * E(n) / pi for the irradiance E its image (times
-    environment_strength) sends on the shading normal n, from nine
-    spherical-harmonic coefficients (Ramamoorthi & Hanrahan 2001), added to
-    ambient and likewise unoccluded. transparent:
+    environment_strength) sends on the shading normal n (a table over
+    64 x 32 normals of its exact cosine integral, interpolated), added to
+    ambient and likewise unoccluded unless RenderSettings.world_shadows. transparent:
     camera rays that miss see nothing (RGB 0, alpha 0: a premultiplied
     transparent film); reflections still see the environment."""
     ambient: tuple = _WORLD.ambient

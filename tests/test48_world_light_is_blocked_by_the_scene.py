@@ -99,8 +99,15 @@ def test_a_sphere_in_front_of_a_sun_casts_its_shadow():
     expected = expected[:, 0]
     shadow = expected < 0.5 * open_sky[0]
     assert 0.05 < shadow.mean() < 0.7                                 # umbra and lit floor both in view
-    assert np.abs(got - expected).mean() < 0.02 * open_sky[0]
-    assert abs(got[shadow].mean() / expected[shadow].mean() - 1) < 0.1
+    assert np.abs(got - expected).mean() < 0.01 * open_sky[0]
+    assert abs(got[shadow].mean() / expected[shadow].mean() - 1) < 0.03
+    # Blender's defaults (2 x 2 pixel samples, one shadow ray each): noisier, not brighter. (Estimating
+    # the sun's blocked part instead of sampling it as a light made the umbra 1.5x too bright here.)
+    quick = gw.render(_scene(world, textures=[gw.Texture(gw.Image(sky))]),
+                      gw.RenderSettings(aa="jittered", aa_samples=2, shadow="area", shadow_samples=2, threads=2,
+                                        world_shadows=True))[..., 0].ravel()
+    assert abs(quick[shadow].mean() / expected[shadow].mean() - 1) < 0.06
+    assert abs(quick[~shadow].mean() / expected[~shadow].mean() - 1) < 0.02
 
 
 @pytest.mark.parametrize("shadow", ["area", "random", "hard"])

@@ -171,6 +171,27 @@ Vec3 Integrator::world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec
     return sum * (1.0f / float(count));
 }
 
+Vec3 Integrator::sun_seen(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
+                          SampleState& st, TraceContext& ctx) const {
+    // The environment's bright cells (a sun) as a light: points drawn on them
+    // by their luminance, each lighting what sees it (never below 0, unlike
+    // the blocked-part estimate, whose variance a sun would make huge). The
+    // sun is the light after the world in the grid's key.
+    const WorldMap& sun = scene_.sun_map();
+    const int count = light_points(s_.shadow, st);
+    Vec3 sum;
+    for (int j = 0; j < count; ++j) {
+        float u1, u2;
+        light_point(spread_mode(), uint32_t(scene_.lights().size()) + 2, j, count, depth, split, st, u1, u2);
+        const Vec3 e = sun.sample(u1, u2), wi = scene_.from_environment(e);
+        const float cos_i = dot(ns, wi), pdf = sun.pdf(e);
+        if (!(cos_i > 0) || !(pdf > 0) || dot(ng, wi) <= 0) continue;
+        if (const float vis = visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx); vis > 0)
+            sum += sun.radiance(e) * (vis * cos_i * float(1 / kPi) / pdf);
+    }
+    return sum * (1.0f / float(count));
+}
+
 Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo,
                                const Material& m, int depth, bool split, SampleState& st, TraceContext& ctx) const {
     // The emissive triangles as one area light after the lamps (its index in
@@ -344,7 +365,10 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         Vec3 a = scene_.ambient(ns);
         // (unclamped: a shading point's estimate may dip below 0 where a sun is
         // blocked; the pixel's mean is the estimate, clamped once, in pixel())
-        if (s_.world_shadows) a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
+        if (s_.world_shadows) {
+            a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
+            if (!scene_.sun_map().empty()) a = a - scene_.sun_ambient(ns) + sun_seen(sp, ng, ns, depth, split, st, ctx);
+        }
         color += m.color * a * m.kd;
     }
     if (depth >= s_.max_depth) return color;

@@ -39,6 +39,9 @@ private:
     // The emissive triangles' light (scene.emitters()), sampled as one area light.
     Vec3 from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                        int depth, bool split, SampleState& st, TraceContext& ctx) const;
+    // The light of the environment's bright cells (a sun) that reaches a diffuse point, / pi.
+    Vec3 sun_seen(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split, SampleState& st,
+                  TraceContext& ctx) const;
     // What the scene blocks of the world's light at a diffuse point (world_shadows.h).
     Vec3 world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
                        SampleState& st, TraceContext& ctx) const;

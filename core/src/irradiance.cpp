@@ -66,6 +66,22 @@ RadianceMap coarser(const RadianceMap& map, int max_w) {
                    [&](int x, int y) { return map.rgb[size_t(y) * size_t(map.w) + size_t(x)]; });
 }
 
+bool split_bright(RadianceMap& map, RadianceMap& bright) {
+    auto lum = [](const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
+    double power = 0;
+    for (int y = 0; y < map.h; ++y)
+        for (int x = 0; x < map.w; ++x) power += lum(map.rgb[size_t(y) * size_t(map.w) + size_t(x)]) * map.solid_angle(y);
+    const double threshold = 20 * power / (4 * kPi);
+    bright = map;
+    bool any = false;
+    for (size_t k = 0; k < map.rgb.size(); ++k) {
+        const bool sun = threshold > 0 && lum(map.rgb[k]) > threshold;
+        any = any || sun;
+        (sun ? map.rgb[k] : bright.rgb[k]) = Vec3();
+    }
+    return any;
+}
+
 Irradiance::Irradiance(const RadianceMap& radiance) {
     // The cells' directions, radiance x solid angle and solid angle, once.
     const size_t n = radiance.rgb.size();

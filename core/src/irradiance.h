@@ -36,6 +36,10 @@ struct RadianceMap {
 RadianceMap radiance_map(const Image& img, const Texture& t, float strength, int max_w);
 // The same map in at most max_w x max_w / 2 cells.
 RadianceMap coarser(const RadianceMap& map, int max_w);
+// The map's bright cells (a sun: luminance above 20 times the map's mean over
+// the sphere) moved into `bright`, the rest left in `map` (those cells 0 there).
+// Returns whether there were any.
+bool split_bright(RadianceMap& map, RadianceMap& bright);
 
 class Irradiance {
 public:

@@ -151,14 +151,23 @@ public:
     // kd): World.ambient plus the environment's irradiance / pi where
     // World.environment_light is set.
     Vec3 ambient(const Vec3& n) const {
-        return env_light_ ? world_.ambient + env_irradiance_.at(to_environment(n)) : world_.ambient;
+        if (!env_light_) return world_.ambient;
+        const Vec3 e = to_environment(n);
+        return world_.ambient + env_irradiance_.at(e) + (sun_irradiance_.empty() ? Vec3() : sun_irradiance_.at(e));
     }
+    // The part of ambient(n) that the environment's bright cells (a sun) give,
+    // and those cells as a map to sample (empty without a sun).
+    Vec3 sun_ambient(const Vec3& n) const {
+        return env_light_ && !sun_irradiance_.empty() ? sun_irradiance_.at(to_environment(n)) : Vec3();
+    }
+    const WorldMap& sun_map() const { return sun_map_; }
     // A world direction in the environment image's frame (World.environment_rotation), and back.
     Vec3 to_environment(const Vec3& d) const { return env_rotated_ ? rotate(world_.environment_rotation, d) : d; }
     Vec3 from_environment(const Vec3& d) const {
         return env_rotated_ ? rotate_back(world_.environment_rotation, d) : d;
     }
-    // The environment's luminance map for drawing world shadow rays (empty without environment light).
+    // The environment's luminance map, without its sun, for drawing world shadow
+    // rays (empty without environment light).
     const WorldMap& world_map() const { return world_map_; }
     // The world's radiance along d where it lights surfaces: the ambient colour,
     // plus the environment where World.environment_light is set (its radiance
@@ -214,8 +223,8 @@ private:
     Emitters emitters_;
     bool env_light_ = false;          // world_.environment_light with an environment
     bool env_rotated_ = false;        // world_.environment_rotation is not the identity
-    Irradiance env_irradiance_;
-    WorldMap world_map_;
+    Irradiance env_irradiance_, sun_irradiance_;   // the environment without its bright cells, and those
+    WorldMap world_map_, sun_map_;
     bool transparent_shadows_ = false;
     Bounds bounds_;
     uint64_t id_ = next_id();

@@ -63,7 +63,12 @@ void Scene::check_textures() {
         const Texture& t = textures_[size_t(world_.environment)];
         // Every texel read once into 512 x 256 cells: the world shadows' map, and the
         // irradiance table's 128 x 64 source.
-        const RadianceMap fine = radiance_map(*images_[size_t(t.image)], t, world_.environment_strength, 512);
+        // A sun's cells are split off: world shadows sample them as a light.
+        RadianceMap fine = radiance_map(*images_[size_t(t.image)], t, world_.environment_strength, 512), sun;
+        if (split_bright(fine, sun)) {
+            sun_irradiance_ = Irradiance(coarser(sun, 128));
+            sun_map_ = WorldMap(sun);
+        }
         env_irradiance_ = Irradiance(coarser(fine, 128));
         world_map_ = WorldMap(fine);
     }

@@ -431,7 +431,8 @@ def hair_scene(resolution=(96, 72), material=None):
     straight strands standing in a row facing the camera, four points each,
     radius 0.12 at the root tapering to 0.03 at the tip, on an object scaled
     1.5; material Brown in its slot (material: a Principled Hair BSDF of that
-    parametrization instead); a sun and a grey world light it. Expected:
+    parametrization instead); beside it an empty hair object; a sun and a grey
+    world light it. Expected:
     each segment's world-space ends and radii, computed with mathutils."""
     reset(resolution=tuple(resolution))
     curves = bpy.data.hair_curves.new("Hair")
@@ -446,6 +447,7 @@ def hair_scene(resolution=(96, 72), material=None):
     curves.materials.append(principled_material("Brown", (0.4, 0.2, 0.05)) if material is None
                             else _hair_material(material))
     hair = link(bpy.data.objects.new("Hair", curves))
+    link(bpy.data.objects.new("EmptyHair", bpy.data.hair_curves.new("Empty")))   # (Add > Curves > Empty Hair)
     hair.location, hair.scale = (0.3, 0.0, 0.1), (1.5, 1.5, 1.5)
     _sun_and_grey_world()
     m = hair.matrix_world

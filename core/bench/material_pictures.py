@@ -30,6 +30,8 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("world_shadow", "A white world's light blocked by a ball (no lamps)",
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
+    ("sunny_monkey", "An HDRI with a sun and an Emission panel light Suzanne (no lamps)",
+     ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("pane_shadow", "Glass pane: transparent shadow", ['scene={"pane": "glass", "resolution": [128, 128]}',
                                                       "transparent=false"]),
     ("cutout", "Transparent BSDF cut-out (left); image alpha (right)",

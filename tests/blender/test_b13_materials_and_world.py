@@ -60,6 +60,8 @@ def renders(request, tmp_path_factory):
                                 ("unblocked", "GRIDWALK", 'settings={"world_shadows": false}'),
                                 ("cycles", "CYCLES", "samples=128")):
         r[f"contact_{key}"] = _render(kind, out, "world_shadow", engine, option, opaque)
+    for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=32")):
+        r[f"sunny_{engine.lower()}"] = _render(kind, out, "sunny_monkey", engine, option, opaque)
     for engine, option in (("GRIDWALK", "settings={}"), ("CYCLES", "samples=16")):
         r[f"fog_{engine.lower()}"] = _render(kind, out, "fog_box", engine, option)
     r["cutout"] = _render(kind, out, "cutout", "GRIDWALK", f"settings={AA}", opaque)
@@ -228,6 +230,16 @@ def test_the_worlds_light_is_blocked_under_a_ball_as_in_cycles(renders):
     assert shade.mean() > 0.01
     assert abs(ours[shade].mean() / cycles[shade].mean() - 1) < 0.08
     assert flat[shade].mean() > 1.15 * cycles[shade].mean()
+
+
+def test_an_hdri_sun_casts_the_shadow_cycles_casts(renders):
+    # An HDRI sky with a sun, no lamps: the sun's cells are sampled as a light with shadow rays, so
+    # Suzanne's shadow falls where Cycles' does (with the world's light unblocked there was none).
+    ours, cycles = (exr.luminance(renders[f"sunny_{e}"]["rgba"]) for e in ("gridwalk", "cycles"))
+    dark = lambda lum: lum < 0.4 * np.percentile(lum, 90)
+    union = dark(ours) | dark(cycles)
+    assert 0.05 < dark(cycles).mean() < 0.6
+    assert (dark(ours) & dark(cycles)).sum() > 0.85 * union.sum()
 
 
 def test_bad_textures_warn_and_the_image_finishes(renders):

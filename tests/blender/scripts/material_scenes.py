@@ -304,6 +304,39 @@ def world_shadow_scene(resolution=(64, 48)):
     return {}
 
 
+def sunny_monkey_scene(resolution=(96, 72)):
+    """Suzanne (subdivided, smooth, red) on a grey floor under an HDR sky with a
+    sun (3 x 3 texels 3,000 times brighter than the blue sky, 46 degrees up),
+    beside a blue Emission panel; no lamps."""
+    scene = reset(resolution=tuple(resolution))
+    scene.camera.location = (0, -7, 3.5)
+    scene.camera.rotation_euler = (math.radians(68), 0, 0)
+    _plane("Floor", 20.0).data.materials.append(principled_material("Floor", (0.7, 0.7, 0.7), Roughness=0.8))
+    bpy.ops.mesh.primitive_monkey_add(location=(0, 0, 1))
+    monkey = bpy.context.object
+    monkey.modifiers.new("Subdivision", "SUBSURF").levels = 2
+    monkey.data.polygons.foreach_set("use_smooth", [True] * len(monkey.data.polygons))
+    monkey.data.materials.append(principled_material("Red", (0.8, 0.1, 0.05), Roughness=0.4))
+    panel = _plane("Panel", 1.5, location=(2.2, 0.5, 1.8), rotation=(0, math.radians(-120), 0))
+    panel.data.materials.append(shader_material("Glow", "ShaderNodeEmission",
+                                                [("Color", (0.3, 0.6, 1.0, 1.0)), ("Strength", 8.0)]))
+    h, w = 128, 256
+    up = ((np.arange(h) + 0.5) / h > 0.5)[:, None]              # row 0 at the bottom
+    px = np.ones((h, w, 4), np.float32)
+    for c, level in enumerate((0.35, 0.5, 0.9)):
+        px[..., c] = np.where(up, level, 0.15 * level)
+    px[95:98, 160:163, :3] = 3000.0
+    world = bpy.data.worlds.new("SunnySky")
+    scene.world = world
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    env = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    env.image = _filled_image("SunnySky", px, float_buffer=True)
+    world.node_tree.links.new(env.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
+    bpy.context.view_layer.update()
+    return {}
+
+
 def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     """A white floor seen from straight above (orthographic) and a pane 2 units
     above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,

@@ -25,6 +25,15 @@ def any_blender(request):
     return request.param
 
 
+@pytest.fixture(scope="module", params=list(ALL_BLENDERS))
+def module_blender(request):
+    """Each Blender, once per test module (for module fixtures that render once)."""
+    reason = missing_reason(request.param)
+    if reason:
+        pytest.skip(reason)
+    return request.param
+
+
 class Export:
     """The exporter's output for one test scene (see scripts/export_dump.py)."""
 

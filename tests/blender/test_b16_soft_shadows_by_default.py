@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import exr
-from runner import ALL_BLENDERS, missing_reason, run_script
+from runner import run_script
 
 
 def _render(kind, folder, *options):
@@ -22,14 +22,11 @@ def _render(kind, folder, *options):
     return exr.luminance(rgba)
 
 
-@pytest.fixture(scope="module", params=ALL_BLENDERS)
-def shadows(request, tmp_path_factory):
-    reason = missing_reason(request.param)
-    if reason:
-        pytest.skip(reason)
-    out = tmp_path_factory.mktemp(f"soft_{request.param}")
-    return {"default": _render(request.param, out / "default"),
-            "hard": _render(request.param, out / "hard", 'settings={"shadow": "HARD"}')}
+@pytest.fixture(scope="module")
+def shadows(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"soft_{module_blender}")
+    return {"default": _render(module_blender, out / "default"),
+            "hard": _render(module_blender, out / "hard", 'settings={"shadow": "HARD"}')}
 
 
 def _band(lum, lo, hi):

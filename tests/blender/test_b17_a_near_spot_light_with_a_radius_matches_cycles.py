@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import exr
-from runner import ALL_BLENDERS, missing_reason, run_script
+from runner import run_script
 
 
 def _render(kind, folder, engine, radius, option):
@@ -17,14 +17,11 @@ def _render(kind, folder, engine, radius, option):
     return exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined."))
 
 
-@pytest.fixture(scope="module", params=ALL_BLENDERS)
-def walls(request, tmp_path_factory):
-    reason = missing_reason(request.param)
-    if reason:
-        pytest.skip(reason)
-    out = tmp_path_factory.mktemp(f"spot_{request.param}")
+@pytest.fixture(scope="module")
+def walls(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"spot_{module_blender}")
     gw = 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'
-    return {(engine, radius): _render(request.param, out / f"{engine}_{radius}", engine, radius, option)
+    return {(engine, radius): _render(module_blender, out / f"{engine}_{radius}", engine, radius, option)
             for engine, option in (("GRIDWALK", gw), ("CYCLES", "samples=64"))
             for radius in (0.5, 0.0)}
 

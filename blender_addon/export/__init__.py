@@ -57,6 +57,7 @@ class Export:
         self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
         self.meshes = MeshCollector(self.materials, cache)
         self.lights = []
+        render = getattr(depsgraph, "mode", "RENDER") == "RENDER"   # (a final render's depsgraph; else the viewport's)
         unrendered = {}   # label -> names of objects of a kind the core has no primitive for
         for inst in depsgraph.object_instances:
             if should_stop is not None and should_stop():
@@ -70,9 +71,7 @@ class Export:
                     unrendered.setdefault(UNRENDERED_TYPES[inst.object.type], set()).add(inst.object.original.name)
             else:
                 self.meshes.add_instance(inst)
-            for psys in getattr(inst.object, "particle_systems", ()) if inst.show_self else ():
-                if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
-                    unrendered.setdefault("Particle hair is", set()).add(inst.object.original.name)
+            self.meshes.add_particle_hair(inst, render)
         self.warnings.extend(f"{label} not rendered: " + ", ".join(f"'{n}'" for n in sorted(names))
                              for label, names in sorted(unrendered.items()))
         self.warnings.extend(_collection_warnings(depsgraph))

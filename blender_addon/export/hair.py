@@ -66,17 +66,23 @@ def cone_set(obj, matrix, lookup, max_coordinate) -> tuple[ConeSet | None, str |
     positions, radii, offsets, slots = read_curves(obj.data)
     if not (np.isfinite(positions).all() and np.isfinite(radii).all()):
         return None, "its curves have non-finite positions or radii (NaN or Inf)", False
-    radii = np.maximum(radii, 0.0)
+    scales = np.linalg.norm(matrix[:3, :3], axis=0)
+    return polyline_cones(obj.name, transform_points(matrix, positions), radii * scales.max(), offsets, slots,
+                          lookup, max_coordinate, scales)
+
+
+def polyline_cones(name, world, r, offsets, slots, lookup, max_coordinate, scales) -> tuple[ConeSet | None, str | None, bool]:
+    """Cones along polylines: world (n, 3) float64 points and r (n,) world radii,
+    curve k's points offsets[k]:offsets[k + 1], its material slot slots[k];
+    scales: the object's axis scales (whether they differ is returned)."""
+    r = np.maximum(r, 0.0)
     counts = np.diff(offsets)
     # Segment i joins point i and i + 1 where both belong to one curve: every
     # point but each curve's last starts one.
     curve_of_point = np.repeat(np.arange(len(counts)), counts)
-    starts = np.ones(len(positions), bool)
+    starts = np.ones(len(world), bool)
     starts[offsets[1:][counts > 0] - 1] = False
     first = np.nonzero(starts)[0]
-    scales = np.linalg.norm(matrix[:3, :3], axis=0)
-    world = transform_points(matrix, positions)
-    r = radii * scales.max()
     # (in the core's float32, whose rounding can make a short segment's ends coincide)
     base, apex = world[first].astype(np.float32), world[first + 1].astype(np.float32)
     rb, ra = r[first].astype(np.float32), r[first + 1].astype(np.float32)
@@ -88,7 +94,7 @@ def cone_set(obj, matrix, lookup, max_coordinate) -> tuple[ConeSet | None, str |
         return None, f"its curves lie beyond +-{max_coordinate:g} in world space", False
     materials = lookup[np.clip(slots[curve_of_point[first]], 0, len(lookup) - 1)].astype(np.int32)
     non_uniform = bool(scales.max() - scales.min() > 1e-4 * scales.max())
-    return ConeSet(obj.name, base, apex, rb, ra, materials), None, non_uniform
+    return ConeSet(name, base, apex, rb, ra, materials), None, non_uniform
 
 
 def segment_count(obj) -> int:

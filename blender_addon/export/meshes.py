@@ -38,6 +38,7 @@ import numpy as np
 
 from ._matrix import to_numpy, transform_normals, transform_points
 from .hair import cone_set, segment_count
+from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
 from .point_clouds import point_count, point_set
 
 MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 extents overflow)
@@ -252,8 +253,10 @@ def _quoted(names) -> str:
     return ", ".join(f"'{name}'" for name in sorted(names))
 
 
-def renders(inst) -> bool:
-    """Whether a depsgraph object instance is geometry that the render shows.
+def renders(inst, particles: bool = False) -> bool:
+    """Whether a depsgraph object instance is geometry that the render shows
+    (particles: whether its particle systems show, which they can while the
+    emitter itself does not: the particle settings' Show Emitter off).
 
     Meshes, point clouds and hair curves only: Blender lists the evaluated geometry of a curve, surface,
     text or metaball as a mesh instance whose parent is the object itself,
@@ -264,7 +267,10 @@ def renders(inst) -> bool:
     instances is usually hidden in renders, and Blender renders them all the
     same (the depsgraph of a final render holds no hidden object itself)."""
     obj = inst.object
-    if obj.type not in ("MESH", "POINTCLOUD", "CURVES") or not inst.show_self:
+    if particles:
+        if obj.type != "MESH" or not getattr(inst, "show_particles", True):
+            return False
+    elif obj.type not in ("MESH", "POINTCLOUD", "CURVES") or not inst.show_self:
         return False
     if not inst.is_instance or inst.parent is None:
         return not obj.original.hide_render
@@ -355,15 +361,7 @@ class MeshCollector:
             self.emissive_shapes.add(obj.name)
         if obj.type in ("POINTCLOUD", "CURVES"):
             read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
-            found, why, non_uniform = read(obj, matrix, lookup, MAX_COORDINATE)
-            if why is not None:
-                self.invalid[obj.name] = why
-            elif len(found):
-                sets.append(found)
-                if non_uniform:
-                    self.non_uniform_spheres.append(obj.name)
-                if self.materials.layers(lookup)[0] is not None:
-                    self.textured_spheres.add(obj.name)
+            self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets)
             return
         if as_sphere(obj):
             centre, radius = sphere_from_bounds(obj.bound_box, matrix)
@@ -403,6 +401,32 @@ class MeshCollector:
         if data.non_finite_corners:
             self.non_finite_corners[obj.name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
+
+    def add_particle_hair(self, inst, render: bool):
+        """The instance's hair particle systems (particle_hair.py) as cones;
+        render: a final render's depsgraph (else the viewport's)."""
+        if not renders(inst, particles=True) or not hair_systems(inst.object, render):
+            return
+        obj = inst.object
+        if not np.isfinite(to_numpy(inst.matrix_world)).all():
+            self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
+            return
+        lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
+            self.emissive_shapes.add(obj.name)
+        for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, render):
+            self._add_shapes(obj.name, lookup, *found, self.cone_sets)
+
+    def _add_shapes(self, name, lookup, found, why, non_uniform, sets):
+        """Keeps a point or cone set read from an object (or why it was skipped)."""
+        if why is not None:
+            self.invalid[name] = why
+        elif len(found):
+            sets.append(found)
+            if non_uniform:
+                self.non_uniform_spheres.append(name)
+            if self.materials.layers(lookup)[0] is not None:
+                self.textured_spheres.add(name)
 
     def without_faces(self) -> set[str]:
         """The mesh objects without faces that instance nothing either."""
@@ -472,7 +496,10 @@ def count_geometry(depsgraph) -> dict:
     """
     per_mesh, triangles, spheres, cylinders, flat, any_normals = {}, 0, 0, 0, [0, 0], False
     vertices = 0
+    render = getattr(depsgraph, "mode", "RENDER") == "RENDER"
     for inst in depsgraph.object_instances:
+        if renders(inst, particles=True):
+            cylinders += particle_segment_count(inst.object, render)
         if not renders(inst):
             continue
         obj = inst.object

@@ -92,18 +92,68 @@ def test_hair_curves_become_one_cone_frustum_per_segment(export):
     assert not [w for w in out.warnings if "air" in w]
 
 
-@pytest.mark.parametrize("scene", ["point_cloud", "hair"])
+def test_particle_hair_shows_without_its_emitter_and_moves_with_an_instance(export):
+    out = export("particle_hair", instanced=True)
+    e = out.expected
+    per_copy = e["strands"] * (e["keys_viewport"] - 1)
+    assert len(out.cylinder_base) == 2 * per_copy          # the plane's hair and its instance's
+    assert len(out.triangles) == 12                         # the cube alone: the plane shows its hair only
+    order = lambda a: a[np.lexsort(a.T)]
+    base = out.cylinder_base.astype(np.float64)
+    near, far = base[base[:, 1] < 2.5], base[base[:, 1] >= 2.5]
+    assert len(near) == len(far) == per_copy
+    np.testing.assert_allclose(order(far - [0.0, 5.0, 0.0]), order(near), atol=1e-5)
+
+
+@pytest.mark.parametrize("scene", ["point_cloud", "hair", "particle_hair"])
 def test_points_and_hair_cover_what_cycles_covers(any_blender, tmp_path, scene):
     if scene == "hair" and any_blender == "blender34":
         pytest.skip("Blender 3.4 has no Python API to add hair curves (Curves.add_curves came in 4.0)")
+    # (particle hair: strands tilted by a random factor, with children, as a final render reads them)
+    options = ['scene={"random": 0.6, "children": true, "resolution": [192, 144]}'] if scene == "particle_hair" else []
     coverage = {}
     for engine, option in (("GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4}'), ("CYCLES", "samples=16")):
-        run_script(any_blender, "render_scene.py", scene, tmp_path, engine, option)
+        run_script(any_blender, "render_scene.py", scene, tmp_path, engine, option, *options)
         coverage[engine] = exr.rgba(exr.read_exr(tmp_path / f"{engine.lower()}.exr"), "ViewLayer.Combined.")[..., 3]
     ours, cycles = coverage["GRIDWALK"], coverage["CYCLES"]
     assert 0.03 < (ours > 0.5).mean() < 0.6
     assert np.mean((ours > 0.5) != (cycles > 0.5)) < 0.01
     assert abs(ours.mean() - cycles.mean()) < 0.01
+
+
+@pytest.mark.parametrize("children", [False, True])
+def test_particle_hair_becomes_cone_frusta_along_each_strand(export, children):
+    # Particle hair was left out with a warning. Straight strands (no random factor) from the
+    # plane's faces, up along its normal; the viewport's keys (display_step).
+    out = export("particle_hair", children=children)
+    e = out.expected
+    keys, scale = e["keys_viewport"], e["scale"]
+    assert len(out.cylinder_base) == e["strands"] * (keys - 1)
+    base, apex = out.cylinder_base.astype(np.float64), out.cylinder_apex.astype(np.float64)
+    # one strand after another, each a chain of segments going up from the plane
+    strand_base, strand_apex = base.reshape(-1, keys - 1, 3), apex.reshape(-1, keys - 1, 3)
+    np.testing.assert_allclose(strand_base[:, 1:], strand_apex[:, :-1], atol=1e-6)
+    roots = strand_base[:, 0]
+    np.testing.assert_allclose(roots[:, 2], e["z"], atol=1e-4)
+    assert (np.abs(roots[:, :2]) <= np.asarray(e["half_extent"]) + 1e-4).all()
+    assert np.ptp(roots[:, 0]) > e["half_extent"][0]                        # spread over the plane
+    np.testing.assert_allclose(strand_apex[:, -1, :2], roots[:, :2], atol=1e-4)   # straight up
+    np.testing.assert_allclose(strand_apex[:, -1, 2] - roots[:, 2], 2.0, rtol=1e-4)   # (a length in world units)
+    # radii: radius_scale / 2 times root 1 at the root, tip 0.4 at the tip, times the scale;
+    # between them shape 0.3's curve at each key's fraction of the length
+    radius = 0.5 * 0.16 * scale
+    rb = out.cylinder_base_radius.reshape(-1, keys - 1)
+    ra = out.cylinder_apex_radius.reshape(-1, keys - 1)
+    np.testing.assert_allclose(rb[:, 0], radius, rtol=1e-5)
+    np.testing.assert_allclose(ra[:, -1], 0.4 * radius, rtol=1e-5)
+    fraction = (strand_apex[:, :, 2] - roots[:, 2:3]) / 2.0
+    shaped = (1.0 - fraction) ** (1.0 / 0.7) * (radius - 0.4 * radius) + 0.4 * radius
+    np.testing.assert_allclose(ra, shaped, rtol=1e-4, atol=1e-7)
+    np.testing.assert_allclose(rb[:, 1:], ra[:, :-1], rtol=1e-6)
+    colours = {tuple(np.round(out.materials[m]["color"], 3)) for m in out.cylinder_materials}
+    assert colours == {(0.8, 0.05, 0.05)}                                   # the settings' material 2: Red
+    assert len(out.triangles) == 2 + 12          # the plane and the cube, whose hair is off (no cones of its own)
+    assert not [w for w in out.warnings if "air" in w]
 
 
 def test_curves_text_and_metaballs_are_exported_once_with_their_own_modifiers(export):

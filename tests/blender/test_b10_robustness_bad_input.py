@@ -81,7 +81,6 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "Motion blur is not supported: each object renders where it is at the current frame",
                      "Camera 'Camera': aperture blades, rotation and ratio are not supported (the aperture "
                      "is round)",
-                     "Particle hair is not rendered: 'Furry'",
                      "Render passes not written (only Combined, Depth, Normal and the denoising data are): "
                      "Mist, Object Index"):
         assert expected in warnings, expected

@@ -195,7 +195,7 @@ def case_ignored_settings(bpy, s):
         key.light_linking.receiver_collection = bpy.data.collections.new("OnlyTheCube")
     dof = bpy.context.scene.camera.data.dof
     dof.use_dof, dof.focus_distance, dof.aperture_fstop, dof.aperture_blades = True, 10.0, 64.0, 6
-    furry = s.link(s.cube_object("Furry"))                          # particle hair: not rendered
+    furry = s.link(s.cube_object("Furry"))                          # particle hair: rendered as cones
     furry.location = (0.0, 3.0, 0.0)
     hair = furry.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings
     hair.type, hair.count = "HAIR", 20

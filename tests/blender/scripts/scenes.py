@@ -7,7 +7,7 @@ independent path from the exporter's numpy code).
 import math
 
 import bpy
-from mathutils import Euler, Vector
+from mathutils import Euler, Matrix, Vector
 
 from blender_addon.scripting import principled_material
 
@@ -455,6 +455,52 @@ def hair_scene(resolution=(96, 72), material=None):
                  1.5 * curves.points[4 * k + j].radius, 1.5 * curves.points[4 * k + j + 1].radius]
                 for k in range(5) for j in range(3)]
     return {"segments": segments}
+
+
+def particle_hair_scene(resolution=(96, 72), random=0.0, children=False, instanced=False):
+    """Particle hair, as Blender made hair before Curves objects: a 3 x 1 plane
+    at z = -1.5, scaled 1.25, growing 40 strands of length 2 (Hair Length is in
+    world units) from its faces (random: the emission's random factor, which tilts them;
+    children: 3 interpolated children per strand, in the viewport and the
+    render); Hair Shape radius scale 0.16, root 1, tip 0.4, shape 0.3, tip not
+    closed; material Brown in slot 0, Red in slot 1, which the settings name.
+    Beside it a cube whose particle system's modifier is off for both the
+    viewport and the render (its hair shows in neither). instanced: the plane
+    shows its hair but not itself (Show Instancer off), and a collection
+    instance repeats both 5 m behind it. A sun and a grey world light it. Expected: the plane's height and extent in world space, the scale,
+    the strand count and keys per strand in the viewport and in a render."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=1, location=(0.0, 0.0, -1.5))
+    plane = bpy.context.object
+    plane.name = "Fur"
+    plane.data.transform(Matrix.Diagonal((3.0, 1.0, 1.0, 1.0)))
+    plane.scale = (1.25, 1.25, 1.25)
+    plane.data.materials.append(principled_material("Brown", (0.4, 0.2, 0.05)))
+    plane.data.materials.append(principled_material("Red", (0.8, 0.05, 0.05)))
+    settings = plane.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings
+    settings.type, settings.count, settings.hair_length = "HAIR", 40, 2.0
+    settings.use_advanced_hair, settings.factor_random = True, random
+    settings.radius_scale, settings.root_radius, settings.tip_radius = 0.16, 1.0, 0.4
+    settings.shape, settings.use_close_tip, settings.material = 0.3, False, 2
+    if children:
+        settings.child_type, settings.rendered_child_count = "INTERPOLATED", 3
+        # (the viewport's Display Amount: child_nbr before Blender 4.x renamed it)
+        setattr(settings, "child_percent" if hasattr(settings, "child_percent") else "child_nbr", 3)
+    off = link(cube_object("HairOff", size=0.5))
+    off.location = (2.5, 0.0, 1.5)
+    modifier = off.modifiers.new("Hair", "PARTICLE_SYSTEM")
+    modifier.particle_system.settings.type = "HAIR"
+    modifier.show_viewport = modifier.show_render = False
+    if instanced:
+        plane.show_instancer_for_render = plane.show_instancer_for_viewport = False
+        fur = bpy.data.collections.new("Fur")
+        fur.objects.link(plane)
+        empty = link(bpy.data.objects.new("FurInstance", None))
+        empty.instance_type, empty.instance_collection, empty.location = "COLLECTION", fur, (0.0, 5.0, 0.0)
+    _sun_and_grey_world()
+    strands = 40 * (3 if children else 1)
+    return {"z": -1.5, "half_extent": [1.5 * 1.25, 0.5 * 1.25], "scale": 1.25, "strands": strands,
+            "keys_viewport": (1 << settings.display_step) + 1, "keys_render": (1 << settings.render_step) + 1}
 
 
 def showcase_scene(resolution=(96, 72), fresh=True):

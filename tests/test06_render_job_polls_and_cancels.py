@@ -173,3 +173,41 @@ def test_wait_for_returns_at_each_finished_tile_and_at_once_at_the_end():
     assert job.wait_for(30) and job.wait_for(float("nan")) and job.wait_for(-1)
     assert time.perf_counter() - t0 < 0.1
     job.wait()
+
+
+CTRL_C_SCRIPT = """
+import sys, time
+import gridwalk as gw
+from gridwalk.scenes import balls
+kw = balls(2)
+kw["camera"].width = kw["camera"].height = 256
+scene = gw.Scene(**kw)
+settings = gw.RenderSettings(aa="jittered", aa_samples=40, threads=1)
+blocking = gw.render if sys.argv[1] == "render" else (lambda sc, st: gw.RenderJob(sc, st).start().wait())
+print("rendering", flush=True)
+t0 = time.perf_counter()
+try:
+    blocking(scene, settings)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print(f"interrupted {time.perf_counter() - t0:.3f}", flush=True)
+"""
+
+
+@pytest.mark.parametrize("call", ["render", "wait"])
+def test_ctrl_c_interrupts_a_blocking_render_at_once(call, tmp_path):
+    # render() and RenderJob.wait() block in native code; they came back to Python only
+    # when the render ended, so Ctrl-C (SIGINT) waited for the whole image (19 s in the report).
+    import signal
+    import subprocess
+    import sys
+    script = tmp_path / "ctrl_c.py"
+    script.write_text(CTRL_C_SCRIPT)
+    child = subprocess.Popen([sys.executable, str(script), call], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "rendering"
+    time.sleep(0.5)                                   # (inside the render: it takes about 20 s)
+    sent = time.perf_counter()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=60)
+    assert time.perf_counter() - sent < 2.0, out
+    assert out.startswith("interrupted"), out

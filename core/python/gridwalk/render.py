@@ -74,7 +74,17 @@ class RenderJob:
         self._job.cancel()
 
     def wait(self) -> np.ndarray:
-        self._job.wait()
+        """Block until the job ends; returns the image. The wait comes back to
+        Python every 0.1 s, so that Ctrl-C (KeyboardInterrupt) and other
+        signals land while it renders; an exception raised there cancels the
+        job before it propagates."""
+        try:
+            while not self._job.wait_for(0.1):
+                pass
+        except BaseException:
+            self._job.cancel()
+            raise
+        self._job.wait()          # (joins the workers; raises what a worker raised)
         return self.image
 
     def wait_for(self, seconds: float) -> bool:

@@ -291,3 +291,34 @@ def test_vertex_normals_shade_a_coarse_sphere_like_a_fine_one(tmp_path):
         return float(np.abs(images[name][inside, :3] - images["fine"][inside, :3]).mean())
     # (0.011 against 0.041: the rest is the coarse sphere's shadow terminator and highlight)
     assert error("smooth") < 0.5 * error("flat"), (error("smooth"), error("flat"))
+
+
+NORMAL_DTYPE = [("x", "f4"), ("y", "f4"), ("z", "f4"), ("nx", "f8"), ("ny", "f8"), ("nz", "f8")]
+
+
+def test_zero_and_tiny_normals_of_used_vertices_are_read(tmp_path):
+    # MeshLab writes 0 0 0 for a degenerate face's vertices; a whole file was refused for one.
+    # A tiny double normal (1e-300) is a direction too: it vanished in float32 before normalising.
+    vertices = [(0, 0, 0, 0, 0, 0), (1, 0, 0, 0, 0, 1e-300), (0, 1, 0, 0, 0, 1),
+                (0, 0, 1, 0, 0, 0), (1, 0, 1, 0, 0, 0), (0, 1, 1, 0, 0, 0)]
+    mesh = load_ply_mesh(write_ply(tmp_path / "zero.ply", vertices, [[0, 1, 2], [3, 4, 5]], NORMAL_DTYPE))
+    np.testing.assert_array_equal(mesh.normals, [[0, 0, 0], [0, 0, 1], [0, 0, 1], [0, 0, 0], [0, 0, 0], [0, 0, 0]])
+    import gridwalk as gw
+    scene = gw.Scene(vertices=mesh.vertices, triangles=mesh.triangles, normals=mesh.normals)
+    # Rays straight down onto each triangle: the first is shaded by its two unit normals,
+    # the second (all three 0) by its geometric normal, (0, 0, -1) or (0, 0, 1) by winding.
+    o = np.array([[0.2, 0.2, 5.0], [0.2, 0.2, 0.5]], np.float32)
+    hits = scene.intersect(o, np.tile(np.float32([0, 0, -1]), (2, 1)))
+    assert hits.kind.tolist() == [1, 1]
+    np.testing.assert_allclose(np.abs(hits.normal), [[0, 0, 1], [0, 0, 1]], atol=1e-6)
+
+
+def test_invalid_vertices_no_face_uses_are_accepted_and_used_ones_refused(tmp_path):
+    # A scanner's organised grid marks missing points with NaN; only the faces' vertices matter.
+    text = HEADER.replace("element vertex 3", "element vertex 5") + "0 0 0\n1 0 0\n0 1 0\nnan nan nan\n1e39 0 0\n3 0 1 2\n"
+    mesh = load_ply_mesh(write_text(tmp_path, text))
+    assert np.isfinite(mesh.vertices).all() and mesh.triangles.tolist() == [[0, 1, 2]]
+    with pytest.raises(SceneFileError, match=r"element 'vertex' record 3 \(line 13\): the coordinate \(nan, nan, nan\) "
+                                             r"is NaN, infinite or beyond the float32 range \(used by element 'face' "
+                                             r"record 0"):
+        load_ply_mesh(write_text(tmp_path, text.replace("3 0 1 2", "3 0 1 3")))

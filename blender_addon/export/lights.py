@@ -31,6 +31,7 @@ naming it.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -107,7 +108,16 @@ def _area_shape(light, sx: float, sy: float):
 
 
 def convert_light(light, matrix) -> Light:
-    """One Blender light datablock at world transform `matrix` (mathutils or numpy 4x4)."""
+    """One Blender light datablock at world transform `matrix` (mathutils or numpy 4x4).
+    A negative power (a light that darkens, warned by _approximated) gives no
+    light: its colour is 0, as the core takes no negative light."""
+    out = _convert_light(light, matrix)
+    if min(out.color) < 0:
+        out = dataclasses.replace(out, color=tuple(max(float(c), 0.0) for c in out.color))
+    return out
+
+
+def _convert_light(light, matrix) -> Light:
     m = matrix if isinstance(matrix, np.ndarray) else to_numpy(matrix)
     position = tuple(m[:3, 3])
     nff = light.get("nff_intensity") if hasattr(light, "get") else None

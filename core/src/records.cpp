@@ -92,7 +92,7 @@ void validate_world(const World& w) {
 void prepare_light(Light& l, const std::string& where) {
     if (!enum_valid(l.kind)) refuse(where, "kind", "is not a light kind");
     need_finite(where, "position", l.position);
-    need_finite(where, "color", l.color);
+    need_non_negative(where, "color", l.color);   // (a negative light added nothing, silently)
     need_finite(where, "axis_u", l.axis_u);
     need_finite(where, "axis_v", l.axis_v);
     need_finite(where, "direction", l.direction);

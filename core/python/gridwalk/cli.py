@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import io, scenes
+from . import io, memory, scenes
 from .render import RenderJob
 from .scene import Scene
 from .settings import BY_NAME, SCHEMA, RenderSettings
@@ -63,14 +63,40 @@ def check_output(path, types=OUTPUT_TYPES) -> Path:
         raise CliError(f"{path}: the folder {str(path.parent)!r} does not exist")
     if path.is_dir():
         raise CliError(f"{path}: is a folder, not an image file")
+    existed = path.exists()
+    try:                                  # (a read-only folder or file, /proc, a full quota: now, not after the render)
+        with open(path, "ab"):
+            pass
+    except OSError as err:
+        raise CliError(f"{path}: cannot be written ({err.strerror or err})") from None
+    if not existed:
+        path.unlink(missing_ok=True)
     return path
 
 
+def check_memory(kwargs: dict, settings: RenderSettings) -> None:
+    """Refuse a render whose estimated memory (gridwalk.memory: the scene, its
+    grid and the image's buffers) exceeds memory.default_limit(), before any
+    of it is allocated."""
+    cam = kwargs["camera"]
+    count = lambda key: len(kwargs.get(key, ()))
+    est = memory.estimate(triangles=count("triangles"), vertices=count("vertices"), spheres=count("sphere_radii"),
+                          cylinders=count("cylinder_base_radius"), width=cam.width, height=cam.height,
+                          settings=settings, normals=kwargs.get("normals") is not None)
+    memory.check(est, memory.default_limit(), f"Rendering {cam.width}x{cam.height}",
+                 f"{memory.DEFAULT_FRACTION:.0%} of physical memory")
+
+
 def to_srgb8(linear: np.ndarray) -> np.ndarray:
-    """Linear values in [0, 1] (clipped; NaN -> 0) to 8-bit sRGB."""
-    x = np.clip(np.nan_to_num(linear.astype(np.float64), nan=0.0), 0.0, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
-    return (srgb * 255.0 + 0.5).astype(np.uint8)
+    """Linear values in [0, 1] (clipped; NaN -> 0) to 8-bit sRGB, converted
+    in slices of rows (a large image needs no image-sized float64 copies)."""
+    out = np.empty(linear.shape, np.uint8)
+    rows = max(1, (1 << 20) // max(1, linear[0].size)) if linear.ndim > 1 else len(linear)
+    for start in range(0, len(linear), rows):
+        x = np.clip(np.nan_to_num(linear[start:start + rows].astype(np.float64), nan=0.0), 0.0, 1.0)
+        srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+        out[start:start + rows] = (srgb * 255.0 + 0.5).astype(np.uint8)
+    return out
 
 
 def write_image(path: Path, rgba: np.ndarray, alpha: bool = False) -> None:
@@ -148,8 +174,10 @@ def stats_summary(stats: dict) -> str:
 def cmd_demo(args) -> int:
     out = check_output(args.output)
     resolution = args.resolution if args.resolution is not None else (256 if args.quick else 512)
-    scene = Scene(**demo_scene(args.size, resolution))
     s = demo_settings(args.quick, args.threads)
+    kwargs = demo_scene(args.size, resolution)
+    check_memory(kwargs, s)
+    scene = Scene(**kwargs)
     job = RenderJob(scene, s)
     image = run_job(job, args.quiet)
     write_image(out, image)
@@ -180,6 +208,7 @@ def cmd_render(args) -> int:
     cam = kwargs["camera"]
     kwargs["camera"] = dataclasses.replace(cam, width=cam.width if args.width is None else args.width,
                                            height=cam.height if args.height is None else args.height)
+    check_memory(kwargs, s)
     job = RenderJob(Scene(**kwargs), s)
     image = run_job(job, args.quiet)
     write_image(out, image, args.alpha)
@@ -230,12 +259,13 @@ def cmd_validate(args) -> int:
 
 
 # -- argument parsing ---------------------------------------------------------
-def add_settings_options(parser: argparse.ArgumentParser, groups=None) -> None:
+def add_settings_options(parser: argparse.ArgumentParser, groups=None, leave_out=()) -> None:
     """One option per setting of the core's settings table (gridwalk.settings.SCHEMA),
-    so no setting can be forgotten; `groups` limits them to those groups."""
+    so no setting can be forgotten; `groups` limits them to those groups, and
+    the settings named in `leave_out` get none (the farm's tiles are its regions)."""
     group = parser.add_argument_group("render settings (gridwalk.RenderSettings)")
     for setting in SCHEMA:
-        if groups is not None and setting.group not in groups:
+        if (groups is not None and setting.group not in groups) or setting.name in leave_out:
             continue
         flag = "--" + setting.name.replace("_", "-")
         help_text = f"{setting.describe()} (default: {setting.default})".replace("%", "%%")
@@ -316,7 +346,7 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("\ngridwalk: cancelled", file=sys.stderr)
         return 130
-    except (CliError, ValueError) as err:            # SceneFileError is a ValueError
+    except (CliError, ValueError, memory.SceneTooLarge) as err:   # SceneFileError is a ValueError
         print("gridwalk: error: " + " ".join(str(err).split()), file=sys.stderr)   # one line
         return 2
     except OSError as err:

@@ -26,9 +26,13 @@ Strips declare no triangle count: before a chunk of strip records becomes
 triangles, the estimate is checked again with its indices as triangles.
 
 Refused, with the file, element, record and what was expected: NaN, infinite
-or beyond-float32 values; a vertex used by a face beyond +-1e30 (the core's
-limit); zero-length normals of used vertices; faces with fewer than 3
-corners; indices outside the vertex array; a file shorter than its header says.
+or beyond-float32 coordinates or normals of vertices a face uses (a vertex no
+face uses may hold them: scanners' organised grids mark missing points with
+NaN), and such colours; a vertex used by a face beyond +-1e30 (the core's
+limit); faces with fewer than 3 corners; indices outside the vertex array; a
+file shorter than its header says. A zero-length normal (a degenerate face's,
+as MeshLab writes it) is kept as 0 and takes no part in the interpolated
+shading normal; a face whose three normals are 0 gets its geometric normal.
 
 Vertex colours: the core has one Material per triangle, not colours per
 vertex. Each triangle gets the mean of its three vertex colours (taken as
@@ -73,7 +77,7 @@ class PlyMesh:
 
     vertices (N, 3) float32; triangles (M, 3) int32 (those of the faces
     first, then those of the strips); normals (N, 3) float32 unit vectors or
-    None; colors (N, 3) float32 as stored in the file, in [0, 1], or None.
+    None (a zero-length normal stays 0); colors (N, 3) float32 as stored in the file, in [0, 1], or None.
     """
     vertices: np.ndarray
     triangles: np.ndarray
@@ -191,6 +195,7 @@ class _Reader:
         self.h, self.n, self.vertex, self.body = h, vertex.count, vertex, None
         self.lists_of = lists
         self.xyz = np.empty((self.n, 3), np.float32)
+        self.invalid = []                 # vertices with a non-finite (or beyond float32) coordinate or normal
         self.normals = self.colours = None
         if all(vertex.get(c) is not None for c in ("nx", "ny", "nz")):
             self.normals = np.empty((self.n, 3), np.float32)
@@ -214,13 +219,23 @@ class _Reader:
                     continue
                 block = np.column_stack([cols[k] for k in keys]).astype(np.float64)
                 bad = ~(np.abs(block) <= _F32_MAX).all(axis=1)
-                if bad.any():
+                if what == "colour" and bad.any():
                     k = int(np.argmax(bad))
                     body.fail(e, first + k, f"the {what} {_show(block[k])} is NaN, infinite or beyond "
                                             f"the float32 range")
+                if bad.any():
+                    # (coordinates and normals: only those of vertices a face uses must be
+                    # valid, _check_used; a scanner's organised grid holds NaN placeholders)
+                    self.invalid.extend(first + np.nonzero(bad)[0])
                 if what == "colour":
                     block = np.clip(block / self.colour_scale, 0.0, 1.0)
-                out[first:first + n] = block
+                if what == "normal":   # (scaled by its largest component first: a tiny normal's squares underflow)
+                    largest = np.abs(block).max(axis=1)
+                    ok = largest > 0
+                    block[ok] /= largest[ok, None]
+                    block[ok] /= np.linalg.norm(block[ok], axis=1)[:, None]
+                with np.errstate(over="ignore", invalid="ignore"):   # (beyond float32: inf, checked if used)
+                    out[first:first + n] = block
 
     def lists(self, body: Body, e: Element, name: str):
         prop = e.get(name)
@@ -313,9 +328,27 @@ class _Reader:
         return np.concatenate(out)
 
     def _check_used(self, triangles, origin):
-        """Normals and coordinates of the vertices the triangles use."""
+        """Normals and coordinates of the vertices the triangles use. Vertices
+        no face uses may hold anything (they are set to 0); a used vertex's
+        zero-length normal stays 0, and takes no part in the shading normals
+        interpolated across its faces (a face whose three normals are all 0 is
+        shaded by its own geometric normal)."""
         used = np.zeros(self.n, dtype=bool)
         used[triangles.reshape(-1)] = True
+        if self.invalid:
+            invalid = np.asarray(self.invalid, dtype=np.int64)
+            bad = invalid[used[invalid]]
+            if len(bad):
+                v = int(bad.min())
+                what, values = (("coordinate", self.xyz[v]) if not np.isfinite(self.xyz[v]).all()
+                                else ("normal", self.normals[v]))
+                t = int(np.argmax((triangles == v).any(axis=1)))
+                raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, v)}: the {what} "
+                                     f"{_show(values)} is NaN, infinite or beyond the float32 range "
+                                     f"(used by {origin(t)})")
+            self.xyz[invalid] = 0.0
+            if self.normals is not None:
+                self.normals[invalid] = 0.0
         far = used & ~(np.abs(self.xyz) <= CORE_LIMIT).all(axis=1)
         if far.any():
             v = int(np.argmax(far))
@@ -325,13 +358,8 @@ class _Reader:
                                  f"{origin(t)})")
         if self.normals is not None:
             length = np.linalg.norm(self.normals.astype(np.float64), axis=1)
-            zero = used & ~(length > 0)
-            if zero.any():
-                raise SceneFileError(f"{self.h.path}: {self.body.where(self.vertex, int(np.argmax(zero)))}: "
-                                     f"the normal has zero length")
             ok = length > 0
             self.normals[ok] = (self.normals[ok] / length[ok, None]).astype(np.float32)
-            self.normals[~ok] = (0.0, 0.0, 1.0)
 
 
 class _Origin:

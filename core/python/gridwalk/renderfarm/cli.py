@@ -37,7 +37,7 @@ def add_parser(sub, add_settings_options, settings_from_args) -> None:
     p.add_argument("--connect-timeout", type=float, default=10.0,
                    help="seconds to wait for the scheduler and its first worker (default: 10)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    add_settings_options(p)
+    add_settings_options(p, leave_out=("region",))       # (the farm renders the whole image, its tiles the regions)
     p.set_defaults(func=lambda args: cmd_farm(args, settings_from_args))
 
 

@@ -82,6 +82,13 @@ def test_bad_records():
         make(lights=[(1, 2, 3)])
 
 
+@pytest.mark.parametrize("kind", ["point", "sphere", "rect", "sun"])
+def test_a_light_of_negative_colour_is_rejected(kind):
+    # It was taken and added nothing: a silently wrong image (an NFF 'l' with a negative colour too)
+    with pytest.raises(ValueError, match=r"lights\[0\]\.color must have no negative component"):
+        make(lights=[gw.Light(kind=kind, color=(1.0, -0.5, 1.0), radius=0.5, direction=(0, 0, -1))])
+
+
 @pytest.mark.parametrize("field, value", [("color", (-1.0, 0.5, 0.5)), ("kd", -0.5), ("ks", -0.1),
                                           ("mirror", -1.0), ("transmittance", -0.2), ("emission", -1.0),
                                           ("emission_color", (0.0, -2.0, 0.0))])

@@ -142,6 +142,38 @@ def test_bad_settings_give_a_one_line_error_and_exit_2(tmp_path, options, messag
     assert message in run.stderr and "Traceback" not in run.stderr
 
 
+def test_an_unwritable_output_is_refused_before_rendering(tmp_path):
+    # It was found only after the whole render, which was lost.
+    started = time.perf_counter()
+    run = gridwalk("demo", "--resolution", "512", "-o", "/proc/self/demo.png")
+    assert run.returncode == 2 and run.stderr.strip() == (
+        "gridwalk: error: /proc/self/demo.png: cannot be written (No such file or directory)"), run.stderr
+    assert "rendering" not in run.stderr and time.perf_counter() - started < 20
+    existing = tmp_path / "kept.png"
+    existing.write_bytes(b"old")                        # the check leaves an existing file as it was
+    from gridwalk.cli import check_output
+    check_output(existing)
+    assert existing.read_bytes() == b"old"
+    check_output(tmp_path / "new.png")
+    assert not (tmp_path / "new.png").exists()
+
+
+def test_an_image_beyond_the_memory_limit_is_refused_before_anything_is_built():
+    # 16384 x 16384 passes the pixel limit and needed about 30 GB; nothing checked it
+    from gridwalk.cli import check_memory, demo_scene
+    from gridwalk.memory import SceneTooLarge
+    with pytest.raises(SceneTooLarge, match=r"Rendering 16384x16384 needs an estimated 28(\.\d)? GiB of memory "
+                                            r"\(.*images 28(\.\d)? GiB\), more than the limit of 1 GiB"):
+        check_memory(demo_scene(1, 16384), RenderSettings(), limit=1 << 30)
+    check_memory(demo_scene(1, 512), RenderSettings(), limit=1 << 30)
+
+
+def test_the_farm_offers_no_region_option():
+    # It was offered, and refused when given (the farm renders the whole image in tiles)
+    run = gridwalk("farm", "--help")
+    assert run.returncode == 0 and "--aa-samples" in run.stdout and "--region" not in run.stdout
+
+
 def test_demo_refuses_a_resolution_of_zero(tmp_path):
     # 0 read as "not given": the full 512 x 512 render ran
     run = gridwalk("demo", "--resolution", "0", "-o", tmp_path / "demo.png")

@@ -74,17 +74,17 @@ def check_output(path, types=OUTPUT_TYPES) -> Path:
     return path
 
 
-def check_memory(kwargs: dict, settings: RenderSettings) -> None:
+def check_memory(kwargs: dict, settings: RenderSettings, limit: int | None = None) -> None:
     """Refuse a render whose estimated memory (gridwalk.memory: the scene, its
-    grid and the image's buffers) exceeds memory.default_limit(), before any
-    of it is allocated."""
+    grid and the image's buffers) exceeds `limit` (default
+    memory.default_limit()), before any of it is allocated."""
     cam = kwargs["camera"]
     count = lambda key: len(kwargs.get(key, ()))
     est = memory.estimate(triangles=count("triangles"), vertices=count("vertices"), spheres=count("sphere_radii"),
                           cylinders=count("cylinder_base_radius"), width=cam.width, height=cam.height,
                           settings=settings, normals=kwargs.get("normals") is not None)
-    memory.check(est, memory.default_limit(), f"Rendering {cam.width}x{cam.height}",
-                 f"{memory.DEFAULT_FRACTION:.0%} of physical memory")
+    memory.check(est, memory.default_limit() if limit is None else limit, f"Rendering {cam.width}x{cam.height}",
+                 f"{memory.DEFAULT_FRACTION:.0%} of physical memory" if limit is None else "")
 
 
 def to_srgb8(linear: np.ndarray) -> np.ndarray:

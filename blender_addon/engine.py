@@ -220,7 +220,9 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             print(f"Gridwalk: cancelled during the export, after {time.perf_counter() - t0:.3f} s")
             return
         try:
-            kwargs, warnings = export.kwargs()
+            # A frame of an animation with nothing visible (a cut) shows the world, as in Cycles,
+            # and the animation goes on; a still with nothing visible is an error.
+            kwargs, warnings = export.kwargs(world_only=bool(getattr(self, "is_animation", False)))
         except ExportError:
             if not self.is_preview:
                 raise

@@ -6,6 +6,9 @@ depsgraph, so it works inside RenderEngine.render().
 """
 from __future__ import annotations
 
+import numpy as np
+from gridwalk.model import Material
+
 from .camera import CameraError, convert_camera, render_region, resolution
 from .lights import light_from_instance
 from .materials import MaterialTable
@@ -88,24 +91,31 @@ class Export:
         return (parts, spheres, points, repr(self.materials.materials), repr(self.lights), self.background,
                 repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
 
-    def kwargs(self) -> tuple[dict, list[str]]:
+    def kwargs(self, world_only: bool = False) -> tuple[dict, list[str]]:
         """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
 
-        Raises ExportError with a user-facing message when there is nothing to
-        render. Invalid objects (NaN transforms, ...) are skipped with a
-        warning naming them."""
+        When there is nothing to render, raises ExportError with a user-facing
+        message, or with world_only (a frame of an animation, where Cycles
+        renders the world) gives a scene that shows the world alone and says
+        why in a warning. Invalid objects (NaN transforms, ...) are skipped
+        with a warning naming them."""
         warnings = list(self.warnings)
         kwargs = self.meshes.arrays()
         if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0 and "cylinder_materials" not in kwargs:
-            raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
+            if not world_only:
+                raise ExportError(_nothing_to_render(self.meshes), warnings + self.meshes.warnings())
+            warnings.append(_nothing_to_render(self.meshes) + ": the frame shows the world alone")
+            # (The core takes no empty scene: one triangle of zero area, which no ray can hit.)
+            kwargs.update(vertices=np.zeros((3, 3), np.float32), triangles=np.array([[0, 1, 2]], np.int32),
+                          normals=None, triangle_materials=np.zeros(1, np.int32))
         if not self.lights and not any(self.world.ambient) and self.world.environment < 0 \
                 and not any(m.emits_light for m in self.materials.materials):
             warnings.append("The scene has no lights and a black world: only emissive materials will be visible")
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
-        kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background,
-                      world=self.world)
+        kwargs.update(materials=self.materials.materials or [Material()], lights=self.lights,
+                      background=self.background, world=self.world)
         if self.textures.textures:
             kwargs.update(images=self.textures.images, textures=self.textures.textures)
         warnings.extend(self.materials.warnings())

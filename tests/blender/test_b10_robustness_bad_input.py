@@ -49,7 +49,7 @@ def results(request, tmp_path_factory):
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 25
+    assert len(results.cases()) == 26
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
@@ -93,6 +93,18 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
 def test_empty_scene(results):
     assert results.error("empty").startswith("Error: Gridwalk: Nothing to render: the scene has no visible "
                                              "object with faces (check 'Disable in Renders'")
+
+
+def test_an_animation_goes_on_past_a_frame_with_nothing_to_render(results):
+    # It stopped at frame 2 with "Nothing to render", and frame 3 was never written
+    # (blender -b -a exited 1). The frame shows the world, as in Cycles, with a warning.
+    assert results.error("empty_frame") == ""
+    assert ("Warning: Gridwalk: Nothing to render: the scene has no visible object with faces (check 'Disable "
+            "in Renders' and excluded collections): the frame shows the world alone") in results.warnings("empty_frame")
+    frames = [results.image(f"empty_frame_{k:04d}") for k in (1, 2, 3)]
+    np.testing.assert_array_equal(frames[0], frames[2])
+    assert frames[0][..., 3].max() == 1.0                        # the cube, in frames 1 and 3
+    assert frames[1][..., 3].max() == 0.0 and frames[1][..., :3].max() == 0.0   # transparent film: nothing
 
 
 def test_no_camera(results):

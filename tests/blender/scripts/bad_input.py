@@ -78,6 +78,20 @@ def case_camera_deleted(bpy, s):
     return {"animation": True}
 
 
+def case_empty_frame(bpy, s):
+    """An animation of three frames whose only object is keyed Disable in Renders at frame 2
+    (a cut): Cycles renders that frame's world and goes on."""
+    s.cube_scene()
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 3
+    cube = bpy.data.objects["Cube"]
+    for frame, hidden in ((1, False), (2, True), (3, False)):
+        cube.hide_render = hidden
+        cube.keyframe_insert("hide_render", frame=frame)
+    scene.frame_set(1)
+    return {"animation": True}
+
+
 def case_not_a_camera(bpy, s):
     s.cube_scene()
     empty = s.link(bpy.data.objects.new("NotACamera", None))

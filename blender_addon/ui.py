@@ -124,6 +124,7 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
         for name in ("exposure", "normalize"):
             if hasattr(light, name):
                 col.prop(light, name)
+        col.prop(light, "use_shadow", text="Cast Shadow")
         if light.type in ("POINT", "SPOT"):
             col.prop(light, "shadow_soft_size", text="Radius")
         if light.type == "SPOT":
@@ -140,8 +141,42 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
                 col.prop(light, "size_y", text="Y")
 
 
+class GRIDWALK_CAMERA_PT_panorama(GridwalkPanel, bpy.types.Panel):
+    """A Panoramic camera's type and range, which Blender's Lens panel draws for Cycles only
+    (the default type, Fisheye Equisolid, is one Gridwalk refuses: the user must reach it)."""
+    bl_label = "Panorama"
+    bl_context = "data"
+    bl_parent_id = "DATA_PT_lens"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.camera is not None and context.camera.type == "PANO"
+
+    def draw(self, context):
+        cam = context.camera
+        # (Blender 4.0+ keeps these on the camera; 3.x on Cycles' camera settings, where Cycles is enabled)
+        holder = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
+        layout = self.layout
+        layout.use_property_split = True
+        if holder is None or not hasattr(holder, "panorama_type"):
+            layout.label(text="Equirectangular (enable Cycles to choose the panorama type)")
+            return
+        col = layout.column()
+        col.prop(holder, "panorama_type")
+        if holder.panorama_type == "EQUIRECTANGULAR":
+            sub = col.column(align=True)
+            sub.prop(holder, "latitude_min", text="Latitude Min")
+            sub.prop(holder, "latitude_max", text="Max")
+            sub = col.column(align=True)
+            sub.prop(holder, "longitude_min", text="Longitude Min")
+            sub.prop(holder, "longitude_max", text="Max")
+        else:
+            col.label(text="Gridwalk renders Equirectangular panoramas only", icon="ERROR")
+
+
 classes = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,
-           GRIDWALK_RENDER_PT_performance, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light)
+           GRIDWALK_RENDER_PT_performance, GRIDWALK_OBJECT_PT_settings, GRIDWALK_LIGHT_PT_light,
+           GRIDWALK_CAMERA_PT_panorama)
 
 
 def builtin_panels():

@@ -151,6 +151,9 @@ def convert_camera(cam_obj, render) -> Camera:
     if cam_obj.type != "CAMERA":
         raise CameraError(f"The active camera {cam_obj.name!r} is not a camera object")
     cam = cam_obj.data
+    if cam.type not in ("PERSP", "ORTHO", "PANO"):       # (Blender 4.5's Custom: an OSL camera shader)
+        raise CameraError(f"Camera {cam_obj.name!r}: the {cam.type.title()} camera type is not supported; "
+                          "choose Perspective, Orthographic or Panoramic (Camera properties > Lens > Type)")
     width, height = resolution(render)
     aspect = pixel_aspect(render)
     frame = camera_frame(cam_obj)

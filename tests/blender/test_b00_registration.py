@@ -62,3 +62,23 @@ def test_every_setting_is_a_blender_property_with_the_tables_default_and_limits(
 def test_every_settings_group_has_a_panel(registration):
     shown = {g for groups in registration["panel_groups"].values() for g in groups}
     assert shown == {s.group for s in SCHEMA} - {"host"}
+
+
+def test_the_panorama_and_cast_shadow_settings_are_drawn(any_blender, tmp_path):
+    # Blender's Lens panel draws a panoramic camera's type and range for Cycles only, and its
+    # default type (Fisheye Equisolid) is one Gridwalk refuses, naming a field the user could
+    # not reach; Cast Shadow, which the export reads, was not drawn either.
+    run_script(any_blender, "panels_draw.py", tmp_path)
+    info = json.loads((tmp_path / "panels.json").read_text())
+    props = lambda drawn: [item["prop"] for item in drawn if "prop" in item]
+    for kind in ("FISHEYE_EQUISOLID", "EQUIRECTANGULAR"):
+        panel = info[f"panorama {kind}"]
+        assert panel["poll"] and props(panel["drawn"])[0] == "panorama_type"
+        assert all(item["real"] for item in panel["drawn"] if "prop" in item), panel
+    assert props(info["panorama EQUIRECTANGULAR"]["drawn"]) == [
+        "panorama_type", "latitude_min", "latitude_max", "longitude_min", "longitude_max"]
+    assert "Equirectangular panoramas only" in info["panorama FISHEYE_EQUISOLID"]["drawn"][-1]["label"]
+    assert not info["perspective poll"]
+    for kind in ("POINT", "SPOT", "SUN", "AREA"):
+        drawn = info[f"light {kind}"]
+        assert "use_shadow" in props(drawn) and all(item["real"] for item in drawn if "prop" in item), drawn

@@ -115,6 +115,14 @@ def case_fisheye_camera(bpy, s):
     (cam if hasattr(cam, "panorama_type") else cam.cycles).panorama_type = "FISHEYE_EQUIDISTANT"
 
 
+def case_custom_camera(bpy, s):
+    """Blender 4.5's Custom camera (an OSL shader); before 4.5 an orthographic one stands in."""
+    s.cube_scene()
+    cam = bpy.context.scene.camera.data
+    kinds = {item.identifier for item in cam.bl_rna.properties["type"].enum_items}
+    cam.type = "CUSTOM" if "CUSTOM" in kinds else "ORTHO"
+
+
 def case_camera_inside_cube(bpy, s):
     s.reset()
     s.link(s.cube_object("Room", size=6.0))

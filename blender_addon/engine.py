@@ -202,6 +202,10 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
 
         scene = depsgraph.scene
         settings = render_settings(gridwalk, scene.gridwalk)
+        if settings.threads == 0:
+            # Gridwalk's Threads at 0 (all cores): Blender's own count, which `blender -t N` and
+            # Performance > Threads > Fixed set (it is every core otherwise).
+            settings = settings.replace(threads=max(1, int(scene.render.threads)))
         region = render_region(scene.render)
         if region is not None:
             settings = settings.replace(region=region)
@@ -263,7 +267,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         completed = streaming.run(self, job, writer)
         what = ("finished" if completed else "cancelled") + (" preview" if self.is_preview else "")
         print(f"Gridwalk: {what}; export {t1 - t0:.3f} s, build {job.build_seconds:.3f} s, "
-              f"render {job.stats['seconds']:.3f} s, total {time.perf_counter() - t0:.3f} s, {streaming.stats_text(job)}")
+              f"render {job.stats['seconds']:.3f} s, total {time.perf_counter() - t0:.3f} s on "
+              f"{settings.threads} thread{'s' if settings.threads != 1 else ''}, {streaming.stats_text(job)}")
 
 
 @bpy.app.handlers.persistent

@@ -72,6 +72,11 @@ UNWRITTEN = {
 
 
 def unwritten_passes(view_layer) -> list[str]:
-    """The passes enabled on `view_layer` that GRIDWALK leaves out."""
-    return [name for flag, name in UNWRITTEN.items() if getattr(view_layer, flag, False) is True]
+    """The passes enabled on `view_layer` that GRIDWALK leaves out: the
+    built-in ones, Shader AOVs and light groups (each a pass of its own in
+    Cycles)."""
+    out = [name for flag, name in UNWRITTEN.items() if getattr(view_layer, flag, False) is True]
+    out += [f"Shader AOV '{aov.name}'" for aov in getattr(view_layer, "aovs", ())]
+    out += [f"Light Group '{group.name}'" for group in getattr(view_layer, "lightgroups", ())]
+    return out
 

@@ -44,6 +44,46 @@ def test_glossy_blurs_reflections():
     assert grad(glossy) < grad(sharp)
 
 
+def glass_before_stripes(roughness, res=48):
+    """An analytic glass sphere (IOR 1.5, clear: kd 0) in front of a wall of 16 vertical stripes,
+    alternately emissive (1) and black; the camera looks through the sphere at the wall."""
+    verts, tris, mats = [], [], []
+    for k in range(16):
+        x0, x1 = -4 + 0.5 * k, -3.5 + 0.5 * k
+        base = len(verts)
+        verts += [[x0, 3, -4], [x1, 3, -4], [x1, 3, 4], [x0, 3, 4]]
+        tris += [[base, base + 1, base + 2], [base, base + 2, base + 3]]
+        mats += [k % 2, k % 2]
+    materials = [gw.Material(color=(0, 0, 0), kd=0.0, ks=0.0),
+                 gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, emission=1.0),
+                 gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=1.5, roughness=roughness)]
+    cam = gw.Camera(eye=(0, -6, 0), target=(0, 0, 0), fov=20, width=res, height=res)
+    return gw.Scene(vertices=np.array(verts, np.float32), triangles=np.array(tris, np.int32),
+                    triangle_materials=np.array(mats, np.int32), sphere_centers=[[0, 0, 0]], sphere_radii=[1.0],
+                    sphere_materials=[2], materials=materials, camera=cam)
+
+
+def test_rough_glass_blurs_what_lies_behind_it():
+    # Roughness was read for reflections only: rough glass rendered as clear glass.
+    settings = gw.RenderSettings(aa="jittered", aa_samples=4, glossy_samples=4)
+    images = {r: gw.render(glass_before_stripes(r), settings)[..., 0] for r in (0.0, 0.3, 0.6)}
+    inside = np.hypot(*np.meshgrid(np.arange(48) - 23.5, np.arange(48) - 23.5)) < 12   # well inside the sphere
+
+    def contrast(img):   # the spread of the image smoothed over 5 x 5 pixels (the samples' noise averaged out)
+        padded = np.pad(img, 2, mode="edge")
+        smooth = sum(padded[i:i + 48, j:j + 48] for i in range(5) for j in range(5)) / 25
+        return smooth[inside].std()
+    c = {r: contrast(img) for r, img in images.items()}
+    assert c[0.0] > 0.3                                    # the stripes, sharp through clear glass
+    assert c[0.3] < 0.6 * c[0.0] and c[0.6] < 0.5 * c[0.3]
+    # blurred, not darkened: about the stripes' mean light comes through (Fresnel takes a little)
+    means = {r: img[inside].mean() for r, img in images.items()}
+    assert 0.3 < means[0.0] < 0.6 and abs(means[0.6] - means[0.0]) < 0.1
+    # roughness 0 is the exact refraction: more lobe samples change nothing
+    clear = glass_before_stripes(0.0)
+    assert np.array_equal(gw.render(clear, settings), gw.render(clear, settings.replace(glossy_samples=16)))
+
+
 MODES = [
     dict(aa="jittered", aa_samples=3),
     dict(aa="random", aa_samples=2, filter="gaussian"),

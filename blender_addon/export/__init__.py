@@ -7,7 +7,6 @@ depsgraph, so it works inside RenderEngine.render().
 from __future__ import annotations
 
 import numpy as np
-from gridwalk.model import Material
 
 from .camera import CameraError, convert_camera, render_region, resolution
 from .lights import light_from_instance
@@ -114,7 +113,7 @@ class Export:
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
-        kwargs.update(materials=self.materials.materials or [Material()], lights=self.lights,
+        kwargs.update(materials=self.materials.materials, lights=self.lights,
                       background=self.background, world=self.world)
         if self.textures.textures:
             kwargs.update(images=self.textures.images, textures=self.textures.textures)

@@ -385,6 +385,14 @@ def convert_material(mat, textures=None):
     for field, value in links.fields.items():
         setattr(result, field, value)
     problems = []
+    shaping = [f"{name} ({_source(socket)[0].bl_idname})" for name in ("Normal", "Coat Normal")
+               if node is not None and (socket := _socket(node, name)) is not None and _source(socket)[0] is not None]
+    output = _output_node(tree)
+    displacement = output.inputs.get("Displacement") if output is not None else None
+    if displacement is not None and _source(displacement)[0] is not None:
+        shaping.append(f"Displacement ({_source(displacement)[0].bl_idname})")
+    if shaping:   # (bump and normal maps, displacement: the surface keeps its mesh's shape and normals)
+        problems.append(", ".join(shaping) + " not read: the surface is shaded with the mesh's own normals")
     if links.textured:
         problems.append("inputs " + ", ".join(sorted(set(links.textured))) + " use their default values")
     if links.unmodelled:

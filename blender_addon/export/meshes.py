@@ -55,6 +55,7 @@ class MeshData:
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
         self.missing_uv_layer = None   # a UV map a material names that the mesh lacks (its render one was read)
+        self.missing_color_layer = None  # the colour attribute a material reads that the mesh lacks ("": any)
         flat = co.reshape(-1)      # NaN propagates through max / min; Inf shows in them
         top, bottom = (float(flat.max()), float(flat.min())) if flat.size else (0.0, 0.0)
         self.finite = math.isfinite(top) and math.isfinite(bottom)
@@ -165,21 +166,25 @@ def _corner_uvs(mesh, layer_name: str, n_loops):
 
 
 def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
-    """(corners, 3) linear RGB of the named colour attribute (else the render one), or None."""
+    """((corners, 3) linear RGB, missing): the named colour attribute ("": the
+    render one). Where the mesh has no such attribute, black, as Cycles reads a
+    missing attribute, and `missing` is the name asked for ("" for the render
+    one); else missing is None. (None, None) where Blender has no colour
+    attributes API."""
     attributes = getattr(mesh, "color_attributes", None)       # Blender 3.2+
-    if attributes is None or not len(attributes):
-        return None
+    if attributes is None:
+        return None, None
     attr = attributes.get(layer_name) if layer_name else None
-    if attr is None:
+    if attr is None and not layer_name and len(attributes):
         index = getattr(attributes, "render_color_index", 0)
         attr = attributes[index] if 0 <= index < len(attributes) else attributes[0]
-    count = n_verts if attr.domain == "POINT" else n_loops
-    if attr.domain not in ("POINT", "CORNER") or len(attr.data) != count:
-        return None
+    count = n_verts if attr is not None and attr.domain == "POINT" else n_loops
+    if attr is None or attr.domain not in ("POINT", "CORNER") or len(attr.data) != count:
+        return np.zeros((n_loops, 3), np.float32), layer_name
     rgba = _get(attr.data, "color", count, 4, np.float32)
     if attr.domain == "POINT":
         rgba = rgba[_corner_verts(mesh, n_loops)]
-    return rgba[:, :3]
+    return rgba[:, :3], None
 
 
 def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
@@ -208,8 +213,9 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
         corner = _corner_uvs(mesh, uv_layer, n_loops)
         uvs = None if corner is None else corner[tri_loops]
         missing = uv_layer if uv_layer and mesh.uv_layers.get(uv_layer) is None else None
+    missing_colors = None
     if color_layer is not None:
-        corner = _corner_colors(mesh, color_layer, n_loops, n_verts)
+        corner, missing_colors = _corner_colors(mesh, color_layer, n_loops, n_verts)
         colors = None if corner is None else corner[tri_loops]
     if domain == "CORNER":
         data = MeshData(co[_corner_verts(mesh, n_loops)], tri_loops, _corner_normals(mesh, n_loops), slots,
@@ -220,6 +226,7 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
         data = MeshData(co, tri_verts, normals, slots, uvs, colors)
     if uvs is not None:
         data.missing_uv_layer = missing
+    data.missing_color_layer = missing_colors
     return data
 
 
@@ -334,6 +341,7 @@ class MeshCollector:
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
+        self.missing_color_layers = {}  # object name -> the colour attribute its material reads and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
@@ -398,6 +406,8 @@ class MeshCollector:
             self.without_uvs.add(obj.name)
         if data.missing_uv_layer:
             self.missing_uv_layers[obj.name] = data.missing_uv_layer
+        if data.missing_color_layer is not None:
+            self.missing_color_layers[obj.name] = data.missing_color_layer
         if data.non_finite_corners:
             self.non_finite_corners[obj.name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
@@ -445,6 +455,10 @@ class MeshCollector:
         for name, layer in sorted(self.missing_uv_layers.items()):
             out.append(f"Object '{name}' has no UV map '{layer}', which its material's UV Map node names: "
                        "its render UV map is used instead (Cycles reads UV (0, 0) there)")
+        for name, layer in sorted(self.missing_color_layers.items()):
+            what = f"colour attribute '{layer}'" if layer else "colour attribute"
+            out.append(f"Object '{name}' has no {what}, which its material's Color Attribute node reads: "
+                       "black there, as in Cycles")
         if self.without_uvs:
             out.append("Objects with image textures but no UV map show each texture's corner at UV (0, 0): "
                        + _quoted(self.without_uvs))

@@ -359,6 +359,7 @@ NB_MODULE(_core, m) {
         .def("wait_for", &RenderJob::wait_for, "seconds"_a, nb::call_guard<nb::gil_scoped_release>(),
              "Block until another tile is finished, the job ends, or `seconds` pass; True once finished.")
         .def_prop_ro("finished", &RenderJob::finished)
+        .def_prop_ro("started", &RenderJob::started)
         .def_prop_ro("cancelled", &RenderJob::cancelled)
         .def_prop_ro("tiles_done", &RenderJob::tiles_done)
         .def_prop_ro("tiles_total", &RenderJob::tiles_total)

@@ -248,20 +248,25 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     return sum * (1.0f / float(count));
 }
 
-Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m,
-                                int depth, float weight, bool split, SampleState& st, TraceContext& ctx) const {
+Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m,
+                             int depth, float weight, bool split, bool through, SampleState& st,
+                             TraceContext& ctx) const {
     Ray r;
     r.d = dir;
     r.spawned = true;
-    if (m.roughness <= 0) {   // exact mirror
+    if (m.roughness <= 0) {   // exact mirror or refraction
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, dir);
         return trace(r, depth + 1, weight, split, RayType::Secondary, st, ctx, nullptr, Vec3());
     }
-    // Normalised Phong lobe around the mirror direction, exponent from the
-    // roughness by Walter et al.'s mapping e = 2 / alpha^2 - 2, alpha = roughness^2.
-    // Importance sampling the normalised lobe gives weight 1 per sample;
-    // directions below the surface count as black, so the estimate never
-    // exceeds the mirror's.
+    // Normalised Phong lobe around the mirror (or refracted) direction,
+    // exponent from the roughness by Walter et al.'s mapping
+    // e = 2 / alpha^2 - 2, alpha = roughness^2. Importance sampling the
+    // normalised lobe gives weight 1 per sample; directions on the wrong side
+    // of the surface (below it for a reflection, above it for a refraction)
+    // count as black, so the estimate never exceeds the exact ray's. (For a
+    // refraction this is the reflection's lobe around the refracted ray, not
+    // a microfacet BTDF: rough glass blurs what lies behind it as much as
+    // a rough mirror blurs what it reflects.)
     const float alpha = std::max(m.roughness * m.roughness, 1e-4f);
     const float e = std::max(2.0f / (alpha * alpha) - 2.0f, 0.0f);
     const int n = split ? 1 : std::max(1, s_.glossy_samples);
@@ -272,7 +277,8 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
     // (sampler.h, shared_slot), shuffled per pixel and depth. Split paths
     // (inside the first bounce's n rays) draw at random.
     const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, uint32_t(n));
-    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(Stream::GlossyLobe)) : 0;
+    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth),
+                                        uint32_t(through ? Stream::RoughRefraction : Stream::GlossyLobe)) : 0;
     const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
     const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
     Vec3 sum;
@@ -282,7 +288,7 @@ Vec3 Integrator::reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Ve
         const float ct = std::pow(1.0f - u1, 1.0f / (e + 1.0f)), s = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
         const float phi = float(2 * kPi) * u2;
         const Vec3 w = normalize(t * (s * std::cos(phi)) + b * (s * std::sin(phi)) + dir * ct);
-        if (dot(w, ng) <= 0) continue;
+        if (through ? dot(w, ng) >= 0 : dot(w, ng) <= 0) continue;
         r.d = w;
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
         // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
@@ -394,17 +400,12 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (refl > 0 && weight * refl > s_.min_weight) {
         Vec3 rdir = d - ns * (2.0f * dot(d, ns));
         if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));
-        const Vec3 reflected = reflect_glossy(sp, ng, normalize(rdir), m, depth, weight * refl, split, st, ctx);
+        const Vec3 reflected = glossy_lobe(sp, ng, normalize(rdir), m, depth, weight * refl, split, false, st, ctx);
         color += m.metallic > 0 ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
                                 : reflected * refl;
     }
-    if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
-        Ray tr;
-        tr.d = tdir;
-        tr.spawned = true;
-        tr.o = offset_origin(sp.p, sp.p_err, sp.ng, tdir);
-        color += trace(tr, depth + 1, weight * trans, split, RayType::Secondary, st, ctx, nullptr, Vec3()) * trans;
-    }
+    if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0)
+        color += glossy_lobe(sp, ng, tdir, m, depth, weight * trans, split, true, st, ctx) * trans;
     return color;
 }
 

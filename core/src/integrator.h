@@ -53,8 +53,11 @@ private:
     ShadowMode spread_mode() const { return s_.shadow == ShadowMode::Hard ? ShadowMode::Random : s_.shadow; }
     void light_point(ShadowMode mode, uint32_t li, int j, int count, int depth, bool split, SampleState& st,
                      float& u1, float& u2) const;
-    Vec3 reflect_glossy(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
-                        float weight, bool split, SampleState& st, TraceContext& ctx) const;
+    // The rays around the mirror direction (or, `through`, the refracted
+    // direction) `dir` that a rough surface scatters into: the exact ray at
+    // roughness 0, else a normalised Phong lobe of the roughness.
+    Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
+                     float weight, bool split, bool through, SampleState& st, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                   TraceContext& ctx) const;
     float transmission(Ray r, float dist, TraceContext& ctx) const;

@@ -6,7 +6,9 @@
 // point, which softens the cone's edge and lowers its peak when the light is
 // near, as Cycles' spot lights do); the sun is a direction cone.
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "enums.h"
@@ -43,6 +45,61 @@ struct LightSample {
     Vec3 intensity;   // radiance-like contribution before the BRDF and cosine
 };
 
+// A rect light near p (within twice its diagonal of its centre, falling off
+// physically) sampled uniformly in the solid angle it subtends at p, by Urena,
+// Fajardo and King's area-preserving map of the spherical rectangle (EGSR
+// 2013), in double: the estimate is radiance x cos x solid angle, bounded by
+// the light's radiance x 2 pi, where uniform points on the rectangle weigh
+// cos / distance^2 and explode as p nears it (a light 0.05 above a floor gave
+// pixels 200 times Cycles' brightest). Returns -1 where it does not apply (the
+// light is far, not a rectangle facing along its direction, or of zero size:
+// the caller samples its area), 0 where p gets no light, 1 with `s` filled in.
+inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
+    const double w = L.size[0], h = L.size[1];
+    const Vec3d x(L.axis_u), y(L.axis_v), o(p), c(L.position), dir(L.direction);
+    Vec3d z = cross(x, y);
+    if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-4 || std::abs(dot(dir, z)) < 0.9999)
+        return -1;
+    const Vec3d to_centre = c - o;
+    if (dot(to_centre, to_centre) > 4.0 * (w * w + h * h)) return -1;
+    if (!(dot(dir, to_centre) < 0)) return 0;     // behind the light (or in its plane): one-sided emitter
+    const Vec3d d = to_centre - x * (0.5 * w) - y * (0.5 * h);   // to the corner (-w/2, -h/2)
+    const double x0 = dot(d, x), y0 = dot(d, y), x1 = x0 + w, y1 = y0 + h;
+    double z0 = dot(d, z);
+    if (z0 > 0) {
+        z0 = -z0;
+        z = -z;
+    }
+    if (!(z0 < 0)) return 0;
+    // The inward normals of the four great circles through the rectangle's
+    // edges, the spherical rectangle's inner angles, and its area S.
+    const Vec3d n0 = Vec3d(0, z0, -y0) / std::sqrt(z0 * z0 + y0 * y0);
+    const Vec3d n1 = Vec3d(-z0, 0, x1) / std::sqrt(z0 * z0 + x1 * x1);
+    const Vec3d n2 = Vec3d(0, -z0, y1) / std::sqrt(z0 * z0 + y1 * y1);
+    const Vec3d n3 = Vec3d(z0, 0, -x0) / std::sqrt(z0 * z0 + x0 * x0);
+    const auto angle = [](const Vec3d& a, const Vec3d& b) { return std::acos(std::clamp(-dot(a, b), -1.0, 1.0)); };
+    const double g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
+    const double k = 2 * kPi - g2 - g3, S = g0 + g1 - k;
+    if (!(S > 0)) return 0;
+    // u1 picks the x that splits off that fraction of S, u2 a y along the
+    // chord at that x, uniform in solid angle.
+    const double au = double(u1) * S + k, b0 = n0.z, b1 = n2.z;
+    const double fu = (std::cos(au) * b0 - b1) / std::sin(au);
+    const double cu = std::clamp((fu > 0 ? 1.0 : -1.0) / std::sqrt(fu * fu + b0 * b0), -1.0, 1.0);
+    const double xu = std::clamp(-(cu * z0) / std::sqrt(std::max(1.0 - cu * cu, 1e-300)), x0, x1);
+    const double dd = std::sqrt(xu * xu + z0 * z0);
+    const double h0 = y0 / std::sqrt(dd * dd + y0 * y0), h1 = y1 / std::sqrt(dd * dd + y1 * y1);
+    const double hv = h0 + double(u2) * (h1 - h0), hv2 = hv * hv;
+    const double yv = std::clamp(hv2 < 1.0 - 1e-12 ? hv * dd / std::sqrt(1.0 - hv2) : y1, y0, y1);
+    const Vec3d q = x * xu + y * yv + z * z0;   // the point on the light, from p
+    const double dist = length(q);
+    if (!(dist > 0)) return 0;
+    s.dist = float(dist);
+    s.wi = Vec3(q / dist);
+    s.intensity = L.color * float(S / (w * h));   // radiance (colour / area) x solid angle
+    return 1;
+}
+
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
 inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
     Vec3 pos = L.position;
@@ -77,6 +134,8 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         break;
     }
     case LightKind::Rect:
+        if (!(u1 == 0.5f && u2 == 0.5f))   // (the centre: a hard shadow's point light)
+            if (const int by_angle = sample_rect_solid_angle(L, p, u1, u2, s); by_angle >= 0) return by_angle == 1;
         pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
         break;
     case LightKind::Disk: {

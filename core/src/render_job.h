@@ -39,6 +39,7 @@ public:
     // them as they are done, and the end at once, without a timer's delay.
     bool wait_for(double seconds);
     bool finished() const { return started_.load() && finished_workers_.load() == nthreads_.load(); }
+    bool started() const { return started_.load(); }
     // cancel() stopped the render before every tile was done (a cancel after
     // the end leaves a finished job, not a cancelled one).
     bool cancelled() const { return cancel_.load() && tiles_done_.load() < tiles_total(); }

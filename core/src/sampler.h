@@ -36,6 +36,7 @@ enum class Stream : uint32_t {
     LatticePoint = 0xADU,         // adaptive AA: hash key of a lattice point
     AreaLightGrid = 0xA11U,       // the seed's area light: shuffle of the n x n light grid
     GlossyLobe = 0x61055U,        // first glossy bounce: shuffle of the pixel's lobe strata
+    RoughRefraction = 0x7e4a5U,   // first rough refraction: the same, for the refracted lobe
 };
 inline uint32_t stream_seed(uint32_t seed, Stream s) { return seed ^ uint32_t(s); }
 // The sample index under which values shared by all of a pixel's samples are

@@ -97,6 +97,9 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
     assert "World 'Hidden': Ray Visibility > Camera off is not supported" in said
     assert re.search(r"Layers: (Coat Weight|Clearcoat) 0\.5, (Sheen Weight|Sheen) 1 not modelled \(rendered as 0\)",
                      said), said
+    # bump, normal maps and displacement were ignored without a word
+    assert ("Bumpy: Normal (ShaderNodeBump) not read: the surface is shaded with the mesh's own normals" in said), said
+    assert "Displaced: Displacement (ShaderNodeDisplacement) not read" in said
     assert np.isfinite(out.uvs).all()
     # TwoMaps (the grid at the origin, faces alternating between two materials):
     # the material naming 'UVMap' gets [0, 1], the one naming 'Second' [0.25, 0.75]

@@ -60,6 +60,16 @@ def test_headless_command_line_render_writes_the_image(user_env, tmp_path):
     assert lum.std() > 0.05 and np.isfinite(lum).all()
 
 
+def test_blenders_thread_limit_is_the_renders(user_env, tmp_path):
+    # `blender -t 1` rendered on every core: Gridwalk's Threads (0, all) did not read Blender's count
+    _blend(tmp_path, 'settings={"aa": "JITTERED", "aa_samples": 2}')
+    for limit, said in (("1", "on 1 thread,"), ("2", "on 2 threads,")):
+        proc = run(["blender", "-b", "scene.blend", "-E", "GRIDWALK", "-t", limit, "-o", "//out_", "-f", "1"],
+                   _in(tmp_path, user_env), timeout=180, cwd=tmp_path)
+        finished = [line for line in proc.stdout.splitlines() if line.startswith("Gridwalk: finished")]
+        assert len(finished) == 1 and said in finished[0], proc.stdout[-2000:]
+
+
 def test_ctrl_c_cancels_the_render_promptly(user_env, tmp_path):
     _blend(tmp_path, 'scene={"resolution": [1920, 1080]}',
            'settings={"aa": "JITTERED", "aa_samples": 8, "threads": 2}')

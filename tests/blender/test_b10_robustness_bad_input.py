@@ -82,7 +82,7 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "Camera 'Camera': aperture blades, rotation and ratio are not supported (the aperture "
                      "is round)",
                      "Render passes not written (only Combined, Depth, Normal and the denoising data are): "
-                     "Mist, Object Index"):
+                     "Mist, Object Index, Shader AOV 'mask', Light Group 'key_group'"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
     if results["blender"][0] >= 4:             # (light linking came with 4.0)

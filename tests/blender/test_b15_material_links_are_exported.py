@@ -41,9 +41,21 @@ def test_without_a_uv_map_node_the_active_render_layer_is_read(links):
 
 
 def test_a_color_attribute_node_reads_its_named_layer(links):
-    colours = links.colors[links.triangle_materials == links.painted]
+    centres = links.vertices[links.triangles].mean(axis=1)[:, 0]
+    colours = links.colors[(links.triangle_materials == links.painted) & (np.abs(centres - 1.0) < 0.6)]   # "Painted"
     assert colours.size > 0
     np.testing.assert_allclose(colours.reshape(-1, 3), np.tile([0.2, 0.6, 0.9], (colours.size // 3, 1)), rtol=1e-5)
+
+
+def test_a_color_attribute_the_mesh_lacks_reads_black_with_a_warning(links):
+    # It read the render layer (red) or white, where Cycles reads black; nothing was said.
+    centres = links.vertices[links.triangles].mean(axis=1)[:, 0]
+    for x in (5.0, 7.0):                      # Unpainted (no attribute), OtherPaint (only "Col")
+        mine = (np.abs(centres - x) < 0.6) & (links.triangle_materials == links.painted)
+        assert mine.sum() == 2 and np.all(links.colors[mine] == 0.0)
+    for name in ("Unpainted", "OtherPaint"):
+        assert (f"Object '{name}' has no colour attribute 'Paint', which its material's Color Attribute node "
+                "reads: black there, as in Cycles") in links.warnings
 
 
 def test_the_emission_shader_is_colour_times_strength(links):

@@ -1,6 +1,7 @@
 """Rendering: the asynchronous RenderJob and the blocking render()."""
 from __future__ import annotations
 
+import threading
 import time
 from dataclasses import dataclass
 
@@ -74,16 +75,20 @@ class RenderJob:
         self._job.cancel()
 
     def wait(self) -> np.ndarray:
-        """Block until the job ends; returns the image. The wait comes back to
-        Python every 0.1 s, so that Ctrl-C (KeyboardInterrupt) and other
-        signals land while it renders; an exception raised there cancels the
-        job before it propagates."""
-        try:
-            while not self._job.wait_for(0.1):
-                pass
-        except BaseException:
-            self._job.cancel()
-            raise
+        """Block until the job ends; returns the image. On the main thread the
+        wait comes back to Python every 0.1 s, so that Ctrl-C
+        (KeyboardInterrupt) and other signals land while it renders; an
+        exception raised there cancels the job before it propagates. (Python
+        runs signal handlers on the main thread only; another thread waits in
+        native code throughout, so that a daemon thread still waiting when the
+        interpreter exits is never woken into its shutdown.)"""
+        if self._job.started and threading.current_thread() is threading.main_thread():
+            try:
+                while not self._job.wait_for(0.1):
+                    pass
+            except BaseException:
+                self._job.cancel()
+                raise
         self._job.wait()          # (joins the workers; raises what a worker raised)
         return self.image
 

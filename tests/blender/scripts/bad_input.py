@@ -223,6 +223,9 @@ def case_ignored_settings(bpy, s):
     hair.type, hair.count = "HAIR", 20
     view_layer = bpy.context.view_layer
     view_layer.use_pass_mist = view_layer.use_pass_object_index = True   # passes GRIDWALK does not write
+    view_layer.aovs.add().name = "mask"                                   # a Shader AOV: a pass of its own
+    if hasattr(view_layer, "lightgroups"):                                # (light groups: Blender 3.2+)
+        view_layer.lightgroups.add(name="key_group")
 
 
 def case_nan_only(bpy, s):

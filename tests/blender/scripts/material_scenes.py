@@ -530,6 +530,13 @@ def texture_links_scene(resolution=(32, 24)):
     node.layer_name = "Paint"
     mat.node_tree.links.new(node.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
     painted.data.materials.append(mat)
+    # The same material on meshes without "Paint": one with no colour attribute, one with another
+    # (Cycles reads a missing attribute as black)
+    _plane("Unpainted", 1.0, location=(5, 0, 0), rotation=(math.pi / 2, 0, 0)).data.materials.append(mat)
+    other = _plane("OtherPaint", 1.0, location=(7, 0, 0), rotation=(math.pi / 2, 0, 0))
+    attr = other.data.color_attributes.new("Col", "FLOAT_COLOR", "CORNER")
+    attr.data.foreach_set("color", np.tile(np.array((1.0, 0.0, 0.0, 1.0), np.float32), len(attr.data)))
+    other.data.materials.append(mat)
 
     lamp = _plane("Lamp", 1.0, location=(3, 0, 0), rotation=(math.pi / 2, 0, 0))
     mat = principled_material("Lamp", (0.5, 0.5, 0.5))
@@ -576,6 +583,18 @@ def unread_settings_scene(override=False):
     for names, value in ((("Coat Weight", "Clearcoat"), 0.5), (("Sheen Weight", "Sheen"), 1.0)):
         bsdf.inputs[next(n for n in names if n in bsdf.inputs)].default_value = value
     _plane("Layered", 1.0, (4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(layers)
+    bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Noise -> Bump -> Normal
+    nodes, node_links = bumpy.node_tree.nodes, bumpy.node_tree.links
+    bump = nodes.new("ShaderNodeBump")
+    node_links.new(nodes.new("ShaderNodeTexNoise").outputs[0], bump.inputs["Height"])
+    node_links.new(bump.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
+    _plane("Bumped", 1.0, (6.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(bumpy)
+    displaced = shader_material("Displaced", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0))])
+    nodes, node_links = displaced.node_tree.nodes, displaced.node_tree.links     # Noise -> Displacement -> output
+    shift = nodes.new("ShaderNodeDisplacement")
+    node_links.new(nodes.new("ShaderNodeTexNoise").outputs[0], shift.inputs["Height"])
+    node_links.new(shift.outputs[0], displaced.node_tree.get_output_node("CYCLES").inputs["Displacement"])
+    _plane("DisplacedPlane", 1.0, (8.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(displaced)
     world = bpy.data.worlds.new("Hidden")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)

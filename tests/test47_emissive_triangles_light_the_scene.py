@@ -8,24 +8,10 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from polygon_irradiance import polygon_irradiance
 
 N = 24
 SETTINGS = dict(aa="jittered", aa_samples=4, shadow="area", shadow_samples=16, threads=2)
-
-
-def _polygon_irradiance(points, corners):
-    """Irradiance / radiance at floor points (normal +z) from a polygon of unit
-    radiance seen whole (Lambert: E = 1/2 sum over edges of theta_e (N . n_e))."""
-    total = np.zeros(len(points))
-    for a, b in zip(corners, np.roll(corners, -1, axis=0)):
-        ra, rb = a[None, :] - points, b[None, :] - points
-        ra /= np.linalg.norm(ra, axis=1)[:, None]
-        rb /= np.linalg.norm(rb, axis=1)[:, None]
-        theta = np.arccos(np.clip((ra * rb).sum(axis=1), -1, 1))
-        n = np.cross(ra, rb)
-        n /= np.linalg.norm(n, axis=1)[:, None]
-        total += theta * n[:, 2]
-    return np.abs(total) / 2
 
 
 def _scene(emitter_material, textures=None, uvs=None):
@@ -52,7 +38,7 @@ def test_an_emissive_square_lights_the_floor_as_its_irradiance_says():
     rgba = gw.render(_scene(gw.Material(color=(1, 1, 1), kd=0, emission_color=(2.0, 1.0, 0.5), emits_light=True)),
                      gw.RenderSettings(**SETTINGS))
     lamp = np.array([[-0.5, -0.5, 1], [0.5, -0.5, 1], [0.5, 0.5, 1], [-0.5, 0.5, 1]], float)
-    expected = _polygon_irradiance(_floor_points(), lamp)[:, None] / np.pi * np.array([2.0, 1.0, 0.5])
+    expected = polygon_irradiance(_floor_points(), lamp)[:, None] / np.pi * np.array([2.0, 1.0, 0.5])
     got = rgba[..., :3].reshape(-1, 3)
     assert expected[:, 0].max() > 3 * expected[:, 0].min()            # it falls off across the view
     assert np.abs(got / expected - 1).mean() < 0.01
@@ -75,8 +61,8 @@ def test_a_textured_emitter_lights_with_the_texel_under_each_sampled_point():
     rgba = gw.render(_scene(emitter, textures=[gw.Texture(gw.Image(texels), interpolation="closest")], uvs=uvs),
                      gw.RenderSettings(**SETTINGS))
     points = _floor_points()
-    red = _polygon_irradiance(points, np.array([[-0.5, -0.5, 1], [0, -0.5, 1], [0, 0.5, 1], [-0.5, 0.5, 1]]))
-    blue = _polygon_irradiance(points, np.array([[0, -0.5, 1], [0.5, -0.5, 1], [0.5, 0.5, 1], [0, 0.5, 1]]))
+    red = polygon_irradiance(points, np.array([[-0.5, -0.5, 1], [0, -0.5, 1], [0, 0.5, 1], [-0.5, 0.5, 1]]))
+    blue = polygon_irradiance(points, np.array([[0, -0.5, 1], [0.5, -0.5, 1], [0.5, 0.5, 1], [0, 0.5, 1]]))
     got = rgba[..., :3].reshape(-1, 3)
     np.testing.assert_allclose(got[:, 0].mean(), 3 * red.mean() / np.pi, rtol=0.02)
     np.testing.assert_allclose(got[:, 2].mean(), 3 * blue.mean() / np.pi, rtol=0.02)

@@ -10,24 +10,10 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from polygon_irradiance import polygon_irradiance
 
 N = 32
 SIZE = 3.0          # the light: SIZE x SIZE, centred over the origin, facing down
-
-
-def _polygon_irradiance(points, corners):
-    """Irradiance at floor points (normal +z) from a polygon of unit radiance
-    (Lambert: E = 1/2 sum over edges of theta_e (N . n_e))."""
-    total = np.zeros(len(points))
-    for a, b in zip(corners, np.roll(corners, -1, axis=0)):
-        ra, rb = a[None, :] - points, b[None, :] - points
-        ra /= np.linalg.norm(ra, axis=1)[:, None]
-        rb /= np.linalg.norm(rb, axis=1)[:, None]
-        theta = np.arccos(np.clip((ra * rb).sum(axis=1), -1, 1))
-        n = np.cross(ra, rb)
-        n /= np.linalg.norm(n, axis=1)[:, None]
-        total += theta * n[:, 2]
-    return np.abs(total) / 2
 
 
 def _render(height, settings):
@@ -52,7 +38,7 @@ def _expected(height, sub=16):
     points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
     h = SIZE / 2
     corners = np.array([[-h, -h, height], [h, -h, height], [h, h, height], [-h, h, height]], float)
-    e = _polygon_irradiance(points, corners).reshape(N, sub, N, sub)
+    e = polygon_irradiance(points, corners).reshape(N, sub, N, sub)
     return e.mean(axis=(1, 3)).reshape(-1)
 
 

@@ -97,6 +97,18 @@ def test_view_maps_to_camera_with_angle_between_outer_pixel_centres(tmp_path):
     assert top_row == pytest.approx(20.0)
 
 
+def test_a_new_image_size_keeps_the_angle_between_its_outer_pixel_centres(tmp_path):
+    # --width / --height kept the file's field of view: rendered at 512, a 'resolution 64'
+    # file framed differently from the same file at 'resolution 512'
+    resized = load_scene(write(tmp_path, VIEW + TRIANGLE), width=200, height=150)["camera"]
+    native = load_nff(write(tmp_path, VIEW.replace("resolution 64 48", "resolution 200 150") + TRIANGLE))["camera"]
+    assert "resolution 64 48" in VIEW and (resized.width, resized.height) == (200, 150)
+    assert resized.fov == pytest.approx(native.fov, rel=1e-6) and resized.fov != load_nff(
+        write(tmp_path, VIEW + TRIANGLE))["camera"].fov
+    top_row = math.degrees(math.atan(math.tan(math.radians(resized.fov / 2)) * 149 / 150))
+    assert top_row == pytest.approx(20.0)
+
+
 def test_view_without_hither_and_resolution_uses_spd_defaults(tmp_path):
     text = "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\n" + TRIANGLE
     cam = load_nff(write(tmp_path, text))["camera"]

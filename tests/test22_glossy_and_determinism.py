@@ -44,9 +44,9 @@ def test_glossy_blurs_reflections():
     assert grad(glossy) < grad(sharp)
 
 
-def glass_before_stripes(roughness, res=48):
-    """An analytic glass sphere (IOR 1.5, clear: kd 0) in front of a wall of 16 vertical stripes,
-    alternately emissive (1) and black; the camera looks through the sphere at the wall."""
+def glass_before_stripes(roughness, res=48, ior=1.5, sphere=True):
+    """An analytic glass sphere (clear: kd 0; sphere False: none) in front of a wall of 16 vertical
+    stripes, alternately emissive (1) and black; the camera looks through the sphere at the wall."""
     verts, tris, mats = [], [], []
     for k in range(16):
         x0, x1 = -4 + 0.5 * k, -3.5 + 0.5 * k
@@ -56,11 +56,19 @@ def glass_before_stripes(roughness, res=48):
         mats += [k % 2, k % 2]
     materials = [gw.Material(color=(0, 0, 0), kd=0.0, ks=0.0),
                  gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, emission=1.0),
-                 gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=1.5, roughness=roughness)]
+                 gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=ior, roughness=roughness)]
     cam = gw.Camera(eye=(0, -6, 0), target=(0, 0, 0), fov=20, width=res, height=res)
+    ball = dict(sphere_centers=[[0, 0, 0]], sphere_radii=[1.0], sphere_materials=[2]) if sphere else {}
     return gw.Scene(vertices=np.array(verts, np.float32), triangles=np.array(tris, np.int32),
-                    triangle_materials=np.array(mats, np.int32), sphere_centers=[[0, 0, 0]], sphere_radii=[1.0],
-                    sphere_materials=[2], materials=materials, camera=cam)
+                    triangle_materials=np.array(mats, np.int32), materials=materials, camera=cam, **ball)
+
+
+def test_glass_of_ior_1_is_invisible():
+    # Schlick's grazing term drew a rim round it (Cycles shows nothing): F is 0 at IOR 1
+    settings = gw.RenderSettings(aa="jittered", aa_samples=3)
+    through = gw.render(glass_before_stripes(0.0, ior=1.0), settings)
+    without = gw.render(glass_before_stripes(0.0, sphere=False), settings)
+    np.testing.assert_allclose(through, without, atol=1e-5)
 
 
 def test_rough_glass_blurs_what_lies_behind_it():

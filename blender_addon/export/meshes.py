@@ -400,7 +400,9 @@ class MeshCollector:
         if not linear * data.extent + np.abs(matrix[:3, 3]).max() <= MAX_COORDINATE:
             self.invalid[obj.name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
             return
-        if data.degenerate:
+        if data.degenerate and obj.original.type == "MESH":
+            # (a NURBS surface's, text's or metaball's tessellation has zero-area triangles at
+            # its poles and seams by design: nothing the user can or should fix)
             self.degenerate[obj.name] = (data.degenerate, len(data.triangles))
         if layers[0] is not None and data.uvs is None:
             self.without_uvs.add(obj.name)

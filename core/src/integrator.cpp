@@ -392,7 +392,9 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             tdir = normalize(d * eta + ns * (eta * cos_i - cos_t));
             const float r0 = ((n1 - n2) / (n1 + n2)) * ((n1 - n2) / (n1 + n2));
             const float c = 1.0f - (n1 <= n2 ? cos_i : cos_t);   // Schlick, angle on the rarer side
-            const float F = r0 + (1.0f - r0) * c * c * c * c * c;
+            // (IOR 1 is no interface at all: nothing reflects, where Schlick's
+            // grazing term would still draw a rim round an invisible object)
+            const float F = n1 == n2 ? 0.0f : r0 + (1.0f - r0) * c * c * c * c * c;
             refl += m.transmittance * F;
             trans = m.transmittance * (1.0f - F);
         }

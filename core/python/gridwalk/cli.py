@@ -189,7 +189,8 @@ def cmd_demo(args) -> int:
     return 0
 
 
-def load(path) -> dict:
+def load(path, width: int | None = None, height: int | None = None) -> dict:
+    """io.load_scene's keywords, the image size replaced where given."""
     path = Path(path)
     if path.is_dir():
         raise CliError(f"{path}: is a folder, not a scene file")
@@ -197,17 +198,14 @@ def load(path) -> dict:
         raise CliError(f"{path}: no such file")
     if not path.is_file():
         raise CliError(f"{path}: not a regular file (a device or a pipe); give a scene file")
-    return io.load_scene(path)
+    return io.load_scene(path, width, height)
 
 
 def cmd_render(args) -> int:
     out = check_output(args.output)
     npy = check_output(args.npy, (".npy",)) if args.npy else None
     s = settings_from_args(args)
-    kwargs = load(args.scene)
-    cam = kwargs["camera"]
-    kwargs["camera"] = dataclasses.replace(cam, width=cam.width if args.width is None else args.width,
-                                           height=cam.height if args.height is None else args.height)
+    kwargs = load(args.scene, args.width, args.height)
     check_memory(kwargs, s)
     job = RenderJob(Scene(**kwargs), s)
     image = run_job(job, args.quiet)

@@ -10,10 +10,11 @@ cylinder_apex_radius, cylinder_materials (float32 / int32 arrays, empty when
 a file has none of a kind; normals may be None), materials, lights, camera,
 background. Malformed files raise SceneFileError (a ValueError).
 """
+import dataclasses
 from pathlib import Path
 
 from .common import SceneFileError
-from .nff import load_nff, read_nff
+from .nff import load_nff, nff_resized, read_nff
 from .ply import default_view, load_ply, load_ply_mesh
 
 __all__ = ["SceneFileError", "load_nff", "read_nff", "load_ply", "load_ply_mesh", "load_scene",
@@ -22,9 +23,17 @@ __all__ = ["SceneFileError", "load_nff", "read_nff", "load_ply", "load_ply_mesh"
 _LOADERS = {".nff": load_nff, ".ply": load_ply}
 
 
-def load_scene(path) -> dict:
-    """Load an .nff or .ply file (chosen by extension, case-insensitive)."""
+def load_scene(path, width: int | None = None, height: int | None = None) -> dict:
+    """Load an .nff or .ply file (chosen by extension, case-insensitive);
+    width / height, where given, replace the image size of its camera (an
+    NFF view's `angle` spans the centres of the outer pixel rows of the image
+    rendered, so its field of view follows the new height: nff_resized)."""
     suffix = Path(path).suffix.lower()
     if suffix not in _LOADERS:
         raise SceneFileError(f"{path}: unknown scene file type {suffix!r}; expected .nff or .ply")
-    return _LOADERS[suffix](path)
+    kwargs = _LOADERS[suffix](path)
+    if width is not None or height is not None:
+        cam = kwargs["camera"]
+        size = dict(width=cam.width if width is None else int(width), height=cam.height if height is None else int(height))
+        kwargs["camera"] = nff_resized(cam, **size) if suffix == ".nff" else dataclasses.replace(cam, **size)
+    return kwargs

@@ -85,6 +85,17 @@ def nff_camera(eye, target, up, angle, width=512, height=512, hither=0.0):
                   width=int(width), height=int(height), hither=float(hither))
 
 
+def nff_resized(camera, width: int, height: int):
+    """An NFF camera (nff_camera's) for an image of width x height: the view's
+    angle, recovered from the camera's field of view and height, spans the new
+    image's outer pixel centres."""
+    import dataclasses
+    old = camera.height / (camera.height - 1) if camera.height > 1 else 1.0
+    angle = math.degrees(2.0 * math.atan(math.tan(math.radians(camera.fov) / 2.0) / old))
+    fresh = nff_camera(camera.eye, camera.target, camera.up, angle, width, height, camera.hither)
+    return dataclasses.replace(camera, width=fresh.width, height=fresh.height, fov=fresh.fov)
+
+
 @dataclass
 class NffPolygons:
     """The file's p and pp polygons before triangulation, for importers that

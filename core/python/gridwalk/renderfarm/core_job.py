@@ -99,15 +99,14 @@ def _scene_digest(kwargs: dict) -> str:
 def load_scene(scene, width=None, height=None) -> tuple[dict, str]:
     """(Scene keywords, a name for messages) from a .nff / .ply path or a dict
     of keywords, with the camera's image size replaced where given."""
-    if isinstance(scene, dict):
-        kwargs, name = dict(scene), "scene"
-    else:
-        kwargs, name = io.load_scene(scene), Path(scene).name
+    if not isinstance(scene, dict):
+        return io.load_scene(scene, width, height), Path(scene).name
+    kwargs = dict(scene)
     cam = kwargs.get("camera")
     if cam is not None and (width is not None or height is not None):
         kwargs["camera"] = dataclasses.replace(cam, width=cam.width if width is None else width,
                                                height=cam.height if height is None else height)
-    return kwargs, name
+    return kwargs, "scene"
 
 
 class CoreJob:

@@ -36,6 +36,9 @@ SCENES = (   # (scene, label, options for both engines)
                                                       "transparent=false"]),
     ("cutout", "Transparent BSDF cut-out (left); image alpha (right)",
      ['scene={"resolution": [128, 64]}', "transparent=false"]),
+    ("rough_glass", "Glass, Roughness 0 (left) and 0.4 (right), before stripes", ["transparent=false"]),
+    ("particle_hair", "Particle hair: 40 tilted strands with 3 children each",
+     ['scene={"random": 0.6, "children": true, "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

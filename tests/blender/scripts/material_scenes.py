@@ -361,6 +361,30 @@ def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     return {}
 
 
+def rough_glass_scene(resolution=(128, 96), roughness=0.4):
+    """Two glass spheres (Principled BSDF, Transmission 1, IOR 1.45; left
+    Roughness 0, right `roughness`) in front of a wall of 16 vertical stripes,
+    white and nearly black, lit by a sun; the camera looks through the spheres
+    at the wall."""
+    reset(resolution=tuple(resolution))
+    white = principled_material("StripeWhite", (0.8, 0.8, 0.8), Roughness=1.0)
+    black = principled_material("StripeBlack", (0.02, 0.02, 0.02), Roughness=1.0)
+    for k in range(16):
+        stripe = _plane(f"Stripe{k}", 1.0, location=(-3.75 + 0.5 * k, 3.0, 0.0), rotation=(math.pi / 2, 0, 0))
+        stripe.scale = (0.5, 8.0, 1.0)
+        stripe.data.materials.append(white if k % 2 else black)
+    for x, rough in ((-1.1, 0.0), (1.1, roughness)):
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(x, 0.0, 0.0), segments=64, ring_count=32)
+        sphere = bpy.context.object
+        for polygon in sphere.data.polygons:
+            polygon.use_smooth = True
+        sphere.data.materials.append(principled_material(f"Glass{rough:g}", (1.0, 1.0, 1.0), Transmission=1.0,
+                                                         Roughness=rough, IOR=1.45))
+    add_light("Sun", "SUN", (0, -5, 5), (math.pi / 4, 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
 def cutout_scene(resolution=(64, 32)):
     """Two emissive planes side by side under an orthographic camera, textured
     with one 8 x 8 8-bit image whose left half is opaque and right half a

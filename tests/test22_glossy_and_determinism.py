@@ -63,12 +63,22 @@ def glass_before_stripes(roughness, res=48, ior=1.5, sphere=True):
                     triangle_materials=np.array(mats, np.int32), materials=materials, camera=cam, **ball)
 
 
-def test_glass_of_ior_1_is_invisible():
-    # Schlick's grazing term drew a rim round it (Cycles shows nothing): F is 0 at IOR 1
-    settings = gw.RenderSettings(aa="jittered", aa_samples=3)
-    through = gw.render(glass_before_stripes(0.0, ior=1.0), settings)
-    without = gw.render(glass_before_stripes(0.0, sphere=False), settings)
+@pytest.mark.parametrize("roughness", [0.0, 0.3])
+def test_glass_of_ior_1_is_invisible_and_casts_no_shadow(roughness):
+    # Schlick's grazing term drew a rim round it (Cycles shows nothing) and a dark ring in its
+    # shadow; rough, it blurred what lies behind though it bends nothing. F is 0 at IOR 1.
+    settings = gw.RenderSettings(aa="jittered", aa_samples=3, glossy_samples=2)
+    through = gw.render(glass_before_stripes(roughness, ior=1.0), settings)
+    without = gw.render(glass_before_stripes(roughness, sphere=False), settings)
     np.testing.assert_allclose(through, without, atol=1e-5)
+    # its shadow on a lit floor: a point light above it, the camera below looking at the floor
+    floor = np.array([[-9, -9, 0], [9, -9, 0], [9, 9, 0], [-9, 9, 0]], np.float32)
+    cam = gw.Camera(eye=(0, 0, 1.5), target=(0, 0, 0), up=(0, 1, 0), fov=90, width=32, height=32)
+    glass = gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=1.0, roughness=roughness)
+    lit = lambda ball: gw.render(gw.Scene(floor, FLOOR_F, materials=[gw.Material(), glass], camera=cam,
+                                          lights=[gw.Light(position=(0, 0, 8), color=(1, 1, 1))], **ball), settings)
+    np.testing.assert_allclose(lit(dict(sphere_centers=[[0, 0, 4]], sphere_radii=[1.0], sphere_materials=[1])),
+                               lit({}), atol=1e-5)
 
 
 def test_rough_glass_blurs_what_lies_behind_it():

@@ -385,7 +385,7 @@ def convert_material(mat, textures=None):
     for field, value in links.fields.items():
         setattr(result, field, value)
     problems = []
-    shaping = [f"{name} ({_source(socket)[0].bl_idname})" for name in ("Normal", "Coat Normal")
+    shaping = [f"{name} ({_source(socket)[0].bl_idname})" for name in ("Normal", "Coat Normal", "Clearcoat Normal")
                if node is not None and (socket := _socket(node, name)) is not None and _source(socket)[0] is not None]
     output = _output_node(tree)
     displacement = output.inputs.get("Displacement") if output is not None else None

@@ -45,9 +45,13 @@ def strand_range(psys, render: bool) -> range:
     return range(start, parents + children)
 
 
-def keys_per_strand(settings, render: bool) -> int:
+def keys_per_strand(psys, render: bool) -> int:
+    """Keys a strand's path has at most: 2^steps + 1, and a Spiral kink's
+    extra steps, which Blender gives children only."""
+    settings = psys.settings
     steps = settings.render_step if render else settings.display_step
-    return (1 << steps) + 1 + (settings.kink_extra_steps if settings.kink == "SPIRAL" else 0)
+    children = strand_range(psys, render).start > 0
+    return (1 << steps) + 1 + (max(settings.kink_extra_steps, 1) if children and settings.kink == "SPIRAL" else 0)
 
 
 def shape_radius(shape: float, root: float, tip: float, time: np.ndarray) -> np.ndarray:
@@ -65,10 +69,19 @@ def shape_radius(shape: float, root: float, tip: float, time: np.ndarray) -> np.
 
 
 def strand_points(obj, psys, strands: range, keys: int) -> np.ndarray:
-    """(strands * keys, 3) float64 world-space points of the strands' paths."""
+    """(strands * keys, 3) float64 world-space points of the strands' paths.
+    co_hair gives (0, 0, 0) for a key beyond a path's end (a strand with
+    fewer keys: Blender's virtual parents have none): from the first such key
+    on, each strand repeats its last key, so it adds no segment and no length."""
     co = psys.co_hair
     values = itertools.chain.from_iterable(co(obj, particle_no=i, step=k) for i in strands for k in range(keys))
-    return np.fromiter(values, np.float64, count=3 * keys * len(strands)).reshape(-1, 3)
+    points = np.fromiter(values, np.float64, count=3 * keys * len(strands)).reshape(-1, keys, 3)
+    beyond = np.cumsum(~points.any(axis=2)[:, 1:], axis=1) > 0          # keys 1.. at or after the first zero one
+    if beyond.any():
+        last = np.where(beyond.any(axis=1), np.argmax(beyond, axis=1), keys - 1)   # the last key before it
+        held = np.take_along_axis(points, last[:, None, None].repeat(3, axis=2), axis=1)
+        points[:, 1:] = np.where(beyond[:, :, None], held, points[:, 1:])
+    return points.reshape(-1, 3)
 
 
 def strand_radii(settings, points: np.ndarray, keys: int) -> np.ndarray:
@@ -106,7 +119,7 @@ def particle_cone_sets(inst, lookup, max_coordinate, render: bool) -> list[tuple
     out = []
     for psys in systems:
         settings = psys.settings
-        strands, keys = strand_range(psys, render), keys_per_strand(settings, render)
+        strands, keys = strand_range(psys, render), keys_per_strand(psys, render)
         if not len(strands):
             continue
         points = strand_points(obj, psys, strands, keys)
@@ -125,5 +138,5 @@ def particle_cone_sets(inst, lookup, max_coordinate, render: bool) -> list[tuple
 
 def particle_segment_count(obj, render: bool) -> int:
     """The cones an object's hair particle systems give at most (for the memory estimate)."""
-    return sum(len(strand_range(p, render)) * (keys_per_strand(p.settings, render) - 1)
+    return sum(len(strand_range(p, render)) * (keys_per_strand(p, render) - 1)
                for p in hair_systems(obj, render))

@@ -49,9 +49,9 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
         if (!m.lets_light_through()) return 0;
         const float alpha = scene_.alpha_at(m, hit);
         float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
-        if (passed > 0) {   // less what the surface reflects (Schlick's Fresnel at the ray's angle)
+        if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects (Schlick's Fresnel at the ray's
             const float r0 = ((m.ior - 1) / (m.ior + 1)) * ((m.ior - 1) / (m.ior + 1));
-            const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);
+            const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);   // angle; IOR 1: none)
             passed *= 1.0f - (r0 + (1.0f - r0) * c * c * c * c * c);
         }
         through *= (1 - alpha) + alpha * passed;
@@ -406,8 +406,12 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         color += m.metallic > 0 ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
                                 : reflected * refl;
     }
-    if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0)
-        color += glossy_lobe(sp, ng, tdir, m, depth, weight * trans, split, true, st, ctx) * trans;
+    if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
+        // (IOR 1 bends nothing, however rough the surface: the ray goes straight on)
+        Material lobe = m;
+        if (m.ior == 1.0f) lobe.roughness = 0;
+        color += glossy_lobe(sp, ng, tdir, lobe, depth, weight * trans, split, true, st, ctx) * trans;
+    }
     return color;
 }
 

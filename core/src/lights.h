@@ -58,7 +58,7 @@ inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, floa
     const double w = L.size[0], h = L.size[1];
     const Vec3d x(L.axis_u), y(L.axis_v), o(p), c(L.position), dir(L.direction);
     Vec3d z = cross(x, y);
-    if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-4 || std::abs(dot(dir, z)) < 0.9999)
+    if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-6 || std::abs(dot(dir, z)) < 1 - 1e-6)
         return -1;
     const Vec3d to_centre = c - o;
     if (dot(to_centre, to_centre) > 4.0 * (w * w + h * h)) return -1;
@@ -91,7 +91,7 @@ inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, floa
     const double h0 = y0 / std::sqrt(dd * dd + y0 * y0), h1 = y1 / std::sqrt(dd * dd + y1 * y1);
     const double hv = h0 + double(u2) * (h1 - h0), hv2 = hv * hv;
     const double yv = std::clamp(hv2 < 1.0 - 1e-12 ? hv * dd / std::sqrt(1.0 - hv2) : y1, y0, y1);
-    const Vec3d q = x * xu + y * yv + z * z0;   // the point on the light, from p
+    const Vec3d q = d + x * (xu - x0) + y * (yv - y0);   // the point on the light, from p (in its plane)
     const double dist = length(q);
     if (!(dist > 0)) return 0;
     s.dist = float(dist);

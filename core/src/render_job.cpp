@@ -47,10 +47,11 @@ RenderJob::~RenderJob() {
 }
 
 void RenderJob::start() {
-    if (started_.exchange(true)) throw std::runtime_error("render job already started");
+    if (started_.load()) throw std::runtime_error("render job already started");
     t_start_ = now_seconds();
     const int wanted = std::min(resolve_threads(s_.threads), std::max(1, int(tiles_.size())));
-    nthreads_.store(wanted);
+    nthreads_.store(wanted);   // (before started_: finished() must not read started with no workers counted)
+    started_.store(true);
     threads_.reserve(size_t(wanted));
     try {
         for (int i = 0; i < wanted; ++i) {

@@ -92,6 +92,19 @@ def test_hair_curves_become_one_cone_frustum_per_segment(export):
     assert not [w for w in out.warnings if "air" in w]
 
 
+@pytest.mark.parametrize("case", [{"spiral": True}, {"children": True, "virtual_parents": 1.0}])
+def test_particle_hair_keys_beyond_a_paths_end_draw_nothing(export, case):
+    # co_hair gives (0, 0, 0) past a path's end: a Spiral kink's extra keys asked of parent
+    # strands, and the virtual parents' empty paths, drew cones to the world origin
+    out = export("particle_hair", **case)
+    base, apex = out.cylinder_base.astype(np.float64), out.cylinder_apex.astype(np.float64)
+    assert len(base) > 0
+    assert np.linalg.norm(apex - base, axis=1).max() < 1.0       # a strand's segments, not a 2 m jump
+    assert (np.minimum(base[:, 2], apex[:, 2]) > out.expected["z"] - 1e-4).all()
+    # (the strands start on the plane: nothing ends at the origin, 1.5 above it)
+    assert not (np.abs(base).max(axis=1) < 1e-6).any() and not (np.abs(apex).max(axis=1) < 1e-6).any()
+
+
 def test_particle_hair_shows_without_its_emitter_and_moves_with_an_instance(export):
     out = export("particle_hair", instanced=True)
     e = out.expected

@@ -63,14 +63,15 @@ def check_output(path, types=OUTPUT_TYPES) -> Path:
         raise CliError(f"{path}: the folder {str(path.parent)!r} does not exist")
     if path.is_dir():
         raise CliError(f"{path}: is a folder, not an image file")
-    existed = path.exists()
+    target = path.resolve()              # (a symbolic link: the file it names)
+    existed = target.exists()
     try:                                  # (a read-only folder or file, /proc, a full quota: now, not after the render)
         with open(path, "ab"):
             pass
     except OSError as err:
         raise CliError(f"{path}: cannot be written ({err.strerror or err})") from None
     if not existed:
-        path.unlink(missing_ok=True)
+        target.unlink(missing_ok=True)
     return path
 
 

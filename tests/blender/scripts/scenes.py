@@ -457,7 +457,8 @@ def hair_scene(resolution=(96, 72), material=None):
     return {"segments": segments}
 
 
-def particle_hair_scene(resolution=(96, 72), random=0.0, children=False, instanced=False):
+def particle_hair_scene(resolution=(96, 72), random=0.0, children=False, instanced=False, spiral=False,
+                        virtual_parents=0.0):
     """Particle hair, as Blender made hair before Curves objects: a 3 x 1 plane
     at z = -1.5, scaled 1.25, growing 40 strands of length 2 (Hair Length is in
     world units) from its faces (random: the emission's random factor, which tilts them;
@@ -467,7 +468,10 @@ def particle_hair_scene(resolution=(96, 72), random=0.0, children=False, instanc
     Beside it a cube whose particle system's modifier is off for both the
     viewport and the render (its hair shows in neither). instanced: the plane
     shows its hair but not itself (Show Instancer off), and a collection
-    instance repeats both 5 m behind it. A sun and a grey world light it. Expected: the plane's height and extent in world space, the scale,
+    instance repeats both 5 m behind it. spiral: a Spiral kink (whose extra
+    steps Blender gives children only); virtual_parents: that share of the
+    children hidden as virtual parents (their paths have no keys). A sun and a
+    grey world light it. Expected: the plane's height and extent in world space, the scale,
     the strand count and keys per strand in the viewport and in a render."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=1, location=(0.0, 0.0, -1.5))
@@ -482,8 +486,11 @@ def particle_hair_scene(resolution=(96, 72), random=0.0, children=False, instanc
     settings.use_advanced_hair, settings.factor_random = True, random
     settings.radius_scale, settings.root_radius, settings.tip_radius = 0.16, 1.0, 0.4
     settings.shape, settings.use_close_tip, settings.material = 0.3, False, 2
+    if spiral:
+        settings.kink, settings.kink_extra_steps = "SPIRAL", 4
     if children:
         settings.child_type, settings.rendered_child_count = "INTERPOLATED", 3
+        settings.virtual_parents = virtual_parents
         # (the viewport's Display Amount: child_nbr before Blender 4.x renamed it)
         setattr(settings, "child_percent" if hasattr(settings, "child_percent") else "child_nbr", 3)
     off = link(cube_object("HairOff", size=0.5))

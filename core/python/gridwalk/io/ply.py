@@ -195,7 +195,7 @@ class _Reader:
         self.h, self.n, self.vertex, self.body = h, vertex.count, vertex, None
         self.lists_of = lists
         self.xyz = np.empty((self.n, 3), np.float32)
-        self.invalid = []                 # vertices with a non-finite (or beyond float32) coordinate or normal
+        self.invalid = []                 # arrays of vertices with a non-finite (or beyond float32) coordinate or normal
         self.normals = self.colours = None
         if all(vertex.get(c) is not None for c in ("nx", "ny", "nz")):
             self.normals = np.empty((self.n, 3), np.float32)
@@ -226,7 +226,7 @@ class _Reader:
                 if bad.any():
                     # (coordinates and normals: only those of vertices a face uses must be
                     # valid, _check_used; a scanner's organised grid holds NaN placeholders)
-                    self.invalid.extend(first + np.nonzero(bad)[0])
+                    self.invalid.append(first + np.nonzero(bad)[0])
                 if what == "colour":
                     block = np.clip(block / self.colour_scale, 0.0, 1.0)
                 if what == "normal":   # (scaled by its largest component first: a tiny normal's squares underflow)
@@ -336,7 +336,7 @@ class _Reader:
         used = np.zeros(self.n, dtype=bool)
         used[triangles.reshape(-1)] = True
         if self.invalid:
-            invalid = np.asarray(self.invalid, dtype=np.int64)
+            invalid = np.concatenate(self.invalid).astype(np.int64)
             bad = invalid[used[invalid]]
             if len(bad):
                 v = int(bad.min())

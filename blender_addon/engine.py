@@ -224,9 +224,9 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             print(f"Gridwalk: cancelled during the export, after {time.perf_counter() - t0:.3f} s")
             return
         try:
-            # A frame of an animation with nothing visible (a cut) shows the world, as in Cycles,
-            # and the animation goes on; a still with nothing visible is an error.
-            kwargs, warnings = export.kwargs(world_only=bool(getattr(self, "is_animation", False)))
+            # A render with nothing visible (a cut in an animation, a farm's frame, an empty scene)
+            # shows the world, as Cycles renders it, and says why in a warning.
+            kwargs, warnings = export.kwargs(world_only=not self.is_preview)
         except ExportError:
             if not self.is_preview:
                 raise

@@ -90,9 +90,13 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                 "casts shadows): 'Key'") in warnings
 
 
-def test_empty_scene(results):
-    assert results.error("empty").startswith("Error: Gridwalk: Nothing to render: the scene has no visible "
-                                             "object with faces (check 'Disable in Renders'")
+def test_an_empty_scene_renders_the_world_with_a_warning(results):
+    # (an error before, which stopped animations and farms at such a frame; Cycles renders the world)
+    assert results.error("empty") == ""
+    assert ("Warning: Gridwalk: Nothing to render: the scene has no visible object with faces (check 'Disable "
+            "in Renders' and excluded collections): the frame shows the world alone") in results.warnings("empty")
+    image = results.image("empty")
+    assert image.shape[0] > 0 and image[..., 3].max() == 0.0          # transparent film: the world's alpha 0
 
 
 def test_an_animation_goes_on_past_a_frame_with_nothing_to_render(results):
@@ -185,8 +189,9 @@ def test_nan_transforms_are_skipped_with_a_warning_naming_each_object(results):
     assert "Warning: Gridwalk: Skipped light 'NaNLight': its transform is not finite (NaN or Inf)" in warnings
     # what is left is exactly the valid scene: no silently wrong pixel
     np.testing.assert_array_equal(results.image("nan_transforms"), results.image("full_frame"))
-    assert results.error("nan_only").endswith(
-        "Nothing to render: the scene has no visible object with faces (skipped as invalid: 'NaNCube')")
+    assert results.error("nan_only") == "" and (
+        "Warning: Gridwalk: Nothing to render: the scene has no visible object with faces (skipped as invalid: "
+        "'NaNCube'): the frame shows the world alone") in results.warnings("nan_only")
 
 
 def test_meshes_without_faces_and_with_zero_area_faces(results):
@@ -194,7 +199,9 @@ def test_meshes_without_faces_and_with_zero_area_faces(results):
                 "'Edges', 'Points'")
     assert results.error("no_faces") == "" and faceless in results.warnings("no_faces")
     np.testing.assert_array_equal(results.image("no_faces"), results.image("full_frame"))
-    assert results.error("no_faces_only").endswith("(without faces: 'Edges', 'Points')")
+    assert results.error("no_faces_only") == "" and any(
+        w.endswith("(without faces: 'Edges', 'Points'): the frame shows the world alone")
+        for w in results.warnings("no_faces_only"))
     assert results.error("degenerate") == ""
     assert ("Warning: Gridwalk: Object 'ZeroArea': 3 of 3 triangles have zero area and are invisible"
             in results.warnings("degenerate"))

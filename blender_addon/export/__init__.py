@@ -94,9 +94,9 @@ class Export:
         """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
 
         When there is nothing to render, raises ExportError with a user-facing
-        message, or with world_only (a frame of an animation, where Cycles
-        renders the world) gives a scene that shows the world alone and says
-        why in a warning. Invalid objects (NaN transforms, ...) are skipped
+        message, or with world_only (a final render, where Cycles renders the
+        world) gives a scene that shows the world alone and says why in a
+        warning. Invalid objects (NaN transforms, ...) are skipped
         with a warning naming them."""
         warnings = list(self.warnings)
         kwargs = self.meshes.arrays()
@@ -113,8 +113,8 @@ class Export:
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
-        kwargs.update(materials=self.materials.materials, lights=self.lights,
-                      background=self.background, world=self.world)
+        kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background,
+                      world=self.world)
         if self.textures.textures:
             kwargs.update(images=self.textures.images, textures=self.textures.textures)
         warnings.extend(self.materials.warnings())

@@ -8,7 +8,8 @@ What Cycles reads, read the same way:
 * each strand's keys from the particle system's path cache
   (`ParticleSystem.co_hair`, world space): 2^steps + 1 of them, steps being the
   settings' render_step in a final render and display_step in the viewport,
-  plus kink_extra_steps under a Spiral kink;
+  plus kink_extra_steps under a Spiral kink (children only); a key past a
+  path's end, which co_hair gives as (0, 0, 0), holds the strand's last key;
 * each key's radius: radius_scale / 2 times root_radius at the root and
   tip_radius at the tip, shaped by `shape` along the strand's length, and 0 at
   the last key with use_close_tip ("Close Tip");

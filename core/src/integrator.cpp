@@ -248,13 +248,13 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     return sum * (1.0f / float(count));
 }
 
-Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m,
+Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness,
                              int depth, float weight, bool split, bool through, SampleState& st,
                              TraceContext& ctx) const {
     Ray r;
     r.d = dir;
     r.spawned = true;
-    if (m.roughness <= 0) {   // exact mirror or refraction
+    if (roughness <= 0) {   // exact mirror or refraction
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, dir);
         return trace(r, depth + 1, weight, split, RayType::Secondary, st, ctx, nullptr, Vec3());
     }
@@ -267,7 +267,7 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     // refraction this is the reflection's lobe around the refracted ray, not
     // a microfacet BTDF: rough glass blurs what lies behind it as much as
     // a rough mirror blurs what it reflects.)
-    const float alpha = std::max(m.roughness * m.roughness, 1e-4f);
+    const float alpha = std::max(roughness * roughness, 1e-4f);
     const float e = std::max(2.0f / (alpha * alpha) - 2.0f, 0.0f);
     const int n = split ? 1 : std::max(1, s_.glossy_samples);
     Vec3 t, b;
@@ -402,15 +402,14 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     if (refl > 0 && weight * refl > s_.min_weight) {
         Vec3 rdir = d - ns * (2.0f * dot(d, ns));
         if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));
-        const Vec3 reflected = glossy_lobe(sp, ng, normalize(rdir), m, depth, weight * refl, split, false, st, ctx);
+        const Vec3 reflected = glossy_lobe(sp, ng, normalize(rdir), m.roughness, depth, weight * refl, split, false, st, ctx);
         color += m.metallic > 0 ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
                                 : reflected * refl;
     }
     if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
         // (IOR 1 bends nothing, however rough the surface: the ray goes straight on)
-        Material lobe = m;
-        if (m.ior == 1.0f) lobe.roughness = 0;
-        color += glossy_lobe(sp, ng, tdir, lobe, depth, weight * trans, split, true, st, ctx) * trans;
+        const float roughness = m.ior == 1.0f ? 0.0f : m.roughness;
+        color += glossy_lobe(sp, ng, tdir, roughness, depth, weight * trans, split, true, st, ctx) * trans;
     }
     return color;
 }

@@ -56,7 +56,7 @@ private:
     // The rays around the mirror direction (or, `through`, the refracted
     // direction) `dir` that a rough surface scatters into: the exact ray at
     // roughness 0, else a normalised Phong lobe of the roughness.
-    Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, const Material& m, int depth,
+    Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                   TraceContext& ctx) const;

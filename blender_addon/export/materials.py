@@ -12,7 +12,10 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
       Metallic, Alpha, and the Color of the other shaders; its Vector input
       unlinked (the mesh's active render UV map) or linked from a UV Map
       node (that layer);
-  Color Attribute -> Base Color (the named layer, or the active render one).
+  Color Attribute -> Base Color (the named layer, or the active render one);
+  Normal Map (Tangent Space) fed by an Image Texture -> the shader's Normal
+      (normal_texture, its Strength normal_strength; the tangent frame comes
+      from the image's UV map).
 Any other linked input (a Mapping node, a procedural texture, a Mix...) uses
 the socket's unlinked default value; unsupported graphs and inputs are
 reported as ONE warning per export, naming the materials and the nodes.
@@ -320,6 +323,29 @@ def _cut_out(mix, clear, material, links):
     material.alpha = min(max(1.0 - input_value(fac), 0.0), 1.0)
 
 
+def _normal_map(node, links) -> bool:
+    """Reads the shader's Normal input into links.fields when a Tangent Space
+    Normal Map node fed by an Image Texture drives it; True if it did."""
+    socket = _socket(node, "Normal")
+    nmap = _source(socket)[0] if socket is not None else None
+    if nmap is None or nmap.type != "NORMAL_MAP" or getattr(nmap, "space", "") != "TANGENT" or links.textures is None:
+        return False
+    image, out = _source(nmap.inputs["Color"])
+    if image is None or image.type != "TEX_IMAGE":
+        return False
+    if not links.take(nmap.inputs["Color"], "normal_texture", colour=False):
+        return False
+    named = getattr(nmap, "uv_map", "")
+    if named and links.uv_layer and named != links.uv_layer:
+        links.textured.append(f"UV Map {named!r} of {nmap.name!r} (its tangents come from the image's UV map)")
+    strength = nmap.inputs.get("Strength")
+    if strength is not None:
+        if _source(strength)[0] is not None:
+            links.textured.append(f"Strength ({_source(strength)[0].bl_idname})")
+        links.fields["normal_strength"] = max(float(input_value(strength)), 0.0)
+    return True
+
+
 def _output_node(tree):
     """The Material Output Cycles renders: the active one of those for all
     renderers or for Cycles (an EEVEE-only output beside it is not it)."""
@@ -382,11 +408,13 @@ def convert_material(mat, textures=None):
         return viewport_material(mat), f"unsupported shader {shader}: its viewport colour is used", None
     if mix is not None:
         _cut_out(mix, clear, result, links)
+    mapped = node is not None and _normal_map(node, links)
     for field, value in links.fields.items():
         setattr(result, field, value)
     problems = []
     shaping = [f"{name} ({_source(socket)[0].bl_idname})" for name in ("Normal", "Coat Normal", "Clearcoat Normal")
-               if node is not None and (socket := _socket(node, name)) is not None and _source(socket)[0] is not None]
+               if node is not None and (socket := _socket(node, name)) is not None and _source(socket)[0] is not None
+               and not (mapped and name == "Normal")]
     output = _output_node(tree)
     displacement = output.inputs.get("Displacement") if output is not None else None
     if displacement is not None and _source(displacement)[0] is not None:

@@ -148,6 +148,13 @@ def scene_texture_bytes(depsgraph) -> int:
     return stored + largest
 
 
+def uses_normal_maps(depsgraph) -> bool:
+    """Whether a material of the depsgraph has a Normal Map node (the core then
+    keeps a tangent per triangle corner): for the memory estimate."""
+    return any(node.type == "NORMAL_MAP" for id_ in depsgraph.ids if type(id_).__name__ == "Material"
+               and getattr(id_, "node_tree", None) is not None for node in id_.node_tree.nodes)
+
+
 def _signature(img):
     """What an image's pixels depend on; None for an image being edited (always read)."""
     if img is None or getattr(img, "is_dirty", False):

@@ -39,6 +39,10 @@ SCENES = (   # (scene, label, options for both engines)
     ("rough_glass", "Glass, Roughness 0 (left) and 0.4 (right), before stripes", ["transparent=false"]),
     ("particle_hair", "Particle hair: 40 tilted strands with 3 children each",
      ['scene={"random": 0.6, "children": true, "resolution": [128, 96]}', "transparent=false"]),
+    ("normal_map", "Normal Map: stripes leaning 30 degrees either way",
+     ['scene={"resolution": [128, 64]}', "transparent=false"]),
+    ("normal_map", "Normal Map on a 16 x 8 UV sphere, leaning 30 degrees",
+     ['scene={"sphere": true, "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -305,8 +305,9 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     hit.t = ray.tmax;
     if (!accel_.closest(r, hit, ctx))
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);   // fh: the camera's own path
-    const SurfacePoint sp = scene_.surface(r, hit);
+    SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
+    if (stored.normal_texture >= 0) sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
     Material textured;
     if (stored.varies()) textured = scene_.shade(stored, hit);
     const Material& m = stored.varies() ? textured : stored;

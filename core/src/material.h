@@ -22,6 +22,12 @@ struct Material {
     float metallic = 0;
     int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
     bool vertex_color = false;      // the base colour is the mesh's per-corner colour (colour attribute)
+    // A tangent-space normal map (Blender's Normal Map node): the texture's
+    // RGB in [0, 1] is a normal in the frame of the triangle's UV tangent, its
+    // bitangent and the shading normal; strength blends from the shading
+    // normal (0) to the mapped one (1) and beyond, as Cycles does.
+    int32_t normal_texture = -1;
+    float normal_strength = 1;
     // Its triangles light other surfaces with what they emit (emitters.h), as
     // area lights do; without it emission is only seen.
     bool emits_light = false;

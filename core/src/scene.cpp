@@ -111,6 +111,7 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
     for (size_t i = 0; i < lights_.size(); ++i) prepare_light(lights_[i], "lights[" + std::to_string(i) + "]");
     if (!finite3(background_)) bad("background has a non-finite component");
     check_textures();
+    build_tangents();
     validate_camera(camera_);
     emitters_ = Emitters(tri_verts_, tri_mat_, materials_);
 
@@ -194,7 +195,7 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 }
 
 size_t Scene::memory_bytes() const {
-    return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
+    return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + tangents_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
            cone_mat_.size() * 4;
 }

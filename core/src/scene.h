@@ -186,6 +186,11 @@ public:
     // The material at a hit with its textures and colour attribute applied
     // (call only when materials()[sp.material].varies()).
     Material shade(const Material& m, const Hit& hit) const;
+    // The shading normal at a hit with the material's normal map applied
+    // (sp.ns where it has none, or the triangle has no UVs or no UV area).
+    // wo: the unit direction back along the ray (the normal is kept from
+    // reflecting it into the surface, as Cycles keeps it).
+    Vec3 mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const;
     // The material's alpha at a hit (its alpha texture applied).
     float alpha_at(const Material& m, const Hit& hit) const;
     size_t memory_bytes() const;
@@ -217,6 +222,10 @@ private:
     CameraDesc camera_;
     Vec3 background_;
     PooledVector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
+    // 12 floats per triangle (tangents.h) where a material has a normal map
+    // and the triangles have UVs, else empty.
+    std::vector<float> tangents_;
+    void build_tangents();
     std::vector<std::shared_ptr<const Image>> images_;
     std::vector<Texture> textures_;
     World world_;

@@ -1,8 +1,10 @@
 // The scene's textures: checking them where they enter, the texture
 // coordinates of a hit, and materials evaluated at a hit. See scene.h.
+#include <algorithm>
 #include <stdexcept>
 
 #include "scene.h"
+#include "tangents.h"
 
 namespace gw {
 namespace {
@@ -53,6 +55,7 @@ void Scene::check_textures() {
         check_index(m.roughness_texture, where + "roughness_texture");
         check_index(m.metallic_texture, where + "metallic_texture");
         check_index(m.alpha_texture, where + "alpha_texture");
+        check_index(m.normal_texture, where + "normal_texture");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
@@ -112,6 +115,72 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     }
     if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);
     return out;
+}
+
+void Scene::build_tangents() {
+    tangents_.clear();
+    const bool mapped = std::any_of(materials_.begin(), materials_.end(),
+                                    [](const Material& m) { return m.normal_texture >= 0; });
+    if (mapped && !uvs_.empty()) tangents_ = corner_tangents(verts_, tris_, normals_, uvs_);
+}
+
+namespace {
+
+// The normal nearest n, in the plane of n and ng, whose mirror reflection of
+// the direction to the viewer wo stays above the surface by at least
+// min(0.9 wo.ng, 0.01) along ng (ng and n facing the viewer): a mapped normal
+// turned away from the viewer would otherwise reflect into the surface, and
+// light arriving from behind the surface's silhouette would reach it. Cycles
+// corrects normal-mapped normals so. With n = sin(a) X + cos(a) ng (X the unit
+// direction of n across ng), the reflection's height along ng is
+// x sin(2a) + z cos(2a), with x = wo.X and z = wo.ng: = r cos(2a - b), with
+// r = |(x, z)| and b = atan2(x, z). It reaches the threshold h for 2a within
+// b +- acos(h / r); n is moved to the nearer end of that range.
+Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
+    const float z = dot(wo, ng);
+    const float h = std::min(0.9f * z, 0.01f);
+    if (dot(n * (2 * dot(n, wo)) - wo, ng) >= h) return n;
+    Vec3 X = n - ng * dot(n, ng);
+    const float xl = length(X);
+    if (!(xl > 0)) return ng;
+    X = X * (1.0f / xl);
+    const float x = dot(wo, X);
+    const float r = std::sqrt(x * x + z * z);
+    if (!(r > 0) || h > r) return ng;
+    const float b = std::atan2(x, z), spread = std::acos(h / r);
+    const float a0 = std::atan2(xl, dot(n, ng));   // n's own angle from ng, in [0, pi]
+    const float twice = 2 * a0 > b + spread ? b + spread : b - spread;
+    const float a = std::min(std::max(0.5f * twice, 0.0f), 0.5f * float(kPi));
+    return normalize(X * std::sin(a) + ng * std::cos(a));
+}
+
+}  // namespace
+
+Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
+    const Vec3 n = sp.ns;
+    if (m.normal_texture < 0 || tangents_.empty() || size_t(hit.prim) >= num_triangles()) return n;
+    // The corners' tangents and signs interpolated, as Cycles interpolates
+    // its tangent attribute; the tangent made orthogonal to the shading normal.
+    const float* c = &tangents_[12 * size_t(hit.prim)];
+    const float b0 = 1.0f - hit.u - hit.v;
+    Vec3 T = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[4], c[5], c[6]) * hit.u + Vec3(c[8], c[9], c[10]) * hit.v;
+    const float sign = c[3] * b0 + c[7] * hit.u + c[11] * hit.v < 0 ? -1.0f : 1.0f;
+    T = T - n * dot(n, T);
+    const float len = length(T);
+    if (!(len > 0) || !std::isfinite(len)) return n;   // UVs of no area: no tangent
+    T = T * (1.0f / len);
+    const Vec3 B = cross(n, T) * sign;
+    float u, v;
+    hit_uv(hit, u, v);
+    const Vec3 rgb = color_of(textures_[size_t(m.normal_texture)], lookup(m.normal_texture, u, v));
+    Vec3 mapped = T * (2 * rgb.x - 1) + B * (2 * rgb.y - 1) + n * (2 * rgb.z - 1);
+    if (m.normal_strength != 1) mapped = n + (normalize(mapped) - n) * m.normal_strength;
+    const float ml = length(mapped);
+    if (!(ml > 0) || !std::isfinite(ml)) return n;
+    mapped = mapped * (1.0f / ml);
+    // (on the viewer's side of the surface, then back to sp's orientation)
+    const float side = dot(sp.ng, wo) < 0 ? -1.0f : 1.0f;
+    return reflecting_above(sp.ng * side, wo, mapped * side) * side;
 }
 
 float Scene::alpha_at(const Material& m, const Hit& hit) const {

@@ -69,6 +69,7 @@ ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empt
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4
+TANGENT_BYTES = 48            # the core's tangent per triangle corner (normal maps): 3 x 4 floats
 PIXEL_BYTES = 44 + 36 + 32
 
 
@@ -115,12 +116,15 @@ def grid_budget(primitives: int, density: float, max_cells: int) -> tuple[int, i
 
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,
              width: int = 1, height: int = 1, settings=None, normals: bool = True,
-             texture_bytes: int = 0, uvs: bool = False, colors: bool = False) -> MemoryEstimate:
+             texture_bytes: int = 0, uvs: bool = False, colors: bool = False,
+             tangents: bool = False) -> MemoryEstimate:
     """Bytes needed to render a scene with these counts (see the module docstring).
 
     vertices defaults to 3 per triangle (unshared corners, the worst case).
     settings is a gridwalk.RenderSettings (defaults when None); its accel,
-    grid_density, max_cells, mailboxes and threads are used.
+    grid_density, max_cells, mailboxes and threads are used. uvs, colors:
+    the triangles have corner UVs / colours; tangents: a material has a
+    normal map (the core keeps a tangent per corner, 48 bytes a triangle).
     """
     if settings is None:
         from .settings import RenderSettings
@@ -148,7 +152,8 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
             threads = int(settings.threads) or (os.cpu_count() or 1)
             mailboxes = prims * STAMP_BYTES * threads
     images = int(width) * int(height) * PIXEL_BYTES
-    textures = int(texture_bytes) + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0))
+    textures = (int(texture_bytes) + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0))
+                + (triangles * TANGENT_BYTES if uvs and tangents else 0))
     return MemoryEstimate(scene_arrays, grid, mailboxes, images, textures)
 
 

@@ -111,7 +111,12 @@ class Material(Record):
     color_texture the colour; roughness_texture the roughness (shininess and
     ks follow, as the Principled mapping does); metallic_texture the metallic
     weight (give the record's non-metal values: kd, ks, transmittance are
-    scaled towards a mirror); alpha_texture the alpha. A texture feeding a
+    scaled towards a mirror); alpha_texture the alpha; normal_texture a
+    tangent-space normal map (Blender's Normal Map node: RGB in [0, 1] is the
+    normal in the frame of the triangle's UV tangent dp/du, the bitangent
+    following dp/dv, and the shading normal; give it a linear, Non-Color
+    image), blended from the shading normal by normal_strength (0 none, 1 the
+    map, more exaggerates, as Cycles' Strength). A texture feeding a
     scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
     (Scene(colors=...)) interpolated, unless a color_texture is set.
@@ -135,13 +140,15 @@ class Material(Record):
     roughness_texture: int = _MAT.roughness_texture
     metallic_texture: int = _MAT.metallic_texture
     alpha_texture: int = _MAT.alpha_texture
+    normal_texture: int = _MAT.normal_texture
+    normal_strength: float = _MAT.normal_strength
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
     CORE = _core.Material
 
     def texture_indices(self) -> dict:
         """Field -> texture index of the textures this material uses."""
-        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture")
+        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture", "normal_texture")
         return {n: getattr(self, n) for n in names if getattr(self, n) != -1}
 
 

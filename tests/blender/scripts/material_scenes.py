@@ -337,6 +337,49 @@ def sunny_monkey_scene(resolution=(96, 72)):
     return {}
 
 
+NORMAL_BANDS = 8   # normal_map_scene's stripes across the plane
+
+
+def normal_map_scene(resolution=(96, 48), strength=1.0, tilt=30.0, sphere=False):
+    """A plane facing the camera whose Diffuse BSDF's Normal comes from a
+    Tangent Space Normal Map node fed by a Non-Color 8-bit image: NORMAL_BANDS
+    vertical stripes whose normals lean `tilt` degrees to one side and the other
+    along the UV's u (the plane's x), lit by a sun from the left. sphere: a
+    smooth low-poly UV sphere instead (16 x 8), its map one colour (every
+    normal leaning `tilt` degrees along u): the tangents' interpolation over
+    its faces decides the shading."""
+    import mathutils
+    reset(resolution=tuple(resolution))
+    if sphere:
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=2.0)
+        plane = bpy.context.object
+        bpy.ops.object.shade_smooth()
+    else:
+        plane = _plane("Plane", 7.0, rotation=(math.pi / 2, 0, 0))
+    mat = shader_material("Bumpy", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
+    shader = next(n for n in mat.node_tree.nodes if n.type == "BSDF_DIFFUSE")
+    lean = math.radians(tilt)
+    px = np.ones((4, 8 * NORMAL_BANDS, 4))
+    for band in range(NORMAL_BANDS):
+        side = 1.0 if band % 2 or sphere else -1.0
+        px[:, 8 * band:8 * band + 8, :3] = 0.5 + 0.5 * np.array([side * math.sin(lean), 0.0, math.cos(lean)])
+    img = _filled_image("Normals", px, float_buffer=False, non_color=True)
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = img, "Closest"
+    nmap = nodes.new("ShaderNodeNormalMap")
+    nmap.inputs["Strength"].default_value = strength
+    links.new(tex.outputs["Color"], nmap.inputs["Color"])
+    links.new(nmap.outputs["Normal"], shader.inputs["Normal"])
+    plane.data.materials.append(mat)
+    travel = mathutils.Vector((0.8, 0.6, 0.0)).normalized()          # from the left, towards the plane
+    sun = add_light("Sun", "SUN", (0, -5, 0), energy=3.0, angle=0.0)
+    sun.rotation_euler = travel.to_track_quat("-Z", "Y").to_euler()
+    bpy.context.scene.world = None
+    bpy.context.view_layer.update()
+    return {}
+
+
 def pane_shadow_scene(pane="glass", resolution=(64, 64), light="sun"):
     """A white floor seen from straight above (orthographic) and a pane 2 units
     above it, lit by a slanted sun: the pane's shadow falls at x = -2, y = 0,
@@ -619,6 +662,15 @@ def unread_settings_scene(override=False):
     node_links.new(nodes.new("ShaderNodeTexNoise").outputs[0], shift.inputs["Height"])
     node_links.new(shift.outputs[0], displaced.node_tree.get_output_node("CYCLES").inputs["Displacement"])
     _plane("DisplacedPlane", 1.0, (8.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(displaced)
+    object_space = principled_material("ObjectSpace", (0.5, 0.5, 0.5))   # Image -> Normal Map (Object Space) -> Normal
+    nodes, node_links = object_space.node_tree.nodes, object_space.node_tree.links
+    nmap = nodes.new("ShaderNodeNormalMap")
+    nmap.space = "OBJECT"
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = _filled_image("ObjectNormals", np.full((2, 2, 4), 0.5), float_buffer=False, non_color=True)
+    node_links.new(tex.outputs["Color"], nmap.inputs["Color"])
+    node_links.new(nmap.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
+    _plane("ObjectSpaceMapped", 1.0, (10.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(object_space)
     world = bpy.data.worlds.new("Hidden")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)

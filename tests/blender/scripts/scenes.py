@@ -654,7 +654,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
 
 
 from material_scenes import (bad_materials_scene, checker_scene, cutout_scene, emission_mirror_scene,  # noqa: E402,F401
-                             rough_glass_scene,
+                             normal_map_scene, rough_glass_scene,
                              emission_panel_scene, environment_scene, fog_box_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,
                              principled_sphere_scene, roughness_map_scene, texture_links_scene,
                              sunny_monkey_scene, unread_settings_scene, world_shadow_scene)

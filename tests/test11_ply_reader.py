@@ -152,6 +152,26 @@ def test_out_of_range_and_negative_indices_are_rejected(tmp_path, index):
         load_ply(path)
 
 
+COLOURED = HEADER.replace("property float z\n", "property float z\nproperty uchar red\n")
+
+
+@pytest.mark.parametrize("body, where, what", [
+    ("0 0 0 255\n1 0 0 300\n0 1 0 0\n3 0 1 2\n", "vertex' record 1 \\(line 12\\)", "red = 300 does not fit its type uchar"),
+    ("0 0 0 255\n1 0 0 -1\n0 1 0 0\n3 0 1 2\n", "vertex' record 1 \\(line 12\\)", "red = -1 does not fit its type uchar"),
+    ("0 0 0 255\n1 0 0 2.5\n0 1 0 0\n3 0 1 2\n", "vertex' record 1 \\(line 12\\)", "red = 2.5 does not fit its type uchar"),
+    ("0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 1.5\n", "face' record 0 \\(line 14\\)",
+     "vertex_indices = 1.5 does not fit its type int \\(integers -2147483648 to 2147483647\\)"),
+    ("0 0 0 1\n1 0 0 1\n0 1 0 1\n4 0 1 2 1.5\n", "face' record 0 \\(line 14\\)",
+     "vertex_indices = 1.5 does not fit its type int"),      # (a quad line: the per-line path)
+])
+def test_ascii_values_outside_their_declared_type_are_refused(tmp_path, body, where, what):
+    """A binary file cannot hold a 'uchar' of 300; in text it is a broken writer's, and was read as a colour
+    above 1 (or, for an index, as an index a binary file could not hold)."""
+    path = write_text(tmp_path, COLOURED + body)
+    with pytest.raises(SceneFileError, match=f"element '{where}: {what}"):
+        load_ply(path)
+
+
 def test_non_numeric_token_is_rejected(tmp_path):
     path = write_text(tmp_path, HEADER + BODY.replace("1 0 0", "1 zero 0"))
     with pytest.raises(SceneFileError, match=r"element 'vertex' record 1 \(line 11\): bad number 'zero'"):

@@ -31,7 +31,9 @@ import struct
 import numpy as np
 
 from .common import SceneFileError, excerpt
-from .ply_header import Element, Header
+from .ply_header import TYPES, Element, Header
+
+PLY_NAMES = {code: name for name, code in reversed(list(TYPES.items()))}   # (the first name of each)
 
 CHUNK_BYTES = 1 << 23           # binary data read at a time
 ASCII_BYTES = 1 << 20            # text read at a time (its lines take several times that as objects)
@@ -67,6 +69,8 @@ class Body:
             columns = [(i, p.name) for i, p in enumerate(e.properties) if p.name in names]
             for first, rows in self._ascii(e):
                 values = self._numbers(e, first, rows, len(e.properties))
+                for i, p in enumerate(e.properties):
+                    self._in_range(e, first, p.name, p.type, values[:, i])
                 yield first, {name: values[:, i] for i, name in columns}
             return
         dtype = np.dtype([(p.name, self.h.byte_order + p.type) for p in e.properties])
@@ -263,11 +267,34 @@ class Body:
             out.append([float(t) for t in tokens])
         return np.array(out, dtype=np.float64).reshape(-1, width) if width is not None else out
 
+    def _in_range(self, e, first, name, code, values, records=None):
+        """Fail at the first value an integer type cannot hold (a binary file
+        cannot hold one; in text, a 'uchar' of 300 or an 'int' of 2.5 is a
+        broken writer's, which would read as a colour above 1 or a wrong index)."""
+        if code[0] not in "iu":
+            return
+        info = np.iinfo(np.dtype(code))
+        bad = ~((values >= info.min) & (values <= info.max) & (values == np.floor(values)))
+        if bad.any():
+            k = int(np.argmax(bad))
+            record = first + (k if records is None else int(records[k]))
+            self.fail(e, record, f"{name} = {values[k]:g} does not fit its type {PLY_NAMES.get(code, code)} "
+                                 f"(integers {info.min} to {info.max})")
+
+    def _check_row(self, e, record, p, values):
+        """_in_range for one record's values of p (a Python list), without numpy per row."""
+        if p.type[0] in "iu":
+            info = np.iinfo(np.dtype(p.type))
+            if not all(info.min <= v <= info.max and float(v).is_integer() for v in values):
+                self._in_range(e, record, p.name, p.type, np.array(values, np.float64))
+
     def _ascii_list(self, e, name, first, rows):
         props = e.properties
         if len(props) == 1 and props[0].is_list:       # the common 'count i j k' line
             values = self._numbers(e, first, rows)
             if isinstance(values, np.ndarray) and np.all(values[:, 0] == values.shape[1] - 1):
+                self._in_range(e, first, props[0].name, props[0].type, values[:, 1:].reshape(-1),
+                               np.repeat(np.arange(len(rows)), values.shape[1] - 1))
                 return first, values[:, 1:].reshape(-1), np.full(len(rows), values.shape[1] - 1, np.int64)
         else:
             values = self._numbers(e, first, rows)
@@ -276,6 +303,7 @@ class Body:
             pos = 0
             for p in props:
                 if not p.is_list:
+                    self._check_row(e, first + k, p, row[pos:pos + 1])
                     pos += 1
                     continue
                 c = row[pos] if pos < len(row) else None
@@ -283,6 +311,7 @@ class Body:
                     got = "nothing" if c is None else f"{c:g} then {len(row) - pos - 1} numbers"
                     self.fail(e, first + k, f"list {p.name!r}: expected a count then that many "
                                                  f"numbers, got {got}")
+                self._check_row(e, first + k, p, row[pos + 1:pos + 1 + int(c)])
                 if p.name == name:
                     items += row[pos + 1:pos + 1 + int(c)]
                     counts.append(int(c))

@@ -251,6 +251,7 @@ private:
     };
     static constexpr size_t kPrimsPerPart = size_t(1) << 14;   // (fewer: found on the calling thread alone)
     static constexpr size_t kBoundPrims = 4096;   // fewer: no fewest_cells pass (node())
+    static constexpr size_t kSamplePrims = 16;    // a refining grid's sample (sampled_refs), from 4 times as many
 
     // Records the cells of a grid of resolution n over box that each
     // primitive meets; returns their total, or stops (returning more than
@@ -322,6 +323,18 @@ private:
         return sum.load();
     }
 
+    // The references of kSamplePrims primitives spread evenly over prims
+    // (every prims.size() / kSamplePrims-th) in the grid (box, n), scaled to
+    // all of prims: a guess at what find_cells would count, from a sixteenth
+    // of its work where prims holds 256.
+    uint64_t sampled_refs(const Box& box, const std::vector<uint32_t>& prims, const int n[3]) {
+        const Frame frame(box, n);
+        uint64_t found = 0;
+        for (size_t k = 0; k < kSamplePrims; ++k)
+            for_cells(prims[k * prims.size() / kSamplePrims], frame, step_, [&](uint64_t) { ++found; });
+        return found * prims.size() / kSamplePrims;
+    }
+
     // Builds the node over `box` holding `prims`; returns its index, or -1
     // when refining would not separate the primitives (the caller keeps a leaf).
     int64_t node(const Box& box, const std::vector<uint32_t>& prims, int depth) {
@@ -348,6 +361,16 @@ private:
                 std::copy(m, m + 3, n);
                 if (depth == 0) root_density_ = density;
                 break;
+            }
+            // A refining grid whose sample of primitives already needs more
+            // references than allowed takes the next resolution without the
+            // full pass. (Of a scene of 90,000 icospheres of 80 triangles
+            // scattered on a floor, 89,000 grids refining the root's cells
+            // tried 3.2 resolutions each, most failing by 0-50%, and
+            // find_cells took 61% of the build.)
+            if (depth > 0 && prims.size() >= 4 * kSamplePrims && sampled_refs(box, prims, m) > allowed) {
+                if (density * double(prims.size()) < 1) break;
+                continue;
             }
             // (The bound first only for a grid of many primitives on the top two
             // levels, where a failed resolution costs most: elsewhere its pass

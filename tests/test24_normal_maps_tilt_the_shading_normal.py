@@ -40,6 +40,16 @@ def _render(color, strength=1.0, mapped=True, **square):
     return rgba, job.normal
 
 
+def bump_shadowing(smooth, mapped, to_light):
+    """Chiang, Li & Burley 2019 (Cycles' bump shadowing): G1 with alpha^2 = tan^2(angle the map turned) / 8."""
+    cos_i = float(smooth @ to_light)
+    if cos_i <= 0:
+        return 0.0
+    cos_d = min(abs(float(smooth @ mapped)), 1.0)
+    alpha2 = min(max(0.125 * (1 - cos_d ** 2) / cos_d ** 2, 0.0), 1.0)
+    return 2 / (1 + np.sqrt(1 + alpha2 * (1 - cos_i ** 2) / cos_i ** 2))
+
+
 def _unit(v):
     v = np.asarray(v, np.float64)
     return v / np.linalg.norm(v)
@@ -64,9 +74,10 @@ def test_normal_pass_and_shading_follow_the_map(tangent_space, frame):
     flat, flat_normal = _render(_encode(t), mapped=False, **frame)
     np.testing.assert_allclose(normal.reshape(-1, 3), np.broadcast_to(expected, (N * N, 3)), atol=2e-6)
     np.testing.assert_allclose(flat_normal.reshape(-1, 3), np.broadcast_to([0, 0, 1.0], (N * N, 3)), atol=1e-7)
-    # Diffuse under the sun: the pixel scales with max(0, n . -SUN).
+    # Diffuse under the sun: the pixel scales with max(0, n . -SUN), and the bumps' shadowing.
     ratio = rgba[..., 0] / flat[..., 0]
-    want = max(float(expected @ -SUN), 0.0) / float(np.array([0, 0, 1.0]) @ -SUN)
+    up = np.array([0, 0, 1.0])
+    want = max(float(expected @ -SUN), 0.0) / float(up @ -SUN) * bump_shadowing(up, expected, -SUN)
     np.testing.assert_allclose(ratio, want, rtol=1e-5)
 
 
@@ -174,3 +185,54 @@ def test_a_normal_turned_from_the_viewer_is_kept_reflecting_above_the_surface(le
         corrected += not np.allclose(want, mapped)
         np.testing.assert_allclose(got, want, atol=3e-5)
     assert corrected == (0 if lean < 0 else 16)
+
+
+def _two_squares(unshared=False, shift=0.0, turn=0.0):
+    """The distorted-UV square of the test above (vertex normals +z), and a second plain one at x + 3,
+    that one moved by `shift` along y and turned by `turn` radians about z. unshared: every corner its own vertex."""
+    verts = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
+    tris = np.array([[0, 1, 2], [0, 2, 3]])
+    uv = {0: (0, 0), 1: (1, 0), 2: (1, 1), 3: (0, 2)}
+    uvs = np.array([[uv[i] for i in t] for t in tris], np.float32)
+    if unshared:
+        verts, tris = verts[tris.reshape(-1)], np.arange(6).reshape(2, 3)
+    c, s = np.cos(turn), np.sin(turn)
+    second = verts @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]], np.float32) + np.array([3, shift, 0], np.float32)
+    all_verts = np.concatenate([verts, second]).astype(np.float32)
+    all_tris = np.concatenate([tris, tris + len(verts)])
+    normals = np.tile([0, 0, 1.0], (len(all_verts), 1)).astype(np.float32)
+    return all_verts, all_tris, normals, np.concatenate([uvs, uvs])
+
+
+def _normal_pass(verts, tris, normals, uvs, scene=None):
+    image = gw.Image(np.full((1, 1, 3), _encode(_unit((0.5, 0.3, 0.8))), np.float32), "data")
+    cam = gw.Camera(eye=(1.5, 0, 8), target=(1.5, 0, 0), up=(0, 1, 0), projection="orthographic", ortho_height=3.0,
+                    width=32, height=16)
+    scene = scene or gw.Scene(verts, tris, normals=normals, uvs=uvs, camera=cam,
+                              materials=[gw.Material(normal_texture=0)], textures=[gw.Texture(image)])
+    job = gw.RenderJob(scene, gw.RenderSettings(threads=1)).start()
+    job.wait()
+    return job.normal.copy(), scene
+
+
+def test_corners_are_grouped_by_position_normal_and_uv_not_by_vertex_index():
+    """Exporters give every corner its own vertex where normals are per corner (custom normals, sharp
+    edges): the tangents are those of shared vertices (a 16.9 degree step along the diagonal otherwise)."""
+    shared, _ = _normal_pass(*_two_squares())
+    unshared, _ = _normal_pass(*_two_squares(unshared=True))
+    assert np.abs(shared).sum() > 0
+    np.testing.assert_allclose(unshared, shared, atol=1e-6)
+
+
+def test_a_moved_instance_gets_the_tangents_of_a_scene_built_where_it_went():
+    """Scene.moved recomputes the moved instance's tangents (only its own: instances share no vertex)."""
+    verts, tris, normals, uvs = _two_squares()
+    _, scene = _normal_pass(verts, tris, normals, uvs)
+    turn = np.radians(90)
+    c, s = np.cos(turn), np.sin(turn)
+    matrix = np.array([[c, -s, 0, 3], [s, c, 0, 0.5], [0, 0, 1, 0], [0, 0, 0, 1]])
+    move = gw.InstanceMove(4, 2, 2, verts[:4].copy(), matrix, normals=normals[:4].copy())
+    moved, _ = _normal_pass(None, None, None, None, scene=scene.moved([move]))
+    fresh, _ = _normal_pass(*_two_squares(shift=0.5, turn=turn))
+    assert np.abs(fresh).sum() > 0
+    np.testing.assert_allclose(moved, fresh, atol=1e-5)

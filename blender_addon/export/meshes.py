@@ -562,9 +562,22 @@ def _counts(mesh) -> tuple[int, int, str]:
     return max(0, corners - 2 * faces), verts, domain
 
 
-def _flat_corners(data, world):
+def mirrors(matrix) -> bool:
+    """Whether the transform mirrors (a negative scale): its instance's
+    triangles are then listed with their corners reversed, so that their
+    winding still faces out in world space (Cycles flips such an object's
+    normals), for transmission, normal maps and flat meshes' normals."""
+    return bool(np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) < 0)
+
+
+def corner_order(matrix):
+    """The order of a triangle's corners in world space (mirrors())."""
+    return [0, 2, 1] if mirrors(matrix) else [0, 1, 2]
+
+
+def _flat_corners(triangles, world):
     """Unshared corners with face normals, for a flat mesh in a scene that needs normals."""
-    corners = world[data.triangles.reshape(-1)].reshape(-1, 3, 3)
+    corners = world[triangles.reshape(-1)].reshape(-1, 3, 3)
     n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     length = np.linalg.norm(n, axis=1, keepdims=True)
     np.divide(n, length, out=n, where=length > 0)
@@ -577,9 +590,9 @@ def world_part(data, matrix, flat_corners: bool):
     float32 / int32. flat_corners: a flat mesh in a scene that needs normals
     gets unshared corners with its face normals."""
     world = transform_points(matrix, data.co)
-    tris, nrm = data.triangles, data.normals
+    tris, nrm = data.triangles[:, corner_order(matrix)], data.normals
     if flat_corners:
-        world, tris, nrm = _flat_corners(data, world)
+        world, tris, nrm = _flat_corners(tris, world)
     elif nrm is not None:
         nrm = transform_normals(matrix, nrm.astype(np.float64))
     return world.astype(np.float32), tris, None if nrm is None else nrm.astype(np.float32)
@@ -615,11 +628,11 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
         if need_normals:
             normals.append(nrm)
         materials.append(lookup[np.clip(data.material_slot, 0, len(lookup) - 1)])
-        n = len(data.triangles)
+        n, order = len(data.triangles), corner_order(matrix)
         if need_uvs:
-            uvs.append(data.uvs if data.uvs is not None else np.zeros((n, 3, 2), np.float32))
+            uvs.append(data.uvs[:, order] if data.uvs is not None else np.zeros((n, 3, 2), np.float32))
         if need_colors:
-            colors.append(data.colors if data.colors is not None else np.ones((n, 3, 3), np.float32))
+            colors.append(data.colors[:, order] if data.colors is not None else np.ones((n, 3, 3), np.float32))
         offset += world.shape[0]
     if not parts:
         return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),

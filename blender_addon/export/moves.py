@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .meshes import corner_order, mirrors
+
 
 def instance_moves(before: tuple, layout, after: tuple, export, cache):
     """The gridwalk.InstanceMove list that turns the scene of signature `before`
@@ -24,8 +26,10 @@ def instance_moves(before: tuple, layout, after: tuple, export, cache):
             continue
         key, data, matrix, _ = part
         previous = np.frombuffer(old[1], dtype=np.float64).reshape(4, 4)
+        if mirrors(previous) != mirrors(matrix):     # (its corners' order changes: assembled again)
+            return None
         if place.flat:
-            positions, normals = cache.corners(key, data), None
+            positions, normals = cache.corners(key, data).reshape(-1, 3, 3)[:, corner_order(matrix)].reshape(-1, 3), None
         else:
             positions, normals = data.co, data.normals if place.normals else None
         cache.transforms += 1

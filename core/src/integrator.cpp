@@ -63,9 +63,28 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
     return 0;
 }
 
+// The shadowing of diffuse light by the bumps a normal map stands for
+// (Chiang, Li & Burley, "Taming the Shadow Terminator", 2019, as Cycles
+// applies it): 0 for light below the horizon of the normal before the map
+// (smooth), else G1 of a microfacet slope distribution whose roughness
+// alpha^2 = tan^2(d) / 8 grows with the angle d the map turned the normal
+// through: light grazing the smooth surface fades out instead of ending at
+// the terminator of the tilted normal.
+static float bump_shadowing(const Vec3& smooth, const Vec3& mapped, const Vec3& wi) {
+    const float cos_i = dot(smooth, wi);
+    if (!(cos_i > 0)) return 0;
+    const float cos_d = std::min(std::abs(dot(smooth, mapped)), 1.0f);
+    if (cos_d >= 1) return 1;
+    const float tan2_d = (1 - cos_d * cos_d) / std::max(cos_d * cos_d, 1e-12f);
+    const float alpha2 = std::min(std::max(0.125f * tan2_d, 0.0f), 1.0f);
+    const float tan2_i = (1 - cos_i * cos_i) / (cos_i * cos_i);
+    return 2 / (1 + std::sqrt(1 + alpha2 * tan2_i));
+}
+
 Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                         int depth, bool split, SampleState& st, TraceContext& ctx) const {
     Vec3 total;
+    const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (on ng's side, as ns is)
     const auto& lights = scene_.lights();
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
@@ -86,7 +105,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (dot(ng, ls.wi) <= 0) continue;
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
-            Vec3 f = m.color * (m.kd * cos_i);
+            Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
             if (m.ks > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = m.ks * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
@@ -307,7 +326,11 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);   // fh: the camera's own path
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
-    if (stored.normal_texture >= 0) sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
+    if (stored.normal_texture >= 0) {
+        sp.unmapped = sp.ns;
+        sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
+        sp.mapped = true;
+    }
     Material textured;
     if (stored.varies()) textured = scene_.shade(stored, hit);
     const Material& m = stored.varies() ? textured : stored;

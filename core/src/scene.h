@@ -226,6 +226,9 @@ private:
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
     void build_tangents();
+    // Those of triangles [first, first + count) again (an instance moved: it
+    // shares no vertex with the rest).
+    void update_tangents(size_t first, size_t count);
     std::vector<std::shared_ptr<const Image>> images_;
     std::vector<Texture> textures_;
     World world_;

@@ -134,8 +134,10 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     auto out = std::make_shared<Scene>(*this);
     out->id_ = next_id();
     out->ancestors_ = ancestors_after(moves);
-    for (size_t i = 0; i < moves.size(); ++i) out->apply(moves[i], i);
-    out->build_tangents();
+    for (size_t i = 0; i < moves.size(); ++i) {
+        out->apply(moves[i], i);
+        out->update_tangents(moves[i].triangle_start, moves[i].triangle_count);
+    }
     Bounds tri_bounds;
     for (size_t i = 0; i < 3 * nt; ++i) tri_bounds.grow(out->tri_verts_[i]);
     out->compute_bounds(tri_bounds);

@@ -121,7 +121,17 @@ void Scene::build_tangents() {
     tangents_.clear();
     const bool mapped = std::any_of(materials_.begin(), materials_.end(),
                                     [](const Material& m) { return m.normal_texture >= 0; });
-    if (mapped && !uvs_.empty()) tangents_ = corner_tangents(verts_, tris_, normals_, uvs_);
+    if (mapped && !uvs_.empty())
+        tangents_ = corner_tangents(verts_.data(), tris_.data(), num_triangles(),
+                                    normals_.empty() ? nullptr : normals_.data(), uvs_.data());
+}
+
+void Scene::update_tangents(size_t first, size_t count) {
+    if (tangents_.empty() || count == 0) return;
+    const std::vector<float> part = corner_tangents(verts_.data(), tris_.data() + 3 * first, count,
+                                                    normals_.empty() ? nullptr : normals_.data(),
+                                                    uvs_.data() + 6 * first);
+    std::copy(part.begin(), part.end(), tangents_.begin() + ptrdiff_t(12 * first));
 }
 
 namespace {
@@ -135,7 +145,7 @@ namespace {
 // direction of n across ng), the reflection's height along ng is
 // x sin(2a) + z cos(2a), with x = wo.X and z = wo.ng: = r cos(2a - b), with
 // r = |(x, z)| and b = atan2(x, z). It reaches the threshold h for 2a within
-// b +- acos(h / r); n is moved to the nearer end of that range.
+// b +- acos(h / r); n is moved to the far end of that range, the one nearer it.
 Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
     const float z = dot(wo, ng);
     const float h = std::min(0.9f * z, 0.01f);
@@ -147,10 +157,11 @@ Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
     const float x = dot(wo, X);
     const float r = std::sqrt(x * x + z * z);
     if (!(r > 0) || h > r) return ng;
+    // (ng itself, a = 0, reflects wo above the threshold, so n lies beyond
+    // the range's far end: its near end is never the nearer one, though float
+    // rounding could make it seem so)
     const float b = std::atan2(x, z), spread = std::acos(h / r);
-    const float a0 = std::atan2(xl, dot(n, ng));   // n's own angle from ng, in [0, pi]
-    const float twice = 2 * a0 > b + spread ? b + spread : b - spread;
-    const float a = std::min(std::max(0.5f * twice, 0.0f), 0.5f * float(kPi));
+    const float a = std::min(std::max(0.5f * (b + spread), 0.0f), 0.5f * float(kPi));
     return normalize(X * std::sin(a) + ng * std::cos(a));
 }
 

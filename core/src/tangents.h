@@ -8,15 +8,17 @@
 #include <cstdint>
 #include <vector>
 
-#include "buffer_pool.h"
 
 namespace gw {
 
 // 4 floats per corner (12 per triangle): tangent x, y, z and the bitangent's
 // sign (+1 or -1; 0 with a zero tangent where no corner of the group has UVs
-// of any area). verts (x, y, z per vertex), tris (3 vertex indices per
-// triangle), normals (per vertex, or empty: face normals), uvs (6 per triangle).
-std::vector<float> corner_tangents(const PooledVector<float>& verts, const PooledVector<int32_t>& tris,
-                                   const PooledVector<float>& normals, const PooledVector<float>& uvs);
+// of any area), for the nt triangles tris (3 vertex indices each) of verts
+// (x, y, z per vertex), normals (per vertex, or null: face normals) and uvs
+// (6 per triangle). Corners are grouped by position, normal and UV, not by
+// vertex index, so a range of a scene's triangles (one instance) gives its
+// own tangents.
+std::vector<float> corner_tangents(const float* verts, const int32_t* tris, size_t nt, const float* normals,
+                                   const float* uvs);
 
 }  // namespace gw

@@ -69,7 +69,7 @@ ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empt
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4
-TANGENT_BYTES = 48            # the core's tangent per triangle corner (normal maps): 3 x 4 floats
+TANGENT_BYTES = 180           # normal maps: the core's tangents (3 corners x 4 floats), and 132 more while they are built
 PIXEL_BYTES = 44 + 36 + 32
 
 
@@ -124,7 +124,8 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
     settings is a gridwalk.RenderSettings (defaults when None); its accel,
     grid_density, max_cells, mailboxes and threads are used. uvs, colors:
     the triangles have corner UVs / colours; tangents: a material has a
-    normal map (the core keeps a tangent per corner, 48 bytes a triangle).
+    normal map (the core keeps a tangent per corner, 48 bytes a triangle,
+    and needs 132 more while it builds them).
     """
     if settings is None:
         from .settings import RenderSettings

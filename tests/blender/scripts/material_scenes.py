@@ -340,14 +340,15 @@ def sunny_monkey_scene(resolution=(96, 72)):
 NORMAL_BANDS = 8   # normal_map_scene's stripes across the plane
 
 
-def normal_map_scene(resolution=(96, 48), strength=1.0, tilt=30.0, sphere=False):
+def normal_map_scene(resolution=(96, 48), strength=1.0, tilt=30.0, sphere=False, mirror=False):
     """A plane facing the camera whose Diffuse BSDF's Normal comes from a
     Tangent Space Normal Map node fed by a Non-Color 8-bit image: NORMAL_BANDS
     vertical stripes whose normals lean `tilt` degrees to one side and the other
     along the UV's u (the plane's x), lit by a sun from the left. sphere: a
     smooth low-poly UV sphere instead (16 x 8), its map one colour (every
     normal leaning `tilt` degrees along u): the tangents' interpolation over
-    its faces decides the shading."""
+    its faces decides the shading. mirror: the object's x scale is -1 (its
+    winding and its UVs' orientation are mirrored in world space)."""
     import mathutils
     reset(resolution=tuple(resolution))
     if sphere:
@@ -356,6 +357,8 @@ def normal_map_scene(resolution=(96, 48), strength=1.0, tilt=30.0, sphere=False)
         bpy.ops.object.shade_smooth()
     else:
         plane = _plane("Plane", 7.0, rotation=(math.pi / 2, 0, 0))
+    if mirror:
+        plane.scale.x = -1.0
     mat = shader_material("Bumpy", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
     shader = next(n for n in mat.node_tree.nodes if n.type == "BSDF_DIFFUSE")
     lean = math.radians(tilt)

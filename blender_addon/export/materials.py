@@ -331,7 +331,10 @@ def _normal_map(node, links) -> bool:
     if nmap is None or nmap.type != "NORMAL_MAP" or getattr(nmap, "space", "") != "TANGENT" or links.textures is None:
         return False
     image, out = _source(nmap.inputs["Color"])
-    if image is None or image.type != "TEX_IMAGE":
+    if image is None:   # a colour: the flat (0.5, 0.5, 1) leaves the normal as it is, nothing to read
+        flat = (0.5, 0.5, 1.0)
+        return all(abs(c - f) <= 1 / 255 for c, f in zip(input_value(nmap.inputs["Color"])[:3], flat))
+    if image.type != "TEX_IMAGE":
         return False
     if not links.take(nmap.inputs["Color"], "normal_texture", colour=False):
         return False

@@ -102,6 +102,9 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
     assert "Displaced: Displacement (ShaderNodeDisplacement) not read" in said
     # a tangent-space normal map is read (test_b18); other spaces are named
     assert "ObjectSpace: Normal (ShaderNodeNormalMap) not read" in said
+    # an unlinked Color: the flat one changes nothing, so nothing is said; another is named
+    assert "FlatNormalMap" not in said
+    assert "TiltedNormalMap: Normal (ShaderNodeNormalMap) not read" in said
     assert np.isfinite(out.uvs).all()
     # TwoMaps (the grid at the origin, faces alternating between two materials):
     # the material naming 'UVMap' gets [0, 1], the one naming 'Second' [0.25, 0.75]

@@ -674,6 +674,13 @@ def unread_settings_scene(override=False):
     node_links.new(tex.outputs["Color"], nmap.inputs["Color"])
     node_links.new(nmap.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
     _plane("ObjectSpaceMapped", 1.0, (10.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(object_space)
+    for name, colour in (("FlatNormalMap", (0.5, 0.5, 1.0, 1.0)), ("TiltedNormalMap", (0.8, 0.5, 0.9, 1.0))):
+        unlinked = principled_material(name, (0.5, 0.5, 0.5))           # Normal Map with an unlinked Color -> Normal
+        nmap = unlinked.node_tree.nodes.new("ShaderNodeNormalMap")
+        nmap.inputs["Color"].default_value = colour
+        unlinked.node_tree.links.new(nmap.outputs["Normal"], unlinked.node_tree.nodes["Principled BSDF"].inputs["Normal"])
+        x = 12.0 if name == "FlatNormalMap" else 14.0
+        _plane(name + "Plane", 1.0, (x, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(unlinked)
     world = bpy.data.worlds.new("Hidden")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)

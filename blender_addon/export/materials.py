@@ -330,7 +330,7 @@ def _normal_map(node, links) -> bool:
     nmap = _source(socket)[0] if socket is not None else None
     if nmap is None or nmap.type != "NORMAL_MAP" or getattr(nmap, "space", "") != "TANGENT" or links.textures is None:
         return False
-    image, out = _source(nmap.inputs["Color"])
+    image = _source(nmap.inputs["Color"])[0]
     if image is None:   # a colour: the flat (0.5, 0.5, 1) leaves the normal as it is, nothing to read
         flat = (0.5, 0.5, 1.0)
         return all(abs(c - f) <= 1 / 255 for c, f in zip(input_value(nmap.inputs["Color"])[:3], flat))
@@ -343,8 +343,9 @@ def _normal_map(node, links) -> bool:
         links.textured.append(f"UV Map {named!r} of {nmap.name!r} (its tangents come from the image's UV map)")
     strength = nmap.inputs.get("Strength")
     if strength is not None:
-        if _source(strength)[0] is not None:
-            links.textured.append(f"Strength ({_source(strength)[0].bl_idname})")
+        fed = _source(strength)[0]
+        if fed is not None:
+            links.textured.append(f"Strength ({fed.bl_idname})")
         links.fields["normal_strength"] = max(float(input_value(strength)), 0.0)
     return True
 

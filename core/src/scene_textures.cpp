@@ -121,9 +121,9 @@ void Scene::build_tangents() {
     tangents_.clear();
     const bool mapped = std::any_of(materials_.begin(), materials_.end(),
                                     [](const Material& m) { return m.normal_texture >= 0; });
-    if (mapped && !uvs_.empty())
-        tangents_ = corner_tangents(verts_.data(), tris_.data(), num_triangles(),
-                                    normals_.empty() ? nullptr : normals_.data(), uvs_.data());
+    if (!mapped || uvs_.empty()) return;
+    tangents_.resize(12 * num_triangles());
+    update_tangents(0, num_triangles());
 }
 
 void Scene::update_tangents(size_t first, size_t count) {

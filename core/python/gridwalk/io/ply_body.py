@@ -271,9 +271,9 @@ class Body:
         """Fail at the first value an integer type cannot hold (a binary file
         cannot hold one; in text, a 'uchar' of 300 or an 'int' of 2.5 is a
         broken writer's, which would read as a colour above 1 or a wrong index)."""
-        if code[0] not in "iu":
+        info = _integer_range(code)
+        if info is None:
             return
-        info = np.iinfo(np.dtype(code))
         bad = ~((values >= info.min) & (values <= info.max) & (values == np.floor(values)))
         if bad.any():
             k = int(np.argmax(bad))
@@ -283,8 +283,8 @@ class Body:
 
     def _check_row(self, e, record, p, values):
         """_in_range for one record's values of p (a Python list), without numpy per row."""
-        if p.type[0] in "iu":
-            info = np.iinfo(np.dtype(p.type))
+        info = _integer_range(p.type)
+        if info is not None:
             if not all(info.min <= v <= info.max and float(v).is_integer() for v in values):
                 self._in_range(e, record, p.name, p.type, np.array(values, np.float64))
 
@@ -320,6 +320,11 @@ class Body:
                 self.fail(e, first + k, f"expected {pos} numbers (the properties "
                                              f"{' '.join(p.name for p in props)}), got {len(row)}")
         return first, np.asarray(items, np.float64), np.asarray(counts, np.int64)
+
+
+def _integer_range(code: str):
+    """numpy's iinfo of an integer type code ('u1', 'i4'), None for a float one."""
+    return np.iinfo(np.dtype(code)) if code[0] in "iu" else None
 
 
 def _is_number(token: bytes) -> bool:

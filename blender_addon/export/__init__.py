@@ -64,13 +64,14 @@ class Export:
         for inst in depsgraph.object_instances:
             if should_stop is not None and should_stop():
                 raise ExportCancelled()
-            if inst.object.type == "LIGHT":
+            kind = inst.object.type
+            if kind == "LIGHT":
                 light = light_from_instance(inst, self.warnings)
                 if light is not None:
                     self.lights.append(light)
-            elif inst.object.type in UNRENDERED_TYPES:
+            elif kind in UNRENDERED_TYPES:
                 if inst.show_self and not inst.object.original.hide_render:
-                    unrendered.setdefault(UNRENDERED_TYPES[inst.object.type], set()).add(inst.object.original.name)
+                    unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(inst.object.original.name)
             else:
                 self.meshes.add_instance(inst)
             self.meshes.add_particle_hair(inst, render)

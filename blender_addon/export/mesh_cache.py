@@ -9,8 +9,9 @@ datablock, bumps the counter of every address that object or mesh used, so
 the next lookup reads it again. (An address freed and reused by a new mesh
 belongs to an object that was just evaluated, so it is bumped too.)
 
-Each instance's world-space arrays are cached as well, keyed by its mesh
-entry and its matrix, for the exports that assemble the scene again. The
+Each chunk of instances' world-space arrays (assemble.py: consecutive
+instances of one mesh) is cached as well, keyed by its mesh entry and its
+matrices, for the exports that assemble the scene again. The
 viewport's transform edits assemble nothing: moves.instance_moves hands the
 moved instances' object-space arrays (and, for flat meshes, their corners,
 kept here) to the core.
@@ -19,7 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .meshes import read_object_mesh, world_part
+from .assemble import world_chunk
+from .meshes import read_object_mesh
 
 
 class MeshCache:
@@ -28,7 +30,7 @@ class MeshCache:
         self.counter = {}        # address -> change counter
         self.names = {}          # address -> datablock name (for mesh updates)
         self.used_by = {}        # object name -> addresses it used
-        self.world = {}          # (entry key, matrix bytes, flat corners) -> world-space arrays
+        self.world = {}          # (entry key, matrices' bytes, flat corners) -> world-space arrays
         self.world_used = set()  # the world keys the current export used
         self.reads = 0           # meshes read since the last reset_stats()
         self.transforms = 0      # instances transformed since the last reset_stats()
@@ -78,15 +80,16 @@ class MeshCache:
             self.reads += 1
         return key, self.entries[key]
 
-    def world_part(self, key, data, matrix, flat_corners):
-        """World-space (vertices, triangles, normals) of one instance, cached by matrix."""
-        wkey = (key, matrix.tobytes(), flat_corners)
+    def world_chunk(self, key, data, matrices, flat_corners):
+        """World-space (vertices, triangles, normals, mirror flags) of consecutive
+        instances of one mesh (assemble.world_chunk), cached by their matrices."""
+        wkey = (key, matrices.tobytes(), flat_corners)
         self.world_used.add(wkey)
-        part = self.world.get(wkey)
-        if part is None:
-            part = self.world[wkey] = world_part(data, matrix, flat_corners)
-            self.transforms += 1
-        return part
+        chunk = self.world.get(wkey)
+        if chunk is None:
+            chunk = self.world[wkey] = world_chunk(data, matrices, flat_corners)
+            self.transforms += len(matrices)
+        return chunk
 
     def corners(self, key, data):
         """A flat mesh's unshared corners in object space, (3T, 3) float32 (what a

@@ -36,7 +36,8 @@ import math
 
 import numpy as np
 
-from ._matrix import to_numpy, transform_normals, transform_points
+from .assemble import assemble_triangles
+from ._matrix import entries, finite, to_numpy
 from .hair import cone_set, segment_count
 from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
 from .point_clouds import point_count, point_set
@@ -247,17 +248,16 @@ def _slot_uvs(mesh, layers, slots, tri_loops, n_loops):
     return uvs, missing
 
 
-def sphere_from_bounds(bound_box, matrix):
-    """(centre, radius) of the analytic sphere standing for an object."""
-    corners = np.array([tuple(c) for c in bound_box], dtype=np.float64)
-    lo, hi = corners.min(axis=0), corners.max(axis=0)
-    centre = transform_points(matrix, ((lo + hi) / 2.0)[None, :])[0]
-    scale = np.linalg.norm(matrix[:3, :3], axis=0).max()
-    return centre, float((hi - lo).max() / 2.0 * scale)
-
-
 def _quoted(names) -> str:
     return ", ".join(f"'{name}'" for name in sorted(names))
+
+
+def object_key(obj) -> tuple:
+    """What tells an evaluated object apart within one export: the addresses of
+    the object, its original and its data. (The depsgraph lists Geometry Nodes
+    and particle instances through a few temporary objects, which differ from
+    one another only in these.)"""
+    return obj.as_pointer(), obj.original.as_pointer(), obj.data.as_pointer() if obj.data is not None else 0
 
 
 def renders(inst, particles: bool = False) -> bool:
@@ -304,10 +304,6 @@ def as_sphere(obj) -> bool:
     return settings is not None and settings.render_as_sphere
 
 
-def _in_range(points) -> bool:
-    return bool(np.isfinite(points).all() and np.abs(points).max(initial=0.0) <= MAX_COORDINATE)
-
-
 def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     """The evaluated object's mesh (modifiers applied), read into arrays;
     layers = (uv layer, colour layer) as read_mesh takes them."""
@@ -346,6 +342,9 @@ class MeshCollector:
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
+        self._sources = {}         # (object, original, data addresses) -> what _source() read of it
+        self._lookups = {}         # material lookup bytes -> the one array the parts share
+        self._hair = {}            # object_key -> whether it has hair particle systems to render
 
     def add_instance(self, inst):
         if inst.is_instance and inst.parent is not None:
@@ -359,31 +358,47 @@ class MeshCollector:
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        matrix = to_numpy(inst.matrix_world)
-        if not np.isfinite(matrix).all():
+        flat = entries(inst.matrix_world)
+        if not finite(flat):
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
-        lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
-        if (obj.type in ("POINTCLOUD", "CURVES") or as_sphere(obj)) and \
-                any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
-            self.emissive_shapes.add(obj.name)
-        if obj.type in ("POINTCLOUD", "CURVES"):
+        matrix = np.array(flat, dtype=np.float64).reshape(4, 4)
+        # What does not depend on the matrix is read once per object and mesh: Geometry Nodes
+        # and particles list thousands of instances of one (each a few microseconds then).
+        memo = object_key(obj)
+        known = self._sources.get(memo)
+        if known is None:
+            known = self._sources[memo] = self._source(obj)
+        kind, lookup = known[0], known[1]
+        if kind == "shapes":
             read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
             self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets)
-            return
-        if as_sphere(obj):
-            centre, radius = sphere_from_bounds(obj.bound_box, matrix)
-            if not _in_range(np.append(centre, radius)):
-                self.invalid[obj.name] = f"its sphere lies outside +-{MAX_COORDINATE:g} or is not finite"
-                return
-            scales = np.linalg.norm(matrix[:3, :3], axis=0)
-            if scales.max() - scales.min() > 1e-4 * scales.max():
-                self.non_uniform_spheres.append(obj.name)
-            self.spheres.append((centre, radius, int(lookup[0])))
-            if self.materials.layers(lookup)[0] is not None:
-                self.textured_spheres.add(obj.name)
-            return
+        elif kind == "sphere":
+            self._add_sphere(obj.name, known[2], flat, lookup)
+        elif kind == "mesh":
+            self._add_mesh(obj.name, known, matrix, flat)
+
+    def _source(self, obj) -> tuple:
+        """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
+        hair curves), "sphere" (+ its local bounds' centre and half size), "mesh" (+ cache
+        key, MeshData, uv/colour layers), or "none" (a mesh without triangles)."""
+        lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
+        kind = obj.type
+        sphere = kind not in ("POINTCLOUD", "CURVES") and as_sphere(obj)
+        if (sphere or kind in ("POINTCLOUD", "CURVES")) and \
+                any(self.materials.materials[i].emits_light for i in set(lookup.tolist())):
+            self.emissive_shapes.add(obj.name)
+        if kind in ("POINTCLOUD", "CURVES"):
+            return "shapes", lookup
         layers = self.materials.layers(lookup)
+        if sphere:
+            corners = [tuple(c) for c in obj.bound_box]
+            lo, hi = [min(c[a] for c in corners) for a in range(3)], [max(c[a] for c in corners) for a in range(3)]
+            if layers[0] is not None:
+                self.textured_spheres.add(obj.name)
+            return "sphere", lookup, ([(l + h) / 2.0 for l, h in zip(lo, hi)],
+                                      max(h - l for l, h in zip(lo, hi)) / 2.0)
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):
@@ -392,34 +407,64 @@ class MeshCollector:
             original = obj.original
             if original.type == "MESH" and not (original.data is not None and len(original.data.polygons)):
                 self.faceless.add(obj.name)
+            return "none", lookup
+        return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
+
+    def _add_sphere(self, name, bounds, flat, lookup):
+        """One 'Render as sphere' instance: its bounds' centre under the matrix (row by
+        row, as transform_points sums), its half size times the largest axis scale
+        (plain floats: a sphere costs a few microseconds, not numpy's per-call cost)."""
+        (px, py, pz), half = bounds
+        centre = [flat[r] * px + flat[r + 1] * py + flat[r + 2] * pz + flat[r + 3] for r in (0, 4, 8)]
+        scales = [math.sqrt(flat[c] * flat[c] + flat[c + 4] * flat[c + 4] + flat[c + 8] * flat[c + 8])
+                  for c in (0, 1, 2)]
+        radius = half * max(scales)
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in (*centre, radius)):
+            self.invalid[name] = f"its sphere lies outside +-{MAX_COORDINATE:g} or is not finite"
             return
+        if max(scales) - min(scales) > 1e-4 * max(scales):
+            self.non_uniform_spheres.append(name)
+        self.spheres.append((np.array(centre), radius, int(lookup[0])))
+
+    def _add_mesh(self, name, known, matrix, flat):
+        _, lookup, key, data, layers, from_mesh, noted = known
         if not data.finite:
-            self.invalid[obj.name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
+            self.invalid[name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
             return
-        linear = np.abs(matrix[:3, :3]).sum(axis=1).max()       # bounds |matrix @ p| for |p|inf <= extent
-        if not linear * data.extent + np.abs(matrix[:3, 3]).max() <= MAX_COORDINATE:
-            self.invalid[obj.name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
+        # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
+        # for |p|inf <= extent (plain floats: numpy's per-call cost is larger at 4 x 4)
+        a, b, c, x, d, e, f, y, g, h, i, z = flat[:12]
+        linear = max(abs(a) + abs(b) + abs(c), abs(d) + abs(e) + abs(f), abs(g) + abs(h) + abs(i))
+        if not linear * data.extent + max(abs(x), abs(y), abs(z)) <= MAX_COORDINATE:
+            self.invalid[name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
             return
-        if data.degenerate and obj.original.type == "MESH":
-            # (a NURBS surface's, text's or metaball's tessellation has zero-area triangles at
-            # its poles and seams by design: nothing the user can or should fix)
-            self.degenerate[obj.name] = (data.degenerate, len(data.triangles))
-        if layers[0] is not None and data.uvs is None:
-            self.without_uvs.add(obj.name)
-        if data.missing_uv_layer:
-            self.missing_uv_layers[obj.name] = data.missing_uv_layer
-        if data.missing_color_layer is not None:
-            self.missing_color_layers[obj.name] = data.missing_color_layer
-        if data.non_finite_corners:
-            self.non_finite_corners[obj.name] = data.non_finite_corners
+        if not noted[0]:        # what the mesh itself is worth a warning for, once
+            noted[0] = True
+            if data.degenerate and from_mesh:
+                # (a NURBS surface's, text's or metaball's tessellation has zero-area triangles at
+                # its poles and seams by design: nothing the user can or should fix)
+                self.degenerate[name] = (data.degenerate, len(data.triangles))
+            if layers[0] is not None and data.uvs is None:
+                self.without_uvs.add(name)
+            if data.missing_uv_layer:
+                self.missing_uv_layers[name] = data.missing_uv_layer
+            if data.missing_color_layer is not None:
+                self.missing_color_layers[name] = data.missing_color_layer
+            if data.non_finite_corners:
+                self.non_finite_corners[name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
 
     def add_particle_hair(self, inst, render: bool):
         """The instance's hair particle systems (particle_hair.py) as cones;
         render: a final render's depsgraph (else the viewport's)."""
-        if not renders(inst, particles=True) or not hair_systems(inst.object, render):
+        if not renders(inst, particles=True):
             return
         obj = inst.object
+        memo = object_key(obj)
+        if memo not in self._hair:
+            self._hair[memo] = bool(hair_systems(obj, render))
+        if not self._hair[memo]:
+            return
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
@@ -513,22 +558,29 @@ def count_geometry(depsgraph) -> dict:
     per_mesh, triangles, spheres, cylinders, flat, any_normals = {}, 0, 0, 0, [0, 0], False
     vertices = 0
     render = getattr(depsgraph, "mode", "RENDER") == "RENDER"
+    known = {}          # object_key -> (its particle hair's cones, its kind, its mesh's key), read once
     for inst in depsgraph.object_instances:
+        obj = inst.object
+        memo = object_key(obj)
+        facts = known.get(memo)
+        if facts is None:
+            kind = obj.type if obj.type in ("POINTCLOUD", "CURVES") else "SPHERE" if as_sphere(obj) else "MESH"
+            facts = known[memo] = (particle_segment_count(obj, render), kind,
+                                   (obj.original.name_full, obj.data.as_pointer() if obj.data else 0))
         if renders(inst, particles=True):
-            cylinders += particle_segment_count(inst.object, render)
+            cylinders += facts[0]
         if not renders(inst):
             continue
-        obj = inst.object
-        if obj.type == "POINTCLOUD":
+        kind, key = facts[1:]
+        if kind == "POINTCLOUD":
             spheres += point_count(obj)
             continue
-        if obj.type == "CURVES":
+        if kind == "CURVES":
             cylinders += segment_count(obj)
             continue
-        if as_sphere(obj):
+        if kind == "SPHERE":
             spheres += 1
             continue
-        key = (obj.original.name_full, obj.data.as_pointer() if obj.data else 0)
         if key not in per_mesh:
             per_mesh[key] = _mesh_counts(obj)
         tris, verts, domain = per_mesh[key]
@@ -560,88 +612,3 @@ def _counts(mesh) -> tuple[int, int, str]:
     domain = getattr(mesh, "normals_domain", "CORNER")          # Blender 4.1+; else the larger count
     verts = len(mesh.vertices) if domain in ("POINT", "FACE") else corners
     return max(0, corners - 2 * faces), verts, domain
-
-
-def mirrors(matrix) -> bool:
-    """Whether the transform mirrors (a negative scale): its instance's
-    triangles are then listed with their corners reversed, so that their
-    winding still faces out in world space (Cycles flips such an object's
-    normals), for transmission, normal maps and flat meshes' normals."""
-    return bool(np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) < 0)
-
-
-def corner_order(matrix):
-    """The order of a triangle's corners in world space (mirrors())."""
-    return [0, 2, 1] if mirrors(matrix) else [0, 1, 2]
-
-
-def _flat_corners(triangles, world):
-    """Unshared corners with face normals, for a flat mesh in a scene that needs normals."""
-    corners = world[triangles.reshape(-1)].reshape(-1, 3, 3)
-    n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    length = np.linalg.norm(n, axis=1, keepdims=True)
-    np.divide(n, length, out=n, where=length > 0)
-    triangles = np.arange(corners.shape[0] * 3, dtype=np.int32).reshape(-1, 3)
-    return corners.reshape(-1, 3), triangles, np.repeat(n, 3, axis=0)
-
-
-def world_part(data, matrix, flat_corners: bool):
-    """One instance in world space: (vertices, triangles, normals or None),
-    float32 / int32. flat_corners: a flat mesh in a scene that needs normals
-    gets unshared corners with its face normals."""
-    world = transform_points(matrix, data.co)
-    tris, nrm = data.triangles[:, corner_order(matrix)], data.normals
-    if flat_corners:
-        world, tris, nrm = _flat_corners(tris, world)
-    elif nrm is not None:
-        nrm = transform_normals(matrix, nrm.astype(np.float64))
-    return world.astype(np.float32), tris, None if nrm is None else nrm.astype(np.float32)
-
-
-class Placement:
-    """Where one part's arrays lie in the assembled scene arrays, and how they
-    were made (flat: unshared corners with face normals): what a later move of
-    the instance needs (gridwalk.InstanceMove)."""
-
-    def __init__(self, vertex_start: int, triangle_start: int, triangle_count: int, flat: bool, normals: bool):
-        self.vertex_start, self.triangle_start, self.triangle_count = vertex_start, triangle_start, triangle_count
-        self.flat, self.normals = flat, normals
-
-
-def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
-    """(Scene arrays (vertices, triangles, normals, triangle_materials), each
-    part's Placement) of the parts (cache key, MeshData, matrix, material
-    lookup); each instance's world-space arrays come from cache.world_part
-    (reused while its matrix is unchanged)."""
-    need_normals = any(data.normals is not None for _, data, _, _ in parts)
-    need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
-    need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials, uvs, colors, layout = [], [], [], [], [], [], []
-    offset = triangle_offset = 0
-    for key, data, matrix, lookup in parts:
-        flat = need_normals and data.normals is None
-        world, tris, nrm = cache.world_part(key, data, matrix, flat)
-        layout.append(Placement(offset, triangle_offset, len(tris), flat, need_normals))
-        triangle_offset += len(tris)
-        vertices.append(world)
-        triangles.append(tris + offset if offset else tris)
-        if need_normals:
-            normals.append(nrm)
-        materials.append(lookup[np.clip(data.material_slot, 0, len(lookup) - 1)])
-        n, order = len(data.triangles), corner_order(matrix)
-        if need_uvs:
-            uvs.append(data.uvs[:, order] if data.uvs is not None else np.zeros((n, 3, 2), np.float32))
-        if need_colors:
-            colors.append(data.colors[:, order] if data.colors is not None else np.ones((n, 3, 3), np.float32))
-        offset += world.shape[0]
-    if not parts:
-        return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
-                "normals": None, "triangle_materials": np.zeros(0, np.int32)}, layout
-    out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32),
-           "normals": np.concatenate(normals) if need_normals else None,
-           "triangle_materials": np.concatenate(materials).astype(np.int32)}
-    if need_uvs:
-        out["uvs"] = np.concatenate(uvs)
-    if need_colors:
-        out["colors"] = np.concatenate(colors)
-    return out, layout

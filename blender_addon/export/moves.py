@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .meshes import corner_order, mirrors
+from .assemble import corner_order, mirrors
 
 
 def instance_moves(before: tuple, layout, after: tuple, export, cache):

@@ -6,6 +6,9 @@ core (Scene.moved); editing
 a mesh shared by two objects reads it once; a modifier change reads that
 object only; a material, light, world or render-setting change restarts
 without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
+Instances of one mesh that come one after another are transformed together, as one chunk
+(blender_addon/export/assemble.py), so deleting one of two linked duplicates transforms the
+other again (its chunk changed), and nothing else.
 After every edit the incremental
 arrays equal a fresh export's, and the image shown equals a render of the
 fresh export. Stopping the session leaves no thread running.
@@ -25,7 +28,7 @@ EDITS = {   # edit: (meshes read, instances transformed)
     "change_light": (0, 0),
     "change_world": (0, 0),
     "change_render_setting": (0, 0),
-    "delete_object": (0, 0),
+    "delete_object": (0, 1),     # Twin deleted: Plain, its chunk's other instance, is a chunk of its own
 }
 
 

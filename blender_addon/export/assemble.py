@@ -1,0 +1,158 @@
+"""Instances of meshes -> the scene's world-space triangle arrays.
+
+Each instance (a part: mesh cache key, MeshData, matrix, material lookup) is
+its mesh under its matrix. Consecutive instances of one mesh (Geometry Nodes
+and particle instances come in long runs) are transformed together, as one
+stack of matrices, in chunks of at most CHUNK_VERTICES vertices: 90,000
+instances of an 80-triangle icosphere took about 50 us each one at a time,
+the numpy calls' overhead, and a few microseconds each in chunks. A lone
+instance is a chunk of one, through the same code.
+
+A mirroring matrix (negative determinant) lists its triangles with their
+corners reversed, so that their winding still faces out in world space
+(Cycles flips such an object's normals), for transmission, normal maps and
+flat meshes' normals.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._matrix import cross, normalized, transform_normals, transform_points
+
+CHUNK_VERTICES = 1 << 18    # vertices per chunk (float64 temporaries of 6 MiB, up to 6 times that for flat corners)
+REVERSED = [0, 2, 1]
+
+
+def mirrors(matrix) -> bool:
+    """Whether the transform mirrors (a negative scale): see the module's note."""
+    return bool(mirror_flags(np.asarray(matrix, np.float64)[None])[0])
+
+
+def mirror_flags(matrices) -> np.ndarray:
+    """mirrors() of each of a (K, 4, 4) stack."""
+    return np.linalg.det(matrices[:, :3, :3]) < 0
+
+
+def corner_order(matrix):
+    """The order of a triangle's corners in world space (mirrors())."""
+    return REVERSED if mirrors(matrix) else [0, 1, 2]
+
+
+def _ordered(per_triangle, flips):
+    """(K, T, 3, ...) corners of each instance in its world-space order (per_triangle: (T, 3, ...))."""
+    if not flips.any():
+        return np.broadcast_to(per_triangle, (len(flips),) + per_triangle.shape)
+    return np.where(flips.reshape((-1,) + (1,) * per_triangle.ndim), per_triangle[:, REVERSED], per_triangle)
+
+
+def world_chunk(data, matrices, flat_corners: bool):
+    """K instances of one mesh in world space: (vertices (K V, 3) float32,
+    triangles (K T, 3) int32 numbered from the chunk's first vertex, normals
+    (K V, 3) float32 or None, mirror flags (K,)). flat_corners: a flat mesh in
+    a scene that needs normals gets unshared corners with its face normals."""
+    k = len(matrices)
+    flips = mirror_flags(matrices)
+    world = transform_points(matrices, data.co)                    # (K, V, 3) float64
+    if flat_corners:
+        corners = np.take(world, data.triangles.reshape(-1), axis=1).reshape(k, -1, 3, 3)
+        if flips.any():
+            corners = np.where(flips[:, None, None, None], corners[:, :, REVERSED], corners)
+        n = normalized(cross(corners[:, :, 1] - corners[:, :, 0], corners[:, :, 2] - corners[:, :, 0]))
+        count = corners.shape[0] * corners.shape[1]
+        return (corners.reshape(-1, 3).astype(np.float32), np.arange(count * 3, dtype=np.int32).reshape(-1, 3),
+                np.repeat(n.reshape(-1, 3).astype(np.float32), 3, axis=0), flips)
+    tris = _ordered(data.triangles, flips)                         # (K, T, 3)
+    vertices = data.co.shape[0]
+    tris = tris + (np.arange(k, dtype=np.int32) * vertices)[:, None, None]
+    normals = None
+    if data.normals is not None:
+        normals = transform_normals(matrices, data.normals.astype(np.float64)).reshape(-1, 3).astype(np.float32)
+    return world.reshape(-1, 3).astype(np.float32), tris.reshape(-1, 3).astype(np.int32, copy=False), normals, flips
+
+
+def world_part(data, matrix, flat_corners: bool):
+    """One instance in world space: (vertices, triangles, normals or None), as world_chunk."""
+    return world_chunk(data, np.asarray(matrix, np.float64)[None], flat_corners)[:3]
+
+
+class Placement:
+    """Where one part's arrays lie in the assembled scene arrays, and how they
+    were made (flat: unshared corners with face normals): what a later move of
+    the instance needs (gridwalk.InstanceMove)."""
+
+    def __init__(self, vertex_start: int, triangle_start: int, triangle_count: int, flat: bool, normals: bool):
+        self.vertex_start, self.triangle_start, self.triangle_count = vertex_start, triangle_start, triangle_count
+        self.flat, self.normals = flat, normals
+
+
+def chunks(parts):
+    """(first, end) index ranges of consecutive parts sharing a mesh entry, of at
+    most CHUNK_VERTICES vertices each (a larger mesh alone)."""
+    out, first = [], 0
+    for i in range(1, len(parts) + 1):
+        if i == len(parts) or parts[i][0] != parts[first][0] or \
+                (i - first + 1) * parts[first][1].co.shape[0] > CHUNK_VERTICES:
+            out.append((first, i))
+            first = i
+    return out
+
+
+def _materials(parts, first, end):
+    """The chunk's triangles' material indices (one tile where its parts share a lookup)."""
+    data = parts[first][1]
+    lookups = [parts[i][3] for i in range(first, end)]
+    slots = data.material_slot
+    if all(lookup is lookups[0] or np.array_equal(lookup, lookups[0]) for lookup in lookups):
+        one = lookups[0][np.clip(slots, 0, len(lookups[0]) - 1)]
+        return np.tile(one, end - first)
+    return np.concatenate([lookup[np.clip(slots, 0, len(lookup) - 1)] for lookup in lookups])
+
+
+def _corner_values(data, name, flips, fill):
+    """The chunk's corner UVs or colours in world-space corner order, (K T, 3, C)."""
+    values = getattr(data, name)
+    if values is None:
+        return np.full((len(flips) * len(data.triangles), 3, fill[1]), fill[0], np.float32)
+    return _ordered(values, flips).reshape((-1,) + values.shape[1:])
+
+
+def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
+    """(Scene arrays (vertices, triangles, normals, triangle_materials, uvs,
+    colours), each part's Placement) of the parts (cache key, MeshData,
+    matrix, material lookup); each chunk's world-space arrays come from
+    cache.world_chunk (reused while its matrices are unchanged)."""
+    if not parts:
+        return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
+                "normals": None, "triangle_materials": np.zeros(0, np.int32)}, []
+    need_normals = any(data.normals is not None for _, data, _, _ in parts)
+    need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
+    need_colors = any(data.colors is not None for _, data, _, _ in parts)
+    vertices, triangles, normals, materials, uvs, colors, layout = [], [], [], [], [], [], []
+    offset = triangle_offset = 0
+    for first, end in chunks(parts):
+        key, data = parts[first][:2]
+        flat = need_normals and data.normals is None
+        matrices = np.stack([parts[i][2] for i in range(first, end)]).astype(np.float64, copy=False)
+        world, tris, nrm, flips = cache.world_chunk(key, data, matrices, flat)
+        per_vertices, per_triangles = world.shape[0] // (end - first), len(data.triangles)
+        layout.extend(Placement(offset + j * per_vertices, triangle_offset + j * per_triangles, per_triangles,
+                                flat, need_normals) for j in range(end - first))
+        triangle_offset += len(tris)
+        vertices.append(world)
+        triangles.append(tris + np.int32(offset) if offset else tris)
+        if need_normals:
+            normals.append(nrm)
+        materials.append(_materials(parts, first, end))
+        if need_uvs:
+            uvs.append(_corner_values(data, "uvs", flips, (0.0, 2)))
+        if need_colors:
+            colors.append(_corner_values(data, "colors", flips, (1.0, 3)))
+        offset += world.shape[0]
+    out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32, copy=False),
+           "normals": np.concatenate(normals) if need_normals else None,
+           "triangle_materials": np.concatenate(materials).astype(np.int32, copy=False)}
+    if need_uvs:
+        out["uvs"] = np.concatenate(uvs)
+    if need_colors:
+        out["colors"] = np.concatenate(colors)
+    return out, layout

@@ -14,8 +14,8 @@ def entries(matrix) -> list:
 
 def to_numpy(matrix) -> np.ndarray:
     """A mathutils 4x4 Matrix as a (4, 4) float64 array (rows as in Blender)."""
-    flat = entries(matrix)
-    return np.array(flat, dtype=np.float64).reshape(-1, math.isqrt(len(flat)))
+    rows = tuple(matrix)
+    return np.array([x for row in rows for x in row], dtype=np.float64).reshape(len(rows), -1)
 
 
 def finite(values) -> bool:

@@ -1,12 +1,13 @@
 """Instances of meshes -> the scene's world-space triangle arrays.
 
 Each instance (a part: mesh cache key, MeshData, matrix, material lookup) is
-its mesh under its matrix. Consecutive instances of one mesh (Geometry Nodes
-and particle instances come in long runs) are transformed together, as one
-stack of matrices, in chunks of at most CHUNK_VERTICES vertices: 90,000
-instances of an 80-triangle icosphere took about 50 us each one at a time,
-the numpy calls' overhead, and a few microseconds each in chunks. A lone
-instance is a chunk of one, through the same code.
+its mesh under its matrix. Instances of one mesh (Geometry Nodes and particle
+instances come by the thousand) are transformed together, as one stack of
+matrices, in chunks (chunks()): 90,000 instances of an 80-triangle icosphere
+took about 50 us each one at a time, the numpy calls' overhead, and a few
+microseconds each in chunks. A lone instance is a chunk of one, through the
+same code. The scene's arrays list the chunks in turn: each mesh's instances
+together, the meshes in the order they first appear.
 
 A mirroring matrix (negative determinant) lists its triangles with their
 corners reversed, so that their winding still faces out in world space
@@ -15,11 +16,14 @@ flat meshes' normals.
 """
 from __future__ import annotations
 
+import zlib
+
 import numpy as np
 
 from ._matrix import cross, normalized, transform_normals, transform_points
 
-CHUNK_VERTICES = 1 << 18    # vertices per chunk (float64 temporaries of 6 MiB, up to 6 times that for flat corners)
+CHUNK_VERTICES = 1 << 18    # vertices per chunk at most (float64 temporaries of 6 MiB, up to 6 times that for flat corners)
+CHUNK_INSTANCES = 64        # instances per chunk on average (chunks())
 REVERSED = [0, 2, 1]
 
 
@@ -85,26 +89,37 @@ class Placement:
         self.flat, self.normals = flat, normals
 
 
-def chunks(parts):
-    """(first, end) index ranges of consecutive parts sharing a mesh entry, of at
-    most CHUNK_VERTICES vertices each (a larger mesh alone)."""
-    out, first = [], 0
-    for i in range(1, len(parts) + 1):
-        if i == len(parts) or parts[i][0] != parts[first][0] or \
-                (i - first + 1) * parts[first][1].co.shape[0] > CHUNK_VERTICES:
-            out.append((first, i))
-            first = i
+def chunks(parts) -> list[list[int]]:
+    """The parts' indices in chunks: each mesh entry's parts (the meshes in the order
+    they first appear, each one's parts in theirs), cut after every part whose
+    matrix's CRC-32 is 0 modulo CHUNK_INSTANCES, and before CHUNK_VERTICES would
+    be passed. The cuts follow the matrices, not the positions, so that adding
+    or deleting an instance changes only its own chunk (the others stay cached)."""
+    by_mesh = {}
+    for i, part in enumerate(parts):
+        by_mesh.setdefault(part[0], []).append(i)
+    out = []
+    for indices in by_mesh.values():
+        cap = max(1, CHUNK_VERTICES // max(parts[indices[0]][1].co.shape[0], 1))
+        chunk = []
+        for i in indices:
+            chunk.append(i)
+            if len(chunk) >= cap or zlib.crc32(parts[i][2].tobytes()) % CHUNK_INSTANCES == 0:
+                out.append(chunk)
+                chunk = []
+        if chunk:
+            out.append(chunk)
     return out
 
 
-def _materials(parts, first, end):
+def _materials(parts, chunk):
     """The chunk's triangles' material indices (one tile where its parts share a lookup)."""
-    data = parts[first][1]
-    lookups = [parts[i][3] for i in range(first, end)]
+    data = parts[chunk[0]][1]
+    lookups = [parts[i][3] for i in chunk]
     slots = data.material_slot
     if all(lookup is lookups[0] or np.array_equal(lookup, lookups[0]) for lookup in lookups):
         one = lookups[0][np.clip(slots, 0, len(lookups[0]) - 1)]
-        return np.tile(one, end - first)
+        return np.tile(one, len(chunk))
     return np.concatenate([lookup[np.clip(slots, 0, len(lookup) - 1)] for lookup in lookups])
 
 
@@ -127,22 +142,24 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
     need_normals = any(data.normals is not None for _, data, _, _ in parts)
     need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
     need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials, uvs, colors, layout = [], [], [], [], [], [], []
+    vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
+    layout = [None] * len(parts)
     offset = triangle_offset = 0
-    for first, end in chunks(parts):
-        key, data = parts[first][:2]
+    for chunk in chunks(parts):
+        key, data = parts[chunk[0]][:2]
         flat = need_normals and data.normals is None
-        matrices = np.stack([parts[i][2] for i in range(first, end)]).astype(np.float64, copy=False)
+        matrices = np.stack([parts[i][2] for i in chunk]).astype(np.float64, copy=False)
         world, tris, nrm, flips = cache.world_chunk(key, data, matrices, flat)
-        per_vertices, per_triangles = world.shape[0] // (end - first), len(data.triangles)
-        layout.extend(Placement(offset + j * per_vertices, triangle_offset + j * per_triangles, per_triangles,
-                                flat, need_normals) for j in range(end - first))
+        per_vertices, per_triangles = world.shape[0] // len(chunk), len(data.triangles)
+        for j, i in enumerate(chunk):
+            layout[i] = Placement(offset + j * per_vertices, triangle_offset + j * per_triangles, per_triangles,
+                                  flat, need_normals)
         triangle_offset += len(tris)
         vertices.append(world)
         triangles.append(tris + np.int32(offset) if offset else tris)
         if need_normals:
             normals.append(nrm)
-        materials.append(_materials(parts, first, end))
+        materials.append(_materials(parts, chunk))
         if need_uvs:
             uvs.append(_corner_values(data, "uvs", flips, (0.0, 2)))
         if need_colors:

@@ -9,7 +9,7 @@ datablock, bumps the counter of every address that object or mesh used, so
 the next lookup reads it again. (An address freed and reused by a new mesh
 belongs to an object that was just evaluated, so it is bumped too.)
 
-Each chunk of instances' world-space arrays (assemble.py: consecutive
+Each chunk of instances' world-space arrays (assemble.py: a few dozen
 instances of one mesh) is cached as well, keyed by its mesh entry and its
 matrices, for the exports that assemble the scene again. The
 viewport's transform edits assemble nothing: moves.instance_moves hands the
@@ -81,7 +81,7 @@ class MeshCache:
         return key, self.entries[key]
 
     def world_chunk(self, key, data, matrices, flat_corners):
-        """World-space (vertices, triangles, normals, mirror flags) of consecutive
+        """World-space (vertices, triangles, normals, mirror flags) of a chunk of
         instances of one mesh (assemble.world_chunk), cached by their matrices."""
         wkey = (key, matrices.tobytes(), flat_corners)
         self.world_used.add(wkey)

@@ -395,10 +395,8 @@ class MeshCollector:
         if sphere:
             corners = [tuple(c) for c in obj.bound_box]
             lo, hi = [min(c[a] for c in corners) for a in range(3)], [max(c[a] for c in corners) for a in range(3)]
-            if layers[0] is not None:
-                self.textured_spheres.add(obj.name)
             return "sphere", lookup, ([(l + h) / 2.0 for l, h in zip(lo, hi)],
-                                      max(h - l for l, h in zip(lo, hi)) / 2.0)
+                                      max(h - l for l, h in zip(lo, hi)) / 2.0, layers[0] is not None)
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):
@@ -414,7 +412,7 @@ class MeshCollector:
         """One 'Render as sphere' instance: its bounds' centre under the matrix (row by
         row, as transform_points sums), its half size times the largest axis scale
         (plain floats: a sphere costs a few microseconds, not numpy's per-call cost)."""
-        (px, py, pz), half = bounds
+        (px, py, pz), half, textured = bounds
         centre = [flat[r] * px + flat[r + 1] * py + flat[r + 2] * pz + flat[r + 3] for r in (0, 4, 8)]
         scales = [math.sqrt(flat[c] * flat[c] + flat[c + 4] * flat[c + 4] + flat[c + 8] * flat[c + 8])
                   for c in (0, 1, 2)]
@@ -425,6 +423,8 @@ class MeshCollector:
         if max(scales) - min(scales) > 1e-4 * max(scales):
             self.non_uniform_spheres.append(name)
         self.spheres.append((np.array(centre), radius, int(lookup[0])))
+        if textured:
+            self.textured_spheres.add(name)
 
     def _add_mesh(self, name, known, matrix, flat):
         _, lookup, key, data, layers, from_mesh, noted = known
@@ -565,9 +565,10 @@ def count_geometry(depsgraph) -> dict:
         facts = known.get(memo)
         if facts is None:
             kind = obj.type if obj.type in ("POINTCLOUD", "CURVES") else "SPHERE" if as_sphere(obj) else "MESH"
-            facts = known[memo] = (particle_segment_count(obj, render), kind,
-                                   (obj.original.name_full, obj.data.as_pointer() if obj.data else 0))
+            facts = known[memo] = [None, kind, (obj.original.name_full, obj.data.as_pointer() if obj.data else 0)]
         if renders(inst, particles=True):
+            if facts[0] is None:
+                facts[0] = particle_segment_count(obj, render)
             cylinders += facts[0]
         if not renders(inst):
             continue

@@ -26,6 +26,7 @@ SCENES = (   # (scene, label, options for both engines)
     ("environment", "HDR Environment lighting a matte sphere",
      ['scene={"matte": true, "resolution": [128, 96]}', "transparent=false"]),
     ("emission_mirror", "Emission seen in a mirror", ["transparent=false"]),
+    ("chrome_ball", "A rectangle light in a chrome ball", ["transparent=false"]),
     ("emission_panel", "An Emission panel lighting a floor (no lamps)",
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("world_shadow", "A white world's light blocked by a ball (no lamps)",

@@ -14,6 +14,10 @@ Vec3 metal_tint(const Material& m, float metal) {
 
 }  // namespace
 
+Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(accel), scene_(accel.scene()), s_(s) {
+    for (const Light& L : scene_.lights()) shaped_lights_ = shaped_lights_ || has_visible_shape(L);
+}
+
 Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx,
                             FirstHit* fh) const {
     return trace(ray, 1, 1.0f, false, RayType::Primary, st, ctx, fh, view_axis);
@@ -93,6 +97,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                             : L.kind == LightKind::Disk   ? L.radius > 0
                             : L.kind == LightKind::Sun    ? L.angle > 0
                                                           : false;
+        // A sharp mirror reflects what its rays see: a light with a shape (lights_seen),
+        // nothing of a Blender point light, as in Cycles. Its share of the highlight is
+        // theirs, as an emitter's is (from_emitters). (Lights without falloff, NFF's, keep
+        // Whitted's highlight: the SPD scenes' mirror balls show it.)
+        const bool reflected = m.roughness <= 0 && (L.inverse_square || has_visible_shape(L));
+        const float highlight = reflected ? m.ks * (1.0f - m.mirror) : m.ks;
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
@@ -106,9 +116,9 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
             Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
-            if (m.ks > 0) {
+            if (m.ks > 0 && highlight > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
-                const float sp_ = m.ks * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
+                const float sp_ = highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
                 f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * sp_
                                     : Vec3(sp_, sp_, sp_);
             }
@@ -275,7 +285,8 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     r.spawned = true;
     if (roughness <= 0) {   // exact mirror or refraction
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, dir);
-        return trace(r, depth + 1, weight, split, RayType::Secondary, st, ctx, nullptr, Vec3());
+        const Vec3 seen = shaped_lights_ ? lights_seen(r, ctx) : Vec3();
+        return trace(r, depth + 1, weight, split, RayType::Secondary, st, ctx, nullptr, Vec3()) + seen;
     }
     // Normalised Phong lobe around the mirror (or refracted) direction,
     // exponent from the roughness by Walter et al.'s mapping
@@ -314,6 +325,21 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
         sum += trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3());
     }
     return sum * (1.0f / float(n));
+}
+
+Vec3 Integrator::lights_seen(const Ray& r, TraceContext& ctx) const {
+    Vec3 sum;
+    for (const Light& L : scene_.lights()) {
+        float t;
+        Vec3 radiance;
+        if (!has_visible_shape(L) || !light_shape_hit(L, r.o, r.d, t, radiance)) continue;
+        // (any surface before the light hides it: glass in front shows it by its own refraction ray)
+        Ray shadow = r;
+        shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);
+        ++ctx.stats.rays[int(RayType::Shadow)];
+        if (!accel_.occluded(RayPre(shadow), ctx)) sum += radiance;
+    }
+    return sum;
 }
 
 Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,

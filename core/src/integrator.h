@@ -28,7 +28,7 @@ struct FirstHit {
 
 class Integrator {
 public:
-    Integrator(const Accel& accel, const RenderSettings& s) : accel_(accel), scene_(accel.scene()), s_(s) {}
+    Integrator(const Accel& accel, const RenderSettings& s);
     Vec3 camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx, FirstHit* fh) const;
 
 private:
@@ -58,6 +58,10 @@ private:
     // roughness 0, else a normalised Phong lobe of the roughness.
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx) const;
+    // The lights whose shapes the mirror or refraction ray r (leaving sp) sees before
+    // any surface (lights.h, light_shape_hit): their radiance, summed (lights are
+    // transparent, as in Cycles: the ray goes on to what lies behind).
+    Vec3 lights_seen(const Ray& r, TraceContext& ctx) const;
     float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                   TraceContext& ctx) const;
     float transmission(Ray r, float dist, TraceContext& ctx) const;
@@ -69,6 +73,7 @@ private:
     const Accel& accel_;
     const Scene& scene_;
     const RenderSettings& s_;
+    bool shaped_lights_ = false;   // a light has a shape that mirror rays see (lights_seen)
 };
 
 }  // namespace gw

@@ -100,6 +100,15 @@ inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, floa
     return 1;
 }
 
+// A spot's share of its light in a direction whose cosine to its axis is c:
+// 0 outside the cone, a smoothstep over the blend region, 1 inside it.
+inline float spot_cone(const Light& L, float c) {
+    if (c <= L.spot_cos) return 0;
+    const float edge = std::max(L.spot_blend * (1.0f - L.spot_cos), 1e-6f);
+    const float x = std::min((c - L.spot_cos) / edge, 1.0f);
+    return x * x * (3.0f - 2.0f * x);
+}
+
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
 inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
     Vec3 pos = L.position;
@@ -160,11 +169,9 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         if (c <= 0) return false;
         s.intensity *= c;
     } else if (L.kind == LightKind::Spot) {
-        const float c = dot(L.direction, -s.wi);
-        if (c <= L.spot_cos) return false;
-        const float edge = std::max(L.spot_blend * (1.0f - L.spot_cos), 1e-6f);
-        const float x = std::min((c - L.spot_cos) / edge, 1.0f);
-        s.intensity *= x * x * (3.0f - 2.0f * x);   // smoothstep over the blend region
+        const float cone = spot_cone(L, dot(L.direction, -s.wi));
+        if (!(cone > 0)) return false;
+        s.intensity *= cone;
     }
     if (L.inverse_square) {
         const float d2 = dot(to, to);
@@ -181,6 +188,77 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         }
     }
     return true;
+}
+
+// Whether a mirror or refraction ray sees the light's shape, as in Cycles'
+// sharp reflections: rect and disk lights from their emitting side, sphere
+// lights and spots with a radius (a sphere, its cone applied to the direction
+// it is seen from), a sun with an angle. Point lights have no shape, and
+// lights without distance falloff (NFF's) no radiance to show.
+inline bool has_visible_shape(const Light& L) {
+    switch (L.kind) {
+    case LightKind::Rect: return L.inverse_square && L.size[0] > 0 && L.size[1] > 0;
+    case LightKind::Disk:
+    case LightKind::Sphere:
+    case LightKind::Spot: return L.inverse_square && L.radius > 0;
+    case LightKind::Sun: return L.angle > 0;
+    default: return false;
+    }
+}
+
+// Where the ray o + t d (d unit) meets the shape of a light with
+// has_visible_shape(): t (inf for the sun) and the radiance it shows, in the
+// units of a camera ray's colour (pi x the light's colour over its area or,
+// for the sun, over its solid angle: the lights carry the diffuse BRDF's
+// 1 / pi, see blender_addon/export/lights.py). False where the ray misses it
+// or meets a rect or disk light from behind.
+inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float& t, Vec3& radiance) {
+    switch (L.kind) {
+    case LightKind::Rect:
+    case LightKind::Disk: {
+        const float facing = dot(d, L.direction);
+        if (!(facing < 0)) return false;                   // from behind (or along its plane)
+        t = dot(L.position - o, L.direction) / facing;
+        if (!(t > 0) || std::isinf(t)) return false;
+        const Vec3 q = o + d * t - L.position;
+        if (L.kind == LightKind::Rect) {
+            if (!(std::abs(dot(q, L.axis_u)) <= 0.5f * L.size[0] && std::abs(dot(q, L.axis_v)) <= 0.5f * L.size[1]))
+                return false;
+            radiance = L.color * float(kPi / (double(L.size[0]) * double(L.size[1])));
+        } else {
+            if (!(dot(q, q) <= L.radius * L.radius)) return false;
+            radiance = L.color * float(1.0 / (double(L.radius) * double(L.radius)));
+        }
+        return true;
+    }
+    case LightKind::Spot:
+    case LightKind::Sphere: {   // (in double: the light may be small and far)
+        const Vec3d oc = Vec3d(o) - Vec3d(L.position), dd(d);
+        const double b = dot(oc, dd), c = dot(oc, oc) - double(L.radius) * double(L.radius);
+        const double disc = b * b - c;
+        if (!(disc >= 0)) return false;
+        const double root = std::sqrt(disc), near = -b - root, far = -b + root;
+        const double hit = near > 0 ? near : far;
+        if (!(hit > 0)) return false;
+        t = float(hit);
+        radiance = L.color * float(1.0 / (double(L.radius) * double(L.radius)));
+        if (L.kind == LightKind::Spot) {
+            const float cone = spot_cone(L, -dot(L.direction, d));
+            if (!(cone > 0)) return false;
+            radiance *= cone;
+        }
+        return true;
+    }
+    case LightKind::Sun: {
+        const double half = 0.5 * double(L.angle), cos_half = std::cos(half);
+        if (!(-double(dot(d, L.direction)) >= cos_half)) return false;
+        t = kInf;
+        radiance = L.color * float(kPi / (2 * kPi * (1 - cos_half)));
+        return true;
+    }
+    default:
+        return false;
+    }
 }
 
 }  // namespace gw

@@ -9,6 +9,7 @@ after image I/O; the timeout catches any other hang.
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -60,6 +61,23 @@ def run_script(kind: str, name: str, *args, timeout: float = 180, blend=None, cw
     """Run tests/blender/scripts/<name> in Blender `kind`; fail with its output on error."""
     argv, env = command(kind, SCRIPTS / name, args, blend)
     return run(argv, env, timeout, cwd)
+
+
+def rendered_luminance(kind: str, folder: Path, scene: str, engine: str, *options):
+    """Luminance of scripts/render_scene.py's render of `scene` with `engine` into a new `folder`
+    (the film opaque; options as render_scene.py takes them, 'key=json')."""
+    import exr
+    folder.mkdir()
+    run_script(kind, "render_scene.py", scene, folder, engine, "transparent=false", *options)
+    return exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined."))
+
+
+def luminance_by_engine(kind: str, out: Path, scene: str, engines: dict, variants: dict) -> dict:
+    """{(engine, variant): rendered_luminance} of `scene` with each engine's option string
+    (engines: {engine: option}) and each variant's scene options (variants: {variant: dict})."""
+    return {(engine, key): rendered_luminance(kind, out / f"{engine}_{key}", scene, engine,
+                                              f"scene={json.dumps(options)}", option)
+            for engine, option in engines.items() for key, options in variants.items()}
 
 
 def script_output(kind: str, tmp_path_factory, script: str, *args, timeout: float = 180) -> Path:

@@ -6,24 +6,16 @@ a point spot's. GRIDWALK rendered it as a point spot (peak 1.8x Cycles' here,
 import numpy as np
 import pytest
 
-import exr
-from runner import run_script
-
-
-def _render(kind, folder, engine, radius, option):
-    folder.mkdir()
-    run_script(kind, "render_scene.py", "near_spot", folder, engine, f'scene={{"radius": {radius}}}',
-               "transparent=false", option)
-    return exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined."))
+from runner import luminance_by_engine
 
 
 @pytest.fixture(scope="module")
 def walls(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"spot_{module_blender}")
-    gw = 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'
-    return {(engine, radius): _render(module_blender, out / f"{engine}_{radius}", engine, radius, option)
-            for engine, option in (("GRIDWALK", gw), ("CYCLES", "samples=64"))
-            for radius in (0.5, 0.0)}
+    engines = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}',
+               "CYCLES": "samples=64"}
+    return luminance_by_engine(module_blender, out, "near_spot", engines,
+                               {radius: {"radius": radius} for radius in (0.5, 0.0)})
 
 
 @pytest.mark.parametrize("radius", [0.5, 0.0])

@@ -8,6 +8,7 @@ with no 1/pi in the BRDF. Cycles' diffuse BRDF is albedo/pi, so matching Cycles
 means folding 1/pi into the light colour:
     point, sphere, spot : I = P / (4 pi)    [W/sr]   -> light.color = rgb * P / (4 pi^2)
     area (rect, disk)   : I = P / pi on its axis     -> light.color = rgb * P / pi^2
+                          (Blender before 4.0: I = P / 4, color = rgb * P / (4 pi))
     sun                 : E = S             [W/m^2]  -> light.color = rgb * S / pi
 where rgb is the light colour (times the blackbody colour when "use temperature"
 is on) and P or S is multiplied by 2^exposure (Blender 4.0+). With "normalize"
@@ -87,6 +88,14 @@ def _power(light, area: float) -> float:
     return power
 
 
+def _area_units() -> float:
+    """Blender before 4.0 converted an area light's power to radiance as P / (4 A), not
+    P / (pi A) (Blender issue 109404, fixed in 4.0): its Cycles shows and lights with
+    pi / 4 of 4.0's radiance, and so does this export there."""
+    import bpy   # (the Blender running the export)
+    return math.pi / 4.0 if bpy.app.version < (4, 0, 0) else 1.0
+
+
 def _casts_shadows(light) -> bool:
     """Cast Shadow: Cycles' own setting in Blender 3.x (use_shadow is EEVEE's
     there), the shared use_shadow from 4.0 on."""
@@ -141,7 +150,7 @@ def _convert_light(light, matrix) -> Light:
         shape, size, radius, area = _area_shape(light, sx, sy)
         if not area > 0:
             raise ValueError("its size (times its object's scale) is zero, so it gives no light")
-        color = rgb * _power(light, area) * AREA_FACTOR
+        color = rgb * _power(light, area) * AREA_FACTOR * _area_units()
         return Light(position=position, color=tuple(color), kind=shape, size=size,
                      radius=radius, axis_u=tuple(unit(x)), axis_v=tuple(unit(-y)),
                      direction=direction, inverse_square=True, casts_shadows=shadows)

@@ -35,6 +35,20 @@ def mirrored_light_scene(light="rect", roughness=0.0, resolution=(64, 48)):
 
 
 
+def lit_wall_scene(light="rect", resolution=(64, 48)):
+    """A grey diffuse wall (Principled, Roughness 1) filling the view, lit by one light of
+    MIRRORED_LIGHTS 3 units in front of it, facing it."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0, -6, 0), (math.pi / 2, 0, 0)
+    bpy.ops.mesh.primitive_plane_add(size=12.0, location=(0, 0, 0), rotation=(math.pi / 2, 0, 0))
+    bpy.context.object.data.materials.append(principled_material("Wall", (0.8, 0.8, 0.8), Roughness=1.0))
+    kind, settings = MIRRORED_LIGHTS[light]
+    add_light("Light", kind, (0.3, -3.0, 0.2), (math.pi / 2, 0, 0), **settings)
+    bpy.context.view_layer.update()
+    return {}
+
+
 def chrome_ball_scene(resolution=(128, 96)):
     """A chrome ball (Principled, Metallic 1, Roughness 0, rendered as a sphere) on a grey floor
     under a rectangle light in front of it and above, which the ball reflects."""

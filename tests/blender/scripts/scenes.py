@@ -653,7 +653,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
     return {}
 
 
-from light_scenes import chrome_ball_scene, mirrored_light_scene  # noqa: E402,F401
+from light_scenes import chrome_ball_scene, lit_wall_scene, mirrored_light_scene  # noqa: E402,F401
 from material_scenes import (bad_materials_scene, checker_scene, cutout_scene, emission_mirror_scene,  # noqa: E402,F401
                              normal_map_scene, rough_glass_scene,
                              emission_panel_scene, environment_scene, fog_box_scene, mix_shaders_scene, node_states_scene, pane_shadow_scene,

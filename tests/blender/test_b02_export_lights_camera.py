@@ -13,7 +13,7 @@ def _by_position(out):
     return {tuple(np.round(light["position"], 3)): light for light in out.lights}
 
 
-def test_every_light_type_is_exported(export):
+def test_every_light_type_is_exported(export, any_blender):
     out = export("lights")
     lights = _by_position(out)
     exp = out.expected["lights"]
@@ -42,7 +42,9 @@ def test_every_light_type_is_exported(export):
     square = get("Square")
     assert square["kind"] == "rect"
     np.testing.assert_allclose(square["size"], [2.0, 2.0], rtol=1e-5)
-    np.testing.assert_allclose(square["color"], [80 * AREA] * 3, rtol=1e-5)
+    # (Blender before 4.0 converts an area light's power to radiance with 4 where 4.0 has pi)
+    area = AREA * (math.pi / 4 if any_blender == "blender34" else 1)
+    np.testing.assert_allclose(square["color"], [80 * area] * 3, rtol=1e-5)
     np.testing.assert_allclose(np.cross(square["axis_u"], square["axis_v"]), exp["Square"]["down"], atol=1e-6)
     np.testing.assert_allclose(square["direction"], exp["Square"]["down"], atol=1e-6)
     rect = get("Rect")

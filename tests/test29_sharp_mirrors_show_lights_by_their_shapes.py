@@ -2,7 +2,8 @@
 disk, a sphere light, a spot with a radius and a sun with an angle appear in it at their
 radiance (pi x the light's colour over its area or solid angle: the lights carry the diffuse
 BRDF's 1 / pi), where the mirror ray meets them before any surface, and the mirror's share of
-their highlight goes (the reflection is it). A point light with distance falloff (Blender's)
+their highlight goes (the reflection is it), and sharp glass keeps only its Fresnel reflection
+of them. A point light with distance falloff (Blender's)
 leaves no highlight in a perfect mirror, as in Cycles. A rough mirror keeps its highlight and
 shows no shape; lights without falloff (NFF's) keep Whitted's highlight, so the SPD scenes
 render as before. test_b19 compares the same with Cycles through Blender."""
@@ -91,6 +92,18 @@ def test_a_surface_in_front_hides_the_light_and_a_half_mirror_shows_half():
     assert hidden[N // 2, N // 2] == 0 and hidden.max() > 0.9 * radiance   # the blocker covers the middle only
     half = render(light, mirror=0.5, ks=0.0)
     assert abs(half.max() / (0.5 * radiance) - 1) < 1e-4
+
+
+def test_sharp_glass_shows_a_light_by_its_fresnel_reflection_alone():
+    """Glass reflects the light it sees along its Fresnel ray (Schlick: 0.04 of it head-on at
+    IOR 1.5), and its highlight, which stood for the same reflection, goes."""
+    light, radiance, _ = LIGHTS["rect"]
+    v, f = QUAD_V, QUAD_F
+    glass = gw.Material(color=(1, 1, 1), kd=0.0, ks=5.0, shininess=1000.0, transmittance=1.0, ior=1.5)
+    scene = gw.Scene(vertices=v, triangles=f, materials=[glass], lights=[light], camera=camera(),
+                     background=(0, 0, 0))
+    img = gw.render(scene, gw.RenderSettings(threads=2, aa="jittered", aa_samples=4))[..., :3].mean(axis=2)
+    assert abs(img[N // 2, N // 2] / (0.04 * radiance) - 1) < 1e-3
 
 
 def test_a_point_light_leaves_no_highlight_in_a_perfect_mirror_but_in_a_rough_one():

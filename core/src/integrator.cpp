@@ -99,10 +99,11 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                                           : false;
         // A sharp mirror reflects what its rays see: a light with a shape (lights_seen),
         // nothing of a Blender point light, as in Cycles. Its share of the highlight is
-        // theirs, as an emitter's is (from_emitters). (Lights without falloff, NFF's, keep
+        // theirs, as an emitter's is (from_emitters), and so is sharp glass's (its Fresnel
+        // reflection ray sees the light). (Lights without falloff, NFF's, keep
         // Whitted's highlight: the SPD scenes' mirror balls show it.)
         const bool reflected = m.roughness <= 0 && (L.inverse_square || has_visible_shape(L));
-        const float highlight = reflected ? m.ks * (1.0f - m.mirror) : m.ks;
+        const float highlight = reflected ? m.ks * std::max(1.0f - m.mirror - m.transmittance, 0.0f) : m.ks;
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);

@@ -74,11 +74,6 @@ def world_chunk(data, matrices, flat_corners: bool):
     return world.reshape(-1, 3).astype(np.float32), tris.reshape(-1, 3).astype(np.int32, copy=False), normals, flips
 
 
-def world_part(data, matrix, flat_corners: bool):
-    """One instance in world space: (vertices, triangles, normals or None), as world_chunk."""
-    return world_chunk(data, np.asarray(matrix, np.float64)[None], flat_corners)[:3]
-
-
 class Placement:
     """Where one part's arrays lie in the assembled scene arrays, and how they
     were made (flat: unshared corners with face normals): what a later move of

@@ -380,8 +380,9 @@ class MeshCollector:
 
     def _source(self, obj) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
-        hair curves), "sphere" (+ its local bounds' centre and half size), "mesh" (+ cache
-        key, MeshData, uv/colour layers), or "none" (a mesh without triangles)."""
+        hair curves), "sphere" (+ (its local bounds' centre, half size, whether it is
+        textured)), "mesh" (+ cache key, MeshData, uv/colour layers, whether it is a mesh
+        object, [whether its warnings were noted]), or "none" (a mesh without triangles)."""
         lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
         lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
         kind = obj.type

@@ -117,7 +117,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
             Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
-            if (m.ks > 0 && highlight > 0) {
+            if (highlight > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
                 f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * sp_

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .materials import _source, input_value
+from .node_links import _source, input_value
 
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
 

@@ -10,13 +10,14 @@ metallic, roughness).
 Linked inputs the core evaluates per hit (textures.py reads the images):
   Image Texture (Color or Alpha output) -> Principled Base Color, Roughness,
       Metallic, Alpha, and the Color of the other shaders; its Vector input
-      unlinked (the mesh's active render UV map) or linked from a UV Map
-      node (that layer);
+      unlinked (the mesh's active render UV map), linked from a UV Map node
+      (that layer) or a Texture Coordinate's UV, through any Mapping nodes
+      (uv_mapping.py: Texture.uv_transform);
   Color Attribute -> Base Color (the named layer, or the active render one);
   Normal Map (Tangent Space) fed by an Image Texture -> the shader's Normal
       (normal_texture, its Strength normal_strength; the tangent frame comes
       from the image's UV map).
-Any other linked input (a Mapping node, a procedural texture, a Mix...) uses
+Any other linked input (a procedural texture, a Mix...) uses
 the socket's unlinked default value; unsupported graphs and inputs are
 reported as ONE warning per export, naming the materials and the nodes.
 
@@ -53,6 +54,8 @@ import numpy as np
 from gridwalk.model import Material
 
 from .hair_color import hair_color
+from .node_links import _socket, _source, input_value
+from .uv_mapping import texture_coordinates
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -72,81 +75,6 @@ def default_material(version) -> Material:
     return principled_material((0.8, 0.8, 0.8), 0.0, 0.5, 0.0, 1.5, f0, specular_albedo=dielectric_albedo(1.5))
 
 
-def _socket(node, *names):
-    for name in names:
-        socket = node.inputs.get(name)
-        if socket is not None:
-            return socket
-    return None
-
-
-def _through(node, out):
-    """The input socket a muted node passes to its output `out` (reroutes
-    pass their one input), or None when nothing reaches `out`."""
-    if node.type == "REROUTE":
-        return node.inputs[0]
-    for internal in node.internal_links:
-        if internal.to_socket.identifier == out.identifier and not internal.is_muted:
-            return internal.from_socket
-    return None
-
-
-CONSTANT_NODES = ("RGB", "VALUE")   # nodes whose output is a value set on it
-
-
-def _follow(socket):
-    """(node, output socket, value) for the input `socket`: the node and output
-    linked into it, through reroutes and muted nodes as Blender passes them;
-    else node None, and `value` the socket whose value the input takes:
-      - the input itself when it is unlinked, when its link or what reaches
-        it is muted, or when a muted node passes nothing to that output;
-      - the output of an RGB or Value node linked to it (not a shader or
-        vector input: a constant texture coordinate is not read);
-      - None (the value 0, as Cycles reads it) when the chain ends at an
-        unlinked input of a reroute or muted node, not that input's value."""
-    first, seen = socket, set()
-    while socket is not None and socket.is_linked:
-        link = socket.links[0]
-        if link.is_muted or not link.is_valid or socket.as_pointer() in seen:   # (invalid: red; a reroute loop)
-            break
-        seen.add(socket.as_pointer())
-        node, out = link.from_node, link.from_socket
-        if node.type in CONSTANT_NODES and not node.mute and first.type not in ("SHADER", "VECTOR"):
-            return None, None, out
-        if node.type != "REROUTE" and not node.mute:
-            return node, out, None
-        fed, socket = socket, _through(node, out)
-        if socket is None:                 # a muted node passing nothing: the input it fed
-            socket = fed                   # stays unlinked (a reroute's gives 0)
-            break
-    return None, None, first if socket is first else None
-
-
-def _source(socket):
-    """(node, output socket) linked into `socket` (see _follow), or (None, None)."""
-    node, out, _ = _follow(socket)
-    return node, out
-
-
-def input_value(socket):
-    """The value Cycles gives an input that no node feeds (see _follow), as a
-    float or a tuple like the input's own: its own value, an RGB or Value
-    node's (converted as Blender converts: a float to grey, a colour to its
-    Rec. 709 luminance), or 0."""
-    own = socket.default_value
-    node, _, value = _follow(socket)
-    if node is not None:                   # a node the export does not read: the input's own value
-        value = socket
-    value = 0.0 if value is None else value.default_value
-    if hasattr(own, "__len__"):
-        if hasattr(value, "__len__"):
-            return tuple(float(c) for c in value)
-        return tuple(float(value) for _ in own)
-    if hasattr(value, "__len__"):
-        return 0.2126 * float(value[0]) + 0.7152 * float(value[1]) + 0.0722 * float(value[2])
-    return float(value)
-
-
 class Links:
     """What a material's linked inputs turn into: texture indices, the UV and
     colour layers they need, and the inputs left at their default (`textured`)."""
@@ -164,8 +92,8 @@ class Links:
         node, out = _source(socket)
         if node is None:
             return False
-        if node.type == "TEX_IMAGE" and self.textures is not None and self._uv(node):
-            self.fields[field] = self.textures.texture(node, out.name)
+        if node.type == "TEX_IMAGE" and self.textures is not None:
+            self.fields[field] = self.textures.texture(node, out.name, self._uv(node))
             return True
         if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
             self.fields["vertex_color"] = True
@@ -174,20 +102,14 @@ class Links:
         self.textured.append(f"{socket.name} ({node.bl_idname})")
         return False
 
-    def _uv(self, node) -> bool:
-        vector = node.inputs.get("Vector")
-        src, _ = _source(vector) if vector is not None else (None, None)
-        if src is None:
-            layer = ""
-        elif src.type == "UVMAP":
-            layer = src.uv_map
-        else:
-            self.textured.append(f"Vector of {node.name!r} ({src.bl_idname}: only UV Map nodes are read)")
-            layer = ""
+    def _uv(self, node) -> tuple:
+        """The node's uv_transform; notes the UV layer it reads (uv_mapping.py)."""
+        layer, transform, problems = texture_coordinates(node)
+        self.textured += problems
         if self.uv_layer and layer and layer != self.uv_layer:
             self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
         self.uv_layer = self.uv_layer or layer
-        return True
+        return transform
 
 
 def _value(node, names, default, links: Links, field=None):

@@ -23,6 +23,8 @@ import numpy as np
 
 from gridwalk import Image, Texture
 
+from .uv_mapping import IDENTITY
+
 MAGENTA = (1.0, 0.0, 1.0)
 # The largest image read: foreach_get needs a float32 copy of every channel
 # (4 bytes per value) besides the stored image. 16k x 16k RGBA is 4 GiB.
@@ -199,8 +201,9 @@ class TextureTable:
             self.images.append(image)
         return self._image_index[key]
 
-    def texture(self, node, output: str = "Color") -> int:
-        """Index of the texture an Image or Environment Texture node's `output` gives."""
+    def texture(self, node, output: str = "Color", uv_transform: tuple = IDENTITY) -> int:
+        """Index of the texture an Image or Environment Texture node's `output` gives,
+        its coordinates mapped by `uv_transform` (uv_mapping.py)."""
         image = self._image(node.image)
         interpolation = INTERPOLATION.get(node.interpolation, "linear")
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
@@ -217,12 +220,12 @@ class TextureTable:
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
         premultiply = has_alpha and not img.is_float
         unassociate = has_alpha and _alpha_used(node)
-        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate)
+        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform)
         if key not in self._texture_index:
             self._texture_index[key] = len(self.textures)
             self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
                                          use_alpha=output == "Alpha", premultiply=premultiply,
-                                         unassociate=unassociate))
+                                         unassociate=unassociate, uv_transform=uv_transform))
         return self._texture_index[key]
 
     def prune(self):

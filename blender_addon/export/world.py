@@ -33,7 +33,7 @@ import dataclasses
 from gridwalk import World
 
 from .environment_rotation import environment_rotation
-from .materials import _source, input_value
+from .node_links import _source, input_value
 
 
 def _background_node(tree):

@@ -50,6 +50,7 @@ void bind_records(nb::module_& m) {
         .def_rw("use_alpha", &Texture::use_alpha)
         .def_rw("premultiply", &Texture::premultiply)
         .def_rw("unassociate", &Texture::unassociate)
+        .def_rw("uv_transform", &Texture::uv_transform)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
 
     nb::class_<World>(m, "World")

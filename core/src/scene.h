@@ -245,6 +245,7 @@ private:
 
     Rgba lookup(int32_t texture, float u, float v) const {
         const Texture& t = textures_[size_t(texture)];
+        if (uv_mapped(t)) map_uv(t, u, v);
         return sample_image(*images_[size_t(t.image)], t, u, v);
     }
     void hit_uv(const Hit& hit, float& u, float& v) const;

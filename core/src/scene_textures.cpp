@@ -60,6 +60,10 @@ void Scene::check_textures() {
     }
     validate_world(world_);
     check_index(world_.environment, "World.environment");
+    if (world_.environment >= 0 && uv_mapped(textures_[size_t(world_.environment)]))
+        bad("World.environment = " + std::to_string(world_.environment) +
+            " names a texture with a uv_transform, which an environment does not use: "
+            "turn it with World.environment_rotation");
     env_light_ = world_.environment_light && world_.environment >= 0;
     env_rotated_ = world_.environment_rotation != std::array<float, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (env_light_) {

@@ -93,6 +93,8 @@ Rgba Image::texel(int x, int y, bool decode, bool premultiply) const {
 void validate_texture(const Texture& t, const std::string& where) {
     if (!enum_valid(t.interpolation)) throw std::invalid_argument(where + ".interpolation is not an interpolation");
     if (!enum_valid(t.extension)) throw std::invalid_argument(where + ".extension is not an extension");
+    for (float x : t.uv_transform)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + ".uv_transform has a non-finite value");
 }
 
 Rgba sample_image(const Image& img, const Texture& t, float u, float v) {

@@ -6,6 +6,7 @@
 // (Blender's Image Texture node: Color and Alpha outputs). Row 0 of the pixel
 // array is the TOP of the image; v = 0 is its bottom edge (UV convention).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -62,10 +63,25 @@ struct Texture {
     // sRGB image; where alpha is neither 0 nor 1): Cycles' Color output when
     // the node's Alpha output is used, which makes associated colour straight again.
     bool unassociate = false;
+    // The texture coordinates are mapped before the lookup: u' = m0 u + m1 v + m2,
+    // v' = m3 u + m4 v + m5 (Blender's Mapping node between the UV map and an
+    // Image Texture: a 2 x 3 affine map). The identity changes nothing, to the bit.
+    std::array<float, 6> uv_transform = {1, 0, 0, 0, 1, 0};
 };
 
-// Checks the enums (the image index is checked by the scene, which knows the
-// images); throws std::invalid_argument naming `where` and the field.
+inline bool uv_mapped(const Texture& t) { return t.uv_transform != std::array<float, 6>{1, 0, 0, 0, 1, 0}; }
+
+// (u, v) mapped by t.uv_transform (see Texture).
+inline void map_uv(const Texture& t, float& u, float& v) {
+    const auto& m = t.uv_transform;
+    const float x = m[0] * u + m[1] * v + m[2], y = m[3] * u + m[4] * v + m[5];
+    u = x;
+    v = y;
+}
+
+// Checks the enums and that uv_transform is finite (the image index is checked
+// by the scene, which knows the images); throws std::invalid_argument naming
+// `where` and the field.
 void validate_texture(const Texture& t, const std::string& where);
 
 // The image under texture coordinates (u, v), filtered and extended as `t`

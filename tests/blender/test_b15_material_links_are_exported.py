@@ -76,7 +76,7 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
                                                "interpolation": "closest", "extension": "clip", "use_alpha": False,
                                                "premultiply": True,   # its Alpha output is not linked: associated
-                                               "unassociate": False}
+                                               "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

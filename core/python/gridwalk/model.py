@@ -171,13 +171,17 @@ class Texture(Record):
     alpha before filtering (an 8-bit image's in its bytes; Cycles' associated
     colour); unassociate: divided by it after filtering, before an 8-bit sRGB
     image is decoded (where alpha is not 0 or 1; Cycles' Color output when the
-    node's Alpha output is used)."""
+    node's Alpha output is used). uv_transform: 6 numbers (a, b, c, d, e, f):
+    the texture coordinates are mapped before the lookup, u' = a u + b v + c,
+    v' = d u + e v + f (Blender's Mapping node on the UV map; the identity by
+    default; a world's environment takes environment_rotation instead)."""
     image: object = None
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
     premultiply: bool = _TEX.premultiply
     unassociate: bool = _TEX.unassociate
+    uv_transform: tuple = tuple(_TEX.uv_transform)
     CORE = _core.Texture
 
     def converters(self) -> dict:

@@ -1,0 +1,88 @@
+"""The texture coordinates an Image Texture node reads: its Vector input.
+
+An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
+that vector is the mesh's active render UV map, (u, v, 0); a UV Map node
+gives a named layer, a Texture Coordinate node's UV output the active render
+one. Mapping nodes between them and the texture (any number, chained) move
+the vector by an affine map of 3-space, as Blender defines them:
+  Point:   R (S p) + L
+  Texture: R^T (p - L) / S   (a zero component of S gives 0: Blender's safe divide)
+  Vector:  R (S p)
+with R = Rz Ry Rx of the node's Rotation (Euler XYZ), S its Scale and L its
+Location. Since the UV map's z is 0, the composition restricted to (u, v) ->
+(x, y) is a 2 x 3 affine map: gridwalk.Texture.uv_transform. A Mapping whose
+own Vector is unlinked maps the constant (0, 0, 0), as Cycles does: the
+texture then shows one texel everywhere.
+
+Not read, each named in the material's warning: the Normal type (it
+normalises, which is not affine: the node is passed over), linked Location,
+Rotation or Scale inputs (their own values are used), and any other source
+of coordinates (Generated, Object, a Vector Math node...: the UV map is used).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .environment_rotation import euler_xyz
+from .node_links import _source, input_value
+
+IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
+UV_SOURCES = {"UVMAP": None, "TEX_COORD": "UV"}   # node type -> the output that is a UV map (None: any)
+
+
+def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
+    """(4 x 4 affine matrix of 3-space, problems) of one Mapping node."""
+    kind = getattr(node, "vector_type", "POINT")
+    problems = [f"{name} of {node.name!r} (linked: its own value is used)"
+                for name in ("Location", "Rotation", "Scale")
+                if name in node.inputs and _source(node.inputs[name])[0] is not None]
+    out = np.eye(4)
+    if kind not in ("POINT", "TEXTURE", "VECTOR"):
+        return out, problems + [f"{node.name!r} of type {kind.title()} (passed over)"]
+    rotation = euler_xyz(*input_value(node.inputs["Rotation"])[:3])
+    scale = np.asarray(input_value(node.inputs["Scale"])[:3], np.float64)
+    location = np.zeros(3) if kind == "VECTOR" else np.asarray(input_value(node.inputs["Location"])[:3], np.float64)
+    if kind == "TEXTURE":
+        inverse = np.divide(1.0, scale, out=np.zeros(3), where=scale != 0)
+        out[:3, :3] = inverse[:, None] * rotation.T
+        out[:3, 3] = -out[:3, :3] @ location
+    else:
+        out[:3, :3] = rotation * scale[None, :]
+        out[:3, 3] = location
+    return out, problems
+
+
+def texture_coordinates(node) -> tuple[str, tuple, list[str]]:
+    """(UV layer: "" the active render one, else its name; uv_transform as 6
+    floats; problems to warn about) for an Image Texture node's Vector input."""
+    vector = node.inputs.get("Vector")
+    affine, problems = np.eye(4), []
+    socket, seen = vector, set()
+    while socket is not None:
+        src, out = _source(socket)
+        if src is None:
+            if socket is not vector:       # a Mapping's unlinked Vector: the constant (0, 0, 0)
+                affine = affine @ np.diag([0.0, 0.0, 0.0, 1.0])
+            layer = ""
+            break
+        if src.type == "MAPPING" and src.as_pointer() not in seen:
+            seen.add(src.as_pointer())
+            step, notes = mapping_affine(src)
+            affine, socket = affine @ step, src.inputs["Vector"]
+            problems += notes
+            continue
+        if src.type in UV_SOURCES and UV_SOURCES[src.type] in (None, out.name):
+            layer = src.uv_map if src.type == "UVMAP" else ""
+        else:
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, "
+                            "through Mapping nodes, are read; the UV map is used)")
+            affine, layer = np.eye(4), ""
+        break
+    else:
+        layer = ""
+    # (u, v, 0, 1) -> (x, y): rows x and y, columns u, v and the translation
+    transform = tuple(float(affine[r, c]) for r in (0, 1) for c in (0, 1, 3))
+    if not all(np.isfinite(transform)):
+        problems.append(f"Vector of {node.name!r} (its Mapping is not finite: the UV map is used)")
+        transform = IDENTITY
+    return layer, transform, problems

@@ -1,0 +1,70 @@
+"""Scenes about where a texture lands (render_scene.py and export_dump.py build them by name)."""
+import math
+
+import bpy
+import numpy as np
+
+from material_scenes import _filled_image
+from scenes import reset, shader_material
+
+# Mapping nodes from the UV map to the image, the first applied first:
+# (vector type, location, rotation in radians, scale)
+TURNED = ((0.3, -0.2, 0.0), (0.0, 0.0, math.radians(30.0)), (2.5, 1.5, 1.0))
+MAPPINGS = {
+    "none": [],
+    "point": [("POINT", *TURNED)],
+    "texture": [("TEXTURE", *TURNED)],
+    "vector": [("VECTOR", *TURNED)],
+    # turned about every axis, moved along z too: the second map sees the first's z
+    "chain": [("POINT", (0.1, 0.0, 0.4), (0.5, 0.0, 0.2), (1.5, 2.0, 1.0)),
+              ("TEXTURE", (0.1, 0.2, 0.7), (0.3, 0.2, 0.5), (0.5, 2.0, 3.0))],
+}
+
+
+def _mapping(nodes, kind, location, rotation, scale):
+    node = nodes.new("ShaderNodeMapping")
+    node.vector_type = kind
+    if kind in ("POINT", "TEXTURE"):       # (the other types have no Location input)
+        node.inputs["Location"].default_value = location
+    node.inputs["Rotation"].default_value = rotation
+    node.inputs["Scale"].default_value = scale
+    return node
+
+
+def mapped_texture_scene(chain="point", source="coordinates", resolution=(96, 72)):
+    """A plane filling the view, its Emission shader's Color an 8 x 8 image of random 8-bit colours
+    read through the Mapping nodes MAPPINGS[chain] from `source`: "coordinates" (a Texture
+    Coordinate's UV), "uvmap" (a UV Map node naming the plane's layer) or "constant" (the
+    first Mapping's Vector unlinked). chain "unread": a Normal-type Mapping and a Point one whose
+    Scale a Combine XYZ node gives. Returns the maps, the UV layer's name and the image's pixels."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    pixels = np.random.default_rng(5).integers(0, 256, (8, 8, 4)) / 255.0
+    pixels[..., 3] = 1.0
+    image = _filled_image("Random", pixels, float_buffer=False)
+    mat = shader_material("Mapped", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = image, "Linear"
+    links.new(tex.outputs["Color"], nodes["Emission"].inputs["Color"])
+    maps = MAPPINGS.get(chain, [])
+    chained = [_mapping(nodes, *m) for m in maps]
+    if chain == "unread":
+        chained = [_mapping(nodes, "NORMAL", *TURNED), _mapping(nodes, "POINT", *TURNED)]
+        combine = nodes.new("ShaderNodeCombineXYZ")
+        links.new(combine.outputs[0], chained[1].inputs["Scale"])
+    for a, b in zip(chained, chained[1:]):
+        links.new(a.outputs["Vector"], b.inputs["Vector"])
+    if chained:
+        links.new(chained[-1].outputs["Vector"], tex.inputs["Vector"])
+    first = chained[0].inputs["Vector"] if chained else tex.inputs["Vector"]
+    if source == "coordinates":
+        links.new(nodes.new("ShaderNodeTexCoord").outputs["UV"], first)
+    elif source == "uvmap":
+        uv = nodes.new("ShaderNodeUVMap")
+        uv.uv_map = plane.data.uv_layers[0].name
+        links.new(uv.outputs["UV"], first)
+    plane.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {"maps": maps, "pixels": pixels.tolist()}

@@ -57,6 +57,9 @@ def _expected(texels, u, v, interpolation, extension):
             x, y = x % w, y % h
         elif extension == "extend":
             x, y = np.clip(x, 0, w - 1), np.clip(y, 0, h - 1)
+        elif extension == "mirror":            # every other tile flipped: texel -1 - k is texel k
+            x, y = (np.where(i < 0, -1 - i, i) % (2 * n) for i, n in ((x, w), (y, h)))
+            x, y = np.where(x < w, x, 2 * w - 1 - x), np.where(y < h, y, 2 * h - 1 - y)
         inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
         out = bottom_up[np.clip(y, 0, h - 1), np.clip(x, 0, w - 1)]
         return np.where(inside[..., None], out, 0.0)
@@ -80,7 +83,7 @@ BYTES = RNG.integers(0, 256, (5, 7, 3), dtype=np.uint8)
 
 
 @pytest.mark.parametrize("interpolation", ["closest", "linear"])
-@pytest.mark.parametrize("extension", ["repeat", "extend", "clip"])
+@pytest.mark.parametrize("extension", ["repeat", "extend", "clip", "mirror"])
 def test_lookup_matches_a_numpy_reference(interpolation, extension):
     lo, hi = -0.6, 1.7                     # the UVs leave the image on every side
     rgba, _ = _render_texture(gw.Image(BYTES), lo, hi, interpolation=interpolation, extension=extension)

@@ -20,7 +20,7 @@ def _mapped(u, v, m):
 
 
 @pytest.mark.parametrize("interpolation", ["closest", "linear"])
-@pytest.mark.parametrize("extension", ["repeat", "clip"])
+@pytest.mark.parametrize("extension", ["repeat", "clip", "mirror"])
 def test_a_colour_texture_is_read_at_the_mapped_coordinates(interpolation, extension):
     rgba, _ = _render_texture(gw.Image(BYTES), interpolation=interpolation, extension=extension, uv_transform=MAP)
     u, v = _mapped(*_pixel_uvs(0.0, 1.0), MAP)

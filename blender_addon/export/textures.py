@@ -11,8 +11,8 @@ MAX_IMAGE_BYTES, and UDIM tiles become a 1 x 1 magenta image, as Blender
 shows them, with one warning naming each.
 
 Node settings: interpolation Closest stays closest, every other mode is
-bilinear; extension REPEAT / EXTEND / CLIP as set (MIRROR is read as REPEAT,
-with a warning). A texture is (image, interpolation, extension, output,
+bilinear; extension REPEAT / EXTEND / CLIP / MIRROR as set (any other is read
+as REPEAT, with a warning). A texture is (image, interpolation, extension, output,
 premultiplied (8-bit images' colour, associated as Cycles gives it),
 unassociated (divided by alpha again where the node's Alpha output is used)):
 the Color and Alpha outputs of one node are two textures of one image.
@@ -30,7 +30,7 @@ MAGENTA = (1.0, 0.0, 1.0)
 # (4 bytes per value) besides the stored image. 16k x 16k RGBA is 4 GiB.
 MAX_IMAGE_BYTES = 2 << 30
 INTERPOLATION = {"Closest": "closest"}
-EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip"}
+EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip", "MIRROR": "mirror"}
 
 
 def _alpha_used(node) -> bool:

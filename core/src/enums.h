@@ -84,7 +84,8 @@ GW_ENUM(Interpolation, GW_INTERPOLATIONS)
 #define GW_EXTENSIONS(X)                                                                      \
     X(Repeat, "repeat", "Repeat", "Tile the image in both directions")                        \
     X(Extend, "extend", "Extend", "Repeat the edge texels outside the image")                 \
-    X(Clip, "clip", "Clip", "Transparent black outside the image")
+    X(Clip, "clip", "Clip", "Transparent black outside the image")                             \
+    X(Mirror, "mirror", "Mirror", "Tile the image, every other tile mirrored")
 GW_ENUM(Extension, GW_EXTENSIONS)
 
 }  // namespace gw

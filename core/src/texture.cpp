@@ -28,6 +28,11 @@ int wrap(int i, int n, Extension e) {
         return m < 0 ? m + n : m;
     }
     case Extension::Extend: return std::min(std::max(i, 0), n - 1);
+    case Extension::Mirror: {
+        // ... 1 0 | 0 1 ... n-1 | n-1 n-2 ...: texel -1 - k mirrors texel k (k >= 0)
+        const int k = i < 0 ? -1 - i : i, m = k % (2 * n);
+        return m < n ? m : 2 * n - 1 - m;
+    }
     default: return i >= 0 && i < n ? i : -1;
     }
 }

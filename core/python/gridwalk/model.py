@@ -165,7 +165,7 @@ class Texture(Record):
     """How a material (or the world) samples an image. image: a gridwalk.Image,
     or an index into Scene(images=...); an Image used by several textures is
     stored once. interpolation: linear | closest. extension: repeat | extend
-    | clip (transparent black outside). use_alpha: the image's alpha channel
+    | clip (transparent black outside) | mirror (every other tile flipped). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's
     luminance, a colour input as grey. premultiply: the colour is multiplied by
     alpha before filtering (an 8-bit image's in its bytes; Cycles' associated

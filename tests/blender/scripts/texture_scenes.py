@@ -31,11 +31,11 @@ def _mapping(nodes, kind, location, rotation, scale):
     return node
 
 
-def mapped_texture_scene(chain="point", source="coordinates", resolution=(96, 72)):
+def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT", resolution=(96, 72)):
     """A plane filling the view, its Emission shader's Color an 8 x 8 image of random 8-bit colours
     read through the Mapping nodes MAPPINGS[chain] from `source`: "coordinates" (a Texture
     Coordinate's UV), "uvmap" (a UV Map node naming the plane's layer) or "constant" (the
-    first Mapping's Vector unlinked). chain "unread": a Normal-type Mapping and a Point one whose
+    first Mapping's Vector unlinked), the image's `extension` as given. chain "unread": a Normal-type Mapping and a Point one whose
     Scale a Combine XYZ node gives. Returns the maps, the UV layer's name and the image's pixels."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
@@ -46,7 +46,7 @@ def mapped_texture_scene(chain="point", source="coordinates", resolution=(96, 72
     mat = shader_material("Mapped", "ShaderNodeEmission", [("Strength", 1.0)])
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     tex = nodes.new("ShaderNodeTexImage")
-    tex.image, tex.interpolation = image, "Linear"
+    tex.image, tex.interpolation, tex.extension = image, "Linear", extension
     links.new(tex.outputs["Color"], nodes["Emission"].inputs["Color"])
     maps = MAPPINGS.get(chain, [])
     chained = [_mapping(nodes, *m) for m in maps]

@@ -14,6 +14,8 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
       (that layer) or a Texture Coordinate's UV, through any Mapping nodes
       (uv_mapping.py: Texture.uv_transform);
   Color Attribute -> Base Color (the named layer, or the active render one);
+  an Image Texture through Separate Color, Math, Mix and Invert nodes with
+      constant other inputs (value_nodes.py: Texture.channel, gain, bias, clamp);
   Normal Map (Tangent Space) fed by an Image Texture -> the shader's Normal
       (normal_texture, its Strength normal_strength; the tangent frame comes
       from the image's UV map).
@@ -56,6 +58,7 @@ from gridwalk.model import Material
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
 from .uv_mapping import texture_coordinates
+from .value_nodes import image_through_nodes
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -99,7 +102,11 @@ class Links:
             self.fields["vertex_color"] = True
             self.color_layer = getattr(node, "layer_name", "") or ""
             return True
-        self.textured.append(f"{socket.name} ({node.bl_idname})")
+        image, output, adjust = image_through_nodes(socket) if self.textures is not None else (None, None, "")
+        if image is not None:
+            self.fields[field] = self.textures.texture(image, output, self._uv(image), adjust)
+            return True
+        self.textured.append(f"{socket.name} ({node.bl_idname}{': ' + adjust if adjust else ''})")
         return False
 
     def _uv(self, node) -> tuple:

@@ -201,9 +201,10 @@ class TextureTable:
             self.images.append(image)
         return self._image_index[key]
 
-    def texture(self, node, output: str = "Color", uv_transform: tuple = IDENTITY) -> int:
+    def texture(self, node, output: str = "Color", uv_transform: tuple = IDENTITY, adjust: dict | None = None) -> int:
         """Index of the texture an Image or Environment Texture node's `output` gives,
-        its coordinates mapped by `uv_transform` (uv_mapping.py)."""
+        its coordinates mapped by `uv_transform` (uv_mapping.py), its value adjusted
+        by `adjust` (Texture's channel, gain, bias and clamp: value_nodes.py)."""
         image = self._image(node.image)
         interpolation = INTERPOLATION.get(node.interpolation, "linear")
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
@@ -220,12 +221,14 @@ class TextureTable:
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
         premultiply = has_alpha and not img.is_float
         unassociate = has_alpha and _alpha_used(node)
-        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform)
+        adjust = adjust or {}
+        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform,
+               tuple(sorted(adjust.items())))
         if key not in self._texture_index:
             self._texture_index[key] = len(self.textures)
             self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
                                          use_alpha=output == "Alpha", premultiply=premultiply,
-                                         unassociate=unassociate, uv_transform=uv_transform))
+                                         unassociate=unassociate, uv_transform=uv_transform, **adjust))
         return self._texture_index[key]
 
     def prune(self):

@@ -51,6 +51,10 @@ void bind_records(nb::module_& m) {
         .def_rw("premultiply", &Texture::premultiply)
         .def_rw("unassociate", &Texture::unassociate)
         .def_rw("uv_transform", &Texture::uv_transform)
+        .def_rw("channel", &Texture::channel)
+        .def_rw("gain", &Texture::gain)
+        .def_rw("bias", &Texture::bias)
+        .def_rw("clamp", &Texture::clamp)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
 
     nb::class_<World>(m, "World")

@@ -64,6 +64,10 @@ void Scene::check_textures() {
         bad("World.environment = " + std::to_string(world_.environment) +
             " names a texture with a uv_transform, which an environment does not use: "
             "turn it with World.environment_rotation");
+    if (world_.environment >= 0 && adjusts(textures_[size_t(world_.environment)]))
+        bad("World.environment = " + std::to_string(world_.environment) +
+            " names a texture with a channel, gain, bias or clamp, which an environment does not use: "
+            "scale it with World.environment_strength");
     env_light_ = world_.environment_light && world_.environment >= 0;
     env_rotated_ = world_.environment_rotation != std::array<float, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (env_light_) {

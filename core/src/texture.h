@@ -67,7 +67,23 @@ struct Texture {
     // v' = m3 u + m4 v + m5 (Blender's Mapping node between the UV map and an
     // Image Texture: a 2 x 3 affine map). The identity changes nothing, to the bit.
     std::array<float, 6> uv_transform = {1, 0, 0, 0, 1, 0};
+    // What the value goes through before the material reads it (Blender's
+    // Separate Color, Math, Mix and Invert nodes between the image and the
+    // shader's input): `channel` -1 the colour, 0-2 its red, green or blue
+    // channel as grey, 3 its luminance as grey (use_alpha: the alpha, as
+    // grey); then colour x gain + bias, channel by channel; then clamped to
+    // [0, 1] where `clamp` is set. The defaults change nothing, to the bit.
+    int32_t channel = -1;
+    std::array<float, 3> gain = {1, 1, 1};
+    std::array<float, 3> bias = {0, 0, 0};
+    bool clamp = false;
 };
+
+// Whether the texture's value is adjusted (see Texture::channel).
+inline bool adjusts(const Texture& t) {
+    return t.channel != -1 || t.gain != std::array<float, 3>{1, 1, 1} || t.bias != std::array<float, 3>{0, 0, 0} ||
+           t.clamp;
+}
 
 inline bool uv_mapped(const Texture& t) { return t.uv_transform != std::array<float, 6>{1, 0, 0, 0, 1, 0}; }
 
@@ -90,16 +106,32 @@ void validate_texture(const Texture& t, const std::string& where);
 Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 
 // Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
-// else its colour (premultiplied by sample_image where the texture says).
+// else its colour (premultiplied by sample_image where the texture says), then
+// the texture's channel, gain, bias and clamp (see Texture::channel).
 inline Vec3 color_of(const Texture& t, const Rgba& c) {
-    return t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
+    Vec3 v = t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
+    if (!adjusts(t)) return v;
+    if (!t.use_alpha && t.channel >= 0) {
+        const float grey = t.channel == 0   ? c.rgb.x
+                           : t.channel == 1 ? c.rgb.y
+                           : t.channel == 2 ? c.rgb.z
+                                            : 0.2126f * c.rgb.x + 0.7152f * c.rgb.y + 0.0722f * c.rgb.z;
+        v = Vec3(grey, grey, grey);
+    }
+    v = Vec3(v.x * t.gain[0] + t.bias[0], v.y * t.gain[1] + t.bias[1], v.z * t.gain[2] + t.bias[2]);
+    if (t.clamp) {
+        auto unit = [](float x) { return x > 0 ? (x < 1 ? x : 1) : 0; };   // (NaN -> 0)
+        v = Vec3(unit(v.x), unit(v.y), unit(v.z));
+    }
+    return v;
 }
 
-// Scalar value of a texture feeding a scalar input: its alpha (use_alpha), else
-// the colour's luminance (Rec. 709 weights, Blender's colour-to-float conversion).
+// Scalar value of a texture feeding a scalar input: a grey value (the alpha,
+// a channel, the luminance) as it is, else the colour's luminance (Rec. 709
+// weights, Blender's colour-to-float conversion), after color_of's adjustments.
 inline float scalar_of(const Texture& t, const Rgba& c) {
-    if (t.use_alpha) return c.a;
     const Vec3 rgb = color_of(t, c);
+    if ((t.use_alpha || t.channel >= 0) && rgb.x == rgb.y && rgb.y == rgb.z) return rgb.x;
     return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z;
 }
 

@@ -174,7 +174,13 @@ class Texture(Record):
     node's Alpha output is used). uv_transform: 6 numbers (a, b, c, d, e, f):
     the texture coordinates are mapped before the lookup, u' = a u + b v + c,
     v' = d u + e v + f (Blender's Mapping node on the UV map; the identity by
-    default; a world's environment takes environment_rotation instead)."""
+    default; a world's environment takes environment_rotation instead).
+    channel, gain, bias, clamp: what the value goes through before a material
+    reads it (Blender's Separate Color, Math, Mix and Invert nodes): channel -1
+    the colour, 0, 1, 2 its red, green or blue as grey, 3 its luminance as
+    grey (use_alpha: the alpha as grey); then value x gain + bias (3 numbers
+    each, channel by channel); then clamped to [0, 1] if clamp. The defaults
+    change nothing; an environment takes none of them."""
     image: object = None
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
@@ -182,6 +188,10 @@ class Texture(Record):
     premultiply: bool = _TEX.premultiply
     unassociate: bool = _TEX.unassociate
     uv_transform: tuple = tuple(_TEX.uv_transform)
+    channel: int = _TEX.channel
+    gain: tuple = tuple(_TEX.gain)
+    bias: tuple = tuple(_TEX.bias)
+    clamp: bool = _TEX.clamp
     CORE = _core.Texture
 
     def converters(self) -> dict:

@@ -68,3 +68,61 @@ def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT"
     plane.data.materials.append(mat)
     bpy.context.view_layer.update()
     return {"maps": maps, "pixels": pixels.tolist()}
+
+
+def _node(nodes, kind, inputs=(), **settings):
+    """A new node of `kind`: its settings, then its inputs by identifier (or index) to values."""
+    node = nodes.new(kind)
+    for key, value in settings.items():
+        setattr(node, key, value)
+    for key, value in inputs:
+        socket = node.inputs[key] if isinstance(key, int) else next(s for s in node.inputs if s.identifier == key)
+        socket.default_value = value
+    return node
+
+
+# Chains from the image to the Emission shader's Color, each a list of
+# (output to take, node type, inputs set, settings, input the chain enters);
+# the first step takes the image's Color or Alpha output.
+CHAINS = {
+    "tint": ("Color", [("Result", "ShaderNodeMix", [("Factor_Float", 0.8), ("B_Color", (0.9, 0.5, 0.2, 1.0))],
+                        {"data_type": "RGBA", "blend_type": "MULTIPLY"}, "A_Color")]),
+    "green": ("Color", [("Green", "ShaderNodeSeparateColor", [], {}, "Color"),
+                        ("Value", "ShaderNodeMath", [(1, 0.7)], {"operation": "MULTIPLY"}, 0),
+                        ("Value", "ShaderNodeMath", [(1, 0.1)], {"operation": "ADD", "use_clamp": True}, 0)]),
+    "invert": ("Color", [("Color", "ShaderNodeInvert", [("Fac", 0.75)], {}, "Color"),
+                         ("Result", "ShaderNodeMix", [("Factor_Float", 0.3), ("A_Color", (0.2, 0.4, 0.9, 1.0))],
+                          {"data_type": "RGBA", "blend_type": "MIX"}, "B_Color")]),
+    "luminance": ("Color", [("Value", "ShaderNodeMath", [(0, 1.0)], {"operation": "SUBTRACT"}, 1)]),
+    "alpha": ("Alpha", [("Value", "ShaderNodeMath", [(1, 1.5), (2, 0.1)], {"operation": "MULTIPLY_ADD"}, 0),
+                        ("Result", "ShaderNodeMix", [("Factor_Float", 0.5), ("B_Float", 0.2)],
+                         {"data_type": "FLOAT"}, "A_Float")]),
+    "legacy": ("Color", [("Color", "ShaderNodeMixRGB", [("Fac", 1.0), ("Color2", (0.5, 0.9, 0.7, 1.0))],
+                          {"blend_type": "MULTIPLY"}, "Color1"),
+                         ("R", "ShaderNodeSeparateRGB", [], {}, "Image")]),
+    "unread": ("Color", [("Color", "ShaderNodeValToRGB", [], {}, "Fac")]),
+}
+
+
+def node_chain_scene(chain="tint", resolution=(48, 36)):
+    """A plane filling the view, its Emission shader's Color fed by an 8 x 8 image of random
+    8-bit colours and alphas through the nodes CHAINS[chain]."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    pixels = np.random.default_rng(9).integers(0, 256, (8, 8, 4)) / 255.0
+    mat = shader_material("Chained", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = _filled_image("Random", pixels, float_buffer=False), "Closest"
+    output, steps = CHAINS[chain]
+    socket = tex.outputs[output]
+    for take, kind, inputs, settings, into in steps:
+        node = _node(nodes, kind, inputs, **settings)
+        target = node.inputs[into] if isinstance(into, int) else next(s for s in node.inputs if s.identifier == into)
+        links.new(socket, target)
+        socket = next(s for s in node.outputs if s.name == take and s.enabled)
+    links.new(socket, nodes["Emission"].inputs["Color"])
+    plane.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {}

@@ -1,0 +1,188 @@
+"""The nodes between an Image Texture and a shader input, folded into the
+texture's channel, gain, bias and clamp (gridwalk.Texture).
+
+Models exported by Blender's glTF importer, and many hand-made materials,
+put a few nodes there: a Separate Color picks the green channel of a packed
+occlusion-roughness-metallic image, a Math node multiplies it by the
+material's roughness factor, a Mix multiplies the base colour image by a
+tint, an Invert turns a gloss map into roughness. Each of these is an affine
+map of the value, channel by channel, so a chain of them is one:
+  Separate Color (RGB; Separate RGB in 3.x)  one channel, as grey
+  Math: Multiply, Add, Subtract, Divide (by a constant), Multiply Add
+  Mix (Color or Float; MixRGB in 3.x): Mix, Multiply, Add, Subtract
+  Invert                                      v (1 - f) + (1 - v) f
+with every other input of the node constant (unlinked, or an RGB or Value
+node). A colour entering a float input becomes its luminance, as Blender
+converts it. A node's Clamp (Math's, Mix's Clamp Result) is kept where it is
+the last step; anything else (an earlier clamp, a linked factor, another
+node or operation) leaves the input at its default value, named in the
+material's warning.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .node_links import _source, input_value
+
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+SEPARATE = {"SEPARATE_COLOR": ("Red", "Green", "Blue"), "SEPRGB": ("R", "G", "B")}
+
+
+class Value:
+    """The value so far: the image's colour (or alpha: `single`), channel, gain, bias, clamp."""
+
+    def __init__(self, alpha: bool):
+        self.single = alpha                # one number (alpha, a channel, a luminance) broadcast to RGB
+        self.channel = -1
+        self.gain, self.bias = np.ones(3), np.zeros(3)
+        self.clamp = False
+
+    def affine(self, gain, bias, what):
+        if self.clamp:
+            raise Unread(f"{what} after a clamp")
+        self.gain, self.bias = self.gain * gain, self.bias * gain + bias
+
+    def to_float(self, what):
+        """A colour entering a float input: its luminance."""
+        if self.single or self.channel >= 0:
+            if self.clamp and np.ptp(self.gain) + np.ptp(self.bias) > 0:
+                raise Unread(f"{what} of a clamped colour")
+            self.gain, self.bias = np.full(3, LUMINANCE @ self.gain), np.full(3, LUMINANCE @ self.bias)
+            return
+        if self.clamp or np.ptp(self.gain) > 0 or np.ptp(self.bias) > 0:
+            raise Unread(f"{what} of a tinted colour")
+        self.channel, self.single = 3, True
+
+    def pick(self, k):
+        if not self.single:
+            self.channel, self.single = k, True
+        self.gain, self.bias = np.full(3, self.gain[k]), np.full(3, self.bias[k])
+
+    def fields(self) -> dict:
+        return {"channel": self.channel, "gain": tuple(float(x) for x in self.gain),
+                "bias": tuple(float(x) for x in self.bias), "clamp": self.clamp}
+
+
+class Unread(Exception):
+    """A step the fold cannot take: the message names it."""
+
+
+def _linked(socket) -> bool:
+    return _source(socket)[0] is not None
+
+
+def _enabled(node, *identifiers):
+    return [next(s for s in node.inputs if s.identifier == i) for i in identifiers]
+
+
+def _chain_input(node):
+    """(the node's input the chain comes through, its other inputs by role) or Unread."""
+    kind = node.type
+    if kind in SEPARATE:
+        return node.inputs[0], {}
+    if kind == "INVERT":
+        return node.inputs["Color"], {"fac": node.inputs["Fac"]}
+    if kind == "MATH":
+        used = node.inputs[:3] if node.operation == "MULTIPLY_ADD" else node.inputs[:2]
+    elif kind == "MIX":
+        suffix = {"RGBA": "Color", "FLOAT": "Float"}.get(node.data_type)
+        if suffix is None:
+            raise Unread(f"{node.name!r} mixing {node.data_type.lower()}s")
+        fac, a, b = _enabled(node, "Factor_Float", f"A_{suffix}", f"B_{suffix}")
+        used = [a, b]
+    elif kind == "MIX_RGB":
+        fac, (a, b) = node.inputs["Fac"], (node.inputs["Color1"], node.inputs["Color2"])
+        used = [a, b]
+    else:
+        raise Unread(f"{node.name!r} ({node.bl_idname})")
+    linked = [s for s in used if _linked(s)]
+    if len(linked) != 1:
+        raise Unread(f"{node.name!r} with {len(linked)} linked inputs")
+    others = {"slot": used.index(linked[0]), "used": used}
+    if kind in ("MIX", "MIX_RGB"):
+        if _linked(fac):
+            raise Unread(f"{node.name!r} with a linked factor")
+        others["fac"] = fac
+    return linked[0], others
+
+
+def _apply(value: Value, node, out, others):
+    kind, what = node.type, repr(node.name)
+    if kind in SEPARATE:
+        if kind == "SEPARATE_COLOR" and node.mode != "RGB":
+            raise Unread(f"{what} in {node.mode} mode")
+        value.pick(SEPARATE[kind].index(out.name))
+        return
+    if kind == "INVERT":
+        f = float(input_value(others["fac"]))
+        value.affine(np.full(3, 1.0 - 2.0 * f), np.full(3, f), what)
+        return
+    slot, used = others["slot"], others["used"]
+    consts = [None if i == slot else input_value(s) for i, s in enumerate(used)]
+    if kind == "MATH" or (kind == "MIX" and node.data_type == "FLOAT"):
+        value.to_float(what)
+    if kind == "MATH":
+        gain, bias = _math(node.operation, slot, consts, what)
+        value.affine(np.full(3, gain), np.full(3, bias), what)
+        if node.use_clamp:
+            value.clamp = True
+        return
+    f = float(input_value(others["fac"]))
+    if kind == "MIX_RGB" or getattr(node, "clamp_factor", True):
+        f = min(max(f, 0.0), 1.0)
+    k = np.broadcast_to(np.asarray(consts[1 - slot], np.float64).reshape(-1)[:3], 3)
+    blend = "MIX" if kind == "MIX" and node.data_type == "FLOAT" else node.blend_type
+    gain, bias = _mix(blend, slot, f, k, what)
+    value.affine(gain, bias, what)
+    if getattr(node, "clamp_result", False) or getattr(node, "use_clamp", False):
+        value.clamp = True
+
+
+def _math(operation, slot, consts, what):
+    """(gain, bias) of a Math node on its input `slot`, the others constant."""
+    other = [float(c) for c in consts if c is not None]
+    if operation == "MULTIPLY":
+        return other[0], 0.0
+    if operation == "ADD":
+        return 1.0, other[0]
+    if operation == "SUBTRACT":
+        return (1.0, -other[0]) if slot == 0 else (-1.0, other[0])
+    if operation == "DIVIDE" and slot == 0:
+        return (1.0 / other[0], 0.0) if other[0] != 0 else (0.0, 0.0)   # (Blender's safe divide: 0)
+    if operation == "MULTIPLY_ADD":
+        return (other[0], other[1]) if slot < 2 else (1.0, other[0] * other[1])
+    raise Unread(f"{what} ({operation.replace('_', ' ').title()})")
+
+
+def _mix(blend, slot, f, k, what):
+    """(gain, bias) per channel of a Mix on its input A (slot 0) or B (slot 1), the other K."""
+    if blend == "MIX":
+        return (np.full(3, 1.0 - f), k * f) if slot == 0 else (np.full(3, f), k * (1.0 - f))
+    if blend == "MULTIPLY":
+        return (1.0 - f + f * k, np.zeros(3)) if slot == 0 else (k * f, k * (1.0 - f))
+    if blend == "ADD":
+        return (np.ones(3), k * f) if slot == 0 else (np.full(3, f), k)
+    if blend == "SUBTRACT":
+        return (np.ones(3), -k * f) if slot == 0 else (np.full(3, -f), k)
+    raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
+
+
+def image_through_nodes(socket):
+    """(Image Texture node, its output's name, Texture fields) for an input fed by an
+    image through the nodes above, or (None, None, why not) for any other chain."""
+    steps = []
+    try:
+        node, out = _source(socket)
+        while node is not None and node.type != "TEX_IMAGE":
+            chain, others = _chain_input(node)
+            steps.append((node, out, others))
+            node, out = _source(chain)
+        if node is None:
+            raise Unread(f"{steps[-1][0].name!r} fed by no image" if steps else "no node")
+        value = Value(out.name == "Alpha")
+        for step in reversed(steps):
+            _apply(value, *step)
+    except Unread as problem:
+        # (a first node that is not read, or reads no image, is named by the caller)
+        return None, None, str(problem) if steps else ""
+    return node, out.name, value.fields()

@@ -1,0 +1,68 @@
+"""Texture.channel, gain, bias and clamp (Blender's Separate Color, Math, Mix
+and Invert nodes between an image and a shader input): a colour input sees
+the picked channel (or luminance) as grey, times gain plus bias channel by
+channel, clamped where asked; a scalar input (alpha) sees that grey value
+itself. Checked against numpy on an emissive square; bad values are refused."""
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from test23_textures_and_world import BYTES, N, _expected, _ortho, _pixel_uvs, _render_texture, _square, _srgb
+
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def _linear_texels():
+    u, v = _pixel_uvs(0.0, 1.0)
+    return _srgb(_expected(BYTES / 255.0, u, v, "closest", "repeat"))
+
+
+@pytest.mark.parametrize("channel", [0, 1, 2, 3])
+def test_a_colour_input_sees_one_channel_as_grey(channel):
+    rgba, _ = _render_texture(gw.Image(BYTES), interpolation="closest", channel=channel)
+    texels = _linear_texels()
+    grey = texels @ LUMINANCE if channel == 3 else texels[..., channel]
+    np.testing.assert_allclose(rgba[..., :3], np.repeat(grey[..., None], 3, axis=-1), atol=1e-5)
+
+
+@pytest.mark.parametrize("clamp", [False, True])
+def test_gain_and_bias_apply_channel_by_channel_then_the_clamp(clamp):
+    gain, bias = (2.5, -1.0, 0.5), (-0.3, 1.2, 0.1)
+    rgba, _ = _render_texture(gw.Image(BYTES), interpolation="closest", gain=gain, bias=bias, clamp=clamp)
+    expected = _linear_texels() * gain + bias
+    if clamp:
+        expected = np.clip(expected, 0, 1)
+    else:
+        assert expected.max() > 1.5 and expected.min() < -0.2             # the clamp would matter
+        expected = np.maximum(expected, 0)                                   # (the film keeps no negative light)
+    np.testing.assert_allclose(rgba[..., :3], expected, atol=2e-5)
+
+
+def test_a_scalar_input_takes_the_adjusted_grey_value():
+    # alpha from the green channel x 0.5 + 0.25: red emitter over a blue background
+    verts, tris, uvs = _square()
+    scene = gw.Scene(verts, tris, uvs=uvs, camera=_ortho(), background=(0, 0, 1),
+                     materials=[gw.Material(kd=0, emission=1.0, color=(1, 0, 0), alpha_texture=0)],
+                     textures=[gw.Texture(gw.Image(BYTES), interpolation="closest", channel=1,
+                                          gain=(0.5, 0.5, 0.5), bias=(0.25, 0.25, 0.25))])
+    rgba = gw.RenderJob(scene, gw.RenderSettings(threads=1)).start().wait()
+    alpha = _linear_texels()[..., 1] * 0.5 + 0.25
+    np.testing.assert_allclose(rgba[..., 0], alpha, atol=1e-5)
+    np.testing.assert_allclose(rgba[..., 2], 1 - alpha, atol=1e-5)
+
+
+@pytest.mark.parametrize("field, value, message", [("channel", 4, "channel = 4"), ("channel", -2, "channel = -2"),
+                                                   ("gain", (1, float("nan"), 1), "gain has a non-finite"),
+                                                   ("bias", (0, 0, float("inf")), "bias has a non-finite")])
+def test_bad_values_are_refused_naming_the_field(field, value, message):
+    verts, tris, uvs = _square()
+    with pytest.raises(ValueError, match=message):
+        gw.Scene(verts, tris, uvs=uvs, materials=[gw.Material(color_texture=0)],
+                 textures=[gw.Texture(gw.Image(BYTES), **{field: value})])
+
+
+def test_an_environment_refuses_an_adjusted_texture():
+    verts, tris, _ = _square()
+    with pytest.raises(ValueError, match="environment_strength"):
+        gw.Scene(verts, tris, world=gw.World(environment=0),
+                 textures=[gw.Texture(gw.Image(BYTES), gain=(2, 2, 2))])

@@ -41,7 +41,9 @@ factor is folded into the light intensities, see lights.py):
   metallic      = m   (the metal's share of the highlight and of the mirror
                   reflection takes the base colour: gold reflects gold)
   transmittance = t,  ior = IOR
-  emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength)
+  emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength;
+                  an Emission Color fed by an image: emission_texture, and
+                  emission_color the strength)
   alpha         = Alpha
 With a Metallic texture the record holds the metallic = 0 mapping and the
 core blends towards the metal per hit; with a Roughness texture the core
@@ -185,7 +187,9 @@ def _from_principled(node, textured):
     else:                                                       # Blender 3.x
         f0 = 0.08 * max(_value(node, "Specular", 0.5, textured), 0.0)
     strength = _value(node, "Emission Strength", 1.0, textured)
-    emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured)
+    emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured, "emission_texture")
+    if "emission_texture" in textured.fields:
+        emission_color = (1.0, 1.0, 1.0)       # the texture's colour x the strength, per hit
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
                                    tuple(c * strength for c in emission_color), specular_albedo)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)

@@ -38,6 +38,7 @@ void bind_records(nb::module_& m) {
         .def_rw("alpha_texture", &Material::alpha_texture)
         .def_rw("normal_texture", &Material::normal_texture)
         .def_rw("normal_strength", &Material::normal_strength)
+        .def_rw("emission_texture", &Material::emission_texture)
         .def_rw("vertex_color", &Material::vertex_color)
         .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });

@@ -18,7 +18,10 @@ Emitters::Emitters(const PooledVector<Vec3>& tri_vertices, const PooledVector<in
         if (!m.emits_light) continue;
         const Vec3 e = emitted(m);
         // (a textured colour counts as white here: the texture is read per sample)
-        const double lum = m.color_texture >= 0 ? double(m.emission) + luminance(m.emission_color) : luminance(e);
+        double lum = m.color_texture >= 0 ? double(m.emission) + luminance(m.emission_color) : luminance(e);
+        if (m.emission_texture >= 0)
+            lum = (m.color_texture >= 0 ? double(m.emission) : luminance(m.color * m.emission)) +
+                  luminance(m.emission_color);
         const Vec3 *v = &tri_vertices[3 * i];
         const Vec3d a(v[0]), ab = Vec3d(v[1]) - a, ac = Vec3d(v[2]) - a;
         const double area = 0.5 * length(cross(ab, ac));

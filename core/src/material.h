@@ -28,6 +28,10 @@ struct Material {
     // normal (0) to the mapped one (1) and beyond, as Cycles does.
     int32_t normal_texture = -1;
     float normal_strength = 1;
+    // The emitted colour varies over the surface: this texture's colour times
+    // emission_color (Principled's Emission Color fed by an image,
+    // emission_color holding its Emission Strength).
+    int32_t emission_texture = -1;
     // Its triangles light other surfaces with what they emit (emitters.h), as
     // area lights do; without it emission is only seen.
     bool emits_light = false;
@@ -36,7 +40,7 @@ struct Material {
     // only such materials are re-evaluated per hit.
     bool varies() const {
         return color_texture >= 0 || roughness_texture >= 0 || metallic_texture >= 0 || alpha_texture >= 0 ||
-               vertex_color;
+               emission_texture >= 0 || vertex_color;
     }
     // Whether it lets light through (shadow rays are attenuated, not stopped).
     bool lets_light_through() const { return transmittance > 0 || alpha < 1 || alpha_texture >= 0; }

@@ -56,6 +56,7 @@ void Scene::check_textures() {
         check_index(m.metallic_texture, where + "metallic_texture");
         check_index(m.alpha_texture, where + "alpha_texture");
         check_index(m.normal_texture, where + "normal_texture");
+        check_index(m.emission_texture, where + "emission_texture");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
@@ -122,6 +123,10 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         out.ks = ((1 - mt) * f0 + mt) * norm;
     }
     if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);
+    if (m.emission_texture >= 0) {
+        const Vec3 c = color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, u, v));
+        out.emission_color = Vec3(c.x * m.emission_color.x, c.y * m.emission_color.y, c.z * m.emission_color.z);
+    }
     return out;
 }
 

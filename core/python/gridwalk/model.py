@@ -116,7 +116,9 @@ class Material(Record):
     normal in the frame of the triangle's UV tangent dp/du, the bitangent
     following dp/dv, and the shading normal; give it a linear, Non-Color
     image), blended from the shading normal by normal_strength (0 none, 1 the
-    map, more exaggerates, as Cycles' Strength). A texture feeding a
+    map, more exaggerates, as Cycles' Strength); emission_texture the
+    emitted colour, times emission_color (Principled's Emission Color fed by
+    an image, emission_color its Emission Strength). A texture feeding a
     scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
     (Scene(colors=...)) interpolated, unless a color_texture is set.
@@ -142,13 +144,15 @@ class Material(Record):
     alpha_texture: int = _MAT.alpha_texture
     normal_texture: int = _MAT.normal_texture
     normal_strength: float = _MAT.normal_strength
+    emission_texture: int = _MAT.emission_texture
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
     CORE = _core.Material
 
     def texture_indices(self) -> dict:
         """Field -> texture index of the textures this material uses."""
-        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture", "normal_texture")
+        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture", "normal_texture",
+                 "emission_texture")
         return {n: getattr(self, n) for n in names if getattr(self, n) != -1}
 
 

@@ -4,8 +4,9 @@ import math
 import bpy
 import numpy as np
 
+from blender_addon.scripting import principled_material
 from material_scenes import _filled_image
-from scenes import reset, shader_material
+from scenes import plain_world, reset, shader_material
 
 # Mapping nodes from the UV map to the image, the first applied first:
 # (vector type, location, rotation in radians, scale)
@@ -124,5 +125,31 @@ def node_chain_scene(chain="tint", resolution=(48, 36)):
         socket = next(s for s in node.outputs if s.name == take and s.enabled)
     links.new(socket, nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def emission_map_scene(resolution=(64, 48)):
+    """A 3 x 3 panel facing the camera above a grey floor, in a black world with no lamp: its
+    Principled BSDF is black and rough, its Emission Color a 4 x 4 image of random 8-bit colours,
+    Emission Strength 3. The floor is lit by the panel alone; the camera looks down at it."""
+    scene = reset(resolution=tuple(resolution))
+    scene.camera.location, scene.camera.rotation_euler = (0, -9, 4), (math.radians(70), 0, 0)
+    bpy.ops.mesh.primitive_plane_add(size=3.0, location=(0, 0, 0.7), rotation=(math.pi / 2, 0, 0))
+    panel = bpy.context.object
+    pixels = np.random.default_rng(11).integers(0, 256, (4, 4, 4)) / 255.0
+    pixels[..., 3] = 1.0
+    mat = principled_material("Screen", (0.0, 0.0, 0.0), Roughness=1.0)
+    nodes = mat.node_tree.nodes
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = _filled_image("Glow", pixels, float_buffer=False), "Closest"
+    bsdf = nodes["Principled BSDF"]
+    colour = bsdf.inputs["Emission Color"] if "Emission Color" in bsdf.inputs else bsdf.inputs["Emission"]
+    mat.node_tree.links.new(tex.outputs["Color"], colour)
+    bsdf.inputs["Emission Strength"].default_value = 3.0
+    panel.data.materials.append(mat)
+    bpy.ops.mesh.primitive_plane_add(size=30.0, location=(0, 0, -1.0))
+    bpy.context.object.data.materials.append(principled_material("Floor", (0.8, 0.8, 0.8), Roughness=1.0))
+    plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}

@@ -47,8 +47,10 @@ def test_a_textured_emitter_lights_the_scene_as_its_colour_does():
     np.testing.assert_allclose(textured[..., :3], constant[..., :3], rtol=1e-4, atol=1e-6)
 
 
-def test_an_emission_texture_out_of_range_is_refused():
+@pytest.mark.parametrize("index, message", [(1, "emission_texture = 1 is out of range"),
+                                            (-2, "emission_texture must be a texture index or -1")])
+def test_an_emission_texture_out_of_range_is_refused(index, message):
     verts, tris, uvs = _square()
-    with pytest.raises(ValueError, match="emission_texture = 1 is out of range"):
-        gw.Scene(verts, tris, uvs=uvs, materials=[gw.Material(emission_texture=1)],
+    with pytest.raises(ValueError, match=message):
+        gw.Scene(verts, tris, uvs=uvs, materials=[gw.Material(emission_texture=index)],
                  textures=[gw.Texture(gw.Image(BYTES))])

@@ -64,7 +64,8 @@ void validate_material(const Material& m, const std::string& where) {
     // Texture indices are checked against the scene's textures by the scene.
     const std::pair<const char*, int32_t> textures[] = {{"color_texture", m.color_texture},
         {"roughness_texture", m.roughness_texture}, {"metallic_texture", m.metallic_texture},
-        {"alpha_texture", m.alpha_texture}, {"normal_texture", m.normal_texture}};
+        {"alpha_texture", m.alpha_texture}, {"normal_texture", m.normal_texture},
+        {"emission_texture", m.emission_texture}};
     for (const auto& [field, index] : textures)
         if (index < -1) refuse(where, field, "must be a texture index or -1 (none), got " + std::to_string(index));
 }

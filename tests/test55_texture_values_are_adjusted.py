@@ -38,17 +38,32 @@ def test_gain_and_bias_apply_channel_by_channel_then_the_clamp(clamp):
     np.testing.assert_allclose(rgba[..., :3], expected, atol=2e-5)
 
 
-def test_a_scalar_input_takes_the_adjusted_grey_value():
-    # alpha from the green channel x 0.5 + 0.25: red emitter over a blue background
+def _alpha_from(texture):
+    """A red emitter over a blue background, its alpha from `texture`: (red, blue) seen."""
     verts, tris, uvs = _square()
     scene = gw.Scene(verts, tris, uvs=uvs, camera=_ortho(), background=(0, 0, 1),
                      materials=[gw.Material(kd=0, emission=1.0, color=(1, 0, 0), alpha_texture=0)],
-                     textures=[gw.Texture(gw.Image(BYTES), interpolation="closest", channel=1,
-                                          gain=(0.5, 0.5, 0.5), bias=(0.25, 0.25, 0.25))])
+                     textures=[texture])
     rgba = gw.RenderJob(scene, gw.RenderSettings(threads=1)).start().wait()
+    return rgba[..., 0], rgba[..., 2]
+
+
+def test_a_scalar_input_takes_the_adjusted_grey_value():
+    # alpha from the green channel x 0.5 + 0.25
+    red, blue = _alpha_from(gw.Texture(gw.Image(BYTES), interpolation="closest", channel=1,
+                                       gain=(0.5, 0.5, 0.5), bias=(0.25, 0.25, 0.25)))
     alpha = _linear_texels()[..., 1] * 0.5 + 0.25
-    np.testing.assert_allclose(rgba[..., 0], alpha, atol=1e-5)
-    np.testing.assert_allclose(rgba[..., 2], 1 - alpha, atol=1e-5)
+    np.testing.assert_allclose(red, alpha, atol=1e-5)
+    np.testing.assert_allclose(blue, 1 - alpha, atol=1e-5)
+
+
+def test_a_scalar_input_takes_the_luminance_of_a_tinted_colour():
+    # (a Mix tinting the colour before a float input: Blender converts the result by its luminance)
+    gain, bias = np.array([0.9, 0.3, 0.6]), np.array([0.05, 0.0, 0.1])
+    red, _ = _alpha_from(gw.Texture(gw.Image(BYTES), interpolation="closest", gain=tuple(gain), bias=tuple(bias)))
+    alpha = (_linear_texels() * gain + bias) @ LUMINANCE
+    np.testing.assert_allclose(red, alpha, atol=1e-5)
+    assert np.abs(alpha - _linear_texels()[..., 0] * gain[0] - bias[0]).max() > 0.05    # not the red channel
 
 
 @pytest.mark.parametrize("field, value, message", [("channel", 4, "channel = 4"), ("channel", -2, "channel = -2"),

@@ -19,7 +19,7 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
   Normal Map (Tangent Space) fed by an Image Texture -> the shader's Normal
       (normal_texture, its Strength normal_strength; the tangent frame comes
       from the image's UV map).
-Any other linked input (a procedural texture, a Mix...) uses
+Any other linked input (a procedural texture, a Color Ramp...) uses
 the socket's unlinked default value; unsupported graphs and inputs are
 reported as ONE warning per export, naming the materials and the nodes.
 

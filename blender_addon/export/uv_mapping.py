@@ -11,13 +11,15 @@ the vector by an affine map of 3-space, as Blender defines them:
 with R = Rz Ry Rx of the node's Rotation (Euler XYZ), S its Scale and L its
 Location. Since the UV map's z is 0, the composition restricted to (u, v) ->
 (x, y) is a 2 x 3 affine map: gridwalk.Texture.uv_transform. A Mapping whose
-own Vector is unlinked maps the constant (0, 0, 0), as Cycles does: the
-texture then shows one texel everywhere.
+own Vector is unlinked maps that input's value, as Cycles does: the texture
+then shows one texel everywhere. A Location, Rotation or Scale fed by a Value
+node (a float, as every axis) or a Combine XYZ of constants takes that value.
 
 Not read, each named in the material's warning: the Normal type (it
-normalises, which is not affine: the node is passed over), linked Location,
-Rotation or Scale inputs (their own values are used), and any other source
-of coordinates (Generated, Object, a Vector Math node...: the UV map is used).
+normalises, which is not affine: the node is passed over), Location,
+Rotation or Scale inputs fed by other nodes (their own values are used), any
+other source of coordinates (Generated, Object, a Vector Math node...: the
+UV map is used), and a map beyond float range (the UV map is used).
 """
 from __future__ import annotations
 
@@ -27,21 +29,35 @@ from .environment_rotation import euler_xyz
 from .node_links import _source, input_value
 
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
+FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
 UV_SOURCES = {"UVMAP": None, "TEX_COORD": "UV"}   # node type -> the output that is a UV map (None: any)
+
+
+def constant_vector(socket, problems, where):
+    """The 3 numbers a vector input takes: its own value, a Value node's (on every
+    axis, as Blender converts a float), or a Combine XYZ's of constant inputs; for
+    any other node its own value, with a note in `problems`."""
+    src, _ = _source(socket)
+    if src is None:
+        return np.asarray(input_value(socket)[:3], np.float64)
+    if src.type == "VALUE":
+        return np.full(3, float(src.outputs[0].default_value))
+    if src.type == "COMBXYZ" and all(_source(s)[0] is None for s in src.inputs[:3]):
+        return np.array([float(input_value(s)) for s in src.inputs[:3]])
+    problems.append(f"{socket.name} of {where} ({src.bl_idname}: its own value is used)")
+    return np.asarray(socket.default_value[:3], np.float64)
 
 
 def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
     """(4 x 4 affine matrix of 3-space, problems) of one Mapping node."""
     kind = getattr(node, "vector_type", "POINT")
-    problems = [f"{name} of {node.name!r} (linked: its own value is used)"
-                for name in ("Location", "Rotation", "Scale")
-                if name in node.inputs and _source(node.inputs[name])[0] is not None]
-    out = np.eye(4)
+    out, problems = np.eye(4), []
     if kind not in ("POINT", "TEXTURE", "VECTOR"):
         return out, problems + [f"{node.name!r} of type {kind.title()} (passed over)"]
-    rotation = euler_xyz(*input_value(node.inputs["Rotation"])[:3])
-    scale = np.asarray(input_value(node.inputs["Scale"])[:3], np.float64)
-    location = np.zeros(3) if kind == "VECTOR" else np.asarray(input_value(node.inputs["Location"])[:3], np.float64)
+    where = repr(node.name)
+    rotation = euler_xyz(*constant_vector(node.inputs["Rotation"], problems, where))
+    scale = constant_vector(node.inputs["Scale"], problems, where)
+    location = np.zeros(3) if kind == "VECTOR" else constant_vector(node.inputs["Location"], problems, where)
     if kind == "TEXTURE":
         inverse = np.divide(1.0, scale, out=np.zeros(3), where=scale != 0)
         out[:3, :3] = inverse[:, None] * rotation.T
@@ -56,14 +72,15 @@ def texture_coordinates(node) -> tuple[str, tuple, list[str]]:
     """(UV layer: "" the active render one, else its name; uv_transform as 6
     floats; problems to warn about) for an Image Texture node's Vector input."""
     vector = node.inputs.get("Vector")
-    affine, problems = np.eye(4), []
+    affine, problems, layer = np.eye(4), [], ""
     socket, seen = vector, set()
     while socket is not None:
         src, out = _source(socket)
         if src is None:
-            if socket is not vector:       # a Mapping's unlinked Vector: the constant (0, 0, 0)
-                affine = affine @ np.diag([0.0, 0.0, 0.0, 1.0])
-            layer = ""
+            if socket is not vector:       # a Mapping's unlinked Vector: its value, a constant
+                constant = np.zeros((4, 4))
+                constant[:3, 3], constant[3, 3] = np.asarray(input_value(socket)[:3], np.float64), 1.0
+                affine = affine @ constant
             break
         if src.type == "MAPPING" and src.as_pointer() not in seen:
             seen.add(src.as_pointer())
@@ -76,13 +93,11 @@ def texture_coordinates(node) -> tuple[str, tuple, list[str]]:
         else:
             problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, "
                             "through Mapping nodes, are read; the UV map is used)")
-            affine, layer = np.eye(4), ""
+            affine = np.eye(4)
         break
-    else:
-        layer = ""
     # (u, v, 0, 1) -> (x, y): rows x and y, columns u, v and the translation
     transform = tuple(float(affine[r, c]) for r in (0, 1) for c in (0, 1, 3))
-    if not all(np.isfinite(transform)):
-        problems.append(f"Vector of {node.name!r} (its Mapping is not finite: the UV map is used)")
+    if not all(abs(x) <= FLOAT_MAX for x in transform):          # (NaN fails too)
+        problems.append(f"Vector of {node.name!r} (its Mapping is beyond float range: the UV map is used)")
         transform = IDENTITY
     return layer, transform, problems

@@ -14,8 +14,9 @@ map of the value, channel by channel, so a chain of them is one:
 with every other input of the node constant (unlinked, or an RGB or Value
 node). A colour entering a float input becomes its luminance, as Blender
 converts it. A node's Clamp (Math's, Mix's Clamp Result) is kept where it is
-the last step; anything else (an earlier clamp, a linked factor, another
-node or operation) leaves the input at its default value, named in the
+the last step (Mix's only in Color mode, as Cycles reads it); anything else
+(an earlier clamp, a linked factor, another node or operation, a value
+beyond float range) leaves the input at its default value, named in the
 material's warning.
 """
 from __future__ import annotations
@@ -25,6 +26,7 @@ import numpy as np
 from .node_links import _source, input_value
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
 SEPARATE = {"SEPARATE_COLOR": ("Red", "Green", "Blue"), "SEPRGB": ("R", "G", "B")}
 
 
@@ -44,7 +46,7 @@ class Value:
 
     def to_float(self, what):
         """A colour entering a float input: its luminance."""
-        if self.single or self.channel >= 0:
+        if self.single:
             if self.clamp and np.ptp(self.gain) + np.ptp(self.bias) > 0:
                 raise Unread(f"{what} of a clamped colour")
             self.gain, self.bias = np.full(3, LUMINANCE @ self.gain), np.full(3, LUMINANCE @ self.bias)
@@ -59,12 +61,20 @@ class Value:
         self.gain, self.bias = np.full(3, self.gain[k]), np.full(3, self.bias[k])
 
     def fields(self) -> dict:
+        if not np.all(np.abs(np.concatenate([self.gain, self.bias])) <= FLOAT_MAX):   # (NaN fails too)
+            raise Unread("a gain or offset beyond float range")
         return {"channel": self.channel, "gain": tuple(float(x) for x in self.gain),
                 "bias": tuple(float(x) for x in self.bias), "clamp": self.clamp}
 
 
 class Unread(Exception):
-    """A step the fold cannot take: the message names it."""
+    """A step the fold cannot take: the message names it. quiet: nothing to add
+    to the warning when it is the first node (one the fold does not read, or
+    a calculation that no image feeds)."""
+
+    def __init__(self, message, quiet=False):
+        super().__init__(message)
+        self.quiet = quiet
 
 
 def _linked(socket) -> bool:
@@ -81,6 +91,8 @@ def _chain_input(node):
     if kind in SEPARATE:
         return node.inputs[0], {}
     if kind == "INVERT":
+        if _linked(node.inputs["Fac"]):
+            raise Unread(f"{node.name!r} with a linked factor")
         return node.inputs["Color"], {"fac": node.inputs["Fac"]}
     if kind == "MATH":
         used = node.inputs[:3] if node.operation == "MULTIPLY_ADD" else node.inputs[:2]
@@ -94,10 +106,10 @@ def _chain_input(node):
         fac, (a, b) = node.inputs["Fac"], (node.inputs["Color1"], node.inputs["Color2"])
         used = [a, b]
     else:
-        raise Unread(f"{node.name!r} ({node.bl_idname})")
+        raise Unread(f"{node.name!r} ({node.bl_idname})", quiet=True)
     linked = [s for s in used if _linked(s)]
     if len(linked) != 1:
-        raise Unread(f"{node.name!r} with {len(linked)} linked inputs")
+        raise Unread(f"{node.name!r} with {len(linked)} linked inputs", quiet=not linked)
     others = {"slot": used.index(linked[0]), "used": used}
     if kind in ("MIX", "MIX_RGB"):
         if _linked(fac):
@@ -131,10 +143,10 @@ def _apply(value: Value, node, out, others):
     if kind == "MIX_RGB" or getattr(node, "clamp_factor", True):
         f = min(max(f, 0.0), 1.0)
     k = np.broadcast_to(np.asarray(consts[1 - slot], np.float64).reshape(-1)[:3], 3)
-    blend = "MIX" if kind == "MIX" and node.data_type == "FLOAT" else node.blend_type
-    gain, bias = _mix(blend, slot, f, k, what)
+    floats = kind == "MIX" and node.data_type == "FLOAT"     # (no blend modes; Clamp Result is Color's)
+    gain, bias = _mix("MIX" if floats else node.blend_type, slot, f, k, what)
     value.affine(gain, bias, what)
-    if getattr(node, "clamp_result", False) or getattr(node, "use_clamp", False):
+    if (kind == "MIX" and not floats and node.clamp_result) or (kind == "MIX_RGB" and node.use_clamp):
         value.clamp = True
 
 
@@ -182,7 +194,6 @@ def image_through_nodes(socket):
         value = Value(out.name == "Alpha")
         for step in reversed(steps):
             _apply(value, *step)
+        return node, out.name, value.fields()
     except Unread as problem:
-        # (a first node that is not read, or reads no image, is named by the caller)
-        return None, None, str(problem) if steps else ""
-    return node, out.name, value.fields()
+        return None, None, "" if problem.quiet and not steps else str(problem)

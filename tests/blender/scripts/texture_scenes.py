@@ -22,6 +22,9 @@ MAPPINGS = {
 }
 
 
+CONSTANT = (0.6, 0.3, 0.0)      # the first Mapping's own Vector where nothing feeds it
+
+
 def _mapping(nodes, kind, location, rotation, scale):
     node = nodes.new("ShaderNodeMapping")
     node.vector_type = kind
@@ -32,12 +35,15 @@ def _mapping(nodes, kind, location, rotation, scale):
     return node
 
 
-def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT", resolution=(96, 72)):
+def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT", valued=False,
+                         resolution=(96, 72)):
     """A plane filling the view, its Emission shader's Color an 8 x 8 image of random 8-bit colours
     read through the Mapping nodes MAPPINGS[chain] from `source`: "coordinates" (a Texture
     Coordinate's UV), "uvmap" (a UV Map node naming the plane's layer) or "constant" (the
-    first Mapping's Vector unlinked), the image's `extension` as given. chain "unread": a Normal-type Mapping and a Point one whose
-    Scale a Combine XYZ node gives. Returns the maps, the UV layer's name and the image's pixels."""
+    first Mapping's Vector unlinked, set to CONSTANT), the image's `extension` as given; valued: a
+    Value node of 3 feeds the first map's Scale instead. chain "unread": a Normal-type Mapping and a
+    Point one whose Scale a Texture Coordinate node's Object output gives. Returns the maps (as
+    applied), the constant vector they map (None: the UV map) and the image's pixels."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
     plane = bpy.context.object
@@ -51,16 +57,22 @@ def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT"
     links.new(tex.outputs["Color"], nodes["Emission"].inputs["Color"])
     maps = MAPPINGS.get(chain, [])
     chained = [_mapping(nodes, *m) for m in maps]
+    if valued:
+        value = nodes.new("ShaderNodeValue")
+        value.outputs[0].default_value = 3.0
+        links.new(value.outputs[0], chained[0].inputs["Scale"])
+        maps = [(*maps[0][:3], (3.0, 3.0, 3.0)), *maps[1:]]
     if chain == "unread":
         chained = [_mapping(nodes, "NORMAL", *TURNED), _mapping(nodes, "POINT", *TURNED)]
-        combine = nodes.new("ShaderNodeCombineXYZ")
-        links.new(combine.outputs[0], chained[1].inputs["Scale"])
+        links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], chained[1].inputs["Scale"])
     for a, b in zip(chained, chained[1:]):
         links.new(a.outputs["Vector"], b.inputs["Vector"])
     if chained:
         links.new(chained[-1].outputs["Vector"], tex.inputs["Vector"])
     first = chained[0].inputs["Vector"] if chained else tex.inputs["Vector"]
-    if source == "coordinates":
+    if source == "constant":
+        first.default_value = CONSTANT
+    elif source == "coordinates":
         links.new(nodes.new("ShaderNodeTexCoord").outputs["UV"], first)
     elif source == "uvmap":
         uv = nodes.new("ShaderNodeUVMap")
@@ -68,7 +80,7 @@ def mapped_texture_scene(chain="point", source="coordinates", extension="REPEAT"
         links.new(uv.outputs["UV"], first)
     plane.data.materials.append(mat)
     bpy.context.view_layer.update()
-    return {"maps": maps, "pixels": pixels.tolist()}
+    return {"maps": maps, "start": CONSTANT if source == "constant" else None, "pixels": pixels.tolist()}
 
 
 def _node(nodes, kind, inputs=(), **settings):
@@ -101,7 +113,14 @@ CHAINS = {
     "legacy": ("Color", [("Color", "ShaderNodeMixRGB", [("Fac", 1.0), ("Color2", (0.5, 0.9, 0.7, 1.0))],
                           {"blend_type": "MULTIPLY"}, "Color1"),
                          ("R", "ShaderNodeSeparateRGB", [], {}, "Image")]),
+    "divide": ("Color", [("Value", "ShaderNodeMath", [(1, 2.0)], {"operation": "DIVIDE"}, 0)]),
+    # a factor beyond 1 where its clamp is off; a float mix's Clamp Result (Color mode's only)
+    "overdrive": ("Color", [("Result", "ShaderNodeMix", [("Factor_Float", 1.5), ("B_Color", (0.2, 0.3, 0.1, 1.0))],
+                             {"data_type": "RGBA", "blend_type": "MIX", "clamp_factor": False}, "A_Color")]),
+    "float_clamp": ("Alpha", [("Result", "ShaderNodeMix", [("Factor_Float", 0.5), ("B_Float", 3.0)],
+                               {"data_type": "FLOAT", "clamp_result": True}, "A_Float")]),
     "unread": ("Color", [("Color", "ShaderNodeValToRGB", [], {}, "Fac")]),
+    "linked_fac": ("Color", [("Color", "ShaderNodeInvert", [], {}, "Color")]),    # (its Fac: the image's alpha)
 }
 
 
@@ -124,6 +143,8 @@ def node_chain_scene(chain="tint", resolution=(48, 36)):
         links.new(socket, target)
         socket = next(s for s in node.outputs if s.name == take and s.enabled)
     links.new(socket, nodes["Emission"].inputs["Color"])
+    if chain == "linked_fac":
+        links.new(tex.outputs["Alpha"], socket.node.inputs["Fac"])
     plane.data.materials.append(mat)
     bpy.context.view_layer.update()
     return {}

@@ -16,6 +16,9 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
   Color Attribute -> Base Color (the named layer, or the active render one);
   an Image Texture through Separate Color, Math, Mix and Invert nodes with
       constant other inputs (value_nodes.py: Texture.channel, gain, bias, clamp);
+  Bump fed by an Image Texture (its Height) -> the shader's Normal
+      (bump_texture, bump_distance (negated by Invert), bump_strength), and
+      a Normal Map into the Bump's own Normal as below;
   Normal Map (Tangent Space) fed by an Image Texture -> the shader's Normal
       (normal_texture, its Strength normal_strength; the tangent frame comes
       from the image's UV map).
@@ -256,6 +259,30 @@ def _cut_out(mix, clear, material, links):
     material.alpha = min(max(1.0 - input_value(fac), 0.0), 1.0)
 
 
+def _bump(node, links) -> bool:
+    """Reads the shader's Normal input into links.fields when a Bump node whose
+    Height an Image Texture gives (also through value_nodes.py's nodes) drives
+    it, and a Normal Map feeding the Bump's own Normal; True if it did."""
+    socket = _socket(node, "Normal")
+    bump = _source(socket)[0] if socket is not None else None
+    if bump is None or bump.type != "BUMP" or links.textures is None:
+        return False
+    if not links.take(bump.inputs["Height"], "bump_texture", colour=False):
+        return False
+    for name, field in (("Strength", "bump_strength"), ("Distance", "bump_distance")):
+        fed = _source(bump.inputs[name])[0]
+        if fed is not None:
+            links.textured.append(f"{name} of {bump.name!r} ({fed.bl_idname})")
+        links.fields[field] = float(input_value(bump.inputs[name]))
+    links.fields["bump_strength"] = max(links.fields["bump_strength"], 0.0)
+    if bump.invert:
+        links.fields["bump_distance"] = -links.fields["bump_distance"]
+    below = _source(bump.inputs["Normal"])[0]
+    if below is not None and not _normal_map(bump, links):
+        links.textured.append(f"Normal of {bump.name!r} ({below.bl_idname})")
+    return True
+
+
 def _normal_map(node, links) -> bool:
     """Reads the shader's Normal input into links.fields when a Tangent Space
     Normal Map node fed by an Image Texture drives it; True if it did."""
@@ -345,7 +372,7 @@ def convert_material(mat, textures=None):
         return viewport_material(mat), f"unsupported shader {shader}: its viewport colour is used", None
     if mix is not None:
         _cut_out(mix, clear, result, links)
-    mapped = node is not None and _normal_map(node, links)
+    mapped = node is not None and (_bump(node, links) or _normal_map(node, links))
     for field, value in links.fields.items():
         setattr(result, field, value)
     problems = []

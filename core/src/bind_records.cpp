@@ -39,6 +39,9 @@ void bind_records(nb::module_& m) {
         .def_rw("normal_texture", &Material::normal_texture)
         .def_rw("normal_strength", &Material::normal_strength)
         .def_rw("emission_texture", &Material::emission_texture)
+        .def_rw("bump_texture", &Material::bump_texture)
+        .def_rw("bump_distance", &Material::bump_distance)
+        .def_rw("bump_strength", &Material::bump_strength)
         .def_rw("vertex_color", &Material::vertex_color)
         .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });

@@ -353,7 +353,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);   // fh: the camera's own path
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
-    if (stored.normal_texture >= 0) {
+    if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;
         sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
         sp.mapped = true;

@@ -61,11 +61,13 @@ void validate_material(const Material& m, const std::string& where) {
     need_finite(where, "alpha", m.alpha);
     if (!(m.alpha >= 0 && m.alpha <= 1)) refuse(where, "alpha", "must be in [0, 1], got " + show(m.alpha));
     need_at_least(where, "normal_strength", m.normal_strength, 0);
+    need_at_least(where, "bump_strength", m.bump_strength, 0);
+    need_finite(where, "bump_distance", m.bump_distance);
     // Texture indices are checked against the scene's textures by the scene.
     const std::pair<const char*, int32_t> textures[] = {{"color_texture", m.color_texture},
         {"roughness_texture", m.roughness_texture}, {"metallic_texture", m.metallic_texture},
         {"alpha_texture", m.alpha_texture}, {"normal_texture", m.normal_texture},
-        {"emission_texture", m.emission_texture}};
+        {"emission_texture", m.emission_texture}, {"bump_texture", m.bump_texture}};
     for (const auto& [field, index] : textures)
         if (index < -1) refuse(where, field, "must be a texture index or -1 (none), got " + std::to_string(index));
 }

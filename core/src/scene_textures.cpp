@@ -57,6 +57,7 @@ void Scene::check_textures() {
         check_index(m.alpha_texture, where + "alpha_texture");
         check_index(m.normal_texture, where + "normal_texture");
         check_index(m.emission_texture, where + "emission_texture");
+        check_index(m.bump_texture, where + "bump_texture");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
@@ -180,9 +181,8 @@ Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
 
 }  // namespace
 
-Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
-    const Vec3 n = sp.ns;
-    if (m.normal_texture < 0 || tangents_.empty() || size_t(hit.prim) >= num_triangles()) return n;
+Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const Vec3& n) const {
+    if (m.normal_texture < 0 || tangents_.empty()) return n;
     // The corners' tangents and signs interpolated, as Cycles interpolates
     // its tangent attribute; the tangent made orthogonal to the shading normal.
     const float* c = &tangents_[12 * size_t(hit.prim)];
@@ -201,7 +201,52 @@ Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint&
     if (m.normal_strength != 1) mapped = n + (normalize(mapped) - n) * m.normal_strength;
     const float ml = length(mapped);
     if (!(ml > 0) || !std::isfinite(ml)) return n;
-    mapped = mapped * (1.0f / ml);
+    return mapped * (1.0f / ml);
+}
+
+Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
+    if (m.bump_texture < 0 || uvs_.empty()) return n;
+    const size_t prim = size_t(hit.prim);
+    const Vec3* p = &tri_verts_[3 * prim];
+    const float* t = &uvs_[6 * prim];
+    // dp/du and dp/dv of the triangle, and the gradients of u and v along it
+    // (the dual basis in its plane: Mikkelsen's surface gradient)
+    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const float du1 = t[2] - t[0], dv1 = t[3] - t[1], du2 = t[4] - t[0], dv2 = t[5] - t[1];
+    const float det = du1 * dv2 - du2 * dv1;
+    if (!(det != 0)) return n;                           // UVs of no area
+    const Vec3 T = (e1 * dv2 - e2 * dv1) * (1.0f / det), B = (e2 * du1 - e1 * du2) * (1.0f / det);
+    const Vec3 ng = normalize(cross(e1, e2));
+    const float D = dot(ng, cross(T, B));
+    if (!(std::abs(D) > 0) || !std::isfinite(D)) return n;
+    // The height's derivatives along u and v: central differences over a
+    // quarter of a texel of the image (in the coordinates before the texture's
+    // uv_transform), where bilinear filtering is linear.
+    const Texture& tex = textures_[size_t(m.bump_texture)];
+    const Image& img = *images_[size_t(tex.image)];
+    float step = 0.25f / float(std::max(img.width(), img.height()));
+    const auto& a = tex.uv_transform;
+    const float stretch = std::max(std::abs(a[0]) + std::abs(a[1]), std::abs(a[3]) + std::abs(a[4]));
+    if (stretch > 0) step /= stretch;
+    float u, v;
+    hit_uv(hit, u, v);
+    auto height = [&](float x, float y) { return scalar_of(tex, lookup(m.bump_texture, x, y)); };
+    const float hu = (height(u + step, v) - height(u - step, v)) / (2 * step);
+    const float hv = (height(u, v + step) - height(u, v - step)) / (2 * step);
+    Vec3 grad = (cross(B, ng) * hu + cross(ng, T) * hv) * (1.0f / D);
+    // on the face's front side, as Blender's Bump node bends it; then back
+    const float side = dot(n, ng) < 0 ? -1.0f : 1.0f;
+    const Vec3 front = n * side;
+    grad = grad - front * dot(front, grad);
+    Vec3 bent = normalize(front - grad * m.bump_distance);
+    if (m.bump_strength != 1) bent = normalize(bent * m.bump_strength + front * (1 - m.bump_strength));
+    if (!std::isfinite(bent.x) || !std::isfinite(bent.y) || !std::isfinite(bent.z)) return n;
+    return bent * side;
+}
+
+Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
+    if (size_t(hit.prim) >= num_triangles()) return sp.ns;
+    const Vec3 mapped = bumped(m, hit, normal_mapped(m, hit, sp.ns));
     // (on the viewer's side of the surface, then back to sp's orientation)
     const float side = dot(sp.ng, wo) < 0 ? -1.0f : 1.0f;
     return reflecting_above(sp.ng * side, wo, mapped * side) * side;

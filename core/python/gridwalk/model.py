@@ -118,8 +118,11 @@ class Material(Record):
     image), blended from the shading normal by normal_strength (0 none, 1 the
     map, more exaggerates, as Cycles' Strength); emission_texture the
     emitted colour, times emission_color (Principled's Emission Color fed by
-    an image, emission_color its Emission Strength). A texture feeding a
-    scalar gives its alpha channel when its use_alpha is set, else its
+    an image, emission_color its Emission Strength); bump_texture a height
+    map (Blender's Bump node): the normal (after any normal map) becomes
+    normalize(n - bump_distance x the height's gradient along the surface),
+    blended with n by bump_strength; a negative distance bumps inwards. A
+    texture feeding a scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
     (Scene(colors=...)) interpolated, unless a color_texture is set.
     emits_light: the material's triangles also light other surfaces with what
@@ -145,6 +148,9 @@ class Material(Record):
     normal_texture: int = _MAT.normal_texture
     normal_strength: float = _MAT.normal_strength
     emission_texture: int = _MAT.emission_texture
+    bump_texture: int = _MAT.bump_texture
+    bump_distance: float = _MAT.bump_distance
+    bump_strength: float = _MAT.bump_strength
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
     CORE = _core.Material
@@ -152,7 +158,7 @@ class Material(Record):
     def texture_indices(self) -> dict:
         """Field -> texture index of the textures this material uses."""
         names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture", "normal_texture",
-                 "emission_texture")
+                 "emission_texture", "bump_texture")
         return {n: getattr(self, n) for n in names if getattr(self, n) != -1}
 
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from blender_addon.scripting import principled_material
 from material_scenes import _filled_image
-from scenes import plain_world, reset, shader_material
+from scenes import add_light, plain_world, reset, shader_material
 
 # Mapping nodes from the UV map to the image, the first applied first:
 # (vector type, location, rotation in radians, scale)
@@ -171,6 +171,44 @@ def emission_map_scene(resolution=(64, 48)):
     panel.data.materials.append(mat)
     bpy.ops.mesh.primitive_plane_add(size=30.0, location=(0, 0, -1.0))
     bpy.context.object.data.materials.append(principled_material("Floor", (0.8, 0.8, 0.8), Roughness=1.0))
+    plain_world("World", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {}
+
+
+def bump_scene(distance=0.3, invert=False, strength=1.0, scale=1.0, normal_map=False, resolution=(96, 48)):
+    """A grey plane (7 x 7, Diffuse BSDF) facing the camera, its Normal from a Bump node whose Height is a
+    float image of 4 sine stripes across u (Non-Color), lit by a sun from the side (45 degrees
+    from +x): the stripes' slopes facing the sun are brighter. scale: the object's scale (its mesh
+    7 / scale across: the same plane in the world). normal_map: a Tangent Space Normal Map of a
+    flat image feeds the Bump's own Normal."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0 / scale, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    plane.scale = (scale, scale, scale)
+    u = (np.arange(64) + 0.5) / 64
+    height = 0.5 + 0.5 * np.sin(2 * math.pi * 4 * u)
+    pixels = np.ones((4, 64, 4))
+    pixels[..., :3] = height[None, :, None]
+    mat = shader_material("Bumpy", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = _filled_image("Height", pixels, float_buffer=True, non_color=True)
+    bump = nodes.new("ShaderNodeBump")
+    bump.invert = invert
+    bump.inputs["Distance"].default_value, bump.inputs["Strength"].default_value = distance, strength
+    links.new(tex.outputs["Color"], bump.inputs["Height"])
+    links.new(bump.outputs["Normal"], nodes["Diffuse BSDF"].inputs["Normal"])
+    if normal_map:
+        flat = np.ones((2, 2, 4))
+        flat[..., :3] = (0.5, 0.5, 1.0)
+        image = nodes.new("ShaderNodeTexImage")
+        image.image = _filled_image("Flat", flat, float_buffer=True, non_color=True)
+        nmap = nodes.new("ShaderNodeNormalMap")
+        links.new(image.outputs["Color"], nmap.inputs["Color"])
+        links.new(nmap.outputs["Normal"], bump.inputs["Normal"])
+    plane.data.materials.append(mat)
+    add_light("Sun", "SUN", (0, -5, 0), (math.radians(90), 0, math.radians(45)), energy=3.0)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}

@@ -260,15 +260,21 @@ def _cut_out(mix, clear, material, links):
 
 
 def _bump(node, links) -> bool:
-    """Reads the shader's Normal input into links.fields when a Bump node whose
-    Height an Image Texture gives (also through value_nodes.py's nodes) drives
-    it, and a Normal Map feeding the Bump's own Normal; True if it did."""
+    """Reads the shader's Normal input into links.fields when a Bump node drives
+    it: its Height from an Image Texture (also through value_nodes.py's nodes),
+    and a Normal Map feeding the Bump's own Normal; True if it read either (an
+    unlinked Height bends nothing: the Normal passes through)."""
     socket = _socket(node, "Normal")
     bump = _source(socket)[0] if socket is not None else None
     if bump is None or bump.type != "BUMP" or links.textures is None:
         return False
-    if not links.take(bump.inputs["Height"], "bump_texture", colour=False):
-        return False
+    below = _source(bump.inputs["Normal"])[0]
+    mapped = below is not None and _normal_map(bump, links)
+    if below is not None and not mapped:
+        links.textured.append(f"Normal of {bump.name!r} ({below.bl_idname})")
+    height = _source(bump.inputs["Height"])[0]
+    if height is None or not links.take(bump.inputs["Height"], "bump_texture", colour=False):
+        return mapped                      # (a Height not read is named by take())
     for name, field in (("Strength", "bump_strength"), ("Distance", "bump_distance")):
         fed = _source(bump.inputs[name])[0]
         if fed is not None:
@@ -277,9 +283,6 @@ def _bump(node, links) -> bool:
     links.fields["bump_strength"] = max(links.fields["bump_strength"], 0.0)
     if bump.invert:
         links.fields["bump_distance"] = -links.fields["bump_distance"]
-    below = _source(bump.inputs["Normal"])[0]
-    if below is not None and not _normal_map(bump, links):
-        links.textured.append(f"Normal of {bump.name!r} ({below.bl_idname})")
     return True
 
 

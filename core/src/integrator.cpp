@@ -230,6 +230,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     const ShadowMode mode = spread_mode();
     const int count = light_points(s_.shadow, st);
     const Vec3* corners = scene_.triangle_vertices();
+    const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (as in direct())
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
@@ -264,7 +265,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         // (in double: a point nearer than ~1e-19 would square to 0 in float)
         const double scale = 0.5 * double(cos_l) / (kPi * double(dist) * double(dist) * double(probability));
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
-        Vec3 f = m.color * (m.kd * cos_i);
+        Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         if (m.ks > 0 && m.mirror < 1) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
             const float spec = m.ks * (1.0f - m.mirror) * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);

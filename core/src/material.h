@@ -34,8 +34,9 @@ struct Material {
     int32_t emission_texture = -1;
     // A bump map (Blender's Bump node fed by a height texture): the shading
     // normal n becomes normalize(n - bump_distance x the surface gradient of
-    // the height), then is blended with n by bump_strength (0 none, 1 all). A
-    // negative distance bumps inwards (the node's Invert).
+    // the height, its part along n removed along the geometric normal), then
+    // is blended with n by bump_strength (0 none, 1 all). A negative distance
+    // bumps inwards (the node's Invert).
     int32_t bump_texture = -1;
     float bump_distance = 1, bump_strength = 1;
     // Its triangles light other surfaces with what they emit (emitters.h), as

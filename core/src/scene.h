@@ -188,8 +188,8 @@ public:
     Material shade(const Material& m, const Hit& hit) const;
     // The shading normal at a hit with the material's normal map, then its
     // bump map applied (sp.ns where it has none, or the triangle has no UVs or
-    // no UV area). wo: the unit direction back along the ray (the normal is
-    // kept from reflecting it into the surface, as Cycles keeps it).
+    // no UV area). wo: the unit direction back along the ray (a normal map's
+    // normal is kept from reflecting it into the surface, as Cycles keeps it).
     Vec3 mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const;
     // The material's alpha at a hit (its alpha texture applied).
     float alpha_at(const Material& m, const Hit& hit) const;
@@ -249,11 +249,14 @@ private:
         return sample_image(*images_[size_t(t.image)], t, u, v);
     }
     void hit_uv(const Hit& hit, float& u, float& v) const;
-    // n with the material's normal map applied (n where it has none).
-    Vec3 normal_mapped(const Material& m, const Hit& hit, const Vec3& n) const;
+    // sp.ns with the material's normal map applied (sp.ns where it has none),
+    // kept from reflecting wo into the surface, as Cycles' Normal Map node
+    // keeps it (its Bump node does not).
+    Vec3 normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const;
     // n bent by the material's bump map (Blender's Bump node): normalize(n -
-    // bump_distance x the height's gradient along the surface), on the face's
-    // front side, blended with n by bump_strength (n where it has none).
+    // bump_distance x the height's gradient along the surface, its part along
+    // n removed along the geometric normal), blended with n by bump_strength
+    // (n where it has none).
     Vec3 bumped(const Material& m, const Hit& hit, const Vec3& n) const;
     void check_textures();   // scene_textures.cpp
     void compute_bounds(const Bounds& tri_bounds);   // bounds_ (and the +-1e30 check), given the triangles'

@@ -181,7 +181,8 @@ Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
 
 }  // namespace
 
-Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const Vec3& n) const {
+Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
+    const Vec3 n = sp.ns;
     if (m.normal_texture < 0 || tangents_.empty()) return n;
     // The corners' tangents and signs interpolated, as Cycles interpolates
     // its tangent attribute; the tangent made orthogonal to the shading normal.
@@ -201,7 +202,10 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const Vec3& n) cons
     if (m.normal_strength != 1) mapped = n + (normalize(mapped) - n) * m.normal_strength;
     const float ml = length(mapped);
     if (!(ml > 0) || !std::isfinite(ml)) return n;
-    return mapped * (1.0f / ml);
+    mapped = mapped * (1.0f / ml);
+    // (on the viewer's side of the surface, then back to sp's orientation)
+    const float side = dot(sp.ng, wo) < 0 ? -1.0f : 1.0f;
+    return reflecting_above(sp.ng * side, wo, mapped * side) * side;
 }
 
 Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
@@ -219,37 +223,46 @@ Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
     const Vec3 ng = normalize(cross(e1, e2));
     const float D = dot(ng, cross(T, B));
     if (!(std::abs(D) > 0) || !std::isfinite(D)) return n;
-    // The height's derivatives along u and v: central differences over a
-    // quarter of a texel of the image (in the coordinates before the texture's
-    // uv_transform), where bilinear filtering is linear.
-    const Texture& tex = textures_[size_t(m.bump_texture)];
+    // The height's slopes in the image's own coordinates (after uv_transform,
+    // brought into the first tile where the image repeats, so that large UVs
+    // keep their digits): central differences over a quarter of a texel of
+    // its bilinear interpolation (Closest too: its steps have no slope to
+    // take), then back to u and v through the transform's linear part.
+    Texture tex = textures_[size_t(m.bump_texture)];
     const Image& img = *images_[size_t(tex.image)];
-    float step = 0.25f / float(std::max(img.width(), img.height()));
-    const auto& a = tex.uv_transform;
-    const float stretch = std::max(std::abs(a[0]) + std::abs(a[1]), std::abs(a[3]) + std::abs(a[4]));
-    if (stretch > 0) step /= stretch;
+    tex.interpolation = Interpolation::Linear;
     float u, v;
     hit_uv(hit, u, v);
-    auto height = [&](float x, float y) { return scalar_of(tex, lookup(m.bump_texture, x, y)); };
-    const float hu = (height(u + step, v) - height(u - step, v)) / (2 * step);
-    const float hv = (height(u, v + step) - height(u, v - step)) / (2 * step);
+    float x = u, y = v;
+    if (uv_mapped(tex)) map_uv(tex, x, y);
+    const float period = tex.extension == Extension::Repeat ? 1.0f : tex.extension == Extension::Mirror ? 2.0f : 0.0f;
+    if (period > 0 && std::isfinite(x) && std::isfinite(y)) {
+        x -= period * std::floor(x / period);
+        y -= period * std::floor(y / period);
+    }
+    const float sx = 0.25f / float(img.width()), sy = 0.25f / float(img.height());
+    auto height = [&](float a, float b) { return scalar_of(tex, sample_image(img, tex, a, b)); };
+    const float hx = (height(x + sx, y) - height(x - sx, y)) / (2 * sx);
+    const float hy = (height(x, y + sy) - height(x, y - sy)) / (2 * sy);
+    const auto& a = tex.uv_transform;
+    const float hu = hx * a[0] + hy * a[3], hv = hx * a[1] + hy * a[4];
     Vec3 grad = (cross(B, ng) * hu + cross(ng, T) * hv) * (1.0f / D);
-    // on the face's front side, as Blender's Bump node bends it; then back
-    const float side = dot(n, ng) < 0 ? -1.0f : 1.0f;
-    const Vec3 front = n * side;
-    grad = grad - front * dot(front, grad);
-    Vec3 bent = normalize(front - grad * m.bump_distance);
-    if (m.bump_strength != 1) bent = normalize(bent * m.bump_strength + front * (1 - m.bump_strength));
+    // Its part along n removed along the geometric normal, as Cycles' Bump node
+    // takes the surface's differentials against the shading normal: the vector
+    // across n whose product with every direction along the surface is the
+    // height's change that way. Then n bent by it, on n's own side.
+    const float nn = dot(n, ng);
+    if (!(std::abs(nn) > 1e-6f)) return n;
+    grad = grad - ng * (dot(n, grad) / nn);
+    Vec3 bent = normalize(n - grad * m.bump_distance);
+    if (m.bump_strength != 1) bent = normalize(bent * m.bump_strength + n * (1 - m.bump_strength));
     if (!std::isfinite(bent.x) || !std::isfinite(bent.y) || !std::isfinite(bent.z)) return n;
-    return bent * side;
+    return bent;
 }
 
 Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
     if (size_t(hit.prim) >= num_triangles()) return sp.ns;
-    const Vec3 mapped = bumped(m, hit, normal_mapped(m, hit, sp.ns));
-    // (on the viewer's side of the surface, then back to sp's orientation)
-    const float side = dot(sp.ng, wo) < 0 ? -1.0f : 1.0f;
-    return reflecting_above(sp.ng * side, wo, mapped * side) * side;
+    return bumped(m, hit, normal_mapped(m, hit, sp, wo));
 }
 
 float Scene::alpha_at(const Material& m, const Hit& hit) const {

@@ -120,8 +120,9 @@ class Material(Record):
     emitted colour, times emission_color (Principled's Emission Color fed by
     an image, emission_color its Emission Strength); bump_texture a height
     map (Blender's Bump node): the normal (after any normal map) becomes
-    normalize(n - bump_distance x the height's gradient along the surface),
-    blended with n by bump_strength; a negative distance bumps inwards. A
+    normalize(n - bump_distance x the height's gradient along the surface,
+    its part along n removed along the geometric normal), blended with n by
+    bump_strength; a negative distance bumps inwards. A
     texture feeding a scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
     (Scene(colors=...)) interpolated, unless a color_texture is set.

@@ -176,12 +176,12 @@ def emission_map_scene(resolution=(64, 48)):
     return {}
 
 
-def bump_scene(distance=0.3, invert=False, strength=1.0, scale=1.0, normal_map=False, resolution=(96, 48)):
+def bump_scene(distance=0.3, invert=False, strength=1.0, scale=1.0, tilt=None, resolution=(96, 48)):
     """A grey plane (7 x 7, Diffuse BSDF) facing the camera, its Normal from a Bump node whose Height is a
     float image of 4 sine stripes across u (Non-Color), lit by a sun from the side (45 degrees
     from +x): the stripes' slopes facing the sun are brighter. scale: the object's scale (its mesh
-    7 / scale across: the same plane in the world). normal_map: a Tangent Space Normal Map of a
-    flat image feeds the Bump's own Normal."""
+    7 / scale across: the same plane in the world). tilt: a Tangent Space Normal Map of one
+    normal, leaning `tilt` degrees along u, feeds the Bump's own Normal."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.0 / scale, rotation=(math.pi / 2, 0, 0))
     plane = bpy.context.object
@@ -199,11 +199,11 @@ def bump_scene(distance=0.3, invert=False, strength=1.0, scale=1.0, normal_map=F
     bump.inputs["Distance"].default_value, bump.inputs["Strength"].default_value = distance, strength
     links.new(tex.outputs["Color"], bump.inputs["Height"])
     links.new(bump.outputs["Normal"], nodes["Diffuse BSDF"].inputs["Normal"])
-    if normal_map:
-        flat = np.ones((2, 2, 4))
-        flat[..., :3] = (0.5, 0.5, 1.0)
+    if tilt is not None:
+        lean = np.ones((2, 2, 4))
+        lean[..., :3] = (0.5 + 0.5 * math.sin(math.radians(tilt)), 0.5, 0.5 + 0.5 * math.cos(math.radians(tilt)))
         image = nodes.new("ShaderNodeTexImage")
-        image.image = _filled_image("Flat", flat, float_buffer=True, non_color=True)
+        image.image = _filled_image("Lean", lean, float_buffer=True, non_color=True)
         nmap = nodes.new("ShaderNodeNormalMap")
         links.new(image.outputs["Color"], nmap.inputs["Color"])
         links.new(nmap.outputs["Normal"], bump.inputs["Normal"])

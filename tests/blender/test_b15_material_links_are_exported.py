@@ -73,10 +73,13 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     for field in ("color_texture", "metallic_texture", "alpha_texture"):
         assert render[field] >= 0, field
     assert name(node["color_texture"]) == "Shared"
+    # (the image straight into the input: no map of its coordinates, no adjustment of its value)
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
                                                "interpolation": "closest", "extension": "clip", "use_alpha": False,
                                                "premultiply": True,   # its Alpha output is not linked: associated
-                                               "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]}
+                                               "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                                               "channel": -1, "gain": [1.0, 1.0, 1.0], "bias": [0.0, 0.0, 0.0],
+                                               "clamp": False}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

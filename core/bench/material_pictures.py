@@ -44,6 +44,14 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"resolution": [128, 64]}', "transparent=false"]),
     ("normal_map", "Normal Map on a 16 x 8 UV sphere, leaning 30 degrees",
      ['scene={"sphere": true, "resolution": [128, 96]}', "transparent=false"]),
+    ("mapped_texture", "Image Texture through two Mapping nodes, turned about every axis",
+     ['scene={"chain": "chain", "source": "uvmap", "resolution": [128, 96]}', "transparent=false"]),
+    ("gltf_model", "A glTF model: tint, packed roughness / metallic, texture transform",
+     ['scene={"resolution": [128, 128]}', "transparent=false"]),
+    ("emission_map", "Principled Emission Color from an image, lighting the floor (no lamps)",
+     ['scene={"resolution": [128, 96]}', "transparent=false"]),
+    ("bump", "Bump node: height stripes over a Normal Map leaning 30 degrees",
+     ['scene={"tilt": 30.0, "resolution": [128, 64]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

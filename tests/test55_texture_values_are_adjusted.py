@@ -81,3 +81,19 @@ def test_an_environment_refuses_an_adjusted_texture():
     with pytest.raises(ValueError, match="environment_strength"):
         gw.Scene(verts, tris, world=gw.World(environment=0),
                  textures=[gw.Texture(gw.Image(BYTES), gain=(2, 2, 2))])
+
+
+def test_a_colour_texture_and_a_colour_attribute_multiply():
+    # (a Mix multiplying the image by the colour attribute: the glTF importer's textured vertex colours)
+    verts, tris, uvs = _square()
+    tint = np.array([0.5, 1.0, 0.25], np.float32)
+    colors = np.broadcast_to(tint, (2, 3, 3)).copy()
+
+    def render(vertex_color, texture):
+        material = gw.Material(kd=0, emission=1.0, color_texture=0 if texture else -1, vertex_color=vertex_color)
+        scene = gw.Scene(verts, tris, uvs=uvs, colors=colors, camera=_ortho(), materials=[material],
+                         textures=[gw.Texture(gw.Image(BYTES), interpolation="closest")])
+        return gw.RenderJob(scene, gw.RenderSettings(threads=1)).start().wait()[..., :3]
+    np.testing.assert_allclose(render(True, True), _linear_texels() * tint, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(render(False, True), _linear_texels(), rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(render(True, False), np.broadcast_to(tint, (N, N, 3)), rtol=1e-6)

@@ -13,7 +13,8 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
       unlinked (the mesh's active render UV map), linked from a UV Map node
       (that layer) or a Texture Coordinate's UV, through any Mapping nodes
       (uv_mapping.py: Texture.uv_transform);
-  Color Attribute -> Base Color (the named layer, or the active render one);
+  Color Attribute -> Base Color (the named layer, or the active render one),
+      also multiplied (a Mix, Multiply, factor 1) by an image: both are read;
   an Image Texture through Separate Color, Math, Mix and Invert nodes with
       constant other inputs (value_nodes.py: Texture.channel, gain, bias, clamp);
   Bump fed by an Image Texture (its Height) -> the shader's Normal
@@ -111,7 +112,35 @@ class Links:
         if image is not None:
             self.fields[field] = self.textures.texture(image, output, self._uv(image), adjust)
             return True
+        if colour and field == "color_texture" and self._image_times_attribute(node):
+            return True
         self.textured.append(f"{socket.name} ({node.bl_idname}{': ' + adjust if adjust else ''})")
+        return False
+
+    def _image_times_attribute(self, node) -> bool:
+        """A Mix multiplying, with factor 1, an image (through value_nodes.py's
+        nodes) by a Color Attribute node: the glTF importer's base colour of a
+        textured model with vertex colours. Sets color_texture and vertex_color."""
+        if node.type == "MIX" and getattr(node, "data_type", "") == "RGBA":
+            fac, a, b = (next(s for s in node.inputs if s.identifier == i) for i in ("Factor_Float", "A_Color", "B_Color"))
+        elif node.type == "MIX_RGB":
+            fac, a, b = node.inputs["Fac"], node.inputs["Color1"], node.inputs["Color2"]
+        else:
+            return False
+        if node.blend_type != "MULTIPLY" or _source(fac)[0] is not None or input_value(fac) != 1.0 \
+                or getattr(node, "clamp_result", False) or getattr(node, "use_clamp", False):
+            return False
+        for image_side, other in ((a, b), (b, a)):
+            attribute, _ = _source(other)
+            if attribute is None or attribute.type != "VERTEX_COLOR":
+                continue
+            image, output, adjust = image_through_nodes(image_side)
+            if image is None:
+                return False
+            self.fields["color_texture"] = self.textures.texture(image, output, self._uv(image), adjust)
+            self.fields["vertex_color"] = True
+            self.color_layer = getattr(attribute, "layer_name", "") or ""
+            return True
         return False
 
     def _uv(self, node) -> tuple:

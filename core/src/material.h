@@ -21,7 +21,9 @@ struct Material {
     // the mirror reflection takes the base colour, as a metal's reflection does.
     float metallic = 0;
     int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
-    bool vertex_color = false;      // the base colour is the mesh's per-corner colour (colour attribute)
+    // The base colour is the mesh's per-corner colour (colour attribute); with a
+    // color_texture, the texture's colour times it.
+    bool vertex_color = false;
     // A tangent-space normal map (Blender's Normal Map node): the texture's
     // RGB in [0, 1] is a normal in the frame of the triangle's UV tangent, its
     // bitangent and the shading normal; strength blends from the shading

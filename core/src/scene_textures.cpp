@@ -100,12 +100,15 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     Material out = m;
     float u, v;
     hit_uv(hit, u, v);
-    if (m.color_texture >= 0) {
+    if (m.color_texture >= 0)
         out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, u, v));
-    } else if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
+    if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
         const float* c = &colors_[9 * size_t(hit.prim)];
         const float b0 = 1.0f - hit.u - hit.v;
-        out.color = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+        const Vec3 corner = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+        // (with a colour texture: their product, a Mix node multiplying the image by the attribute)
+        out.color = m.color_texture >= 0 ? Vec3(out.color.x * corner.x, out.color.y * corner.y, out.color.z * corner.z)
+                                         : corner;
     }
     if (m.roughness_texture >= 0) {
         const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, u, v)));

@@ -91,3 +91,27 @@ def test_a_gltf_model_renders_as_in_cycles(module_blender, tmp_path_factory):
     assert cycles.std() > 0.05
     assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.95
     assert 0.8 < ours.mean() / cycles.mean() < 1.25
+
+
+@pytest.fixture(scope="module")
+def tinted(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"tinted_{module_blender}")
+    return luminance_by_engine(module_blender, out, "tinted_by_attribute", ENGINES,
+                               {"mix": {}, "legacy": {"legacy": True}})
+
+
+@pytest.mark.parametrize("variant", ["mix", "legacy"])
+def test_an_image_times_a_colour_attribute_gives_what_cycles_gives(tinted, variant):
+    # (Blender's glTF importer wires a textured model's vertex colours so: a Mix, Multiply, factor 1)
+    ours, cycles = tinted[("GRIDWALK", variant)][:, 3:-3], tinted[("CYCLES", variant)][:, 3:-3]
+    assert cycles.std() > 0.02
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.99
+    assert np.abs(ours - cycles).mean() < 0.015
+
+
+def test_an_image_times_a_colour_attribute_exports_both(export):
+    out = export("tinted_by_attribute")
+    (material,) = [m for m in out.materials if m["color_texture"] >= 0]
+    assert material["vertex_color"]
+    assert out.colors.shape[1:] == (3, 3) and np.ptp(out.colors[..., 0]) > 0.5      # the "Tint" corners
+    assert not out.warnings, out.warnings

@@ -125,7 +125,8 @@ class Material(Record):
     bump_strength; a negative distance bumps inwards. A
     texture feeding a scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
-    (Scene(colors=...)) interpolated, unless a color_texture is set.
+    (Scene(colors=...)) interpolated; with a color_texture, the texture's
+    colour times them (an image multiplied by a colour attribute).
     emits_light: the material's triangles also light other surfaces with what
     they emit (color * emission + emission_color, textures applied), from both
     sides, sampled as area lights are (Cycles' mesh lights); spheres and
@@ -155,12 +156,6 @@ class Material(Record):
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
     CORE = _core.Material
-
-    def texture_indices(self) -> dict:
-        """Field -> texture index of the textures this material uses."""
-        names = ("color_texture", "roughness_texture", "metallic_texture", "alpha_texture", "normal_texture",
-                 "emission_texture", "bump_texture")
-        return {n: getattr(self, n) for n in names if getattr(self, n) != -1}
 
 
 def _choice(choices, enum):

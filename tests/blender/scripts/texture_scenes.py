@@ -212,3 +212,36 @@ def bump_scene(distance=0.3, invert=False, strength=1.0, scale=1.0, tilt=None, r
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}
+
+
+def tinted_by_attribute_scene(legacy=False, resolution=(48, 36)):
+    """A plane filling the view, its Emission Color an 8 x 8 image of random 8-bit colours times a
+    colour attribute "Tint" (red, green, blue and white at its corners) through a Mix node
+    (Multiply, factor 1; legacy: a MixRGB), as Blender's glTF importer wires vertex colours."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    tint = plane.data.color_attributes.new("Tint", "FLOAT_COLOR", "CORNER")
+    corners = [(1.0, 0.2, 0.2, 1.0), (0.2, 1.0, 0.2, 1.0), (0.2, 0.2, 1.0, 1.0), (1.0, 1.0, 1.0, 1.0)]
+    for i, loop in enumerate(plane.data.loops):
+        tint.data[i].color = corners[loop.vertex_index % 4]
+    pixels = np.random.default_rng(4).integers(0, 256, (8, 8, 4)) / 255.0
+    pixels[..., 3] = 1.0
+    mat = shader_material("Tinted", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = _filled_image("Random", pixels, float_buffer=False), "Closest"
+    attribute = nodes.new("ShaderNodeVertexColor")
+    attribute.layer_name = "Tint"
+    if legacy:
+        mix = _node(nodes, "ShaderNodeMixRGB", [("Fac", 1.0)], blend_type="MULTIPLY")
+        a, b = mix.inputs["Color1"], mix.inputs["Color2"]
+    else:
+        mix = _node(nodes, "ShaderNodeMix", [("Factor_Float", 1.0)], data_type="RGBA", blend_type="MULTIPLY")
+        a, b = (next(s for s in mix.inputs if s.identifier == i) for i in ("A_Color", "B_Color"))
+    links.new(tex.outputs["Color"], a)
+    links.new(attribute.outputs["Color"], b)
+    links.new(next(s for s in mix.outputs if s.enabled), nodes["Emission"].inputs["Color"])
+    plane.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {}

@@ -64,7 +64,7 @@ from gridwalk.model import Material
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
 from .uv_mapping import texture_coordinates
-from .value_nodes import image_through_nodes
+from .value_nodes import image_through_nodes, mix_inputs
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -121,12 +121,10 @@ class Links:
         """A Mix multiplying, with factor 1, an image (through value_nodes.py's
         nodes) by a Color Attribute node: the glTF importer's base colour of a
         textured model with vertex colours. Sets color_texture and vertex_color."""
-        if node.type == "MIX" and getattr(node, "data_type", "") == "RGBA":
-            fac, a, b = (next(s for s in node.inputs if s.identifier == i) for i in ("Factor_Float", "A_Color", "B_Color"))
-        elif node.type == "MIX_RGB":
-            fac, a, b = node.inputs["Fac"], node.inputs["Color1"], node.inputs["Color2"]
-        else:
+        sockets = mix_inputs(node) if node.type == "MIX_RGB" or getattr(node, "data_type", "") == "RGBA" else None
+        if sockets is None:
             return False
+        fac, a, b = sockets
         if node.blend_type != "MULTIPLY" or _source(fac)[0] is not None or input_value(fac) != 1.0 \
                 or getattr(node, "clamp_result", False) or getattr(node, "use_clamp", False):
             return False

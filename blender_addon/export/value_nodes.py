@@ -85,6 +85,16 @@ def _enabled(node, *identifiers):
     return [next(s for s in node.inputs if s.identifier == i) for i in identifiers]
 
 
+def mix_inputs(node):
+    """(factor, A, B) input sockets of a Mix node mixing colours or floats (MixRGB in 3.x), or None."""
+    if node.type == "MIX":
+        suffix = {"RGBA": "Color", "FLOAT": "Float"}.get(node.data_type)
+        return None if suffix is None else _enabled(node, "Factor_Float", f"A_{suffix}", f"B_{suffix}")
+    if node.type == "MIX_RGB":
+        return node.inputs["Fac"], node.inputs["Color1"], node.inputs["Color2"]
+    return None
+
+
 def _chain_input(node):
     """(the node's input the chain comes through, its other inputs by role) or Unread."""
     kind = node.type
@@ -96,15 +106,11 @@ def _chain_input(node):
         return node.inputs["Color"], {"fac": node.inputs["Fac"]}
     if kind == "MATH":
         used = node.inputs[:3] if node.operation == "MULTIPLY_ADD" else node.inputs[:2]
-    elif kind == "MIX":
-        suffix = {"RGBA": "Color", "FLOAT": "Float"}.get(node.data_type)
-        if suffix is None:
+    elif kind in ("MIX", "MIX_RGB"):
+        sockets = mix_inputs(node)
+        if sockets is None:
             raise Unread(f"{node.name!r} mixing {node.data_type.lower()}s")
-        fac, a, b = _enabled(node, "Factor_Float", f"A_{suffix}", f"B_{suffix}")
-        used = [a, b]
-    elif kind == "MIX_RGB":
-        fac, (a, b) = node.inputs["Fac"], (node.inputs["Color1"], node.inputs["Color2"])
-        used = [a, b]
+        fac, *used = sockets
     else:
         raise Unread(f"{node.name!r} ({node.bl_idname})", quiet=True)
     linked = [s for s in used if _linked(s)]

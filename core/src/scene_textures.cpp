@@ -107,8 +107,7 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         const float b0 = 1.0f - hit.u - hit.v;
         const Vec3 corner = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
         // (with a colour texture: their product, a Mix node multiplying the image by the attribute)
-        out.color = m.color_texture >= 0 ? Vec3(out.color.x * corner.x, out.color.y * corner.y, out.color.z * corner.z)
-                                         : corner;
+        out.color = m.color_texture >= 0 ? out.color * corner : corner;
     }
     if (m.roughness_texture >= 0) {
         const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, u, v)));
@@ -128,8 +127,8 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     }
     if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);
     if (m.emission_texture >= 0) {
-        const Vec3 c = color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, u, v));
-        out.emission_color = Vec3(c.x * m.emission_color.x, c.y * m.emission_color.y, c.z * m.emission_color.z);
+        out.emission_color =
+            color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, u, v)) * m.emission_color;
     }
     return out;
 }

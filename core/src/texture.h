@@ -105,6 +105,9 @@ void validate_texture(const Texture& t, const std::string& where);
 // filtering when t.unassociate is (before decoding an 8-bit sRGB image).
 Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 
+// Rec. 709 luminance: Blender's colour-to-float conversion.
+inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 // Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
 // else its colour (premultiplied by sample_image where the texture says), then
 // the texture's channel, gain, bias and clamp (see Texture::channel).
@@ -115,7 +118,7 @@ inline Vec3 color_of(const Texture& t, const Rgba& c) {
         const float grey = t.channel == 0   ? c.rgb.x
                            : t.channel == 1 ? c.rgb.y
                            : t.channel == 2 ? c.rgb.z
-                                            : 0.2126f * c.rgb.x + 0.7152f * c.rgb.y + 0.0722f * c.rgb.z;
+                                            : luminance(c.rgb);
         v = Vec3(grey, grey, grey);
     }
     v = Vec3(v.x * t.gain[0] + t.bias[0], v.y * t.gain[1] + t.bias[1], v.z * t.gain[2] + t.bias[2]);
@@ -132,7 +135,7 @@ inline Vec3 color_of(const Texture& t, const Rgba& c) {
 inline float scalar_of(const Texture& t, const Rgba& c) {
     const Vec3 rgb = color_of(t, c);
     if ((t.use_alpha || t.channel >= 0) && rgb.x == rgb.y && rgb.y == rgb.z) return rgb.x;
-    return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z;
+    return luminance(rgb);
 }
 
 // Equirectangular coordinates of a direction, as Blender's Environment

@@ -53,3 +53,21 @@ def test_quick_benchmark_writes_every_section(tmp_path):
     for image in images:
         path = tmp_path / image
         assert path.is_file() and path.stat().st_size > 1000, f"plot {image} missing or empty"
+
+
+@pytest.mark.skipif(not HAVE_EMBREE, reason="embreex is not installed")
+def test_layouts_benchmark_writes_a_row_per_layout_and_ray_kind(tmp_path):
+    proc = subprocess.run([sys.executable, str(ROOT / "core" / "bench" / "bench_layouts.py"), "--quick",
+                           "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    md = (tmp_path / "layouts.md").read_text()
+    sys.path.insert(0, str(ROOT / "core" / "bench"))
+    from layout_scenes import LAYOUTS
+    rows = table_rows(md, "| layout | rays |")
+    assert [(r["layout"], r["rays"]) for r in rows] == \
+        [(label, kind) for label, _ in LAYOUTS.values() for kind in ("primary", "random")]
+    for r in rows:
+        assert float(r["agree %"]) >= 99.9, r
+        assert float(r["ratio"].strip("*")) > 0 and float(r["tests/ray"]) >= 0, r
+    builds = table_rows(md, "| layout | triangles | grids |")
+    assert len(builds) == len(LAYOUTS)

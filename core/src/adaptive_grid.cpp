@@ -184,20 +184,51 @@ public:
 private:
     // Resolution of a grid over `box` for n primitives at `density` cells per
     // primitive: cells as cubic as the box allows; axes thinner than 1e-4 of
-    // the box's largest side get one cell and stay out of the count.
-    static void resolution(const Box& box, size_t n, double density, int res[3]) {
+    // the box's largest side get one cell and stay out of the count, and so do
+    // axes left out of `axes` (bit a set: axis a is divided).
+    static void resolution(const Box& box, size_t n, double density, int res[3], unsigned axes = 7) {
         double ext[3], maxext = 0;
         for (int a = 0; a < 3; ++a) maxext = std::max(maxext, ext[a] = box.hi[a] - box.lo[a]);
+        bool divided[3];
         int k = 0;
         double vol = 1;
         for (int a = 0; a < 3; ++a)
-            if (ext[a] > 1e-4 * maxext) { ++k; vol *= ext[a]; }
+            if ((divided[a] = ext[a] > 1e-4 * maxext && (axes >> a & 1u))) { ++k; vol *= ext[a]; }
         const double wanted = std::max(1.0, density * double(n));
         const double side = k ? std::pow(vol / wanted, 1.0 / k) : 1.0;
         for (int a = 0; a < 3; ++a)
-            res[a] = ext[a] > 1e-4 * maxext && side > 0
+            res[a] = divided[a] && side > 0
                          ? int(std::min(std::max(std::floor(ext[a] / side + 0.5), 1.0), double(kMaxResolution)))
                          : 1;
+    }
+
+    // The axes across a stack: where many primitives are long along some
+    // axis (their bounds spanning over a quarter of the box), the axes along
+    // which fewer than an eighth as many span even an eighth of it. A stack
+    // of floors, shelves or slats gives the axis across them: a grid divided
+    // along it alone lists each primitive once, where cubic cells list each
+    // in a whole layer of cells. 7 (all axes) where there is no such axis.
+    // (An eighth, not a quarter: the small grids refining a terrain are
+    // thin boxes its triangles cross, each a sixth of such a box wide;
+    // searching them for layers, which would list each triangle in every
+    // layer, cost the build of SPD's mount size 8 a third more time.)
+    unsigned thin_axes(const Box& box, const std::vector<uint32_t>& prims) const {
+        uint64_t longer[3] = {0, 0, 0}, wider[3] = {0, 0, 0};
+        uint64_t step = 0;
+        for (uint32_t prim : prims) {
+            check_cancel(cancel_, step);
+            const Bounds& b = bounds_[prim];
+            for (int a = 0; a < 3; ++a) {
+                const double e = double(b.hi[a]) - double(b.lo[a]), side = box.hi[a] - box.lo[a];
+                longer[a] += e > 0.25 * side;
+                wider[a] += e > 0.125 * side;
+            }
+        }
+        const uint64_t most = std::max(longer[0], std::max(longer[1], longer[2]));
+        unsigned axes = 0;
+        for (int a = 0; a < 3; ++a)
+            if (8 * wider[a] < most) axes |= 1u << a;
+        return axes ? axes : 7u;
     }
 
     // A grid of resolution n over box, with what cell_range asks of every
@@ -347,43 +378,86 @@ private:
         double density = p_.sub_density;
         if (depth == 0)   // (the root's cells stay within root_cells)
             density = std::min(p_.root_density, double(p_.root_cells) / double(std::max<size_t>(prims.size(), 1)));
-        int n[3] = {1, 1, 1};
         // (Also below 2^32: CellLists' offsets are 32-bit. Only a node of
         // over 1.4e9 primitives reaches that, and takes a coarser grid.)
         const uint64_t allowed = std::min<uint64_t>(uint64_t(p_.max_refs_per_prim * double(prims.size())),
                                                     0xFFFFFFFFull - (1ull << 27));
+        // The finest resolution dividing `axes`, from density d down, whose
+        // references stay within `allowed`: into res, with their number into
+        // refs (and the cells into cells_of, with `found_cells` set, where
+        // they were found); returns its density, 0 where none fitted (res then
+        // stays as it was; a grid of one cell lists every primitive once).
+        auto search = [&](unsigned axes, double d, int res[3], uint64_t& refs, std::vector<CellLists>& cells_of,
+                          bool& found_cells) {
+            int last[3] = {0, 0, 0};
+            refs = prims.size();
+            for (int attempt = 0; attempt < 64; ++attempt, d *= 0.5) {
+                int m[3];
+                resolution(box, prims.size(), d, m, axes);
+                if (uint64_t(m[0]) * m[1] * m[2] <= 1) {
+                    std::copy(m, m + 3, res);
+                    return d;
+                }
+                // (One capped at kMaxResolution along an axis can repeat: tried already.)
+                const bool same = std::equal(m, m + 3, last);
+                std::copy(m, m + 3, last);
+                if (same) continue;
+                // A refining grid whose sample of primitives already needs more
+                // references than allowed takes the next resolution without the
+                // full pass. (Of a scene of 90,000 icospheres of 80 triangles
+                // scattered on a floor, 89,000 grids refining the root's cells
+                // tried 3.2 resolutions each, most failing by 0-50%, and
+                // find_cells took 61% of the build.)
+                if (depth > 0 && prims.size() >= 4 * kSamplePrims && sampled_refs(box, prims, m) > allowed) {
+                    if (d * double(prims.size()) < 1) break;
+                    continue;
+                }
+                // (The bound first only for a grid of many primitives on the top two
+                // levels, where a failed resolution costs most: elsewhere its pass
+                // would cost more than it saves.)
+                if (depth > 1 || prims.size() < kBoundPrims ||
+                    fewest_cells(box, prims, m, allowed, pass_threads) <= allowed) {
+                    const uint64_t total = find_cells(box, prims, m, allowed, cells_of);
+                    if (total <= allowed) {
+                        std::copy(m, m + 3, res);
+                        refs = total;
+                        found_cells = true;
+                        return d;
+                    }
+                }
+                if (d * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
+            }
+            return 0.0;
+        };
+        int n[3] = {1, 1, 1};
+        uint64_t refs = 0;
         std::vector<CellLists> met;
         bool recorded = false;   // met holds the cells of resolution n
-        for (int attempt = 0; attempt < 64; ++attempt, density *= 0.5) {
-            int m[3];
-            resolution(box, prims.size(), density, m);
-            if (uint64_t(m[0]) * m[1] * m[2] <= 1) {
-                std::copy(m, m + 3, n);
-                if (depth == 0) root_density_ = density;
-                break;
+        double found = search(7, density, n, refs, met, recorded);
+        // Cubic cells held back to a quarter of the density or less by the
+        // references of long primitives (a stack of floors, shelves or slats
+        // lists each in a whole layer of cells): a grid dividing only the
+        // axes few of them are long along, where its cells hold a quarter as
+        // many primitives or fewer, on average. (Held to that, the layers of
+        // a terrain's cells, which the triangles cross, are not taken.)
+        if (found <= 0.25 * density) {
+            const unsigned axes = thin_axes(box, prims);
+            if (axes != 7) {
+                int m[3] = {1, 1, 1};
+                uint64_t m_refs = 0;
+                std::vector<CellLists> m_met;
+                bool m_recorded = false;
+                const double m_found = search(axes, density, m, m_refs, m_met, m_recorded);
+                const double cells = double(n[0]) * n[1] * n[2], m_cells = double(m[0]) * m[1] * m[2];
+                    if (double(m_refs) / m_cells <= 0.25 * double(refs) / cells) {
+                    std::copy(m, m + 3, n);
+                    met.swap(m_met);
+                    recorded = m_recorded;
+                    found = m_found;
+                }
             }
-            // A refining grid whose sample of primitives already needs more
-            // references than allowed takes the next resolution without the
-            // full pass. (Of a scene of 90,000 icospheres of 80 triangles
-            // scattered on a floor, 89,000 grids refining the root's cells
-            // tried 3.2 resolutions each, most failing by 0-50%, and
-            // find_cells took 61% of the build.)
-            if (depth > 0 && prims.size() >= 4 * kSamplePrims && sampled_refs(box, prims, m) > allowed) {
-                if (density * double(prims.size()) < 1) break;
-                continue;
-            }
-            // (The bound first only for a grid of many primitives on the top two
-            // levels, where a failed resolution costs most: elsewhere its pass
-            // would cost more than it saves.)
-            if ((depth > 1 || prims.size() < kBoundPrims || fewest_cells(box, prims, m, allowed, pass_threads) <= allowed) &&
-                find_cells(box, prims, m, allowed, met) <= allowed) {
-                std::copy(m, m + 3, n);
-                recorded = true;
-                if (depth == 0) root_density_ = density;
-                break;
-            }
-            if (density * double(prims.size()) < 1) break;   // even one cell per primitive in all is too fine
         }
+        if (depth == 0) root_density_ = found;
         const uint64_t ncells = uint64_t(n[0]) * n[1] * n[2];
         if (depth > 0 && ncells <= 1) return -1;
         const Frame frame(box, n);

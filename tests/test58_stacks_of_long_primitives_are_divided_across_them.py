@@ -4,10 +4,16 @@ of them in a whole layer of cells, and the reference budget held the grid back t
 (a stack of 1,000 floor quads was one cell of 2,000 triangles, 0.01x Embree's speed), the node is
 divided only across the stack. The grid still agrees with brute force everywhere, and a terrain,
 whose triangles cross any such layers, is not divided so."""
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import gridwalk as gw
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core" / "bench"))
+from layout_scenes import terrain  # noqa: E402  (the 300 x 300 terrain of docs/layouts.md)
 
 ONE = gw.RenderSettings(threads=1)
 
@@ -96,17 +102,42 @@ def test_a_tilted_stack_tests_a_fraction_of_it_per_ray_and_agrees_with_brute_for
 
 
 def test_a_terrain_is_not_divided_into_layers_its_triangles_cross():
-    # Small cells of a heightfield are thin boxes its triangles span from
-    # bottom to top: layers across them would list each triangle in every layer.
-    k = 200
-    x, y = np.meshgrid(np.linspace(-1, 1, k + 1), np.linspace(-1, 1, k + 1))
-    z = 0.3 * np.sin(3 * x) * np.cos(4 * y) + 0.01 * np.random.default_rng(9).normal(size=x.shape)
-    v = np.stack([x, y, z], -1).reshape(-1, 3).astype(np.float32)
-    i = np.arange(k * (k + 1)).reshape(k, k + 1)[:, :k].ravel()
-    t = np.concatenate([np.stack([i, i + 1, i + k + 2], 1), np.stack([i, i + k + 2, i + k + 1], 1)]).astype(np.int32)
-    sc = gw.Scene(vertices=v, triangles=t)
+    # The small grids refining a heightfield are thin boxes its triangles
+    # cross from bottom to top: layers across them would list each triangle in
+    # every layer.
+    v, t, eye, target = terrain(np.random.default_rng(0))
+    sc = gw.Scene(vertices=v.astype(np.float32), triangles=t.astype(np.int32))
     rng = np.random.default_rng(10)
-    o = np.tile(np.float32([0.3, -2.5, 1.2]), (4000, 1))
-    d = (rng.uniform(-0.6, 0.6, (4000, 3)) + [0, 2.5, -1.2]).astype(np.float32)
-    tests = agrees_with_brute_force(sc, o, d)
-    assert tests < 30, tests   # (layers in the thin cells: 196 tests per camera ray)
+    o = np.tile(np.float32(eye), (4000, 1))
+    d = (rng.uniform(-0.6, 0.6, (4000, 3)) + np.subtract(target, eye)).astype(np.float32)
+    got = sc.intersect(o, d, settings=ONE)
+    assert np.isfinite(got.t).mean() > 0.7
+    tests = got.stats["prim_tests"] / len(o)
+    assert tests < 60, tests   # (31 here; 651 with layers taken)
+    few = slice(0, 4000, 16)   # (brute force tests all 180,000 triangles per ray)
+    want = sc.intersect(o[few], d[few], settings=gw.RenderSettings(accel="none"))
+    assert np.array_equal(got.t[few], want.t) and np.array_equal(got.prim[few], want.prim)
+
+
+def test_floors_in_one_thin_band_amid_clutter_are_not_layered():
+    # 2,000 overlapping quads within 0.1% of the box's height among 20,000
+    # small triangles filling it: layers would hold the band in one or two of
+    # them while rays crossed hundreds of layers of clutter (249 cells per ray).
+    rng = np.random.default_rng(11)
+    k, m = 2000, 20000
+    size = rng.uniform(0.6, 2, (k, 1, 1))
+    centre = rng.uniform(-1, 1, (k, 1, 2)) * (2 - size) / 2
+    c = np.zeros((k, 4, 3))
+    c[:, :, :2] = centre + np.array([[-.5, -.5], [.5, -.5], [.5, .5], [-.5, .5]]) * size
+    c[:, :, 2] = rng.uniform(-0.001, 0.001, (k, 1))
+    v1, t1 = quads(c)
+    a = rng.uniform(-1, 1, (m, 1, 3)) + rng.normal(0, 0.003, (m, 3, 3))
+    v = np.concatenate([v1, a.reshape(-1, 3)]).astype(np.float32)
+    t = np.concatenate([t1, np.arange(3 * m).reshape(m, 3) + len(v1)]).astype(np.int32)
+    sc = gw.Scene(vertices=v, triangles=t)
+    res = sc.grid_info()["resolution"]
+    assert min(res) > 1, res
+    o, d = rays(rng, 2000)
+    agrees_with_brute_force(sc, o, d)
+    cells = sc.intersect(o, d, settings=ONE).stats["cells"] / len(o)
+    assert cells < 180, cells   # (109: the band's own cells are layered, not the clutter's)

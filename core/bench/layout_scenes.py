@@ -33,7 +33,7 @@ def join(parts):
 
 def building(rng, scale=1.0):
     """Ten floors of 20 x 20 m: a slab, three outer walls, six inner walls across the floor, and
-    furniture (tables as boxes, 1,280-triangle balls); the camera inside the fifth floor."""
+    furniture (tables as boxes, 1,280-triangle balls); the camera on the second floor (z = 4.5 m)."""
     floors, size, h = 10, 20.0, 3.0
     props = max(2, int(40 * scale))
     ball_v, ball_t = icosphere(3, dtype=np.float64)
@@ -135,7 +135,7 @@ def far_clusters(rng, scale=1.0):
 
 
 def slivers(rng, scale=1.0):
-    """20,000 long thin triangles (about 1 m long, 2 mm wide) in random directions."""
+    """20,000 long thin triangles (about 1.6 m long, 2 mm wide) in random directions."""
     n = max(100, int(20_000 * scale))
     a = rng.uniform(-1, 1, (n, 3))
     v = np.stack([a, a + rng.normal(0, 1, (n, 3)), a + rng.normal(0, 0.002, (n, 3))], 1).reshape(-1, 3)

@@ -13,7 +13,7 @@ import pytest
 import gridwalk as gw
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core" / "bench"))
-from layout_scenes import terrain  # noqa: E402  (the 300 x 300 terrain of docs/layouts.md)
+from layout_scenes import camera_test, terrain  # noqa: E402  (the 300 x 300 terrain of docs/layouts.md)
 
 ONE = gw.RenderSettings(threads=1)
 
@@ -105,11 +105,7 @@ def test_a_terrain_is_not_divided_into_layers_its_triangles_cross():
     # The small grids refining a heightfield are thin boxes its triangles
     # cross from bottom to top: layers across them would list each triangle in
     # every layer.
-    v, t, eye, target = terrain(np.random.default_rng(0))
-    sc = gw.Scene(vertices=v.astype(np.float32), triangles=t.astype(np.int32))
-    rng = np.random.default_rng(10)
-    o = np.tile(np.float32(eye), (4000, 1))
-    d = (rng.uniform(-0.6, 0.6, (4000, 3)) + np.subtract(target, eye)).astype(np.float32)
+    sc, o, d = camera_test(terrain, 4000, 0.6, seed=10)
     got = sc.intersect(o, d, settings=ONE)
     assert np.isfinite(got.t).mean() > 0.7
     tests = got.stats["prim_tests"] / len(o)

@@ -142,6 +142,19 @@ def slivers(rng, scale=1.0):
     return v, np.arange(3 * n).reshape(-1, 3), (3.0, -3.0, 2.0), (0.0, 0.0, 0.0)
 
 
+def camera_test(make, n, spread, seed):
+    """The layout `make` as a gridwalk Scene (its documented size), with n rays from its eye towards
+    its target, each direction moved by up to `spread` per axis: (scene, origins, directions)."""
+    import gridwalk as gw
+
+    v, t, eye, target = make(np.random.default_rng(0))
+    scene = gw.Scene(vertices=v.astype(np.float32), triangles=t.astype(np.int32))
+    rng = np.random.default_rng(seed)
+    o = np.tile(np.float32(eye), (n, 1))
+    d = (rng.uniform(-spread, spread, (n, 3)) + np.subtract(target, eye)).astype(np.float32)
+    return scene, o, d
+
+
 LAYOUTS = {"building": ("A building: 10 floors, walls, furniture", building),
            "stacked_floors": ("1,000 stacked floor quads", stacked_floors),
            "blind": ("A blind of 300 slats", blind),

@@ -216,6 +216,15 @@ private:
                          : 1;
     }
 
+    // Whether b spans over `fraction` of the box along axis a.
+    static bool spans(const Bounds& b, const Box& box, int a, double fraction) {
+        return double(b.hi[a]) - double(b.lo[a]) > fraction * (box.hi[a] - box.lo[a]);
+    }
+    // Whether b is long: spans over a quarter of the box along some axis.
+    static bool is_long(const Bounds& b, const Box& box) {
+        return spans(b, box, 0, 0.25) || spans(b, box, 1, 0.25) || spans(b, box, 2, 0.25);
+    }
+
     // The axes across a stack: where many primitives are long along some
     // axis (their bounds spanning over a quarter of the box), the axes along
     // which fewer than an eighth as many span even an eighth of it. A stack
@@ -231,11 +240,9 @@ private:
         uint64_t step = 0;
         for (uint32_t prim : prims) {
             check_cancel(cancel_, step);
-            const Bounds& b = bounds_[prim];
             for (int a = 0; a < 3; ++a) {
-                const double e = double(b.hi[a]) - double(b.lo[a]), side = box.hi[a] - box.lo[a];
-                longer[a] += e > 0.25 * side;
-                wider[a] += e > 0.125 * side;
+                longer[a] += spans(bounds_[prim], box, a, 0.25);
+                wider[a] += spans(bounds_[prim], box, a, 0.125);
             }
         }
         const uint64_t most = std::max(longer[0], std::max(longer[1], longer[2]));
@@ -395,12 +402,8 @@ private:
         uint64_t longs = 0, most = 0, step = 0;
         for (const CellLists& part : cells_of)
             for (size_t j = 0; j + 1 < part.first.size(); ++j) {
-                const Bounds& b = bounds_[prims[part.begin + j]];
                 check_cancel(cancel_, step, 1 + part.first[j + 1] - part.first[j]);
-                bool is_long = false;
-                for (int a = 0; a < 3; ++a)
-                    is_long |= double(b.hi[a]) - double(b.lo[a]) > 0.25 * (box.hi[a] - box.lo[a]);
-                if (!is_long) continue;
+                if (!is_long(bounds_[prims[part.begin + j]], box)) continue;
                 ++longs;
                 for (uint32_t k = part.first[j]; k < part.first[j + 1]; ++k)
                     most = std::max<uint64_t>(most, ++count[part.cells[k]]);
@@ -480,8 +483,9 @@ private:
         // references of long primitives (a stack of floors, shelves or slats
         // lists each in a whole layer of cells): a grid dividing only the
         // axes few of them are long along, where its cells hold a quarter as
-        // many primitives or fewer, on average. (Held to that, the layers of
-        // a terrain's cells, which the triangles cross, are not taken.)
+        // many primitives or fewer, on average (the layers of a terrain's
+        // cells, which its triangles cross, are not taken), and the long
+        // primitives lie spread across it (spread_across).
         if (found <= 0.25 * density) {
             const unsigned axes = thin_axes(box, prims);
             if (axes != 7) {

@@ -10,6 +10,7 @@
 
 #include "bind_casters.h"
 #include "bindings.h"
+#include "gil_release.h"
 #include "viewport_renderer.h"
 
 namespace nb = nanobind;
@@ -37,16 +38,16 @@ void bind_viewport(nb::module_& m) {
                  r.opaque = opaque;
                  r.limit = limit;
                  r.delay = delay;
-                 nb::gil_scoped_release release;
+                 GilRelease release;
                  v.submit(std::move(r));
              },
              "id"_a, "scene"_a.none(), "structures"_a, "passes"_a, "width"_a, "height"_a, "opaque"_a, "limit"_a,
              "delay"_a)
-        .def("stop", &ViewportRenderer::stop, nb::call_guard<nb::gil_scoped_release>())
+        .def("stop", &ViewportRenderer::stop, nb::call_guard<GilRelease>())
         .def_prop_ro("status", [](const ViewportRenderer& v) {
             ViewportStatus s;
             {
-                nb::gil_scoped_release release;
+                GilRelease release;
                 s = v.status();
             }
             nb::dict d;
@@ -69,7 +70,7 @@ void bind_viewport(nb::module_& m) {
             uint64_t version = 0;
             auto* pixels = new std::vector<float>();
             {
-                nb::gil_scoped_release release;
+                GilRelease release;
                 *pixels = v.image(w, h, version);
             }
             nb::capsule owner(pixels, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });

@@ -15,6 +15,7 @@
 #include "batch.h"
 #include "bind_casters.h"
 #include "bindings.h"
+#include "gil_release.h"
 #include "build_job.h"
 #include "ear_clip.h"
 #include "render_job.h"
@@ -93,6 +94,7 @@ NB_MODULE(_core, m) {
     // that should leave nothing behind).
     const char* leaks = std::getenv("GRIDWALK_LEAK_WARNINGS");
     nb::set_leak_warnings(leaks != nullptr && std::string(leaks) == "1");
+    install_exit_hook();   // daemon threads in native calls at exit (gil_release.h)
 
     bind_settings(m);
     bind_records(m);
@@ -135,7 +137,7 @@ NB_MODULE(_core, m) {
                      if (moves[i].has_previous)
                          std::copy(previous[i].data(), previous[i].data() + 16, &moves[i].previous_matrix[0][0]);
                  }
-                 nb::gil_scoped_release release;
+                 GilRelease release;
                  return s.moved(moves);
              })
         .def("geometry",
@@ -214,7 +216,7 @@ NB_MODULE(_core, m) {
     m.def("build_accel",
           [](std::shared_ptr<Scene> scene, const RenderSettings& s, std::shared_ptr<CancelToken> cancel,
              double grid_margin) {
-              nb::gil_scoped_release release;
+              GilRelease release;
               return build_accel(std::move(scene), s, cancel.get(), grid_margin);
           },
           "scene"_a, "settings"_a, "cancel"_a.none() = nb::none(), "grid_margin"_a = 0.0);
@@ -223,7 +225,7 @@ NB_MODULE(_core, m) {
     m.def("update_grid", [](std::shared_ptr<const Accel> previous, std::shared_ptr<const Scene> scene) {
         const auto* grid = dynamic_cast<const UniformGrid*>(previous.get());
         if (!grid) throw std::invalid_argument("update_grid: the previous structure is not a uniform grid");
-        nb::gil_scoped_release release;
+        GilRelease release;
         return std::shared_ptr<const Accel>(UniformGrid::update(*grid, std::move(scene)));
     }, "previous"_a, "scene"_a);
 
@@ -237,11 +239,11 @@ NB_MODULE(_core, m) {
 
     nb::class_<BuildJob>(m, "BuildJob")
         .def(nb::init<std::shared_ptr<const Scene>, const RenderSettings&>(), "scene"_a, "settings"_a)
-        .def("wait", &BuildJob::wait, "seconds"_a, nb::call_guard<nb::gil_scoped_release>(),
+        .def("wait", &BuildJob::wait, "seconds"_a, nb::call_guard<GilRelease>(),
              "Wait up to `seconds` (negative: until done); True once the build has ended.")
         .def("cancel", &BuildJob::cancel)
         .def_prop_ro("cancelled", &BuildJob::cancelled)
-        .def("result", &BuildJob::result, nb::call_guard<nb::gil_scoped_release>(),
+        .def("result", &BuildJob::result, nb::call_guard<GilRelease>(),
              "The structure; raises the build's error (BuildCancelled after a cancel).");
 
     m.attr("ADAPTIVE_MAX_CELLS") = AdaptiveParams{}.max_cells;   // the adaptive grid's caps, for gridwalk.memory
@@ -270,7 +272,7 @@ NB_MODULE(_core, m) {
               const BatchOut out{t.data(), prim.data(), kind.data(), u.data(), v.data(), nrm.data()};
               Stats st;
               {
-                  nb::gil_scoped_release release;
+                  GilRelease release;
                   st = intersect_batch(*accel, RayBatch{o.data(), d.data(), tmin.data(), tmax.data(), n, spawned}, s,
                                        out);
               }
@@ -286,7 +288,7 @@ NB_MODULE(_core, m) {
               auto hit = owned<uint8_t>({n});
               Stats st;
               {
-                  nb::gil_scoped_release release;
+                  GilRelease release;
                   st = occluded_batch(*accel, RayBatch{o.data(), d.data(), tmin.data(), tmax.data(), n, spawned}, s,
                                       hit.data());
               }
@@ -298,7 +300,7 @@ NB_MODULE(_core, m) {
               if (xy.ndim() != 2 || xy.shape(1) != 2) throw std::invalid_argument("ear_clip: points must have shape (N, 2)");
               std::vector<int64_t> tri;
               {
-                  nb::gil_scoped_release release;
+                  GilRelease release;
                   tri = ear_clip(xy.data(), xy.shape(0));
               }
               auto out = owned<int64_t>({tri.size() / 3, 3});
@@ -317,7 +319,7 @@ NB_MODULE(_core, m) {
                   throw std::invalid_argument("spawn_origins: arrays must describe the same N rays");
               auto out = owned<float>({n, 3});
               {
-                  nb::gil_scoped_release release;
+                  GilRelease release;
                   spawn_batch(*accel, o.data(), d.data(), t.data(), prim.data(), u.data(), v.data(), new_d.data(), n,
                               out.data());
               }
@@ -354,9 +356,9 @@ NB_MODULE(_core, m) {
             for (const Tile& t : j.poll()) out.emplace_back(t.x, t.y, t.w, t.h);
             return out;
         })
-        .def("cancel", &RenderJob::cancel, nb::call_guard<nb::gil_scoped_release>())
-        .def("wait", &RenderJob::wait, nb::call_guard<nb::gil_scoped_release>())
-        .def("wait_for", &RenderJob::wait_for, "seconds"_a, nb::call_guard<nb::gil_scoped_release>(),
+        .def("cancel", &RenderJob::cancel, nb::call_guard<GilRelease>())
+        .def("wait", &RenderJob::wait, nb::call_guard<GilRelease>())
+        .def("wait_for", &RenderJob::wait_for, "seconds"_a, nb::call_guard<GilRelease>(),
              "Block until another tile is finished, the job ends, or `seconds` pass; True once finished.")
         .def_prop_ro("finished", &RenderJob::finished)
         .def_prop_ro("started", &RenderJob::started)

@@ -31,10 +31,11 @@ def join(parts):
     return np.vstack(vs), np.vstack(ts)
 
 
-def building(rng, scale=1.0):
-    """Ten floors of 20 x 20 m: a slab, three outer walls, six inner walls across the floor, and
-    furniture (tables as boxes, 1,280-triangle balls); the camera on the second floor (z = 4.5 m)."""
-    floors, size, h = 10, 20.0, 3.0
+def building(rng, scale=1.0, floors=10):
+    """Ten floors (or `floors`) of 20 x 20 m: a slab, three outer walls, six inner walls across the
+    floor, and furniture (tables as boxes, 1,280-triangle balls); the camera on the second floor
+    (z = 4.5 m)."""
+    size, h = 20.0, 3.0
     props = max(2, int(40 * scale))
     ball_v, ball_t = icosphere(3, dtype=np.float64)
     parts = []

@@ -509,15 +509,15 @@ private:
         if (depth > 0 && ncells <= 1) return -1;
         const Frame frame(box, n);
         const double* cell = frame.cell;
-        // Large primitives: those covering the most cells, beyond big_cells, at
-        // most big_max of them; the node tests them once per ray. Where over
-        // eight times big_max are that large (a building's floors and walls:
-        // 468), only those covering a sixteenth of the cells or more: big_max
-        // picked among hundreds would be a list every ray tests wherever it is
-        // (18 tests per camera ray in layouts.md's building, 2 without; 1.3x
-        // as fast), where a room's dozen walls, a ground plane, the glass
-        // spheres over SPD's mountain or the largest of a big ball's 17-83
-        // triangles (balls size 4's refining grids) hold much of the set.
+        // Large primitives: those covering more cells than big_cells; the node
+        // tests them once per ray. All of them where they are at most big_max
+        // (a room's dozen walls, a ground plane, the glass spheres over SPD's
+        // mountain); where more are that large (a building's floors and walls:
+        // 468 at layouts.md's building's root, about 100 with two floors),
+        // only those covering a sixteenth of the cells or more, at most
+        // big_max: big_max picked among many would be a list every ray tests
+        // wherever it is (18 tests per camera ray in the building, 2 without,
+        // 1.3x as fast; 20 and 4 with two floors, 1.27x).
         std::vector<uint32_t> big;
         {
             std::vector<std::pair<uint64_t, uint32_t>> wide;   // (in any order: sorted below)
@@ -541,7 +541,7 @@ private:
                     return x.first != y.first ? x.first > y.first : x.second < y.second;
                 });
                 size_t keep = std::min(wide.size(), size_t(p_.big_max));
-                if (wide.size() > 8 * size_t(p_.big_max))
+                if (wide.size() > size_t(p_.big_max))
                     for (keep = 0; keep < size_t(p_.big_max) && 16 * wide[keep].first >= ncells;) ++keep;
                 wide.resize(keep);
                 for (const auto& w : wide) big.push_back(w.second);

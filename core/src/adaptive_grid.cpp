@@ -907,6 +907,7 @@ AdaptiveGrid::AdaptiveGrid(std::shared_ptr<const Scene> s, const AdaptiveParams&
     info_.refs = g_.refs.size();
     info_.bytes = g_.nodes.size() * sizeof(AdaptiveGridData::Node) + g_.cells.size() * sizeof(AdaptiveGridData::Cell) +
                   g_.refs.size() * sizeof(uint32_t);
+    g_.prefetch = info_.bytes >= AdaptiveGridData::kPrefetchBytes;
     info_.density_requested = p.root_density;
     info_.density_used = b.root_density();
     info_.kind = "adaptive grid";

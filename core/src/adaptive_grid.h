@@ -56,6 +56,12 @@ struct AdaptiveGridData {
     std::vector<Node> nodes;
     std::vector<Cell> cells;
     std::vector<uint32_t> refs;
+    // Whether the walk, at a leaf, asks for the next cell's list before
+    // testing the leaf (adaptive_walk.inc): set where cells and lists
+    // outgrow the caches (kPrefetchBytes), where it hides part of the next
+    // cell's memory latency; in a small grid it only adds instructions.
+    bool prefetch = false;
+    static constexpr size_t kPrefetchBytes = size_t(8) << 20;
 };
 
 class AdaptiveGrid final : public Accel {

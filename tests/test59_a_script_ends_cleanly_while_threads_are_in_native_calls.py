@@ -3,7 +3,8 @@ release the GIL (intersect, RenderJob.wait). CPython ends such a thread with
 pthread_exit when it asks for the GIL back during finalisation; through
 nanobind's own GIL guard that aborted the whole process (SIGABRT, "terminate
 called without an active exception") after the script had finished. The
-bindings' GilRelease (core/src/gil_release.h) parks those threads instead."""
+bindings' GilRelease (core/src/gil_release.h) parks those threads instead, and only those: a
+thread Python joins, and a child process forked while such threads ran, must still end."""
 import subprocess
 import sys
 
@@ -22,7 +23,7 @@ d = np.tile(np.float32([0, 0, 1]), (256, 1))
 
 
 def run(script):
-    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
 
 
 def test_daemon_threads_looping_on_intersect_do_not_abort_the_exit():
@@ -62,3 +63,51 @@ print("done", flush=True)
     out = run(script)
     assert out.returncode == 0, (out.returncode, out.stderr[-500:])
     assert out.stdout.split() == ["done", "hook", "(6,", "8,", "4)", "256"], out.stdout
+
+
+def test_a_thread_that_an_exit_hook_starts_and_joins_comes_back():
+    # Not a daemon thread: Python would wait for it, so it must take the GIL
+    # back after gridwalk's hook has marked the interpreter as ending.
+    script = HEAD + """
+def late():
+    t = threading.Thread(target=lambda: print("thread", int(np.isfinite(scene.intersect(o, d).t).sum()), flush=True))
+    t.start()
+    t.join()
+    print("joined", flush=True)
+atexit.register(late)
+""" + SCENE + """
+print("done", flush=True)
+"""
+    out = run(script)
+    assert out.returncode == 0, (out.returncode, out.stderr[-500:])
+    assert out.stdout.split() == ["done", "thread", "256", "joined"], out.stdout
+
+
+def test_forked_children_end_while_the_parent_has_threads_in_native_calls():
+    # A child forked while a parent thread was on its way back to the GIL
+    # must not wait for that thread (which it does not have) when it ends.
+    script = HEAD + SCENE + """
+import os, sys
+def loop():
+    while True:
+        scene.intersect(o, d)
+for _ in range(2):
+    threading.Thread(target=loop, daemon=True).start()
+time.sleep(0.1)
+hung = 0
+for _ in range(8):
+    pid = os.fork()
+    if pid == 0:
+        sys.exit(0)   # (through the interpreter's own exit: the hooks run)
+    t0 = time.time()
+    while time.time() - t0 < 5 and os.waitpid(pid, os.WNOHANG)[0] == 0:
+        time.sleep(0.02)
+    if time.time() - t0 >= 5:
+        hung += 1
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+print("hung", hung, flush=True)
+"""
+    out = run(script)
+    assert out.returncode == 0, (out.returncode, out.stderr[-500:])
+    assert out.stdout.split() == ["hung", "0"], out.stdout

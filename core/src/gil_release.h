@@ -8,8 +8,9 @@
 // otherwise finished script). GilRelease is the guard every binding uses
 // instead: an atexit hook (install_exit_hook, run before finalisation starts)
 // marks the interpreter as ending and lets any thread already on its way back
-// take the GIL; a thread that comes back later sleeps until the process ends,
-// as CPython 3.14 itself does with such threads.
+// take the GIL; a daemon thread that comes back later sleeps until the process
+// ends, as CPython 3.14 itself does with such threads (other threads, which
+// Python joins, and the thread that finalises always take it back).
 #pragma once
 #include <Python.h>
 

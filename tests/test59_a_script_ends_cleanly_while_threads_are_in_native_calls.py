@@ -21,6 +21,17 @@ o = np.zeros((256, 3), np.float32)
 d = np.tile(np.float32([0, 0, 1]), (256, 1))
 """
 
+# Two daemon threads calling intersect back to back: one is nearly always on
+# its way back to the GIL.
+LOOPING = """
+def loop():
+    while True:
+        scene.intersect(o, d)
+for _ in range(2):
+    threading.Thread(target=loop, daemon=True).start()
+time.sleep(0.1)
+"""
+
 
 def run(script):
     return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
@@ -29,13 +40,7 @@ def run(script):
 def test_daemon_threads_looping_on_intersect_do_not_abort_the_exit():
     # Two threads call intersect back to back, so one is nearly always on its
     # way back to the GIL when finalisation starts (aborted 6 of 6 runs before).
-    script = HEAD + SCENE + """
-def loop():
-    while True:
-        scene.intersect(o, d)
-for _ in range(2):
-    threading.Thread(target=loop, daemon=True).start()
-time.sleep(0.1)
+    script = HEAD + SCENE + LOOPING + """
 print("done")
 """
     for _ in range(3):
@@ -86,14 +91,8 @@ print("done", flush=True)
 def test_forked_children_end_while_the_parent_has_threads_in_native_calls():
     # A child forked while a parent thread was on its way back to the GIL
     # must not wait for that thread (which it does not have) when it ends.
-    script = HEAD + SCENE + """
+    script = HEAD + SCENE + LOOPING + """
 import os, sys
-def loop():
-    while True:
-        scene.intersect(o, d)
-for _ in range(2):
-    threading.Thread(target=loop, daemon=True).start()
-time.sleep(0.1)
 hung = 0
 for _ in range(8):
     pid = os.fork()

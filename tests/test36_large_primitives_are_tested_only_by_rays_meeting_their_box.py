@@ -2,9 +2,10 @@
 covering many cells of a grid, kept in a list the walk tests when a ray enters the grid) sit
 behind their box: shadow rays that miss it, and closest-hit rays where the list is costly to test
 (a quadric or more than 4 triangles in a box small beside the grid), skip them. The skip must lose
-no hit (brute force decides) and must happen (the test counts say so). Where more than 16
-primitives are that large (a building's floors and walls), the list keeps only those covering a
-sixteenth of the grid or more, not 16 picked among them that every ray would test."""
+no hit (brute force decides) and must happen (the test counts say so). Where many primitives are
+that large and alike (a building's floors and walls: the 16 widest cover less than half of what
+they all cover), the list keeps only those covering a sixteenth of the grid or more, not 16 picked
+among them that every ray would test."""
 import functools
 import sys
 from pathlib import Path

@@ -510,14 +510,17 @@ private:
         const Frame frame(box, n);
         const double* cell = frame.cell;
         // Large primitives: those covering more cells than big_cells; the node
-        // tests them once per ray. All of them where they are at most big_max
-        // (a room's dozen walls, a ground plane, the glass spheres over SPD's
-        // mountain); where more are that large (a building's floors and walls:
-        // 468 at layouts.md's building's root, about 100 with two floors),
-        // only those covering a sixteenth of the cells or more, at most
-        // big_max: big_max picked among many would be a list every ray tests
-        // wherever it is (18 tests per camera ray in the building, 2 without,
-        // 1.3x as fast; 20 and 4 with two floors, 1.27x).
+        // tests them once per ray, at most big_max of them, the widest: a
+        // room's walls and a few panels, a ground plane, the glass spheres
+        // over SPD's mountain. Where those big_max cover less than half of
+        // what all the large ones cover (a building's floors and walls: 468
+        // at layouts.md's building's root, about 100 with two floors), only
+        // those covering a sixteenth of the cells or more: big_max picked
+        // among many alike would be a list every ray tests wherever it is
+        // (18 tests per camera ray in the building, 2 without, 1.3x as fast;
+        // 20 and 4 with two floors, 1.27x), where 16 of a room's 18 walls and
+        // panels hold most of them (without the list, random rays in such a
+        // room were 0.80-0.85x as fast).
         std::vector<uint32_t> big;
         {
             std::vector<std::pair<uint64_t, uint32_t>> wide;   // (in any order: sorted below)
@@ -541,7 +544,10 @@ private:
                     return x.first != y.first ? x.first > y.first : x.second < y.second;
                 });
                 size_t keep = std::min(wide.size(), size_t(p_.big_max));
-                if (wide.size() > size_t(p_.big_max))
+                uint64_t kept = 0, all = 0;   // cells covered by the widest big_max, and by all of them
+                for (size_t i = 0; i < wide.size(); ++i) (i < keep ? kept : all) += wide[i].first;
+                all += kept;
+                if (2 * kept < all)   // (the widest are a small part of the set)
                     for (keep = 0; keep < size_t(p_.big_max) && 16 * wide[keep].first >= ncells;) ++keep;
                 wide.resize(keep);
                 for (const auto& w : wide) big.push_back(w.second);

@@ -1,5 +1,8 @@
 """Inside Blender's GUI (under Xvfb): build the demo scene, select GRIDWALK in
 Render Properties, render (F12, shown in the main area), take a screenshot.
+The steps after the render call operators where Blender allows it: a
+render of our (Python) engine on the render job's thread can leave Python's
+writes refused (write_permission.py).
 
 Run by tests/blender/gui.py; SHOT (env) is the PNG to write.
 """
@@ -10,6 +13,9 @@ import bpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "blender_addon"))
 import demo  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import write_permission  # noqa: E402
 
 OUT = os.environ["SHOT"]
 
@@ -30,7 +36,8 @@ def start_render():
         if area.type == "PROPERTIES":
             area.spaces.active.context = "RENDER"
     bpy.context.preferences.view.render_display_type = "AREA"
-    bpy.app.handlers.render_complete.append(lambda *args: bpy.app.timers.register(fit, first_interval=1.0))
+    bpy.app.handlers.render_complete.append(lambda *args: bpy.app.timers.register(
+        lambda: write_permission.run(fit), first_interval=1.0))
     win, area = window_area("VIEW_3D")
     with bpy.context.temp_override(window=win, area=area):
         bpy.ops.render.render("INVOKE_DEFAULT")
@@ -42,7 +49,7 @@ def fit():
     region = next(r for r in area.regions if r.type == "WINDOW")
     with bpy.context.temp_override(window=win, area=area, region=region):
         bpy.ops.image.view_all(fit_view=True)
-    bpy.app.timers.register(shoot, first_interval=1.5)
+    bpy.app.timers.register(lambda: write_permission.run(shoot), first_interval=1.5)
 
 
 def shoot():

@@ -33,6 +33,7 @@ import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import native_threads  # noqa: E402
+import write_permission  # noqa: E402
 OUT = os.environ["OUT"]
 DEADLINE = time.monotonic() + 240
 RESULTS = {"log": []}
@@ -55,69 +56,19 @@ def fail(message):
     os._exit(1)
 
 
-WRITE_REFUSED = "Writing to ID classes in this context is not allowed"
-
-
-def run_pending(wm, context):
-    """The update callback of WindowManager.gwtest_step: runs the step waiting
-    in PENDING. Blender calls a Python property's update with writes to ID
-    data allowed, whatever the process-wide read-only flag says (it sets the
-    flag for the call and restores it after), and a window manager's own
-    properties may be written even while the flag is read-only. An operator
-    would not do: bpy.ops refuses any call while the flag is read-only."""
-    try:
-        PENDING["result"] = PENDING["fn"]()
-    except Exception as exc:            # Blender prints and swallows what an update raises
-        PENDING["error"] = exc
-
-
-bpy.types.WindowManager.gwtest_step = bpy.props.IntProperty(update=run_pending)
-PENDING = {}
-
-
-def run_allowing_writes(fn):
-    """fn() inside run_pending; returns what fn returned, raises what it raised."""
-    PENDING.clear()
-    PENDING["fn"] = fn
-    bpy.context.window_manager.gwtest_step += 1
-    if "error" in PENDING:
-        raise PENDING["error"]
-    if "result" not in PENDING:
-        raise RuntimeError("Blender did not call the update of WindowManager.gwtest_step")
-    return PENDING["result"]
-
-
-def writes_refused() -> bool:
-    """Whether Blender refuses a script's writes to ID data just now (a write
-    to a Text datablock nothing else uses)."""
-    probe = bpy.data.texts.get("gwtest probe") or bpy.data.texts.new("gwtest probe")     # File > New drops it
-    try:
-        probe.use_fake_user = True
-        return False
-    except AttributeError as exc:
-        if WRITE_REFUSED not in str(exc):
-            raise
-        return True
-
-
 def step(fn):
     """A timer callback: any error ends Blender with exit code 1 and the
-    traceback. While Blender refuses a script's writes to ID data, the step
-    runs inside a Python property's update callback, where writes (and
-    operators) are allowed. Blender's permission for Python to write is one
-    process-wide flag that each call of a Python class's method (a panel's
-    draw, an engine's render) saves, sets and restores; a preview render of
-    our engine in the preview job's thread interleaving with a draw on the
-    main thread can restore it in the wrong order and leave it read-only for
-    the rest of the session, so waiting does not help (docs/blender.md)."""
+    traceback. While Blender refuses a script's writes to ID data (after a
+    preview render of our engine, sometimes), the step runs where writes are
+    allowed (write_permission.py)."""
+    def refused(fn):
+        RESULTS.setdefault("write_refused", []).append(
+            [fn.__name__, round(time.monotonic(), 2), bpy.app.is_job_running("RENDER_PREVIEW")])
+        log("writes refused, running the step in a property update:", RESULTS["write_refused"][-1])
+
     def wrapped():
         try:
-            if not writes_refused():
-                return fn()
-            RESULTS.setdefault("write_refused", []).append(
-                [fn.__name__, round(time.monotonic(), 2), bpy.app.is_job_running("RENDER_PREVIEW")])
-            log("writes refused, running the step in a property update:", RESULTS["write_refused"][-1])
-            return run_allowing_writes(fn)
+            return write_permission.run(fn, refused)
         except Exception:
             traceback.print_exc()
             fail(traceback.format_exc())

@@ -7,7 +7,8 @@ The suite of benchmarks.md holds SPD scenes and meshes on ground planes. These a
 layouts a user builds, and the ones a grid can handle worst: long primitives stacked across one
 axis (floors, shelves, a blind's slats), a heightfield, thin blades on a plane, a soup, clusters
 far apart, long thin slivers in every direction. For each: the build times (Gridwalk's Scene and
-default structure, the adaptive grid, on all cores; Embree's BVH), then primary rays (256 x 256
+default structure, the adaptive grid, on all cores; Embree's BVH; wall time, taking turns, best
+of up to 3 rounds within 2 s), then primary rays (256 x 256
 through the camera) and random rays (65,536, gridwalk.validate.ray_sets), one thread each, the two
 engines taking turns (best of 3, process CPU time), as section 2 of benchmarks.md measures them;
 Gridwalk's tests and cells per ray; and the seed's uniform grid on the primary rays, for
@@ -24,11 +25,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_common import ROOT, alternate, log, machine_info, table  # noqa: E402
+from bench_common import ROOT, alternate, alternate_builds, log, machine_info, table  # noqa: E402
+from bench_embree import built_scene, embree_built  # noqa: E402
 from layout_scenes import LAYOUTS  # noqa: E402
 
 import gridwalk as gw  # noqa: E402
-from gridwalk.validate import embree_intersect, embree_scene, ray_sets  # noqa: E402
+from gridwalk.validate import embree_intersect, ray_sets  # noqa: E402
 
 
 def measure(make, scale, rays, reps):
@@ -37,14 +39,8 @@ def measure(make, scale, rays, reps):
     kw = {"vertices": np.asarray(v, np.float32), "triangles": np.asarray(t, np.int32),
           "camera": gw.Camera(eye=eye, target=target, up=(0, 0, 1), fov=50, width=side, height=side),
           "lights": [gw.Light(position=(5.0, -5.0, 10.0))]}
-    t0 = time.perf_counter()
-    scene = gw.Scene(**kw)
-    info = scene.grid_info()
-    gw_build = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    em = embree_scene(kw["vertices"], kw["triangles"])
-    embree_intersect(em, np.zeros((1, 3)), np.ones((1, 3)))   # commit (builds the BVH)
-    em_build = time.perf_counter() - t0
+    gw_build, (scene, info), em_build, em = alternate_builds(
+        lambda: built_scene(kw), lambda: embree_built(kw["vertices"], kw["triangles"]))
     sets = ray_sets(kw, side * side, seed=1, scene=scene)
     one = gw.RenderSettings(threads=1)
     uniform = one.replace(accel="grid")

@@ -155,37 +155,31 @@ def interleaved(scene, columns, reps):
     return best
 
 
-def alternate_builds(fa, fb, reps=3, budget=2.0):
-    """Time the builds fa() and fb() in turn, wall time (both build on all cores), up to `reps` rounds,
-    no new round once `budget` seconds have gone: (best a seconds, a's last result, best b seconds,
-    b's last result). A build of a few milliseconds moves by 30% and more from one call to the next
-    (thread start-up, page faults); the best of a few is what the build costs."""
-    best = [float("inf"), None, float("inf"), None]
-    start = time.perf_counter()
-    for k in range(reps):
-        if k and time.perf_counter() - start > budget:
-            break
-        for i, fn in ((0, fa), (2, fb)):
-            t0 = time.perf_counter()
-            best[i + 1] = fn()
-            best[i] = min(best[i], time.perf_counter() - t0)
-    return tuple(best)
-
-
-def alternate(fa, fb, reps):
-    """Time fa() and fb() in turn, `reps` rounds: (best a seconds, a's result, best b seconds, b's result).
-    The time is the process's CPU time, not wall time: both calls run on the calling thread alone, and on
+def alternate(fa, fb, reps, clock=time.process_time, budget=None):
+    """Time fa() and fb() in turn, `reps` rounds (no new round once `budget` seconds of wall time have
+    gone, where one is given): (best a seconds, a's result, best b seconds, b's result). By default the
+    time is the process's CPU time, not wall time: both calls run on the calling thread alone, and on
     a machine shared with other work CPU time is what the call costs, where wall time would also count
     the time other processes held the core."""
     best = [float("inf"), None, float("inf"), None]
-    for _ in range(reps):
+    start = time.perf_counter()
+    for k in range(reps):
+        if k and budget is not None and time.perf_counter() - start > budget:
+            break
         for i, fn in ((0, fa), (2, fb)):
-            t0 = time.process_time()
+            t0 = clock()
             out = fn()
-            dt = time.process_time() - t0
+            dt = clock() - t0
             if dt < best[i]:
                 best[i], best[i + 1] = dt, out
     return tuple(best)
+
+
+def alternate_builds(fa, fb):
+    """alternate() for two builds: wall time (both build on all cores), best of up to 3 rounds, no new
+    round after 2 s. A build of a few milliseconds moves by 30% and more from one call to the next
+    (thread start-up, page faults); the best of a few is what the build costs."""
+    return alternate(fa, fb, 3, clock=time.perf_counter, budget=2.0)
 
 
 # -- machine ----------------------------------------------------------------------

@@ -56,19 +56,21 @@ def fail(message):
     os._exit(1)
 
 
+def record_refused(fn):
+    """Notes a step that runs in a property update because writes were refused."""
+    RESULTS.setdefault("write_refused", []).append(
+        [fn.__name__, round(time.monotonic(), 2), bpy.app.is_job_running("RENDER_PREVIEW")])
+    log("writes refused, running the step in a property update:", RESULTS["write_refused"][-1])
+
+
 def step(fn):
     """A timer callback: any error ends Blender with exit code 1 and the
     traceback. While Blender refuses a script's writes to ID data (after a
     preview render of our engine, sometimes), the step runs where writes are
     allowed (write_permission.py)."""
-    def refused(fn):
-        RESULTS.setdefault("write_refused", []).append(
-            [fn.__name__, round(time.monotonic(), 2), bpy.app.is_job_running("RENDER_PREVIEW")])
-        log("writes refused, running the step in a property update:", RESULTS["write_refused"][-1])
-
     def wrapped():
         try:
-            return write_permission.run(fn, refused)
+            return write_permission.run(fn, record_refused)
         except Exception:
             traceback.print_exc()
             fail(traceback.format_exc())

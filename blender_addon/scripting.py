@@ -2,14 +2,18 @@
 
 run_main(main)           call main with the arguments after "--", print a
                          traceback and exit 1 on any error, and leave with
-                         os._exit (the bpy module can hang at interpreter exit
-                         after image I/O; see GUIDE §4).
+                         leave().
+leave(code)              exit the process with os._exit (the bpy module can
+                         hang at interpreter exit after image I/O; see GUIDE
+                         §4), first removing Blender's session temp folder,
+                         which a normal exit removes and os._exit skips.
 principled_material(...) a node material whose Principled BSDF has the given
                          base colour and inputs.
 
 No bpy import at module level: importing this never starts Blender.
 """
 import os
+import shutil
 import sys
 import traceback
 
@@ -27,6 +31,19 @@ def run_main(main, spread: bool = False):
     except BaseException:
         traceback.print_exc()
         code = 1
+    leave(code)
+
+
+def leave(code: int):
+    """Exit at once with `code`, leaving no /tmp/blender_XXXXXX folder behind."""
+    bpy = sys.modules.get("bpy")
+    if bpy is not None:
+        try:
+            session = bpy.app.tempdir   # Blender's per-process folder, made at start-up
+        except Exception:
+            session = ""
+        if os.path.basename(os.path.normpath(session)).startswith("blender_"):
+            shutil.rmtree(session, ignore_errors=True)
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)

@@ -13,6 +13,7 @@ import bpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "blender_addon"))
 import demo  # noqa: E402
+from blender_addon.scripting import leave  # noqa: E402  (demo put the checkout on sys.path)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import write_permission  # noqa: E402
@@ -57,7 +58,7 @@ def shoot():
     with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
         bpy.ops.screen.screenshot(filepath=OUT)
     log("saved", OUT)
-    os._exit(0)
+    leave(0)
 
 
 bpy.app.timers.register(start_render, first_interval=1.0)

@@ -34,6 +34,7 @@ import bpy
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import native_threads  # noqa: E402
 import write_permission  # noqa: E402
+from gridwalk_blender.scripting import leave  # noqa: E402  (the add-on, as gui.py installs it)
 OUT = os.environ["OUT"]
 DEADLINE = time.monotonic() + 240
 RESULTS = {"log": []}
@@ -53,7 +54,7 @@ def save():
 def fail(message):
     log("FAILED:", message)
     save()
-    os._exit(1)
+    leave(1)
 
 
 def record_refused(fn):

@@ -34,31 +34,52 @@ public:
             for (int i = 0; i < 3; ++i) mag = std::max(mag, std::abs(v[i][k]));
         }
         int j = 0;
-        auto add = [&](double x, double y, double z) {
-            // An axis along a box axis (or zero: a degenerate triangle, or an
-            // edge along that axis) separates nothing the caller's cell range
-            // has not: skipped. For a triangle in a plane of the box axes
-            // (floors, walls, boxes) that leaves its three edges' normals in
-            // that plane, a 2D test.
-            if (int(x != 0) + int(y != 0) + int(z != 0) <= 1) return;
+        // An axis along a box axis (or zero: a degenerate triangle, or an edge
+        // along that axis) separates nothing the caller's cell range has not:
+        // skipped. For a triangle in a plane of the box axes (floors, walls,
+        // boxes) that leaves its three edges' normals in that plane, a 2D test.
+        auto keep = [&](double x, double y, double z, double lo, double hi) {
             double* u = u_[j];
             u[0] = x; u[1] = y; u[2] = z;
-            const double p0 = x * v[0][0] + y * v[0][1] + z * v[0][2];
-            const double p1 = x * v[1][0] + y * v[1][1] + z * v[1][2];
-            const double p2 = x * v[2][0] + y * v[2][1] + z * v[2][2];
-            const double norm1 = std::abs(x) + std::abs(y) + std::abs(z);
             const double r = std::abs(x) * half[0] + std::abs(y) * half[1] + std::abs(z) * half[2];
-            const double slack = 1e-12 * norm1 * mag;
-            lo_[j] = std::min(p0, std::min(p1, p2)) - r - slack;
-            hi_[j] = std::max(p0, std::max(p1, p2)) + r + slack;
+            const double slack = 1e-12 * (std::abs(x) + std::abs(y) + std::abs(z)) * mag;
+            lo_[j] = lo - r - slack;
+            hi_[j] = hi + r + slack;
             ++j;
         };
-        add(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
-            e[0][0] * e[1][1] - e[0][1] * e[1][0]);   // the normal: the most selective, first
-        for (int i = 0; i < 3; ++i) {   // e x X = (0, e_z, -e_y), e x Y = (-e_z, 0, e_x), e x Z = (e_y, -e_x, 0)
-            add(0, e[i][2], -e[i][1]);
-            add(-e[i][2], 0, e[i][0]);
-            add(e[i][1], -e[i][0], 0);
+        // The normal, the most selective, first. All three corners are
+        // projected: a computed normal need not be exactly perpendicular to
+        // the triangle (a sliver's is mostly rounding).
+        {
+            const double x = e[0][1] * e[1][2] - e[0][2] * e[1][1], y = e[0][2] * e[1][0] - e[0][0] * e[1][2],
+                         z = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+            if (int(x != 0) + int(y != 0) + int(z != 0) >= 2) {
+                const double p0 = x * v[0][0] + y * v[0][1] + z * v[0][2];
+                const double p1 = x * v[1][0] + y * v[1][1] + z * v[1][2];
+                const double p2 = x * v[2][0] + y * v[2][1] + z * v[2][2];
+                keep(x, y, z, std::min(p0, std::min(p1, p2)), std::max(p0, std::max(p1, p2)));
+            }
+        }
+        // Edge i (corner i to corner i + 1) crossed with box axis k: zero
+        // along k, and (e_q, -e_p) along the other two axes p, q. Its two
+        // components are the edge's own, so it is exactly perpendicular to the
+        // edge as computed, and the edge's corners project alike up to double
+        // rounding of the edge (far inside the slack): its first corner and
+        // the opposite one bound the triangle.
+        for (int i = 0; i < 3; ++i) {
+            const double* s = v[i];
+            const double* o = v[(i + 2) % 3];
+            for (int k = 0; k < 3; ++k) {
+                const int p = (k + 1) % 3, q = (k + 2) % 3;
+                const double up = e[i][q], uq = -e[i][p];
+                if (up == 0 || uq == 0) continue;
+                const double ps = up * s[p] + uq * s[q], po = up * o[p] + uq * o[q];
+                double u[3];
+                u[k] = 0;
+                u[p] = up;
+                u[q] = uq;
+                keep(u[0], u[1], u[2], std::min(ps, po), std::max(ps, po));
+            }
         }
         axes_ = j;
     }

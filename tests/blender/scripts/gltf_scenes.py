@@ -71,7 +71,7 @@ def gltf_model_scene(resolution=(48, 48)):
     reset(resolution=tuple(resolution))
     if "io_scene_gltf2" not in bpy.context.preferences.addons:
         bpy.ops.preferences.addon_enable(module="io_scene_gltf2")
-    folder = tempfile.mkdtemp()
+    folder = tempfile.mkdtemp(dir=bpy.app.tempdir)   # (removed with it by scripting.leave)
     path = os.path.join(folder, "model.gltf")
     color, orm = write_gltf(path)
     bpy.ops.import_scene.gltf(filepath=path)

@@ -520,7 +520,8 @@ def bad_materials_scene(resolution=(48, 36)):
     not understand (a Noise Texture on Base Color), and an image sequence."""
     reset(resolution=tuple(resolution))
     missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
-    zero_file = os.path.join(tempfile.mkdtemp(prefix="gridwalk_"), "zero_size.png")
+    # (in Blender's session folder, which scripting.leave removes at exit)
+    zero_file = os.path.join(tempfile.mkdtemp(prefix="gridwalk_", dir=bpy.app.tempdir), "zero_size.png")
     open(zero_file, "wb").close()          # a file Blender cannot decode: a 0 x 0 image
     zero = _file_image("ZeroSizeImage", zero_file)
     small = bpy.data.images.new("SmallImage", 4, 4)

@@ -302,6 +302,9 @@ private:
         std::vector<uint32_t> cells;   // linear cell indices
     };
     static constexpr size_t kPrimsPerPart = size_t(1) << 14;   // (fewer: found on the calling thread alone)
+    // find_cells' parts: a primitive's cells cost about 30 times its bounds'
+    // cell range (the passes above), so its parts are that much smaller.
+    static constexpr size_t kFoundPrimsPerPart = size_t(1) << 9;
     static constexpr size_t kBoundPrims = 4096;   // fewer: no fewest_cells pass (node())
     static constexpr size_t kSamplePrims = 16;    // a refining grid's sample (sampled_refs), from 4 times as many
 
@@ -313,8 +316,8 @@ private:
     uint64_t find_cells(const Box& box, const std::vector<uint32_t>& prims, const int n[3], uint64_t limit,
                         std::vector<CellLists>& out) {
         const Frame frame(box, n);
-        const size_t parts = may_fan_out_ && in_.threads > 1 && prims.size() >= 2 * kPrimsPerPart
-                                 ? std::min<size_t>(size_t(in_.threads) * 8, prims.size() / kPrimsPerPart)
+        const size_t parts = may_fan_out_ && in_.threads > 1 && prims.size() >= 2 * kFoundPrimsPerPart
+                                 ? std::min<size_t>(size_t(in_.threads) * 8, prims.size() / kFoundPrimsPerPart)
                                  : 1;
         out.assign(parts, CellLists());
         std::atomic<uint64_t> found{0};   // cells recorded by finished parts

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -63,6 +65,25 @@ def run_script(kind: str, name: str, *args, timeout: float = 180, blend=None, cw
     return run(argv, env, timeout, cwd)
 
 
+def render_batch(kind: str, jobs: list, timeout_per_job: float = 120) -> list:
+    """Runs scripts/render_scene.py once in Blender `kind` for every job (a list
+    of its argument lists: scene, folder, engine, options), each from a new
+    empty file, and returns each job's share of the standard output. One
+    Blender for many renders: its start-up (1-3 s) is most of a small render's time."""
+    if not jobs:
+        return []
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+        json.dump([[str(a) for a in job] for job in jobs], f)
+    try:
+        proc = run_script(kind, "render_scene.py", "--batch", f.name,
+                          timeout=60 + timeout_per_job * len(jobs))
+    finally:
+        os.unlink(f.name)
+    parts = re.split(r"^@@render_scene job \d+\n", proc.stdout, flags=re.M)
+    assert len(parts) == len(jobs) + 1, f"{len(parts) - 1} job markers for {len(jobs)} jobs:\n{proc.stdout[-3000:]}"
+    return parts[1:]
+
+
 def rendered_luminance(kind: str, folder: Path, scene: str, engine: str, *options):
     """Luminance of scripts/render_scene.py's render of `scene` with `engine` into a new `folder`
     (the film opaque; options as render_scene.py takes them, 'key=json')."""
@@ -74,10 +95,17 @@ def rendered_luminance(kind: str, folder: Path, scene: str, engine: str, *option
 
 def luminance_by_engine(kind: str, out: Path, scene: str, engines: dict, variants: dict) -> dict:
     """{(engine, variant): rendered_luminance} of `scene` with each engine's option string
-    (engines: {engine: option}) and each variant's scene options (variants: {variant: dict})."""
-    return {(engine, key): rendered_luminance(kind, out / f"{engine}_{key}", scene, engine,
-                                              f"scene={json.dumps(options)}", option)
-            for engine, option in engines.items() for key, options in variants.items()}
+    (engines: {engine: option}) and each variant's scene options (variants: {variant: dict}),
+    all rendered in one Blender (render_batch)."""
+    import exr
+    keys = [(engine, key) for engine in engines for key in variants]
+    for engine, key in keys:
+        (out / f"{engine}_{key}").mkdir()
+    render_batch(kind, [[scene, out / f"{engine}_{key}", engine, "transparent=false",
+                         f"scene={json.dumps(variants[key])}", engines[engine]] for engine, key in keys])
+    return {(engine, key): exr.luminance(exr.rgba(exr.read_exr(out / f"{engine}_{key}" / f"{engine.lower()}.exr"),
+                                                  "ViewLayer.Combined."))
+            for engine, key in keys}
 
 
 def script_output(kind: str, tmp_path_factory, script: str, *args, timeout: float = 180) -> Path:

@@ -9,18 +9,24 @@ import numpy as np
 import pytest
 
 import exr
-from runner import ALL_BLENDERS, missing_reason, run_script
+from runner import ALL_BLENDERS, missing_reason, render_batch
 
 AA = '{"aa": "JITTERED", "aa_samples": 4}'
 
 
-def _render(kind, out, scene, engine, *options):
-    folder = out / f"{scene}_{engine.lower()}_{len(list(out.iterdir()))}"
-    folder.mkdir()
-    proc = run_script(kind, "render_scene.py", scene, folder, engine, *options)
-    info = json.loads((folder / f"{engine.lower()}.json").read_text())
-    rgba = exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")
-    return {"rgba": rgba, "info": info, "stdout": proc.stdout}
+def _render_all(kind, out, jobs):
+    """{key: {"rgba", "info", "stdout"}} of jobs {key: (scene, engine, *options)}, rendered in one Blender."""
+    folders = {key: out / key for key in jobs}
+    for folder in folders.values():
+        folder.mkdir()
+    stdouts = render_batch(kind, [[scene, folders[key], engine, *options]
+                                  for key, (scene, engine, *options) in jobs.items()])
+    r = {}
+    for (key, (_, engine, *_)), stdout in zip(jobs.items(), stdouts):
+        info = json.loads((folders[key] / f"{engine.lower()}.json").read_text())
+        rgba = exr.rgba(exr.read_exr(folders[key] / f"{engine.lower()}.exr"), "ViewLayer.Combined.")
+        r[key] = {"rgba": rgba, "info": info, "stdout": stdout}
+    return r
 
 
 @pytest.fixture(scope="module", params=ALL_BLENDERS)
@@ -30,47 +36,44 @@ def renders(request, tmp_path_factory):
     if reason:
         pytest.skip(reason)
     out = tmp_path_factory.mktemp(f"materials_{kind}")
-    r = {"kind": kind}
-    r["checker"] = _render(kind, out, "checker", "GRIDWALK", f"settings={AA}")
-    r["checker_cycles"] = _render(kind, out, "checker", "CYCLES", "samples=64")
+    jobs = {}
+    jobs["checker"] = ("checker", "GRIDWALK", f"settings={AA}")
+    jobs["checker_cycles"] = ("checker", "CYCLES", "samples=64")
     for key, value, textured in (("map", 128, "true"), ("constant", 128, "false"), ("decoded", 55, "false")):
-        r[f"roughness_{key}"] = _render(kind, out, "roughness_map", "GRIDWALK",
-                                        f'scene={{"value": {value}, "textured": {textured}}}')
+        jobs[f"roughness_{key}"] = ("roughness_map", "GRIDWALK", f'scene={{"value": {value}, "textured": {textured}}}')
     opaque = "transparent=false"
-    r["environment"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque)
-    r["environment_cycles"] = _render(kind, out, "environment", "CYCLES", "samples=32", opaque)
-    r["environment_film"] = _render(kind, out, "environment", "GRIDWALK", "transparent=true")
+    jobs["environment"] = ("environment", "GRIDWALK", f"settings={AA}", opaque)
+    jobs["environment_cycles"] = ("environment", "CYCLES", "samples=32", opaque)
+    jobs["environment_film"] = ("environment", "GRIDWALK", "transparent=true")
     for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=32")):
-        r[f"environment_turned_{engine.lower()}"] = _render(kind, out, "environment", engine, option, opaque,
-                                                            'scene={"matte": true, "turn": [20, -35, 70]}')
-    r["environment_broken"] = _render(kind, out, "environment", "GRIDWALK", f"settings={AA}", opaque,
-                                      'scene={"broken": true}')
+        jobs[f"environment_turned_{engine.lower()}"] = ("environment", engine, option, opaque,
+                                                        'scene={"matte": true, "turn": [20, -35, 70]}')
+    jobs["environment_broken"] = ("environment", "GRIDWALK", f"settings={AA}", opaque, 'scene={"broken": true}')
     for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=64")):
-        r[f"environment_matte_{engine.lower()}"] = _render(kind, out, "environment", engine, option, opaque,
-                                                           'scene={"matte": true}')
-    r["emission"] = _render(kind, out, "emission_mirror", "GRIDWALK", opaque)
+        jobs[f"environment_matte_{engine.lower()}"] = ("environment", engine, option, opaque, 'scene={"matte": true}')
+    jobs["emission"] = ("emission_mirror", "GRIDWALK", opaque)
     for engine, option in (("GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4, "shadow_samples": 8}'),
                            ("CYCLES", "samples=128")):
-        r[f"panel_{engine.lower()}"] = _render(kind, out, "emission_panel", engine, option, opaque)
+        jobs[f"panel_{engine.lower()}"] = ("emission_panel", engine, option, opaque)
     for pane in ("glass", "alpha", "opaque"):
-        r[f"pane_{pane}"] = _render(kind, out, "pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
-    r["bad"] = _render(kind, out, "bad_materials", "GRIDWALK")
+        jobs[f"pane_{pane}"] = ("pane_shadow", "GRIDWALK", f'scene={{"pane": "{pane}"}}')
+    jobs["bad"] = ("bad_materials", "GRIDWALK")
     for key, engine, option in (("gridwalk", "GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4, '
                                                          '"shadow_samples": 8}'),
                                 ("unblocked", "GRIDWALK", 'settings={"world_shadows": false}'),
                                 ("cycles", "CYCLES", "samples=128")):
-        r[f"contact_{key}"] = _render(kind, out, "world_shadow", engine, option, opaque)
+        jobs[f"contact_{key}"] = ("world_shadow", engine, option, opaque)
     for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=32")):
-        r[f"sunny_{engine.lower()}"] = _render(kind, out, "sunny_monkey", engine, option, opaque)
+        jobs[f"sunny_{engine.lower()}"] = ("sunny_monkey", engine, option, opaque)
     for engine, option in (("GRIDWALK", "settings={}"), ("CYCLES", "samples=16")):
-        r[f"fog_{engine.lower()}"] = _render(kind, out, "fog_box", engine, option)
-    r["cutout"] = _render(kind, out, "cutout", "GRIDWALK", f"settings={AA}", opaque)
-    r["cutout_cycles"] = _render(kind, out, "cutout", "CYCLES", "samples=16", opaque)
+        jobs[f"fog_{engine.lower()}"] = ("fog_box", engine, option)
+    jobs["cutout"] = ("cutout", "GRIDWALK", f"settings={AA}", opaque)
+    jobs["cutout_cycles"] = ("cutout", "CYCLES", "samples=16", opaque)
     for material in ("true", "false"):
         for engine, option in (("GRIDWALK", f"settings={AA}"), ("CYCLES", "samples=64")):
-            r[f"principled_{material}_{engine.lower()}"] = _render(
-                kind, out, "principled_sphere", engine, option, f'scene={{"material": {material}}}')
-    return r
+            jobs[f"principled_{material}_{engine.lower()}"] = ("principled_sphere", engine, option,
+                                                               f'scene={{"material": {material}}}')
+    return {"kind": kind, **_render_all(kind, out, jobs)}
 
 
 def _ncc(a, b) -> float:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import exr
-from runner import ALL_BLENDERS, missing_reason, run_script
+from runner import ALL_BLENDERS, missing_reason, render_batch
 
 BANDS = 8   # material_scenes.NORMAL_BANDS
 VARIANTS = {   # material_scenes.normal_map_scene's options
@@ -19,25 +19,28 @@ VARIANTS = {   # material_scenes.normal_map_scene's options
 }
 
 
-def _render(kind, out, engine, option, key):
-    folder = out / f"{engine.lower()}_{len(list(out.iterdir()))}"
-    folder.mkdir()
-    proc = run_script(kind, "render_scene.py", "normal_map", folder, engine, option, f"scene={json.dumps(VARIANTS[key])}")
-    info = json.loads((folder / f"{engine.lower()}.json").read_text())
-    assert "error" not in info, info
-    return exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")), proc.stdout
-
-
 @pytest.fixture(scope="module", params=ALL_BLENDERS)
 def renders(request, tmp_path_factory):
+    """{(engine, variant): (luminance, the render's output)}, all rendered in one Blender."""
     reason = missing_reason(request.param)
     if reason:
         pytest.skip(reason)
     out = tmp_path_factory.mktemp(f"normal_map_{request.param}")
-    return {(engine, key): _render(request.param, out, engine, option, key)
-            for engine, option in (("GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4}'),
-                                   ("CYCLES", "samples=32"))
-            for key in VARIANTS}
+    jobs = {}   # (engine, variant): (engine option, folder)
+    for engine, option in (("GRIDWALK", 'settings={"aa": "JITTERED", "aa_samples": 4}'), ("CYCLES", "samples=32")):
+        for key in VARIANTS:
+            jobs[engine, key] = (option, out / f"{engine.lower()}_{len(jobs)}")
+    for _, folder in jobs.values():
+        folder.mkdir()
+    stdouts = render_batch(request.param, [["normal_map", folder, engine, option, f"scene={json.dumps(VARIANTS[key])}"]
+                                           for (engine, key), (option, folder) in jobs.items()])
+    r = {}
+    for ((engine, key), (_, folder)), stdout in zip(jobs.items(), stdouts):
+        info = json.loads((folder / f"{engine.lower()}.json").read_text())
+        assert "error" not in info, info
+        r[engine, key] = (exr.luminance(exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")),
+                          stdout)
+    return r
 
 
 def _bands(lum):

@@ -1,6 +1,10 @@
 """Render a test scene with GRIDWALK (or another engine) to an uncompressed EXR.
 
 usage: <python with bpy> render_scene.py SCENE OUT_DIR ENGINE [key=json ...]
+       <python with bpy> render_scene.py --batch JOBS_JSON
+         (a list of such argument lists, rendered one after the other in this
+         one Blender, each from a new empty file; before each job a line
+         "@@render_scene job N" marks where its output starts)
 keys: samples (Cycles), settings (dict of Scene.gridwalk properties),
       transparent (film_transparent, default true), core (also render the
       exported arrays with gridwalk directly -> core.npz), blend (save a .blend).
@@ -48,15 +52,34 @@ def core_render(bpy, out_dir, scene):
     np.savez(os.path.join(out_dir, "core.npz"), rgba=image, depth=job.depth, normal=job.normal)
 
 
+def flush_all():
+    """Flushes Python's and C's buffered output (Blender prints through C
+    stdio), so that a batch's job markers fall between the jobs' outputs."""
+    import ctypes
+    sys.stdout.flush()
+    sys.stderr.flush()
+    ctypes.CDLL(None).fflush(None)
+
+
 def main(argv):
     import bpy
 
     import blender_addon
     import scenes
 
+    if argv[:1] == ["--batch"]:
+        with open(argv[1]) as f:
+            jobs = json.load(f)
+        for index, job in enumerate(jobs):
+            flush_all()
+            print(f"@@render_scene job {index}", flush=True)
+            main(job)
+        flush_all()
+        return
     name, out_dir, engine, *options = argv
     opts = {k: json.loads(v) for k, v in (o.split("=", 1) for o in options)}
-    blender_addon.register()
+    if not hasattr(bpy.types.Scene, "gridwalk"):   # (a batch's jobs after the first: registered already)
+        blender_addon.register()
     scenes.BUILDERS[name](**opts.get("scene", {}))
     scene = bpy.context.scene
     configure(scene, engine, opts)

@@ -13,7 +13,6 @@ principled_material(...) a node material whose Principled BSDF has the given
 No bpy import at module level: importing this never starts Blender.
 """
 import os
-import shutil
 import sys
 import traceback
 
@@ -35,18 +34,15 @@ def run_main(main, spread: bool = False):
 
 
 def leave(code: int):
-    """Exit at once with `code`, leaving no /tmp/blender_XXXXXX folder behind."""
-    bpy = sys.modules.get("bpy")
-    if bpy is not None:
-        try:
-            session = bpy.app.tempdir   # Blender's per-process folder, made at start-up
-        except Exception:
-            session = ""
-        if os.path.basename(os.path.normpath(session)).startswith("blender_"):
-            shutil.rmtree(session, ignore_errors=True)
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
+    """Exit at once with `code`, leaving no /tmp/blender_XXXXXX folder behind
+    (gridwalk.renderfarm.blender_exit, shared with the farm's Blender tasks)."""
+    try:
+        from gridwalk.renderfarm.blender_exit import exit_now
+    except Exception:   # (gridwalk missing or broken: leave all the same, without the clean-up)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    exit_now(code)
 
 
 def principled_material(name: str, color, **inputs):

@@ -20,7 +20,8 @@ namespace gw {
 // apart when u.m falls outside [min - r, max + r]. Those bounds are widened
 // for double rounding (relative to the coordinates' magnitude), so a false
 // answer is certain. Degenerate triangles have zero axes, which separate
-// nothing; NaN corners make every comparison false: "meets".
+// nothing; an axis whose bounds a NaN coordinate enters separates nothing
+// either (its comparisons are false). (Scene refuses non-finite corners.)
 class TriangleBoxTest {
 public:
     TriangleBoxTest(const Vec3& a, const Vec3& b, const Vec3& c, const double half[3]) {
@@ -78,7 +79,9 @@ public:
                 u[k] = 0;
                 u[p] = up;
                 u[q] = uq;
-                keep(u[0], u[1], u[2], std::min(ps, po), std::max(ps, po));
+                // (po NaN, the opposite corner's: these give NaN, so the axis
+                // separates nothing; std::min and std::max would give ps.)
+                keep(u[0], u[1], u[2], ps < po ? ps : po, ps > po ? ps : po);
             }
         }
         axes_ = j;

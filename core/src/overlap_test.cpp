@@ -83,12 +83,19 @@ TEST_CASE("a sloped triangle is apart from the boxes of its bounds that only its
 }
 
 TEST_CASE("degenerate and non-finite triangles are never called apart from a box they may touch") {
-    const double h[3] = {0.5, 0.5, 0.5}, m[3] = {0, 0, 0};
+    const double h[3] = {0.5, 0.5, 0.5}, m[3] = {0, 0, 0}, far_a[3] = {-3, -3, 0}, far_b[3] = {3, 3, 5};
     // A segment through the box, a point inside it.
     CHECK(TriangleBoxTest(Vec3(-2, 0.1f, 0.1f), Vec3(2, 0.1f, 0.1f), Vec3(0, 0.1f, 0.1f), h).meets(m));
     CHECK(TriangleBoxTest(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), h).meets(m));
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    CHECK(TriangleBoxTest(Vec3(nan, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), h).meets(m));
+    // A NaN corner, whichever: the box at the origin, and boxes off the line
+    // of the two finite corners (an edge's axis through them would call those apart).
+    for (int corner = 0; corner < 3; ++corner) {
+        Vec3 v[3] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+        v[corner] = Vec3(nan, 0, 0);
+        const TriangleBoxTest test(v[0], v[1], v[2], h);
+        for (const double* at : {m, far_a, far_b}) CHECK(test.meets(at));
+    }
     // A diagonal segment passing beside the box's corner (its bounds overlap
     // the box: only the segment's own direction separates them) is apart.
     CHECK_FALSE(TriangleBoxTest(Vec3(-2, -0.8f, 0.1f), Vec3(2, 3.2f, 0.1f), Vec3(0, 1.2f, 0.1f), h).meets(m));

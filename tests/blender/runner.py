@@ -65,11 +65,12 @@ def run_script(kind: str, name: str, *args, timeout: float = 180, blend=None, cw
     return run(argv, env, timeout, cwd)
 
 
-def render_batch(kind: str, jobs: list, timeout_per_job: float = 120) -> list:
+def render_batch(kind: str, jobs: list, timeout_per_job: float = 30) -> list:
     """Runs scripts/render_scene.py once in Blender `kind` for every job (a list
     of its argument lists: scene, folder, engine, options), each from a new
     empty file, and returns each job's share of the standard output. One
-    Blender for many renders: its start-up (1-3 s) is most of a small render's time."""
+    Blender for many renders: its start-up (1-3 s) is most of a small render's time.
+    (A hang fails after 60 s + timeout_per_job per job: the tests' renders take 0.1-3 s.)"""
     if not jobs:
         return []
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:

@@ -22,12 +22,14 @@ import sys
 
 import bpy
 
+# This folder's own modules (blender_exit, plan), whatever gridwalk that Blender has.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_exit import exit_now  # noqa: E402
+
 
 def leave(code: int, tag: str, text: str):
     print(f"{tag} {text}")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
+    exit_now(code)
 
 
 def fail(message: str):
@@ -87,8 +89,7 @@ def set_border(render, rect, width, height):
 def render_tile(scene, task):
     import numpy as np
 
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from plan import tiles          # this worker's own plan.py, whatever gridwalk Blender has
+    from plan import tiles          # this worker's own plan.py (sys.path above)
 
     width, height = resolution(scene.render)
     rect = tiles(width, height, task["tiles"])[task["tile"]]

@@ -55,7 +55,7 @@ make_venv .venv-blender34 "$SYSTEM_PY" - -
 
 # Smoke check: each Blender loads the cp311 extension.
 for v in .venv-bpy45 .venv-bpy50; do
-  "$v/bin/python" -c "import bpy, gridwalk, sys, os; print('setup_blender:', '$v', bpy.app.version_string, 'gridwalk', gridwalk.__version__); sys.stdout.flush(); os._exit(0)"
+  "$v/bin/python" -c "import bpy, gridwalk, sys; print('setup_blender:', '$v', bpy.app.version_string, 'gridwalk', gridwalk.__version__); sys.stdout.flush(); from gridwalk.renderfarm.blender_exit import exit_now; exit_now(0)"
 done
 PYTHONPATH="$PWD/.venv-blender34/lib/python3.11/site-packages" blender -b --factory-startup -noaudio \
   --python-expr "import bpy, gridwalk; print('setup_blender: blender', bpy.app.version_string, 'gridwalk', gridwalk.__version__)" \

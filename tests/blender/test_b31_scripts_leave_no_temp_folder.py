@@ -7,6 +7,8 @@ behind (thousands in /tmp after a few test runs)."""
 import json
 import os
 
+import pytest
+
 from gridwalk.renderfarm.blender import BlenderSetup, run_blender
 from runner import BLENDER34_SITE, ROOT, missing_reason, run, run_script
 
@@ -22,7 +24,6 @@ def test_the_session_temp_folder_is_removed_at_exit(any_blender, tmp_path):
 def test_a_farm_task_leaves_no_session_folder(tmp_path, monkeypatch):
     reason = missing_reason("blender34")
     if reason:
-        import pytest
         pytest.skip(reason)
     run_script("blender34", "render_scene.py", "showcase", tmp_path, "GRIDWALK", "blend=true")
     base = tmp_path / "temp"

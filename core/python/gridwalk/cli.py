@@ -121,17 +121,23 @@ def run_job(job: RenderJob, quiet: bool = False) -> np.ndarray:
     """Start `job`, draw a progress bar on stderr until it finishes, return the
     image. Ctrl-C cancels the job (the workers stop) and re-raises."""
     start, shown = time.perf_counter(), None
+
+    def draw():
+        nonlocal shown
+        percent = int(100 * job.progress)
+        if not quiet and percent != shown:
+            shown = percent
+            bar = "#" * (percent * 30 // 100)
+            sys.stderr.write(f"\rrendering [{bar:<30}] {percent:3d}%  {time.perf_counter() - start:6.1f} s")
+            sys.stderr.flush()
+
     job.start()
     try:
         while not job.finished:
             job.wait_for(0.05)
-            percent = int(100 * job.progress)
-            if not quiet and percent != shown:
-                shown = percent
-                bar = "#" * (percent * 30 // 100)
-                sys.stderr.write(f"\rrendering [{bar:<30}] {percent:3d}%  {time.perf_counter() - start:6.1f} s")
-                sys.stderr.flush()
+            draw()
         image = job.wait()
+        draw()   # the last tiles may finish after the loop's last look: the bar ends at 100%
     except KeyboardInterrupt:
         job.cancel()
         raise

@@ -14,7 +14,14 @@ def settings_dict(props, schema) -> dict:
     values = {}
     for setting in blender_settings(schema):
         value = getattr(props, setting.name)
-        values[setting.name] = value.lower() if setting.kind == "enum" else value
+        if setting.kind == "enum":
+            value = value.lower()
+        elif setting.kind == "float":
+            # A FloatProperty holds a float32: its own limits, set from the table's
+            # doubles, can round outside them (0.01 reads back as 0.009999999776,
+            # which the core refused: every render failed at the slider's end).
+            value = min(max(value, setting.min), setting.max)
+        values[setting.name] = value
     return values
 
 

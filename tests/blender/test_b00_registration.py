@@ -59,6 +59,11 @@ def test_every_setting_is_a_blender_property_with_the_tables_default_and_limits(
             else settings[s.name] == default, s.name
 
 
+def test_every_number_validates_at_both_ends_of_its_slider(registration):
+    # Grid Density at its minimum read back as 0.009999999776 (a float32) and every render failed.
+    assert registration["slider_ends_refused"] == []
+
+
 def test_every_settings_group_has_a_panel(registration):
     shown = {g for groups in registration["panel_groups"].values() for g in groups}
     assert shown == {s.group for s in SCHEMA} - {"host"}

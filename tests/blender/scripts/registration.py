@@ -37,6 +37,21 @@ def main(out_dir):
         elif p.type == "ENUM":
             entry.update(default=p.default, items=[item.identifier for item in p.enum_items])
         props[name] = entry
+    # Each number at the end of its slider (one at a time): the settings must still
+    # validate (a float32 property's limits can round outside the table's doubles).
+    refused = []
+    for name in rna.keys():
+        p = rna[name]
+        if p.type not in ("INT", "FLOAT") or name == "rna_type":
+            continue
+        default = getattr(scene.gridwalk, name)
+        for end in (p.hard_min, p.hard_max):
+            setattr(scene.gridwalk, name, end)
+            try:
+                render_settings(gridwalk, scene.gridwalk).to_core()
+            except (ValueError, TypeError) as e:
+                refused.append(f"{name} = {getattr(scene.gridwalk, name)!r}: {e}")
+        setattr(scene.gridwalk, name, default)
     from blender_addon.ui import SETTINGS_PANELS
     info = {
         "properties": props,
@@ -44,6 +59,7 @@ def main(out_dir):
         "engine": scene.render.engine,
         "panels": panels_with(bpy, "GRIDWALK"),
         "settings": {k: v for k, v in vars(settings).items()},
+        "slider_ends_refused": refused,
         "object_option": hasattr(bpy.types.Object, "gridwalk")
         and "render_as_sphere" in bpy.types.Object.gridwalk.keywords["type"].bl_rna.properties,
     }

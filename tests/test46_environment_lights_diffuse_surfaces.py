@@ -77,6 +77,25 @@ def test_a_uniform_sky_gives_its_radiance_as_the_ambient_term_does():
     assert np.all(dark[hit] == 0)
 
 
+@pytest.mark.parametrize("shape", [(1, 1), (1, 64), (2, 8), (3, 5)])
+def test_a_uniform_sky_of_a_few_texels_lights_every_normal(shape):
+    # An image one texel tall (a strip, or the 1 x 1 stand-in for a missing image) once
+    # gave every normal off the horizon no light: its cells all sat on the horizon.
+    sky = np.full(shape + (3,), (0.5, 1.0, 2.0), np.float32)
+    lit, n, hit = _render_sphere(sky, strength=2.0)
+    assert hit.sum() > 0.5 * N * N and np.ptp(n[hit][:, 2]) > 1.5     # normals from down to up
+    np.testing.assert_allclose(lit[hit], np.broadcast_to([1.0, 2.0, 4.0], lit[hit].shape), rtol=1e-3)
+    # A floor, whose normal is exactly +z (the sphere's normals are never quite vertical).
+    cam = gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic",
+                    ortho_height=1.0, width=8, height=8)
+    floor = gw.Scene(vertices=[[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]], triangles=[[0, 1, 2], [0, 2, 3]],
+                     camera=cam, materials=[gw.Material(color=(1, 1, 1), kd=1.0, ks=0.0)],
+                     textures=[gw.Texture(gw.Image(sky))],
+                     world=gw.World(environment=0, environment_strength=2.0, environment_light=True))
+    rgba = gw.RenderJob(floor, gw.RenderSettings(threads=1)).start().wait()
+    np.testing.assert_allclose(rgba[..., :3].reshape(-1, 3), np.broadcast_to([1.0, 2.0, 4.0], (64, 3)), rtol=1e-3)
+
+
 def _sky_with_ground(h=128, w=256):
     """A bright bluish sky, a green-brown ground, brighter towards +X."""
     d = _directions(h, w)

@@ -57,8 +57,16 @@ Vec3 RadianceMap::direction(int x, int y) const { return grid_direction(x, y, w,
 
 RadianceMap radiance_map(const Image& img, const Texture& t, float strength, int max_w) {
     const bool premultiply = t.premultiply && !t.unassociate;   // (the texel's own colour where both are set)
-    return average(img.width(), img.height(), std::min(img.width(), max_w), std::min(img.height(), max_w / 2),
-                   [&](int x, int y) { return color_of(t, img.texel(x, y, true, premultiply)) * strength; });
+    // An image of fewer than 64 x 32 texels is read as if it had that many,
+    // each texel repeated over the part of the sphere it covers, so that the
+    // cells still resolve elevation: the one row of cells of an image one
+    // texel tall (a strip, or the 1 x 1 stand-in for a missing image) lay on
+    // the horizon, no cell lay above a floor, and the floor got no world light.
+    const int fine_w = std::max(img.width(), kNormalW), fine_h = std::max(img.height(), kNormalH);
+    return average(fine_w, fine_h, std::min(fine_w, max_w), std::min(fine_h, max_w / 2), [&](int x, int y) {
+        const int ix = int(int64_t(x) * img.width() / fine_w), iy = int(int64_t(y) * img.height() / fine_h);
+        return color_of(t, img.texel(ix, iy, true, premultiply)) * strength;
+    });
 }
 
 RadianceMap coarser(const RadianceMap& map, int max_w) {

@@ -354,6 +354,8 @@ def _surface_node(tree):
 # A material whose output has a Volume and no Surface: Cycles' surface is
 # then clear (rays pass it), and the core renders no volume, so nothing shows.
 VOLUME_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, alpha=0.0)
+# No surface shader (the output's Surface unlinked, or no output node): Cycles renders it opaque black.
+NO_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0)
 
 
 def _volume_only(tree) -> bool:
@@ -389,7 +391,7 @@ def convert_material(mat, textures=None):
         return dataclasses.replace(VOLUME_SURFACE), "a volume shader without a surface: volumes are not rendered, its surface is clear " \
                                "(as Cycles' is)", None
     if node is None:
-        return viewport_material(mat), "no surface shader", None
+        return dataclasses.replace(NO_SURFACE), "no surface shader: it renders black, as in Cycles", None
     links = Links(textures)
     mix, (node, clear) = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, (node, None))
     if node is None or node.type == "BSDF_PRINCIPLED":

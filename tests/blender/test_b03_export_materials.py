@@ -62,8 +62,8 @@ def test_the_cycles_output_and_muted_nodes_and_links_are_honoured(export):
     out = export("node_states")
     centres = out.vertices[out.triangles].mean(axis=1)[:, 0]
     by_plane = [out.materials[int(out.triangle_materials[np.argmin(np.abs(centres - x))])]
-                for x in (-4.0, -2.0, 0.0, 4.0, 6.0, 8.0, 10.0)]
-    targets, muted_node, muted_link, muted_mix, constants, reroute_muted, reroute_loop = by_plane
+                for x in (-4.0, -2.0, 0.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0)]
+    targets, muted_node, muted_link, muted_mix, constants, reroute_muted, reroute_loop, unlinked, no_output = by_plane
     np.testing.assert_allclose(targets["color"], [0.8, 0.0, 0.0], rtol=1e-5)   # not the active EEVEE output's green
     for mat in (muted_node, muted_link):          # Base Color's own value, no texture
         np.testing.assert_allclose(mat["color"], [0.1, 0.1, 0.8], rtol=1e-5)
@@ -74,6 +74,10 @@ def test_the_cycles_output_and_muted_nodes_and_links_are_honoured(export):
     for mat in (reroute_muted, reroute_loop):
         np.testing.assert_allclose(mat["color"], [0.0, 0.0, 0.0], atol=1e-7)
         assert mat["color_texture"] < 0
+    # no surface shader (the output's Surface unlinked, or no output): black, as Cycles renders it, and said so
+    for mat, name in ((unlinked, "NoSurfaceLink"), (no_output, "NoOutput")):
+        assert list(mat["color"]) == [0.0, 0.0, 0.0] and mat["kd"] == 0 and mat["ks"] == 0, mat
+        assert any(name in w and "black" in w for w in out.warnings), out.warnings
     # RGB nodes are constants: Base Color takes the colour, Roughness a colour's Rec. 709 luminance
     np.testing.assert_allclose(constants["color"], [0.2, 0.7, 0.3], rtol=1e-5)
     assert constants["roughness"] == pytest.approx(0.2126 * 0.5 + 0.7152 * 0.25 + 0.0722 * 1.0, rel=1e-5)

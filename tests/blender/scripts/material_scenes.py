@@ -88,7 +88,8 @@ def node_states_scene(resolution=(32, 24)):
     which Cycles reads as black; RGB nodes linked to Base Color and (as
     their luminance) to Roughness; a reroute from a muted Image Texture and a
     loop of two reroutes (both black Base Color in Cycles 4.5, unlike the
-    muted Image Texture linked directly). The world's Background reaches its output
+    muted Image Texture linked directly); a material whose output's Surface is
+    unlinked and one without an output (both black in Cycles). The world's Background reaches its output
     through a reroute, and its Color through a muted link (its own value
     counts); its Strength comes through a muted Math node from a linked Value
     node."""
@@ -140,7 +141,12 @@ def node_states_scene(resolution=(32, 24)):
             tree.links.new(second.outputs[0], first.inputs[0])
             tree.links.new(first.outputs[0], second.inputs[0])        # (Blender marks this link invalid)
         rerouted.append(mat)
-    materials = (targets, muted_node, muted_link, missing_map, muted_mix, constants, *rerouted)
+    unlinked = principled_material("NoSurfaceLink", (0.1, 0.9, 0.1))   # Cycles renders both black
+    for link in list(unlinked.node_tree.links):
+        unlinked.node_tree.links.remove(link)
+    no_output = principled_material("NoOutput", (0.1, 0.9, 0.1))
+    no_output.node_tree.nodes.remove(no_output.node_tree.nodes["Material Output"])
+    materials = (targets, muted_node, muted_link, missing_map, muted_mix, constants, *rerouted, unlinked, no_output)
     for i, mat in enumerate(materials):
         _plane(mat.name, 1.0, (2.0 * i - 4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(mat)
     world = bpy.data.worlds.new("NodeStates")

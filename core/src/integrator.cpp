@@ -416,8 +416,13 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     const bool entering = dot(d, sp.ng) < 0;
     const Vec3 ng = entering ? sp.ng : -sp.ng;   // both normals face the incoming ray
     Vec3 ns = entering ? sp.ns : -sp.ns;
-    if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: use the true one
-    Vec3 color = m.color * m.emission + direct(sp, ng, ns, wo, m, depth, split, st, ctx);
+    // Lamps and emitters light the point by the interpolated normal even where it
+    // turns away from the viewer, as Cycles' diffuse does: the geometric normal
+    // lit such points where the interpolated one faces away from the light too
+    // (a Weighted Normal modifier's rim, lit slivers Cycles leaves black).
+    const Vec3 ns_lit = ns;
+    if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: the true one (reflections, ambient)
+    Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, m, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
     if (scene_.has_ambient() && m.kd > 0) {
         Vec3 a = scene_.ambient(ns);

@@ -51,11 +51,14 @@ struct LightSample {
 // 2013), in double: the estimate is radiance x cos x solid angle, bounded by
 // the light's radiance x 2 pi, where uniform points on the rectangle weigh
 // cos / distance^2 and explode as p nears it (a light 0.05 above a floor gave
-// pixels 200 times Cycles' brightest). Returns -1 where it does not apply (the
-// light is far, not a rectangle facing along its direction, or of zero size:
-// the caller samples its area), 0 where p gets no light, 1 with `s` filled in.
-inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
-    const double w = L.size[0], h = L.size[1];
+// pixels 200 times Cycles' brightest). Here the rectangle is w x h in the
+// light's (axis_u, axis_v) plane around its position. Returns -1 where it does
+// not apply (the light is far, not facing along its direction, or of zero
+// size: the caller samples its area), 0 where p gets no light, 1 with s.dist
+// and s.wi filled in, S the rectangle's solid angle and (cx, cy) the point's
+// coordinates along axis_u and axis_v from the light's centre.
+inline int sample_spherical_rect(const Light& L, double w, double h, const Vec3& p, float u1, float u2,
+                                 LightSample& s, double& S, double& cx, double& cy) {
     const Vec3d x(L.axis_u), y(L.axis_v), o(p), c(L.position), dir(L.direction);
     Vec3d z = cross(x, y);
     if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-6 || std::abs(dot(dir, z)) < 1 - 1e-6)
@@ -79,7 +82,8 @@ inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, floa
     const Vec3d n3 = Vec3d(z0, 0, -x0) / std::sqrt(z0 * z0 + x0 * x0);
     const auto angle = [](const Vec3d& a, const Vec3d& b) { return std::acos(std::clamp(-dot(a, b), -1.0, 1.0)); };
     const double g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
-    const double k = 2 * kPi - g2 - g3, S = g0 + g1 - k;
+    const double k = 2 * kPi - g2 - g3;
+    S = g0 + g1 - k;
     if (!(S > 0)) return 0;
     // u1 picks the x that splits off that fraction of S, u2 a y along the
     // chord at that x, uniform in solid angle.
@@ -96,7 +100,34 @@ inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, floa
     if (!(dist > 0)) return 0;
     s.dist = float(dist);
     s.wi = Vec3(q / dist);
-    s.intensity = L.color * float(S / (w * h));   // radiance (colour / area) x solid angle
+    cx = xu - x0 - 0.5 * w;
+    cy = yv - y0 - 0.5 * h;
+    return 1;
+}
+
+// A rect light near p, sampled by its solid angle (above): the estimate is
+// radiance (colour / area) x solid angle.
+inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
+    double S, cx, cy;
+    const double w = L.size[0], h = L.size[1];
+    const int got = sample_spherical_rect(L, w, h, p, u1, u2, s, S, cx, cy);
+    if (got == 1) s.intensity = L.color * float(S / (w * h));
+    return got;
+}
+
+// A disk light near p: the spherical rectangle of its bounding square sampled
+// as above, the points outside the disk weighing 0 (a quarter of them at
+// most, fewer where the disk fills the view), so the estimate is radiance
+// (colour / (pi r^2)) x the square's solid angle inside the disk, and
+// unbiased. Uniform points on a 50 m disk 3 m above a floor gave its pixels
+// ten times the rect's noise.
+inline int sample_disk_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
+    double S, cx, cy;
+    const double r = L.radius;
+    const int got = sample_spherical_rect(L, 2 * r, 2 * r, p, u1, u2, s, S, cx, cy);
+    if (got != 1) return got;
+    if (cx * cx + cy * cy > r * r) return 0;
+    s.intensity = L.color * float(S / (kPi * r * r));
     return 1;
 }
 
@@ -148,6 +179,8 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
         break;
     case LightKind::Disk: {
+        if (!(u1 == 0.5f && u2 == 0.5f))   // (the centre: a hard shadow's point light)
+            if (const int by_angle = sample_disk_solid_angle(L, p, u1, u2, s); by_angle >= 0) return by_angle == 1;
         float x, y;
         concentric_disk(u1, u2, x, y);
         pos = L.position + (L.axis_u * x + L.axis_v * y) * L.radius;

@@ -108,15 +108,17 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
-        // A rect or disk light filling much of the view mixes in cosine-weighted directions (near_area_light.h).
+        // A rect or disk light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
-        const bool mixed = mode != ShadowMode::Hard && near_area_light(L, sp.p, ns, near);
+        const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
         Vec3 sum;
         for (int j = 0; j < count; ++j) {
             float u1, u2;
             light_point(mode, uint32_t(li), j, count, depth, split, st, u1, u2);
             LightSample ls;
-            if (!(mixed ? sample_near_area(L, near, ns, u1, u2, ls) : sample_light(L, sp.p, u1, u2, ls))) continue;
+            if (near_state == 0) continue;   // (no light reaches the point; its light points are drawn all the same)
+            if (!(near_state == 1 ? sample_near_area(L, near, ns, u1, u2, ls) : sample_light(L, sp.p, u1, u2, ls)))
+                continue;
             if (dot(ng, ls.wi) <= 0) continue;
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;

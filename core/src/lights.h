@@ -45,122 +45,6 @@ struct LightSample {
     Vec3 intensity;   // radiance-like contribution before the BRDF and cosine
 };
 
-// A rect light near p (within twice its diagonal of its centre, falling off
-// physically) sampled uniformly in the solid angle it subtends at p, by Urena,
-// Fajardo and King's area-preserving map of the spherical rectangle (EGSR
-// 2013), in double: the estimate is radiance x cos x solid angle, bounded by
-// the light's radiance x 2 pi, where uniform points on the rectangle weigh
-// cos / distance^2 and explode as p nears it (a light 0.05 above a floor gave
-// pixels 200 times Cycles' brightest). The rectangle is w x h in the light's
-// (axis_u, axis_v) plane around its position.
-struct SphericalRect {
-    Vec3d x, y, z;      // the light's axes, z towards p's side
-    Vec3d d;            // from p to the corner (-w/2, -h/2)
-    double w = 0, h = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0, z0 = 0;
-    double S = 0;       // the solid angle
-    double k = 0, b0 = 0, b1 = 0;
-
-    // -1 where this does not apply (the light is far, not facing along its
-    // direction, or of zero size: the caller samples its area), 0 where p gets
-    // no light, 1 when set up.
-    int setup(const Light& L, double w_, double h_, const Vec3& p) {
-        w = w_;
-        h = h_;
-        x = Vec3d(L.axis_u);
-        y = Vec3d(L.axis_v);
-        const Vec3d o(p), c(L.position), dir(L.direction);
-        z = cross(x, y);
-        if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-6 || std::abs(dot(dir, z)) < 1 - 1e-6)
-            return -1;
-        const Vec3d to_centre = c - o;
-        if (dot(to_centre, to_centre) > 4.0 * (w * w + h * h)) return -1;
-        if (!(dot(dir, to_centre) < 0)) return 0;     // behind the light (or in its plane): one-sided emitter
-        d = to_centre - x * (0.5 * w) - y * (0.5 * h);
-        x0 = dot(d, x);
-        y0 = dot(d, y);
-        x1 = x0 + w;
-        y1 = y0 + h;
-        z0 = dot(d, z);
-        if (z0 > 0) {
-            z0 = -z0;
-            z = -z;
-        }
-        if (!(z0 < 0)) return 0;
-        // The inward normals of the four great circles through the rectangle's
-        // edges, the spherical rectangle's inner angles, and its area S.
-        const Vec3d n0 = Vec3d(0, z0, -y0) / std::sqrt(z0 * z0 + y0 * y0);
-        const Vec3d n1 = Vec3d(-z0, 0, x1) / std::sqrt(z0 * z0 + x1 * x1);
-        const Vec3d n2 = Vec3d(0, -z0, y1) / std::sqrt(z0 * z0 + y1 * y1);
-        const Vec3d n3 = Vec3d(z0, 0, -x0) / std::sqrt(z0 * z0 + x0 * x0);
-        const auto angle = [](const Vec3d& a, const Vec3d& b) { return std::acos(std::clamp(-dot(a, b), -1.0, 1.0)); };
-        const double g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
-        k = 2 * kPi - g2 - g3;
-        S = g0 + g1 - k;
-        b0 = n0.z;
-        b1 = n2.z;
-        return S > 0 ? 1 : 0;
-    }
-
-    // The point for (u1, u2), uniform in solid angle: s.dist and s.wi, and
-    // (cx, cy) its coordinates along axis_u and axis_v from the centre.
-    // False where it lies at p.
-    bool sample(float u1, float u2, LightSample& s, double& cx, double& cy) const {
-        // u1 picks the x that splits off that fraction of S, u2 a y along the
-        // chord at that x, uniform in solid angle.
-        const double au = double(u1) * S + k;
-        const double fu = (std::cos(au) * b0 - b1) / std::sin(au);
-        const double cu = std::clamp((fu > 0 ? 1.0 : -1.0) / std::sqrt(fu * fu + b0 * b0), -1.0, 1.0);
-        const double xu = std::clamp(-(cu * z0) / std::sqrt(std::max(1.0 - cu * cu, 1e-300)), x0, x1);
-        const double dd = std::sqrt(xu * xu + z0 * z0);
-        const double h0 = y0 / std::sqrt(dd * dd + y0 * y0), h1 = y1 / std::sqrt(dd * dd + y1 * y1);
-        const double hv = h0 + double(u2) * (h1 - h0), hv2 = hv * hv;
-        const double yv = std::clamp(hv2 < 1.0 - 1e-12 ? hv * dd / std::sqrt(1.0 - hv2) : y1, y0, y1);
-        const Vec3d q = d + x * (xu - x0) + y * (yv - y0);   // the point on the light, from p (in its plane)
-        const double dist = length(q);
-        if (!(dist > 0)) return false;
-        s.dist = float(dist);
-        s.wi = Vec3(q / dist);
-        cx = xu - x0 - 0.5 * w;
-        cy = yv - y0 - 0.5 * h;
-        return true;
-    }
-};
-
-// The rectangle sampled, for a rect light: the light itself; for a disk, its
-// bounding square.
-inline double sampled_width(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[0]; }
-inline double sampled_height(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[1]; }
-
-// A rect light near p, sampled by its solid angle (above): the estimate is
-// radiance (colour / area) x solid angle. Returns as SphericalRect::setup,
-// with `s` filled in on 1.
-inline int sample_rect_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
-    SphericalRect sr;
-    const int got = sr.setup(L, L.size[0], L.size[1], p);
-    double cx, cy;
-    if (got != 1) return got;
-    if (!sr.sample(u1, u2, s, cx, cy)) return 0;
-    s.intensity = L.color * float(sr.S / (sr.w * sr.h));
-    return 1;
-}
-
-// A disk light near p: the spherical rectangle of its bounding square sampled
-// as above, the points outside the disk weighing 0 (a quarter of them at
-// most, fewer where the disk fills the view), so the estimate is radiance
-// (colour / (pi r^2)) x the square's solid angle inside the disk, and
-// unbiased. Uniform points on a 50 m disk 3 m above a floor gave its pixels
-// ten times the rect's noise.
-inline int sample_disk_solid_angle(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
-    SphericalRect sr;
-    const double r = L.radius;
-    const int got = sr.setup(L, 2 * r, 2 * r, p);
-    double cx, cy;
-    if (got != 1) return got;
-    if (!sr.sample(u1, u2, s, cx, cy) || cx * cx + cy * cy > r * r) return 0;
-    s.intensity = L.color * float(sr.S / (kPi * r * r));
-    return 1;
-}
-
 // A spot's share of its light in a direction whose cosine to its axis is c:
 // 0 outside the cone, a smoothstep over the blend region, 1 inside it.
 inline float spot_cone(const Light& L, float c) {
@@ -171,6 +55,9 @@ inline float spot_cone(const Light& L, float c) {
 }
 
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
+// Rect and disk lights get uniform points on their area here; near the
+// shading point, where those weigh cos / distance^2 and explode,
+// Integrator::direct samples them by near_area_light.h instead.
 inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
     Vec3 pos = L.position;
     switch (L.kind) {
@@ -204,13 +91,9 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         break;
     }
     case LightKind::Rect:
-        if (!(u1 == 0.5f && u2 == 0.5f))   // (the centre: a hard shadow's point light)
-            if (const int by_angle = sample_rect_solid_angle(L, p, u1, u2, s); by_angle >= 0) return by_angle == 1;
         pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
         break;
     case LightKind::Disk: {
-        if (!(u1 == 0.5f && u2 == 0.5f))   // (the centre: a hard shadow's point light)
-            if (const int by_angle = sample_disk_solid_angle(L, p, u1, u2, s); by_angle >= 0) return by_angle == 1;
         float x, y;
         concentric_disk(u1, u2, x, y);
         pos = L.position + (L.axis_u * x + L.axis_v * y) * L.radius;

@@ -1,13 +1,21 @@
-// A rect or disk light that fills nearly all of a shading point's view (a
-// large light just above a floor), sampled by two strategies: points uniform
-// in the solid angle the light subtends (lights.h, SphericalRect), and
-// directions drawn cosine-weighted about the shading normal that happen to
-// meet the light. Each light point picks one of the two (one-sample multiple
-// importance sampling, Veach 1997, with the balance heuristic), the
-// cosine-weighted one with probability `share`. The same light points, the
-// same shadow rays.
+// Rect and disk lights near the shading point (within twice the diagonal of
+// the rectangle sampled: the light, or a disk's bounding square, from its
+// centre; Blender's lights, with physical falloff). Uniform points on such a
+// light weigh cos / distance^2, which explodes as the point nears it (a light
+// 0.05 above a floor gave pixels 200 times Cycles' brightest), so these are
+// sampled here instead, by two strategies:
+// * points uniform in the solid angle the light subtends (SphericalRect):
+//   each weighs radiance x cos x solid angle, never more than radiance x 2 pi.
+//   A disk is sampled over its bounding square, the points outside it
+//   weighing 0 (at most a quarter of them, fewer where it fills the view);
+// * for a light that fills nearly all of the view (a large light just above a
+//   floor), directions drawn cosine-weighted about the shading normal that
+//   happen to meet the light, mixed with the above: each light point picks one
+//   of the two (one-sample multiple importance sampling, Veach 1997, with the
+//   balance heuristic), the cosine-weighted one with probability `share`. The
+//   same light points, the same shadow rays.
 //
-// Why: sampling by solid angle weighs each point by the cosine at the shading
+// Why the mix: by solid angle each point weighs by the cosine at the shading
 // point, which varies from 0 to 1 over a light filling the hemisphere (the
 // estimate's coefficient of variation per sample tends to 0.58); drawn by the
 // cosine, the directions that meet such a light all weigh alike. A 50 m light
@@ -31,26 +39,113 @@
 
 namespace gw {
 
+// A rectangle w x h in a light's (axis_u, axis_v) plane around its position,
+// sampled uniformly in the solid angle it subtends at p by Urena, Fajardo and
+// King's area-preserving map of the spherical rectangle (EGSR 2013), in double.
+struct SphericalRect {
+    Vec3d x, y, z;      // the light's axes, z towards p's side
+    Vec3d d;            // from p to the corner (-w/2, -h/2)
+    double w = 0, h = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0, z0 = 0;
+    double S = 0;       // the solid angle
+    double k = 0, b0 = 0, b1 = 0;
+
+    // -1 where this does not apply (the light is far, not facing along its
+    // direction, or of zero size: the caller samples its area), 0 where p gets
+    // no light, 1 when set up.
+    int setup(const Light& L, double w_, double h_, const Vec3& p) {
+        w = w_;
+        h = h_;
+        x = Vec3d(L.axis_u);
+        y = Vec3d(L.axis_v);
+        const Vec3d o(p), c(L.position), dir(L.direction);
+        z = cross(x, y);
+        if (!(w > 0 && h > 0) || !L.inverse_square || std::abs(dot(x, y)) > 1e-6 || std::abs(dot(dir, z)) < 1 - 1e-6)
+            return -1;
+        const Vec3d to_centre = c - o;
+        if (dot(to_centre, to_centre) > 4.0 * (w * w + h * h)) return -1;
+        if (!(dot(dir, to_centre) < 0)) return 0;     // behind the light (or in its plane): one-sided emitter
+        d = to_centre - x * (0.5 * w) - y * (0.5 * h);
+        x0 = dot(d, x);
+        y0 = dot(d, y);
+        x1 = x0 + w;
+        y1 = y0 + h;
+        z0 = dot(d, z);
+        if (z0 > 0) {
+            z0 = -z0;
+            z = -z;
+        }
+        if (!(z0 < 0)) return 0;
+        // The inward normals of the four great circles through the rectangle's
+        // edges, the spherical rectangle's inner angles, and its area S.
+        const Vec3d n0 = Vec3d(0, z0, -y0) / std::sqrt(z0 * z0 + y0 * y0);
+        const Vec3d n1 = Vec3d(-z0, 0, x1) / std::sqrt(z0 * z0 + x1 * x1);
+        const Vec3d n2 = Vec3d(0, -z0, y1) / std::sqrt(z0 * z0 + y1 * y1);
+        const Vec3d n3 = Vec3d(z0, 0, -x0) / std::sqrt(z0 * z0 + x0 * x0);
+        const auto angle = [](const Vec3d& a, const Vec3d& b) { return std::acos(std::clamp(-dot(a, b), -1.0, 1.0)); };
+        const double g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
+        k = 2 * kPi - g2 - g3;
+        S = g0 + g1 - k;
+        b0 = n0.z;
+        b1 = n2.z;
+        return S > 0 ? 1 : 0;
+    }
+
+    // The point for (u1, u2), uniform in solid angle: s.dist and s.wi, and
+    // (cx, cy) its coordinates along axis_u and axis_v from the centre.
+    // False where it lies at p.
+    bool sample(float u1, float u2, LightSample& s, double& cx, double& cy) const {
+        // u1 picks the x that splits off that fraction of S, u2 a y along the
+        // chord at that x, uniform in solid angle.
+        const double au = double(u1) * S + k;
+        const double fu = (std::cos(au) * b0 - b1) / std::sin(au);
+        const double cu = std::clamp((fu > 0 ? 1.0 : -1.0) / std::sqrt(fu * fu + b0 * b0), -1.0, 1.0);
+        const double xu = std::clamp(-(cu * z0) / std::sqrt(std::max(1.0 - cu * cu, 1e-300)), x0, x1);
+        const double dd = std::sqrt(xu * xu + z0 * z0);
+        const double h0 = y0 / std::sqrt(dd * dd + y0 * y0), h1 = y1 / std::sqrt(dd * dd + y1 * y1);
+        const double hv = h0 + double(u2) * (h1 - h0), hv2 = hv * hv;
+        const double yv = std::clamp(hv2 < 1.0 - 1e-12 ? hv * dd / std::sqrt(1.0 - hv2) : y1, y0, y1);
+        const Vec3d q = d + x * (xu - x0) + y * (yv - y0);   // the point on the light, from p (in its plane)
+        const double dist = length(q);
+        if (!(dist > 0)) return false;
+        s.dist = float(dist);
+        s.wi = Vec3(q / dist);
+        cx = xu - x0 - 0.5 * w;
+        cy = yv - y0 - 0.5 * h;
+        return true;
+    }
+};
+
+// The rectangle sampled, for a rect light: the light itself; for a disk, its
+// bounding square.
+inline double sampled_width(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[0]; }
+inline double sampled_height(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[1]; }
+
 constexpr double kMixFrom = 0.9;          // the projected share P from which the strategies mix
 constexpr double kMaxCosineShare = 0.98;  // the light's own points keep at least this much of the samples
 
 struct NearArea {
     SphericalRect rect;   // the sampled rectangle (a disk's bounding square) as seen from the point
     double share = 0;     // the probability of a cosine-weighted direction (0: the light's points only)
-    Vec3 radiance;        // colour / area
+    double area = 0;      // the light's
 };
 
-// Whether L is a rect or disk light near p (sampled by solid angle) that
-// covers enough of the cosine-weighted directions about ns to mix: fills na.
-// P is the sampled rectangle's projected solid angle (Lambert's polygon
-// formula; for a disk, its bounding square's) over pi, a function of p and
-// ns only, as the mixture needs.
-inline bool near_area_light(const Light& L, const Vec3& p, const Vec3& ns, NearArea& na) {
-    if (L.kind != LightKind::Rect && L.kind != LightKind::Disk) return false;
-    if (na.rect.setup(L, sampled_width(L), sampled_height(L), p) != 1) return false;
+// Sets up the sampling of a rect or disk light near p once for all of a shading point's light points, and
+// whether it covers enough of the cosine-weighted directions about ns to mix
+// (share > 0). P is the sampled rectangle's projected solid angle (Lambert's
+// polygon formula; for a disk, its bounding square's) over pi, a function of
+// p and ns only, as the mixture needs. Returns as SphericalRect::setup: -1
+// where the light is not such a light (the caller samples it by
+// sample_light), 0 where p gets no light from it, 1 when set up.
+inline int near_area_light(const Light& L, const Vec3& p, const Vec3& ns, NearArea& na) {
+    if (L.kind != LightKind::Rect && L.kind != LightKind::Disk) return -1;
+    const int got = na.rect.setup(L, sampled_width(L), sampled_height(L), p);
+    if (got != 1) return got;
     const SphericalRect& r = na.rect;
+    na.area = L.kind == LightKind::Disk ? kPi * double(L.radius) * L.radius : r.w * r.h;
+    na.share = 0;
     const Vec3d corner[4] = {r.d, r.d + r.x * r.w, r.d + r.x * r.w + r.y * r.h, r.d + r.y * r.h};
     const Vec3d n(ns);
+    if (!(dot(n, corner[0] + corner[2]) > 0)) return 1;   // the centre below the horizon: P is small
     double sum = 0;
     for (int i = 0; i < 4; ++i) {
         const Vec3d a = normalize(corner[i]), b = normalize(corner[(i + 1) % 4]);
@@ -58,27 +153,25 @@ inline bool near_area_light(const Light& L, const Vec3& p, const Vec3& ns, NearA
         const double len = length(c);
         if (len > 0) sum += std::atan2(len, dot(a, b)) * dot(n, c) / len;
     }
-    const double projected = std::abs(sum) / (2 * kPi);   // in [0, 1]: the polygon's share of the cosine's weight
-    if (!(projected >= kMixFrom)) return false;
-    na.share = std::min(projected * projected * projected * projected, kMaxCosineShare);
-    const double area = L.kind == LightKind::Disk ? kPi * double(L.radius) * L.radius : double(L.size[0]) * L.size[1];
-    na.radiance = L.color * float(1.0 / area);
-    return true;
+    const double projected = std::abs(sum) / (2 * kPi);   // the polygon's share of the cosine's weight
+    if (projected >= kMixFrom) na.share = std::min(projected * projected * projected * projected, kMaxCosineShare);
+    return 1;
 }
 
 // The balance heuristic's estimate, radiance over the mixture's density:
 // the light's points have density 1 / S over the rectangle's solid angle
 // (a disk's points outside it count as drawn and lost), the
 // cosine-weighted directions cos / pi.
-inline Vec3 mixed_intensity(const NearArea& na, const Vec3& ns, const Vec3& wi) {
+inline Vec3 mixed_intensity(const Light& L, const NearArea& na, const Vec3& ns, const Vec3& wi) {
+    if (na.share == 0) return L.color * float(na.rect.S / na.area);   // radiance x S
     const double cos_i = std::max(double(dot(ns, wi)), 0.0);
     const double density = (1 - na.share) / na.rect.S + na.share * cos_i / kPi;
-    return na.radiance * float(1.0 / density);
+    return L.color * float(1.0 / (na.area * density));
 }
 
-// One light point of the mixture for (u1, u2) in [0,1)^2: u1 below `share`
-// draws a cosine-weighted direction (u1 stretched back over [0, 1)), else a
-// point on the light by its solid angle. Fills s; false where the sample
+// One light point of a light set up by near_area_light, for (u1, u2) in
+// [0,1)^2: u1 below `share` draws a cosine-weighted direction (u1 stretched
+// back over [0, 1)), else a point on the light by its solid angle. Fills s; false where the sample
 // brings no light (a direction that misses the light, a disk's point outside it).
 inline bool sample_near_area(const Light& L, const NearArea& na, const Vec3& ns, float u1, float u2, LightSample& s) {
     if (u1 < na.share) {
@@ -96,7 +189,7 @@ inline bool sample_near_area(const Light& L, const NearArea& na, const Vec3& ns,
         const double t_hit = dot(centre, dir) / facing;
         if (!(t_hit > 0) || std::isinf(t_hit)) return false;
         const Vec3d q = w * t_hit - centre;
-        const double cx = dot(q, Vec3d(L.axis_u)), cy = dot(q, Vec3d(L.axis_v));
+        const double cx = dot(q, r.x), cy = dot(q, r.y);
         const bool inside = L.kind == LightKind::Disk
                                 ? cx * cx + cy * cy <= double(L.radius) * L.radius
                                 : std::abs(cx) <= 0.5 * r.w && std::abs(cy) <= 0.5 * r.h;
@@ -108,7 +201,7 @@ inline bool sample_near_area(const Light& L, const NearArea& na, const Vec3& ns,
         if (!na.rect.sample(v, u2, s, cx, cy)) return false;
         if (L.kind == LightKind::Disk && cx * cx + cy * cy > double(L.radius) * L.radius) return false;
     }
-    s.intensity = mixed_intensity(na, ns, s.wi);
+    s.intensity = mixed_intensity(L, na, ns, s.wi);
     return true;
 }
 

@@ -136,8 +136,8 @@ def test_coordinates_beyond_1e30_are_refused():
         gw.Scene(vertices=[[-2e30, 0, 0], [0, 1, 0], [0, 0, 1]], triangles=[[0, 1, 2]])
 
 
-def test_rect_and_disk_lights_need_a_direction():
-    for kind in ("rect", "disk"):
+def test_rect_disk_and_ellipse_lights_need_a_direction():
+    for kind in ("rect", "disk", "ellipse"):
         with pytest.raises(ValueError, match="direction must be non-zero"):
             make(lights=[gw.Light(kind=kind, direction=(0, 0, 0), radius=1.0)])
 

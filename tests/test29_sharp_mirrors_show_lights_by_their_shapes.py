@@ -1,5 +1,5 @@
 """A sharp mirror (roughness 0) shows the lights that have a shape as Cycles does: a rect, a
-disk, a sphere light, a spot with a radius and a sun with an angle appear in it at their
+disk, an ellipse, a sphere light, a spot with a radius and a sun with an angle appear in it at their
 radiance (pi x the light's colour over its area or solid angle: the lights carry the diffuse
 BRDF's 1 / pi), where the mirror ray meets them before any surface, and the mirror's share of
 their highlight goes (the reflection is it), and sharp glass keeps only its Fresnel reflection
@@ -51,6 +51,9 @@ LIGHTS = {   # light, its radiance as a mirror shows it, the area it covers on t
     "disk": (gw.Light(kind="disk", position=(0, 0, 20), radius=1.5, direction=(0, 0, -1),
                       axis_u=(1, 0, 0), axis_v=(0, -1, 0), color=(3, 3, 3), inverse_square=True),
              3 / 1.5 ** 2, math.pi * 1.5 ** 2),
+    "ellipse": (gw.Light(kind="ellipse", position=(0, 0, 20), size=(4.0, 1.5), direction=(0, 0, -1),
+                         axis_u=(1, 0, 0), axis_v=(0, -1, 0), color=(3, 3, 3), inverse_square=True),
+                3 * math.pi / (math.pi * 4.0 * 1.5 / 4), math.pi * 4.0 * 1.5 / 4),
     "sphere": (gw.Light(kind="sphere", position=(0, 0, 20), radius=1.5, color=(3, 3, 3), inverse_square=True),
                3 / 1.5 ** 2, math.pi * 1.5 ** 2),
     "spot": (gw.Light(kind="spot", position=(0, 0, 20), radius=1.5, direction=(0, 0, -1), color=(3, 3, 3),
@@ -73,6 +76,15 @@ def test_a_sharp_mirror_shows_the_light_at_its_radiance_and_size(name):
         for dx in (-1, 0, 1):
             near |= np.roll(inside, (dy, dx), axis=(0, 1))
     assert img[~near].max() == 0                                      # no highlight beside it
+
+
+def test_an_ellipse_shows_its_own_shape():
+    """4 x 1.5 diameters along x and y: as wide and as tall in the mirror (not a disk of its area)."""
+    light, radiance, _ = LIGHTS["ellipse"]
+    inside = render(light) > 0.5 * radiance
+    rows, cols = np.nonzero(inside)
+    width, height = (cols.max() - cols.min() + 1) * pixel_area(), (rows.max() - rows.min() + 1) * pixel_area()
+    assert abs(width / 4.0 - 1) < 0.1 and abs(height / 1.5 - 1) < 0.15
 
 
 def test_a_sun_with_an_angle_shows_as_a_disc_of_its_angle():

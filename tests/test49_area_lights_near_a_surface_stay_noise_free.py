@@ -1,7 +1,7 @@
-"""A rectangular or disk area light near a surface (Blender's area light a
-few centimetres above a floor) is sampled by the solid angle it subtends
-(lights.h, sample_spherical_rect; a disk through its bounding square's, the
-points outside it weighing 0): each light sample weighs radiance x
+"""A rectangular, disk or elliptic area light near a surface (Blender's area
+light a few centimetres above a floor) is sampled by the solid angle it
+subtends (near_area_light.h; a disk or an ellipse through its bounding
+rectangle's, the points outside it weighing 0): each light sample weighs radiance x
 cos x solid angle, so the floor under it is lit as Lambert's polygon formula
 says, without the fireflies of uniform points on the light (their cos /
 distance^2 weight made single pixels thousands of times the mean). Checked
@@ -22,19 +22,24 @@ def _light(shape, height, size):
     if shape == "rect":
         return gw.Light(kind="rect", position=(0, 0, height), size=(size, size), axis_u=(1, 0, 0), axis_v=(0, 1, 0),
                         direction=(0, 0, -1), color=(size * size,) * 3, inverse_square=True)
+    if shape == "ellipse":   # SIZE across along x, twice that along y
+        return gw.Light(kind="ellipse", position=(0, 0, height), size=(size, 2 * size), axis_u=(1, 0, 0),
+                        axis_v=(0, 1, 0), direction=(0, 0, -1), color=(np.pi * size * size / 2,) * 3,
+                        inverse_square=True)
     area = np.pi * (size / 2) ** 2
     return gw.Light(kind="disk", position=(0, 0, height), radius=size / 2, axis_u=(1, 0, 0), axis_v=(0, 1, 0),
                     direction=(0, 0, -1), color=(area,) * 3, inverse_square=True)
 
 
 def _outline(shape, height, size):
-    """The light's outline as a polygon (the disk's: 128 sides of the same area)."""
+    """The light's outline as a polygon (the disk's and the ellipse's: 128 sides of the same area)."""
     h = size / 2
     if shape == "rect":
         return np.array([[-h, -h, height], [h, -h, height], [h, h, height], [-h, h, height]], float)
     a = np.arange(128) * (2 * np.pi / 128)
     r = h * np.sqrt(2 * np.pi / (128 * np.sin(2 * np.pi / 128)))
-    return np.stack([r * np.cos(a), r * np.sin(a), np.full(128, height)], axis=1)
+    squash = 2.0 if shape == "ellipse" else 1.0
+    return np.stack([r * np.cos(a), squash * r * np.sin(a), np.full(128, height)], axis=1)
 
 
 def _render(height, settings, shape="rect", size=SIZE):
@@ -67,7 +72,7 @@ def _scale():
     return float(np.mean(got / _expected(12.0)))
 
 
-@pytest.mark.parametrize("shape", ["rect", "disk"])
+@pytest.mark.parametrize("shape", ["rect", "disk", "ellipse"])
 @pytest.mark.parametrize("height", [0.5, 0.05, 0.002])
 def test_a_near_area_light_lights_the_floor_as_its_irradiance_says(height, shape):
     k = _scale()
@@ -80,7 +85,7 @@ def test_a_near_area_light_lights_the_floor_as_its_irradiance_says(height, shape
     # to speak of; in all, everywhere.
     c = (np.arange(N) + 0.5) / N * 1.6 - 0.8
     x, y = np.tile(1.5 + c, N), np.repeat(c[::-1], N)
-    edge = np.abs(x - 1.5) if shape == "rect" else np.abs(np.hypot(x, y) - 1.5)
+    edge = np.abs(x - 1.5) if shape == "rect" else np.abs(np.hypot(x, y / (2 if shape == "ellipse" else 1)) - 1.5)
     judged = (expected > 0.01 * expected.max()) & (edge > 1.6 / N)
     assert judged.mean() > 0.4 and np.abs(many / expected - 1)[judged].mean() < 0.01
     assert abs(many.sum() / expected.sum() - 1) < 0.01
@@ -92,7 +97,7 @@ def test_a_near_area_light_lights_the_floor_as_its_irradiance_says(height, shape
     assert abs(one.mean() / expected.mean() - 1) < 0.05
 
 
-@pytest.mark.parametrize("shape", ["rect", "disk"])
+@pytest.mark.parametrize("shape", ["rect", "disk", "ellipse"])
 def test_a_light_filling_the_view_is_sampled_by_the_cosine(shape):
     """A 40 m light 1 m above the floor covers about 0.99 of the cosine's weight at the points seen.
     Sampled by its solid angle alone, one light sample a pixel deviates from the irradiance by about

@@ -7,22 +7,23 @@ irradiance S in W/m^2. Our core shades a diffuse surface as
 with no 1/pi in the BRDF. Cycles' diffuse BRDF is albedo/pi, so matching Cycles
 means folding 1/pi into the light colour:
     point, sphere, spot : I = P / (4 pi)    [W/sr]   -> light.color = rgb * P / (4 pi^2)
-    area (rect, disk)   : I = P / pi on its axis     -> light.color = rgb * P / pi^2
+    area (rect, disk, ellipse): I = P / pi on its axis     -> light.color = rgb * P / pi^2
                           (Blender before 4.0: I = P / 4, color = rgb * P / (4 pi))
     sun                 : E = S             [W/m^2]  -> light.color = rgb * S / pi
 where rgb is the light colour (times the blackbody colour when "use temperature"
 is on) and P or S is multiplied by 2^exposure (Blender 4.0+). With "normalize"
 off (Blender 4.0+), an area or sphere light's power scales with its area, so
 P is multiplied by that area. Area lights are one-sided Lambertian emitters in
-both renderers (the core multiplies by the cosine at the emitter), so rect and
-disk lights match Cycles in every direction, not only on their axis.
+both renderers (the core multiplies by the cosine at the emitter), so rect,
+disk and ellipse lights match Cycles in every direction, not only on their axis.
 
 Cast Shadow off: the light reaches every point facing it (casts_shadows).
 
 Geometry. Lights point along their local -Z axis. A point light with radius
 r > 0 becomes a "sphere" light. Sun "angle" is its angular diameter. Area
 lights: SQUARE (size x size), RECTANGLE (size x size_y), DISK (diameter size),
-ELLIPSE (a disk of equal area); area sizes are scaled by the object's scale,
+ELLIPSE (diameters size x size_y; a disk scaled unevenly by its object is an
+ellipse too); area sizes are scaled by the object's scale,
 point/spot radii are not (as in Blender).
 axis_u = local X, axis_v = -local Y, so u x v = -Z, the emitting side.
 A sun, spot or area light whose object is scaled to zero (how artists switch
@@ -113,7 +114,9 @@ def _area_shape(light, sx: float, sy: float):
     if shape in ("SQUARE", "RECTANGLE"):
         return "rect", (w, h), 0.0, w * h
     area = math.pi * w * h / 4.0
-    return "disk", (w, h), math.sqrt(w * h) / 2.0, area
+    if w == h:
+        return "disk", (w, h), w / 2.0, area
+    return "ellipse", (w, h), 0.0, area
 
 
 def convert_light(light, matrix) -> Light:

@@ -66,7 +66,8 @@ GW_ENUM(PixelFilter, GW_PIXEL_FILTERS)
     X(Rect, "rect", "Rectangle", "A one-sided rectangle of the given size, emitting along direction") \
     X(Disk, "disk", "Disk", "A one-sided disk of the given radius, emitting along direction")    \
     X(Sun, "sun", "Sun", "A direction, with an angular diameter for soft shadows")              \
-    X(Spot, "spot", "Spot", "A point emitting in a cone around direction")
+    X(Spot, "spot", "Spot", "A point emitting in a cone around direction")                     \
+    X(Ellipse, "ellipse", "Ellipse", "A one-sided ellipse whose diameters along axis_u, axis_v are size, emitting along direction")
 GW_ENUM(LightKind, GW_LIGHT_KINDS)
 
 #define GW_PROJECTIONS(X)                                                                                   \

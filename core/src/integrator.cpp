@@ -96,6 +96,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         const bool has_area = L.kind == LightKind::Sphere || L.kind == LightKind::Spot ? L.radius > 0
                             : L.kind == LightKind::Rect   ? L.size[0] > 0 || L.size[1] > 0
                             : L.kind == LightKind::Disk   ? L.radius > 0
+                            : L.kind == LightKind::Ellipse ? L.size[0] > 0 && L.size[1] > 0
                             : L.kind == LightKind::Sun    ? L.angle > 0
                                                           : false;
         // A sharp mirror reflects what its rays see: a light with a shape (lights_seen),

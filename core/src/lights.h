@@ -54,6 +54,32 @@ inline float spot_cone(const Light& L, float c) {
     return x * x * (3.0f - 2.0f * x);
 }
 
+// Rect, disk and ellipse lights: flat, one-sided (Lambertian) emitters.
+inline bool is_flat(const Light& L) {
+    return L.kind == LightKind::Rect || L.kind == LightKind::Disk || L.kind == LightKind::Ellipse;
+}
+
+// A flat light's area.
+inline double flat_area(const Light& L) {
+    return L.kind == LightKind::Disk      ? kPi * double(L.radius) * L.radius
+           : L.kind == LightKind::Ellipse ? 0.25 * kPi * double(L.size[0]) * L.size[1]
+                                          : double(L.size[0]) * L.size[1];
+}
+
+// Whether the point of a flat light's plane at (cx, cy) from its centre,
+// along axis_u and axis_v, lies on the light.
+inline bool on_flat_light(const Light& L, double cx, double cy) {
+    switch (L.kind) {
+    case LightKind::Rect: return std::abs(cx) <= 0.5 * L.size[0] && std::abs(cy) <= 0.5 * L.size[1];
+    case LightKind::Disk: return cx * cx + cy * cy <= double(L.radius) * L.radius;
+    case LightKind::Ellipse: {
+        const double a = 0.5 * L.size[0], b = 0.5 * L.size[1];   // (> 0: has_visible_shape, has_area)
+        return (cx * cx) / (a * a) + (cy * cy) / (b * b) <= 1.0;
+    }
+    default: return false;
+    }
+}
+
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
 // Rect and disk lights get uniform points on their area here; near the
 // shading point, where those weigh cos / distance^2 and explode,
@@ -99,6 +125,12 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         pos = L.position + (L.axis_u * x + L.axis_v * y) * L.radius;
         break;
     }
+    case LightKind::Ellipse: {
+        float x, y;
+        concentric_disk(u1, u2, x, y);
+        pos = L.position + L.axis_u * (x * 0.5f * L.size[0]) + L.axis_v * (y * 0.5f * L.size[1]);
+        break;
+    }
     default:
         break;
     }
@@ -110,7 +142,7 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
     if (!(s.dist > 0)) return false;
     s.wi = to / s.dist;
     s.intensity = L.color;
-    if (L.kind == LightKind::Rect || L.kind == LightKind::Disk) {
+    if (is_flat(L)) {
         const float c = dot(L.direction, -s.wi);   // one-sided Lambertian emitter
         if (c <= 0) return false;
         s.intensity *= c;
@@ -143,7 +175,8 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
 // lights without distance falloff (NFF's) no radiance to show.
 inline bool has_visible_shape(const Light& L) {
     switch (L.kind) {
-    case LightKind::Rect: return L.inverse_square && L.size[0] > 0 && L.size[1] > 0;
+    case LightKind::Rect:
+    case LightKind::Ellipse: return L.inverse_square && L.size[0] > 0 && L.size[1] > 0;
     case LightKind::Disk:
     case LightKind::Sphere:
     case LightKind::Spot: return L.inverse_square && L.radius > 0;
@@ -157,11 +190,12 @@ inline bool has_visible_shape(const Light& L) {
 // units of a camera ray's colour (pi x the light's colour over its area or,
 // for the sun, over its solid angle: the lights carry the diffuse BRDF's
 // 1 / pi, see blender_addon/export/lights.py). False where the ray misses it
-// or meets a rect or disk light from behind.
+// or meets a flat light from behind.
 inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float& t, Vec3& radiance) {
     switch (L.kind) {
     case LightKind::Rect:
-    case LightKind::Disk: {
+    case LightKind::Disk:
+    case LightKind::Ellipse: {
         const float facing = dot(d, L.direction);
         if (!(facing < 0)) return false;                   // from behind (or along its plane)
         t = dot(L.position - o, L.direction) / facing;
@@ -171,9 +205,12 @@ inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float&
             if (!(std::abs(dot(q, L.axis_u)) <= 0.5f * L.size[0] && std::abs(dot(q, L.axis_v)) <= 0.5f * L.size[1]))
                 return false;
             radiance = L.color * float(kPi / (double(L.size[0]) * double(L.size[1])));
-        } else {
+        } else if (L.kind == LightKind::Disk) {
             if (!(dot(q, q) <= L.radius * L.radius)) return false;
             radiance = L.color * float(1.0 / (double(L.radius) * double(L.radius)));
+        } else {
+            if (!on_flat_light(L, dot(q, L.axis_u), dot(q, L.axis_v))) return false;
+            radiance = L.color * float(kPi / flat_area(L));
         }
         return true;
     }

@@ -1,13 +1,14 @@
-// Rect and disk lights near the shading point (within twice the diagonal of
-// the rectangle sampled: the light, or a disk's bounding square, from its
+// Flat lights (rect, disk, ellipse) near the shading point (within twice the
+// diagonal of the rectangle sampled: the light, or its bounding rectangle, from its
 // centre; Blender's lights, with physical falloff). Uniform points on such a
 // light weigh cos / distance^2, which explodes as the point nears it (a light
 // 0.05 above a floor gave pixels 200 times Cycles' brightest), so these are
 // sampled here instead, by two strategies:
 // * points uniform in the solid angle the light subtends (SphericalRect):
 //   each weighs radiance x cos x solid angle, never more than radiance x 2 pi.
-//   A disk is sampled over its bounding square, the points outside it
-//   weighing 0 (at most a quarter of them, fewer where it fills the view);
+//   A disk or an ellipse is sampled over its bounding rectangle, the points
+//   outside it weighing 0 (at most a quarter of them, fewer where it fills
+//   the view);
 // * for a light that fills nearly all of the view (a large light just above a
 //   floor), directions drawn cosine-weighted about the shading normal that
 //   happen to meet the light, mixed with the above: each light point picks one
@@ -115,8 +116,8 @@ struct SphericalRect {
     }
 };
 
-// The rectangle sampled, for a rect light: the light itself; for a disk, its
-// bounding square.
+// The rectangle sampled, for a rect light: the light itself; for a disk or
+// an ellipse, its bounding rectangle.
 inline double sampled_width(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[0]; }
 inline double sampled_height(const Light& L) { return L.kind == LightKind::Disk ? 2.0 * L.radius : L.size[1]; }
 
@@ -137,11 +138,11 @@ struct NearArea {
 // where the light is not such a light (the caller samples it by
 // sample_light), 0 where p gets no light from it, 1 when set up.
 inline int near_area_light(const Light& L, const Vec3& p, const Vec3& ns, NearArea& na) {
-    if (L.kind != LightKind::Rect && L.kind != LightKind::Disk) return -1;
+    if (!is_flat(L)) return -1;
     const int got = na.rect.setup(L, sampled_width(L), sampled_height(L), p);
     if (got != 1) return got;
     const SphericalRect& r = na.rect;
-    na.area = L.kind == LightKind::Disk ? kPi * double(L.radius) * L.radius : r.w * r.h;
+    na.area = flat_area(L);
     na.share = 0;
     const Vec3d corner[4] = {r.d, r.d + r.x * r.w, r.d + r.x * r.w + r.y * r.h, r.d + r.y * r.h};
     const Vec3d n(ns);
@@ -190,16 +191,13 @@ inline bool sample_near_area(const Light& L, const NearArea& na, const Vec3& ns,
         if (!(t_hit > 0) || std::isinf(t_hit)) return false;
         const Vec3d q = w * t_hit - centre;
         const double cx = dot(q, r.x), cy = dot(q, r.y);
-        const bool inside = L.kind == LightKind::Disk
-                                ? cx * cx + cy * cy <= double(L.radius) * L.radius
-                                : std::abs(cx) <= 0.5 * r.w && std::abs(cy) <= 0.5 * r.h;
-        if (!inside) return false;
+        if (!on_flat_light(L, cx, cy)) return false;
         s.dist = float(t_hit);
     } else {
         double cx, cy;
         const float v = std::min(float((u1 - na.share) / (1 - na.share)), 0.99999994f);
         if (!na.rect.sample(v, u2, s, cx, cy)) return false;
-        if (L.kind == LightKind::Disk && cx * cx + cy * cy > double(L.radius) * L.radius) return false;
+        if (L.kind != LightKind::Rect && !on_flat_light(L, cx, cy)) return false;
     }
     s.intensity = mixed_intensity(L, na, ns, s.wi);
     return true;

@@ -107,8 +107,7 @@ void prepare_light(Light& l, const std::string& where) {
     need_finite(where, "spot_size", l.spot_size);
     need_finite(where, "spot_blend", l.spot_blend);
     if (!(l.spot_blend >= 0 && l.spot_blend <= 1)) refuse(where, "spot_blend", "must be in [0, 1], got " + show(l.spot_blend));
-    const bool directed = l.kind == LightKind::Sun || l.kind == LightKind::Spot || l.kind == LightKind::Rect ||
-                          l.kind == LightKind::Disk;
+    const bool directed = l.kind == LightKind::Sun || l.kind == LightKind::Spot || is_flat(l);
     if (directed && length(l.direction) == 0)
         refuse(where, "direction", std::string("must be non-zero for a ") + enum_id(l.kind) + " light");
     l.axis_u = normalize(l.axis_u);

@@ -52,8 +52,9 @@ def test_every_light_type_is_exported(export, any_blender):
     np.testing.assert_allclose(rect["size"], [3.0, 1.0], rtol=1e-5)   # object scale (1.5, 2)
     disk = get("Disk")
     assert disk["kind"] == "disk" and disk["radius"] == pytest.approx(0.5)
-    ellipse = get("Ellipse")
-    assert ellipse["kind"] == "disk" and ellipse["radius"] == pytest.approx(0.5)   # equal area
+    ellipse = get("Ellipse")   # size 2, size_y 0.5: its own shape (it was a disk of equal area)
+    assert ellipse["kind"] == "ellipse"
+    np.testing.assert_allclose(ellipse["size"], [2.0, 0.5], rtol=1e-5)
     assert len(out.lights) == 8
 
 

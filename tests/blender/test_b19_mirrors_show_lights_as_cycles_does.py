@@ -1,4 +1,4 @@
-"""A sharp mirror (Principled, Metallic 1, Roughness 0) shows an area light (rectangle, disk), a
+"""A sharp mirror (Principled, Metallic 1, Roughness 0) shows an area light (rectangle, disk, ellipse), a
 point light with a radius, a spot with a radius and a sun with an angle by their shapes, at
 Cycles' brightness, in bpy 4.5, bpy 5.0 and Debian's 3.4; a point light without a radius leaves
 nothing in it, as in Cycles. GRIDWALK showed each as a Blinn-Phong highlight, a dot of another
@@ -10,8 +10,8 @@ import pytest
 
 from runner import luminance_by_engine
 
-SHAPED = ["rect", "disk", "sphere", "spot", "sun"]
-AREA = ["rect", "disk"]
+SHAPED = ["rect", "disk", "ellipse", "sphere", "spot", "sun"]
+AREA = ["rect", "disk", "ellipse"]
 
 
 @pytest.fixture(scope="module")

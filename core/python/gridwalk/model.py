@@ -248,20 +248,20 @@ def _light_kind(value, where):
 
 @dataclass
 class Light(Record):
-    """A light. kind: point | sphere | rect | disk | sun | spot.
+    """A light. kind: point | sphere | rect | disk | ellipse | sun | spot.
 
-    position: centre (point, sphere, rect, disk, spot).
+    position: centre (point, sphere, rect, disk, ellipse, spot).
     color: RGB radiant intensity scale (already multiplied by strength).
     radius: sphere / disk radius (a point light with radius > 0 is a sphere; a spot
     with radius > 0 is a sphere whose cone weighs each sampled point, as in Cycles).
-    size: (w, h) of a rect light, along axis_u and axis_v.
-    axis_u, axis_v: orientation of rect / disk lights (emitting along u x v).
+    size: (w, h) of a rect light, or an ellipse's diameters, along axis_u and axis_v.
+    axis_u, axis_v: orientation of rect / disk / ellipse lights (emitting along u x v).
     direction: direction light travels (sun), or spot axis.
     angle: sun angular diameter (radians).
     spot_size: full cone angle (radians); spot_blend: 0..1 soft edge.
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
-    Area lights (rect, disk) emit along `direction` with a cosine falloff.
+    Area lights (rect, disk, ellipse) emit along `direction` with a cosine falloff.
     """
     position: tuple = _LIGHT.position
     color: tuple = _LIGHT.color

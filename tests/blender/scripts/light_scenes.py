@@ -11,6 +11,7 @@ from scenes import add_light, reset
 MIRRORED_LIGHTS = {
     "rect": ("AREA", {"shape": "RECTANGLE", "size": 2.0, "size_y": 1.0, "energy": 20.0}),
     "disk": ("AREA", {"shape": "DISK", "size": 1.5, "energy": 20.0}),
+    "ellipse": ("AREA", {"shape": "ELLIPSE", "size": 2.4, "size_y": 0.8, "energy": 20.0}),
     "sphere": ("POINT", {"shadow_soft_size": 0.3, "energy": 20.0}),
     "sun": ("SUN", {"angle": math.radians(10.0), "energy": 0.1}),
     "point": ("POINT", {"shadow_soft_size": 0.0, "energy": 20.0}),

@@ -109,7 +109,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
-        // A rect or disk light near the point: set up once for its light points (near_area_light.h).
+        // A flat light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
         const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
         Vec3 sum;

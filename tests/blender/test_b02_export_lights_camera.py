@@ -55,7 +55,12 @@ def test_every_light_type_is_exported(export, any_blender):
     ellipse = get("Ellipse")   # size 2, size_y 0.5: its own shape (it was a disk of equal area)
     assert ellipse["kind"] == "ellipse"
     np.testing.assert_allclose(ellipse["size"], [2.0, 0.5], rtol=1e-5)
-    assert len(out.lights) == 8
+    np.testing.assert_allclose(ellipse["color"], [40 * area] * 3, rtol=1e-5)
+    oval = get("Oval")         # a disk of size 1 scaled (1, 2)
+    assert oval["kind"] == "ellipse"
+    np.testing.assert_allclose(oval["size"], [1.0, 2.0], rtol=1e-5)
+    np.testing.assert_allclose(oval["color"], [40 * area] * 3, rtol=1e-5)
+    assert len(out.lights) == 9
 
 
 def test_a_light_dimmed_by_its_nodes_is_dimmed_and_other_light_nodes_are_named(export):

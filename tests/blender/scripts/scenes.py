@@ -254,6 +254,8 @@ def lights_scene(nodes=False):
     rect = add_light("Rect", "AREA", (0, -3, 5), energy=60.0, shape="RECTANGLE", size=2.0, size_y=0.5)
     rect.scale = (1.5, 2.0, 1.0)
     add_light("Disk", "AREA", (3, 3, 5), energy=40.0, shape="DISK", size=1.0)
+    oval = add_light("Oval", "AREA", (3, -3, 5), energy=40.0, shape="DISK", size=1.0)
+    oval.scale = (1.0, 2.0, 1.0)   # a disk scaled unevenly: an ellipse
     ellipse = add_light("Ellipse", "AREA", (-3, 3, 5), energy=40.0, shape="ELLIPSE", size=2.0, size_y=0.5)
     if hasattr(ellipse.data, "cycles") and hasattr(ellipse.data.cycles, "cast_shadow"):   # Blender 3.x: Cycles' own
         ellipse.data.cycles.cast_shadow = False

@@ -223,12 +223,35 @@ def _from_principled(node, textured):
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
                                    tuple(c * strength for c in emission_color), specular_albedo)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
-    for names in (("Coat Weight", "Clearcoat"), ("Sheen Weight", "Sheen"), ("Subsurface Weight", "Subsurface")):
-        socket = _socket(node, *names)         # (4.x names, then 3.x)
-        value = input_value(socket) if socket is not None else 0.0
-        if socket is not None and (_source(socket)[0] is not None or value > 0):
-            textured.unmodelled.append(f"{socket.name} {value:g}")
+    _name_unread(node, PRINCIPLED_UNREAD, textured)
+    if strength < 0 and any(c > 0 for c in emission_color):   # (the core takes no negative light)
+        textured.unmodelled.append(f"Emission Strength {strength:g}")
     return material
+
+
+# Inputs of the shaders that the Whitted model has no term for, by the names
+# they have had (4.x, then 3.x): where one is linked or set away from its
+# neutral value (0, or white for a 4.x Specular Tint), the material is
+# rendered as if it were not and the warning names it.
+PRINCIPLED_UNREAD = (("Coat Weight", "Clearcoat"), ("Sheen Weight", "Sheen"), ("Subsurface Weight", "Subsurface"),
+                     ("Specular Tint",), ("Anisotropic",), ("Thin Film Thickness",), ("Diffuse Roughness",))
+OTHER_UNREAD = {"BSDF_DIFFUSE": (("Roughness",),), "BSDF_GLOSSY": (("Anisotropy",),),
+                "BSDF_ANISOTROPIC": (("Anisotropy",),)}
+
+
+def _name_unread(node, inputs, links: Links):
+    """Appends each of `inputs` that would change Cycles' image to links.unmodelled."""
+    for names in inputs:
+        socket = _socket(node, *names)
+        if socket is None:
+            continue
+        value = input_value(socket)
+        if isinstance(value, tuple):   # a colour: neutral when white
+            neutral, shown = min(value[:3]) >= 1.0, "(" + ", ".join(f"{c:g}" for c in value[:3]) + ")"
+        else:
+            neutral, shown = value == 0, f"{value:g}"
+        if _source(socket)[0] is not None or not neutral:
+            links.unmodelled.append(f"{socket.name} {shown}")
 
 
 def _from_other_bsdf(node, textured):
@@ -239,6 +262,7 @@ def _from_other_bsdf(node, textured):
         return principled_material(hair, 0.0, _value(node, "Roughness", 0.3, textured), 0.0,
                                    _value(node, "IOR", 1.55, textured), 0.04)
     color = _value(node, "Color", (0.8, 0.8, 0.8), textured, "color_texture")
+    _name_unread(node, OTHER_UNREAD.get(kind, ()), textured)
     if kind == "BSDF_DIFFUSE":
         return principled_material(color, 0.0, 1.0, 0.0, 1.45, 0.0)
     if kind in ("BSDF_GLOSSY", "BSDF_ANISOTROPIC"):
@@ -420,7 +444,7 @@ def convert_material(mat, textures=None):
     if links.textured:
         problems.append("inputs " + ", ".join(sorted(set(links.textured))) + " use their default values")
     if links.unmodelled:
-        problems.append(", ".join(links.unmodelled) + " not modelled (rendered as 0)")
+        problems.append(", ".join(links.unmodelled) + " not modelled (rendered as if unset)")
     return result, "; ".join(problems) or None, links
 
 

@@ -99,8 +99,13 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
     assert "TwoMaps" not in said                  # each material its own UV map, below
     assert "Object 'NanUV': 2 triangle corners have a non-finite UV or colour (NaN or Inf), read as 0" in said
     assert "World 'Hidden': Ray Visibility > Camera off is not supported" in said
-    assert re.search(r"Layers: (Coat Weight|Clearcoat) 0\.5, (Sheen Weight|Sheen) 1 not modelled \(rendered as 0\)",
+    assert re.search(r"Layers: (Coat Weight|Clearcoat) 0\.5, (Sheen Weight|Sheen) 1 not modelled \(rendered as if unset\)",
                      said), said
+    # Specular Tint (4.x a colour, 3.x a float), Anisotropic, a negative Emission Strength (the core takes
+    # no negative light: it gave a grey surface where Cycles' is black) and a Diffuse BSDF's Roughness
+    assert re.search(r"Tinted: Specular Tint (\(1, 0\.2, 0\.2\)|0\.5), Anisotropic 0\.9, Emission Strength -2 not "
+                     r"modelled \(rendered as if unset\)", said), said
+    assert "RoughDiffuse: Roughness 0.6 not modelled (rendered as if unset)" in said
     # bump, normal maps and displacement were ignored without a word
     assert ("Bumpy: Normal (ShaderNodeBump) not read: the surface is shaded with the mesh's own normals" in said), said
     assert "Displaced: Displacement (ShaderNodeDisplacement) not read" in said

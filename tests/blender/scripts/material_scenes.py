@@ -660,6 +660,16 @@ def unread_settings_scene(override=False):
     for names, value in ((("Coat Weight", "Clearcoat"), 0.5), (("Sheen Weight", "Sheen"), 1.0)):
         bsdf.inputs[next(n for n in names if n in bsdf.inputs)].default_value = value
     _plane("Layered", 1.0, (4.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(layers)
+    tinted = principled_material("Tinted", (0.5, 0.5, 0.5))       # inputs without a term, named too
+    bsdf = tinted.node_tree.nodes["Principled BSDF"]
+    tint = bsdf.inputs["Specular Tint"]
+    tint.default_value = (1.0, 0.2, 0.2, 1.0) if hasattr(tint.default_value, "__len__") else 0.5
+    bsdf.inputs["Anisotropic"].default_value = 0.9
+    bsdf.inputs["Emission Strength"].default_value = -2.0
+    bsdf.inputs[next(n for n in ("Emission Color", "Emission") if n in bsdf.inputs)].default_value = (1, 1, 1, 1)
+    _plane("TintedPlane", 1.0, (4.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(tinted)
+    rough = shader_material("RoughDiffuse", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0)), ("Roughness", 0.6)])
+    _plane("RoughPlane", 1.0, (6.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(rough)
     bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Noise -> Bump -> Normal
     nodes, node_links = bumpy.node_tree.nodes, bumpy.node_tree.links
     bump = nodes.new("ShaderNodeBump")

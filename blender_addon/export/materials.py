@@ -44,7 +44,9 @@ factor is folded into the light intensities, see lights.py):
   mirror        = m,  roughness = r  (glossy when r > 0)
   metallic      = m   (the metal's share of the highlight and of the mirror
                   reflection takes the base colour: gold reflects gold)
-  transmittance = t,  ior = IOR
+  transmittance = t,  ior = IOR,  tints_refraction = t > 0 (the base colour
+                  tints what passes, as Cycles' coloured glass; the Glass BSDF's
+                  Color its reflection too: tints_reflection)
   emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength;
                   an Emission Color fed by an image: emission_texture, and
                   emission_color the strength)
@@ -191,7 +193,7 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     under = 1.0 - min(max(specular_albedo, 0.0), 1.0)
     return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, metallic=m, roughness=r, **_emission(emission))
+                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, **_emission(emission))
 
 
 def _emission(emission) -> dict:
@@ -267,9 +269,11 @@ def _from_other_bsdf(node, textured):
         return principled_material(color, 0.0, 1.0, 0.0, 1.45, 0.0)
     if kind in ("BSDF_GLOSSY", "BSDF_ANISOTROPIC"):
         return principled_material(color, 1.0, _value(node, "Roughness", 0.5, textured), 0.0, 1.45, 0.0)
-    if kind == "BSDF_GLASS":
-        return principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
-                                   _value(node, "IOR", 1.45, textured), 0.04)
+    if kind == "BSDF_GLASS":   # (its Color tints what it reflects as well as what it refracts)
+        glass = principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
+                                    _value(node, "IOR", 1.45, textured), 0.04)
+        glass.tints_reflection = True
+        return glass
     if kind == "BSDF_HAIR":
         return principled_material(color, 0.0, 0.5, 0.0, 1.55, 0.04)
     if kind == "EMISSION":

@@ -43,6 +43,8 @@ void bind_records(nb::module_& m) {
         .def_rw("bump_distance", &Material::bump_distance)
         .def_rw("bump_strength", &Material::bump_strength)
         .def_rw("vertex_color", &Material::vertex_color)
+        .def_rw("tints_refraction", &Material::tints_refraction)
+        .def_rw("tints_reflection", &Material::tints_reflection)
         .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 

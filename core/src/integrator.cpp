@@ -24,9 +24,10 @@ Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& 
     return trace(ray, 1, 1.0f, false, RayType::Primary, st, ctx, fh, view_axis);
 }
 
-// 1 where the light is seen, 0 where it is blocked; in between behind
-// surfaces that let light through (only scenes with such materials pay for it).
-float Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
+// 1 where the light is seen, 0 where it is blocked, per channel; in between
+// behind surfaces that let light through, tinted by coloured glass (only
+// scenes with such materials pay for it).
+Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                           TraceContext& ctx) const {
     Ray r;
     r.o = offset_origin(p, p_err, ng, wi);
@@ -36,14 +37,15 @@ float Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, cons
     r.spawned = true;
     ++ctx.stats.rays[int(RayType::Shadow)];
     if (scene_.transparent_shadows()) return transmission(r, dist, ctx);
-    return accel_.occluded(RayPre(r), ctx) ? 0.0f : 1.0f;
+    return accel_.occluded(RayPre(r), ctx) ? Vec3(0, 0, 0) : Vec3(1, 1, 1);
 }
 
 // Whitted's transparent shadows: each surface on the way passes (1 - alpha)
-// of the light uncovered plus its transmittance of the covered part.
-float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
+// of the light uncovered plus its transmittance of the covered part, tinted
+// by its colour where it tints what it refracts (coloured glass).
+Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
     const Vec3 target = r.o + r.d * (std::isinf(dist) ? 0.0f : dist);
-    float through = 1;
+    Vec3 through(1, 1, 1);
     for (int crossings = 0; crossings < 64; ++crossings) {
         const RayPre rp(r);
         Hit hit;
@@ -51,7 +53,7 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
         if (!accel_.closest(rp, hit, ctx)) return through;
         const SurfacePoint sp = scene_.surface(rp, hit);
         const Material& m = scene_.materials()[size_t(sp.material)];
-        if (!m.lets_light_through()) return 0;
+        if (!m.lets_light_through()) return Vec3(0, 0, 0);
         const float alpha = scene_.alpha_at(m, hit);
         float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
         if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects (Schlick's Fresnel at the ray's
@@ -59,13 +61,14 @@ float Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
             const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);   // angle; IOR 1: none)
             passed *= 1.0f - (r0 + (1.0f - r0) * c * c * c * c * c);
         }
-        through *= (1 - alpha) + alpha * passed;
-        if (through <= 1e-4f) return 0;
+        const Vec3 tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
+        through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
+        if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, r.d);
         if (!std::isinf(dist)) r.tmax = std::max(dot(target - r.o, r.d), 0.0f) * (1.0f - 1e-5f);
         ++ctx.stats.rays[int(RayType::Shadow)];
     }
-    return 0;
+    return Vec3(0, 0, 0);
 }
 
 // The shadowing of diffuse light by the bumps a normal map stands for
@@ -134,8 +137,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (c.x <= 0 && c.y <= 0 && c.z <= 0) continue;
             if (!L.casts_shadows) {
                 sum += c;
-            } else if (const float vis = visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx); vis > 0) {
-                sum += vis == 1 ? c : c * vis;
+            } else {
+                sum += c * visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx);
             }
         }
         total += sum * (1.0f / float(count));
@@ -201,9 +204,9 @@ Vec3 Integrator::world_blocked(const SurfacePoint& sp, const Vec3& ng, const Vec
         const float pdf = map.empty() ? cosine_pdf : 0.5f * (map.pdf(scene_.to_environment(wi)) + cosine_pdf);
         if (!(pdf > 0)) continue;
         // Below the true surface the surface itself blocks the world.
-        const float vis = dot(ng, wi) > 0 ? visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) : 0.0f;
-        if (vis >= 1) continue;
-        sum += scene_.world_light(wi) * ((1.0f - vis) * cos_i * float(1 / kPi) / pdf);
+        const Vec3 vis = dot(ng, wi) > 0 ? visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) : Vec3(0, 0, 0);
+        if (std::min(vis.x, std::min(vis.y, vis.z)) >= 1) continue;
+        sum += scene_.world_light(wi) * (Vec3(1, 1, 1) - vis) * (cos_i * float(1 / kPi) / pdf);
     }
     return sum * (1.0f / float(count));
 }
@@ -223,8 +226,7 @@ Vec3 Integrator::sun_seen(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns
         const Vec3 e = sun.sample(u1, u2), wi = scene_.from_environment(e);
         const float cos_i = dot(ns, wi), pdf = sun.pdf(e);
         if (!(cos_i > 0) || !(pdf > 0) || dot(ng, wi) <= 0) continue;
-        if (const float vis = visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx); vis > 0)
-            sum += sun.radiance(e) * (vis * cos_i * float(1 / kPi) / pdf);
+        sum += sun.radiance(e) * visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) * (cos_i * float(1 / kPi) / pdf);
     }
     return sum * (1.0f / float(count));
 }
@@ -281,7 +283,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         }
         const Vec3 c = f * intensity;
         if (!(c.x > 0 || c.y > 0 || c.z > 0)) continue;
-        if (const float vis = visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx); vis > 0) sum += vis == 1 ? c : c * vis;
+        sum += c * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
     }
     return sum * (1.0f / float(count));
 }
@@ -467,13 +469,15 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         Vec3 rdir = d - ns * (2.0f * dot(d, ns));
         if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));
         const Vec3 reflected = glossy_lobe(sp, ng, normalize(rdir), m.roughness, depth, weight * refl, split, false, st, ctx);
-        color += m.metallic > 0 ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
-                                : reflected * refl;
+        color += m.metallic > 0        ? reflected * metal_tint(m, std::min(m.metallic, m.mirror) / refl) * refl
+                 : m.tints_reflection ? reflected * m.color * refl
+                                       : reflected * refl;
     }
     if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {
         // (IOR 1 bends nothing, however rough the surface: the ray goes straight on)
         const float roughness = m.ior == 1.0f ? 0.0f : m.roughness;
-        color += glossy_lobe(sp, ng, tdir, roughness, depth, weight * trans, split, true, st, ctx) * trans;
+        const Vec3 passed = glossy_lobe(sp, ng, tdir, roughness, depth, weight * trans, split, true, st, ctx) * trans;
+        color += m.tints_refraction ? passed * m.color : passed;
     }
     return color;
 }

@@ -62,9 +62,9 @@ private:
     // any surface (lights.h, light_shape_hit): their radiance, summed (lights are
     // transparent, as in Cycles: the ray goes on to what lies behind).
     Vec3 lights_seen(const Ray& r, TraceContext& ctx) const;
-    float visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
-                  TraceContext& ctx) const;
-    float transmission(Ray r, float dist, TraceContext& ctx) const;
+    Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
+                 TraceContext& ctx) const;
+    Vec3 transmission(Ray r, float dist, TraceContext& ctx) const;
     Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
                           SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     Vec3 shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth, float weight, bool split,

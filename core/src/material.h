@@ -44,6 +44,11 @@ struct Material {
     // Its triangles light other surfaces with what they emit (emitters.h), as
     // area lights do; without it emission is only seen.
     bool emits_light = false;
+    // The colour tints the light the surface refracts (Cycles' Principled
+    // transmission and Glass BSDF: coloured glass), also along shadow rays
+    // through it, and with tints_reflection what it reflects too (the Glass
+    // BSDF). NFF's transmission (and Whitted's) is not tinted.
+    bool tints_refraction = false, tints_reflection = false;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.

@@ -130,7 +130,10 @@ class Material(Record):
     emits_light: the material's triangles also light other surfaces with what
     they emit (color * emission + emission_color, textures applied), from both
     sides, sampled as area lights are (Cycles' mesh lights); spheres and
-    cylinders do not."""
+    cylinders do not. tints_refraction: the colour tints what the surface
+    refracts, also along shadow rays through it (coloured glass: Cycles'
+    Principled transmission and Glass BSDF); tints_reflection: and what it
+    reflects (the Glass BSDF). NFF's transmission is untinted."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -155,6 +158,8 @@ class Material(Record):
     bump_strength: float = _MAT.bump_strength
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
+    tints_refraction: bool = _MAT.tints_refraction
+    tints_reflection: bool = _MAT.tints_reflection
     CORE = _core.Material
 
 

@@ -437,6 +437,31 @@ def rough_glass_scene(resolution=(128, 96), roughness=0.4):
     return {}
 
 
+def coloured_glass_scene(resolution=(96, 72)):
+    """Two green glass spheres against a grey world, seen straight on: left a Glass BSDF
+    (Color (0.1, 0.9, 0.1)), right a Principled BSDF of that Base Color with Transmission 1,
+    both sharp, IOR 1.45; under them a white floor that their shadows fall on, lit by a sun."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0, -6, 0.6), (math.radians(84), 0, 0)
+    plain_world("Grey", (0.5, 0.5, 0.5))
+    floor = _plane("Floor", 12.0, location=(0.0, 0.0, -1.0))
+    floor.data.materials.append(principled_material("Floor", (0.8, 0.8, 0.8), Roughness=1.0))
+    green = (0.1, 0.9, 0.1)
+    glass = shader_material("GreenGlass", "ShaderNodeBsdfGlass", [("Color", (*green, 1.0)), ("Roughness", 0.0),
+                                                                   ("IOR", 1.45)])
+    principled = principled_material("GreenTransmission", green, Transmission=1.0, Roughness=0.0, IOR=1.45)
+    for x, material in ((-1.2, glass), (1.2, principled)):
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(x, 0.0, 0.0), segments=64, ring_count=32)
+        sphere = bpy.context.object
+        for polygon in sphere.data.polygons:
+            polygon.use_smooth = True
+        sphere.data.materials.append(material)
+    add_light("Sun", "SUN", (0, 0, 5), (math.radians(-35), 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
 def cutout_scene(resolution=(64, 32)):
     """Two emissive planes side by side under an orthographic camera, textured
     with one 8 x 8 8-bit image whose left half is opaque and right half a

@@ -1,0 +1,44 @@
+"""Coloured glass: a Glass BSDF's Color and a Principled BSDF's Base Color under Transmission tint
+the light the glass lets through (and the Glass BSDF what it reflects), as in Cycles, in bpy 4.5,
+bpy 5.0 and Debian's 3.4; the shadows they cast on a white floor are tinted too (Whitted's
+transparent shadows; Cycles lights them through caustics, so only their hue is compared). Before,
+both spheres rendered clear and grey, without a warning. Scene: material_scenes.coloured_glass_scene."""
+import numpy as np
+import pytest
+
+import exr
+from runner import render_batch
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"coloured_glass_{module_blender}")
+    engines = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=64"}
+    for engine in engines:
+        (out / engine).mkdir()
+    render_batch(module_blender, [["coloured_glass", out / engine, engine, "transparent=false", engines[engine]]
+                                  for engine in engines])
+    return {engine: exr.rgba(exr.read_exr(out / engine / f"{engine.lower()}.exr"), "ViewLayer.Combined.")[..., :3]
+            for engine in engines}
+
+
+def _sphere_centres(rgb):
+    """The mean colour of a patch at the middle of each sphere (left, right)."""
+    h, w = rgb.shape[:2]
+    rows = slice(int(0.38 * h), int(0.5 * h))
+    return [rgb[rows, int(c * w) - 3:int(c * w) + 3].reshape(-1, 3).mean(axis=0) for c in (0.33, 0.67)]
+
+
+def test_the_spheres_show_the_world_tinted_by_their_colour(renders):
+    for ours, cycles in zip(_sphere_centres(renders["GRIDWALK"]), _sphere_centres(renders["CYCLES"])):
+        assert cycles[1] > 3 * cycles[0]                            # Cycles' glass is green
+        assert ours[1] > 3 * ours[0] and ours[1] > 3 * ours[2]     # and ours
+        assert abs(ours[1] / cycles[1] - 1) < 0.2                  # about as bright in green
+
+
+def test_the_shadows_are_tinted_like_the_glass(renders):
+    ours = renders["GRIDWALK"]
+    floor = ours[int(0.75 * ours.shape[0]):]                        # the floor below the spheres
+    dark = floor.sum(axis=2) < np.percentile(floor.sum(axis=2), 20)  # the shadowed part
+    green_share = floor[dark][:, 1] / floor[dark].sum(axis=1)
+    assert np.median(green_share) > 0.45                           # green, not grey (1/3)

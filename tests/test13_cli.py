@@ -132,7 +132,9 @@ def test_a_device_given_as_the_scene_file_is_named_as_such():
 @pytest.mark.parametrize("options, message", [
     (["--aa-samples", "0"], "aa_samples"),
     (["--grid-density", "-1"], "grid_density"),
-    (["--width", "0"], "Camera.width"),
+    (["--width", "0"], "--width must be at least 1, got 0"),
+    (["--width", "-3"], "--width must be at least 1, got -3"),    # (was "width must be >= 0", then 0 refused)
+    (["--height", "0"], "--height must be at least 1, got 0"),
     (["-o", "out.jpg"], "must end in .png or .npy"),
     (["--npy", "also.png"], "also.png: output must end in .npy"),     # (was written as a PNG)
 ])
@@ -178,7 +180,7 @@ def test_demo_refuses_a_resolution_of_zero(tmp_path):
     # 0 read as "not given": the full 512 x 512 render ran
     run = gridwalk("demo", "--resolution", "0", "-o", tmp_path / "demo.png")
     assert run.returncode == 2 and run.stderr.startswith("gridwalk: error: "), run.stderr
-    assert "width" in run.stderr and not (tmp_path / "demo.png").exists()
+    assert "--resolution must be at least 1, got 0" in run.stderr and not (tmp_path / "demo.png").exists()
 
 
 @needs_spd

@@ -180,6 +180,7 @@ def stats_summary(stats: dict) -> str:
 # -- subcommands --------------------------------------------------------------
 def cmd_demo(args) -> int:
     out = check_output(args.output)
+    check_pixels(resolution=args.resolution)
     resolution = args.resolution if args.resolution is not None else (256 if args.quick else 512)
     s = demo_settings(args.quick, args.threads)
     kwargs = demo_scene(args.size, resolution)
@@ -196,8 +197,17 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def check_pixels(**sizes):
+    """Each given image size (an option's value, None when not given) is at least 1: the
+    memory estimate would otherwise name a negative one first, and 0 only afterwards."""
+    for option, value in sizes.items():
+        if value is not None and value < 1:
+            raise CliError(f"--{option} must be at least 1, got {value}")
+
+
 def load(path, width: int | None = None, height: int | None = None) -> dict:
     """io.load_scene's keywords, the image size replaced where given."""
+    check_pixels(width=width, height=height)
     path = Path(path)
     if path.is_dir():
         raise CliError(f"{path}: is a folder, not a scene file")

@@ -13,7 +13,8 @@ shows them, with one warning naming each.
 Node settings: interpolation Closest stays closest, every other mode is
 bilinear; extension REPEAT / EXTEND / CLIP / MIRROR as set (any other is read
 as REPEAT, with a warning). A texture is (image, interpolation, extension, output,
-premultiplied (8-bit images' colour, associated as Cycles gives it),
+premultiplied (8-bit images' colour, associated as Cycles gives it; not a
+grey + alpha PNG's, which Cycles leaves straight),
 unassociated (divided by alpha again where the node's Alpha output is used)):
 the Color and Alpha outputs of one node are two textures of one image.
 """
@@ -52,6 +53,23 @@ def _alpha_used(node) -> bool:
                     todo.append(link.from_node)
     return any(link.is_valid and not link.is_muted and link.to_node.as_pointer() in feeding
                for link in alpha.links)
+
+
+def _png_grey_alpha(img) -> bool:
+    """Whether the image is a PNG file on disk stored as grey + alpha (colour
+    type 4 in its header; Blender reads it as RGBA, and its depth says 32 as
+    for RGBA). Cycles reads such a file itself and leaves its colour as
+    stored, straight; a packed one it takes from Blender, as RGBA, and
+    associates. False where the header cannot be read."""
+    if getattr(img, "file_format", "") != "PNG" or getattr(img, "source", "") != "FILE" or img.packed_file:
+        return False
+    try:
+        import bpy   # (the Blender running the export)
+        with open(bpy.path.abspath(img.filepath_raw, library=img.library), "rb") as f:
+            head = f.read(26)
+    except (OSError, AttributeError, TypeError, ValueError):
+        return False
+    return len(head) == 26 and head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR" and head[25] == 4
 
 
 def image_read_bytes(img) -> int:
@@ -219,7 +237,7 @@ class TextureTable:
         img = node.image
         has_alpha = (output != "Alpha" and img is not None and not img.colorspace_settings.is_data
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
-        premultiply = has_alpha and not img.is_float
+        premultiply = has_alpha and not img.is_float and not _png_grey_alpha(img)
         unassociate = has_alpha and _alpha_used(node)
         adjust = adjust or {}
         key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform,

@@ -6,6 +6,7 @@ are read), except the missing one of bad_materials_scene.
 """
 import math
 import os
+import pathlib
 import tempfile
 
 import bpy
@@ -458,6 +459,50 @@ def coloured_glass_scene(resolution=(96, 72)):
             polygon.use_smooth = True
         sphere.data.materials.append(material)
     add_light("Sun", "SUN", (0, 0, 5), (math.radians(-35), 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def _png(path, pixels, colour_type):
+    """Writes an 8-bit PNG of `pixels` ((h, w, channels) bytes, row 0 at the top): colour
+    type 6 (RGBA) or 4 (grey + alpha), as image editors save them."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    h, w = pixels.shape[:2]
+    rows = b"".join(b"\x00" + pixels[y].astype(np.uint8).tobytes() for y in range(h))
+    header = struct.pack(">IIBBBBB", w, h, 8, colour_type, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows))
+                     + chunk(b"IEND", b""))
+
+
+def png_alpha_scene(resolution=(96, 32)):
+    """Three emissive planes side by side under an orthographic camera, each showing a PNG of
+    grey 128 at alpha 153 through an Emission shader, the Alpha output unused: a file saved as
+    RGBA, a file saved as grey + alpha, and that grey + alpha image packed into the .blend. Cycles
+    associates the RGBA file and the packed image (0.5 x 0.6 in sRGB) and leaves the grey + alpha
+    file as stored. A black world. (The files lie in Blender's session folder, gone at exit.)"""
+    reset(resolution=tuple(resolution))
+    cam = bpy.context.scene.camera.data
+    cam.type, cam.ortho_scale = "ORTHO", 12.0
+    folder = pathlib.Path(bpy.app.tempdir)
+    for name, x, colour_type, px, pack in (("RGBA", -4.0, 6, [128, 128, 128, 153], False),
+                                           ("GreyAlpha", 0.0, 4, [128, 153], False),
+                                           ("GreyAlphaPacked", 4.0, 4, [128, 153], True)):
+        path = folder / f"{name}.png"
+        _png(path, np.tile(np.array(px, np.uint8), (4, 4, 1)), colour_type)
+        img = bpy.data.images.load(str(path))
+        if pack:
+            img.pack()
+        mat = shader_material(name, "ShaderNodeEmission")
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = img
+        links.new(tex.outputs["Color"], next(n for n in nodes if n.type == "EMISSION").inputs["Color"])
+        _plane(name, 3.5, location=(x, 0, 0), rotation=(math.pi / 2, 0, 0)).data.materials.append(mat)
+    plain_world("Black", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}
 

@@ -109,6 +109,17 @@ def luminance_by_engine(kind: str, out: Path, scene: str, engines: dict, variant
             for engine, key in keys}
 
 
+def rgb_by_engine(kind: str, out: Path, scene: str, engines: dict) -> dict:
+    """{engine: linear RGB (h, w, 3)} of `scene` rendered opaque with each engine's option
+    string (engines: {engine: option}), all in one Blender (render_batch)."""
+    import exr
+    for engine in engines:
+        (out / engine).mkdir()
+    render_batch(kind, [[scene, out / engine, engine, "transparent=false", engines[engine]] for engine in engines])
+    return {engine: exr.rgba(exr.read_exr(out / engine / f"{engine.lower()}.exr"), "ViewLayer.Combined.")[..., :3]
+            for engine in engines}
+
+
 def script_output(kind: str, tmp_path_factory, script: str, *args, timeout: float = 180) -> Path:
     """For module fixtures: skip when Blender `kind` is missing, else run
     scripts/<script> OUT_DIR *args in it and return OUT_DIR (a new folder)."""

@@ -6,20 +6,14 @@ both spheres rendered clear and grey, without a warning. Scene: material_scenes.
 import numpy as np
 import pytest
 
-import exr
-from runner import render_batch
+from runner import rgb_by_engine
 
 
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"coloured_glass_{module_blender}")
     engines = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=64"}
-    for engine in engines:
-        (out / engine).mkdir()
-    render_batch(module_blender, [["coloured_glass", out / engine, engine, "transparent=false", engines[engine]]
-                                  for engine in engines])
-    return {engine: exr.rgba(exr.read_exr(out / engine / f"{engine.lower()}.exr"), "ViewLayer.Combined.")[..., :3]
-            for engine in engines}
+    return rgb_by_engine(module_blender, out, "coloured_glass", engines)
 
 
 def _sphere_centres(rgb):

@@ -7,20 +7,14 @@ shows 0.502 (display values), in bpy 4.5, bpy 5.0 and Debian's 3.4. Scene:
 material_scenes.png_alpha_scene."""
 import pytest
 
-import exr
-from runner import render_batch
+from runner import rgb_by_engine
 
 
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"png_alpha_{module_blender}")
     engines = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 2}', "CYCLES": "samples=4"}
-    for engine in engines:
-        (out / engine).mkdir()
-    render_batch(module_blender, [["png_alpha", out / engine, engine, "transparent=false", engines[engine]]
-                                  for engine in engines])
-    return {engine: exr.rgba(exr.read_exr(out / engine / f"{engine.lower()}.exr"), "ViewLayer.Combined.")[..., :3]
-            for engine in engines}
+    return rgb_by_engine(module_blender, out, "png_alpha", engines)
 
 
 @pytest.mark.parametrize("plane, column", [("RGBA", 1 / 6), ("GreyAlpha", 0.5), ("GreyAlphaPacked", 5 / 6)])

@@ -176,6 +176,22 @@ def test_the_farm_offers_no_region_option():
     assert run.returncode == 0 and "--aa-samples" in run.stdout and "--region" not in run.stdout
 
 
+def test_triangles_of_zero_area_are_named(tmp_path):
+    """A PLY whose faces have zero area renders (nothing of them shows: no ray hits them) with a
+    warning naming how many, as Blender's export names them; it rendered blank without a word."""
+    flat = tmp_path / "flat.ply"
+    lines = ["ply", "format ascii 1.0", "element vertex 4", "property float x", "property float y",
+             "property float z", "element face 2", "property list uchar int vertex_indices", "end_header",
+             "0 0 0", "1 0 0", "2 0 0", "0 1 0", "3 0 1 2", "3 0 1 3"]   # the first collinear, the second not
+    flat.write_text("\n".join(lines) + "\n")
+    run = gridwalk("render", flat, "-o", tmp_path / "flat.png", "--width", 16, "--height", 16, "--quiet")
+    assert run.returncode == 0, run.stderr
+    assert f"gridwalk: warning: {flat}: 1 of 2 triangles have zero area and are invisible" in run.stderr
+    run = gridwalk("render", write_ply(tmp_path / "mesh.ply"), "-o", tmp_path / "mesh.png", "--width", 16,
+                   "--height", 16, "--quiet")
+    assert run.returncode == 0 and "zero area" not in run.stderr
+
+
 def test_demo_refuses_a_resolution_of_zero(tmp_path):
     # 0 read as "not given": the full 512 x 512 render ran
     run = gridwalk("demo", "--resolution", "0", "-o", tmp_path / "demo.png")

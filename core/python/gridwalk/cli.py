@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import io, memory, scenes
+from .mesh_checks import zero_area_count
 from .render import RenderJob
 from .scene import Scene
 from .settings import BY_NAME, SCHEMA, RenderSettings
@@ -205,6 +206,17 @@ def check_pixels(**sizes):
             raise CliError(f"--{option} must be at least 1, got {value}")
 
 
+def warn_zero_area(path, kwargs):
+    """Names the scene's triangles of zero area, which no ray hits (as Blender's export names them)."""
+    triangles = kwargs.get("triangles")
+    if triangles is None or not len(triangles):
+        return
+    zero = zero_area_count(kwargs["vertices"], triangles)
+    if zero:
+        print(f"gridwalk: warning: {path}: {zero} of {len(triangles)} triangles have zero area and are invisible",
+              file=sys.stderr)
+
+
 def load(path, width: int | None = None, height: int | None = None) -> dict:
     """io.load_scene's keywords, the image size replaced where given."""
     check_pixels(width=width, height=height)
@@ -223,6 +235,7 @@ def cmd_render(args) -> int:
     npy = check_output(args.npy, (".npy",)) if args.npy else None
     s = settings_from_args(args)
     kwargs = load(args.scene, args.width, args.height)
+    warn_zero_area(args.scene, kwargs)
     check_memory(kwargs, s)
     job = RenderJob(Scene(**kwargs), s)
     image = run_job(job, args.quiet)

@@ -81,7 +81,7 @@ inline bool on_flat_light(const Light& L, double cx, double cy) {
 }
 
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
-// Rect and disk lights get uniform points on their area here; near the
+// Flat lights get uniform points on their area here; near the
 // shading point, where those weigh cos / distance^2 and explode,
 // Integrator::direct samples them by near_area_light.h instead.
 inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
@@ -201,17 +201,13 @@ inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float&
         t = dot(L.position - o, L.direction) / facing;
         if (!(t > 0) || std::isinf(t)) return false;
         const Vec3 q = o + d * t - L.position;
-        if (L.kind == LightKind::Rect) {
-            if (!(std::abs(dot(q, L.axis_u)) <= 0.5f * L.size[0] && std::abs(dot(q, L.axis_v)) <= 0.5f * L.size[1]))
-                return false;
-            radiance = L.color * float(kPi / (double(L.size[0]) * double(L.size[1])));
-        } else if (L.kind == LightKind::Disk) {
+        if (L.kind == LightKind::Disk) {   // (in its own float arithmetic, which stored reference images hold)
             if (!(dot(q, q) <= L.radius * L.radius)) return false;
             radiance = L.color * float(1.0 / (double(L.radius) * double(L.radius)));
-        } else {
-            if (!on_flat_light(L, dot(q, L.axis_u), dot(q, L.axis_v))) return false;
-            radiance = L.color * float(kPi / flat_area(L));
+            return true;
         }
+        if (!on_flat_light(L, dot(q, L.axis_u), dot(q, L.axis_v))) return false;
+        radiance = L.color * float(kPi / flat_area(L));
         return true;
     }
     case LightKind::Spot:

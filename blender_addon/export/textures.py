@@ -126,6 +126,7 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
     image = Image(px, _colorspace(img), name=img.name)
     image.mean_rgb, image.mean_rgb_associated = mean, associated
     image.non_finite = non_finite
+    image.grey_alpha_file = _png_grey_alpha(img)   # (read once here: the image cache keeps it)
     return image, None
 
 
@@ -237,7 +238,7 @@ class TextureTable:
         img = node.image
         has_alpha = (output != "Alpha" and img is not None and not img.colorspace_settings.is_data
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
-        premultiply = has_alpha and not img.is_float and not _png_grey_alpha(img)
+        premultiply = has_alpha and not img.is_float and not getattr(self.images[image], "grey_alpha_file", False)
         unassociate = has_alpha and _alpha_used(node)
         adjust = adjust or {}
         key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform,

@@ -225,6 +225,7 @@ def _from_principled(node, textured):
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
                                    tuple(c * strength for c in emission_color), specular_albedo)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
+    material.multiscatter = multiscatter(node)
     _name_unread(node, PRINCIPLED_UNREAD, textured)
     if strength < 0 and any(c > 0 for c in emission_color):   # (the core takes no negative light)
         textured.unmodelled.append(f"Emission Strength {strength:g}")
@@ -239,6 +240,12 @@ PRINCIPLED_UNREAD = (("Coat Weight", "Clearcoat"), ("Sheen Weight", "Sheen"), ("
                      ("Specular Tint",), ("Anisotropic",), ("Thin Film Thickness",), ("Diffuse Roughness",))
 OTHER_UNREAD = {"BSDF_DIFFUSE": (("Roughness",),), "BSDF_GLOSSY": (("Anisotropy",),),
                 "BSDF_ANISOTROPIC": (("Anisotropy",),)}
+
+
+def multiscatter(node) -> bool:
+    """Whether the shader's glossy lobe is Multiscatter GGX (Blender 4.0+'s default;
+    3.x's is GGX; Beckmann and Ashikhmin-Shirley are rendered as GGX)."""
+    return getattr(node, "distribution", "GGX") == "MULTI_GGX"
 
 
 def _name_unread(node, inputs, links: Links):
@@ -268,7 +275,9 @@ def _from_other_bsdf(node, textured):
     if kind == "BSDF_DIFFUSE":
         return principled_material(color, 0.0, 1.0, 0.0, 1.45, 0.0)
     if kind in ("BSDF_GLOSSY", "BSDF_ANISOTROPIC"):
-        return principled_material(color, 1.0, _value(node, "Roughness", 0.5, textured), 0.0, 1.45, 0.0)
+        glossy = principled_material(color, 1.0, _value(node, "Roughness", 0.5, textured), 0.0, 1.45, 0.0)
+        glossy.multiscatter = multiscatter(node)
+        return glossy
     if kind == "BSDF_GLASS":   # (its Color tints what it reflects as well as what it refracts)
         glass = principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
                                     _value(node, "IOR", 1.45, textured), 0.04)

@@ -45,6 +45,7 @@ void bind_records(nb::module_& m) {
         .def_rw("vertex_color", &Material::vertex_color)
         .def_rw("tints_refraction", &Material::tints_refraction)
         .def_rw("tints_reflection", &Material::tints_reflection)
+        .def_rw("multiscatter", &Material::multiscatter)
         .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 

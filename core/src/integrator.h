@@ -53,11 +53,21 @@ private:
     ShadowMode spread_mode() const { return s_.shadow == ShadowMode::Hard ? ShadowMode::Random : s_.shadow; }
     void light_point(ShadowMode mode, uint32_t li, int j, int count, int depth, bool split, SampleState& st,
                      float& u1, float& u2) const;
+    // A glossy reflection's GGX lobe (microfacet.h): the shading normal and
+    // the view it is seen from, the Fresnel colour at normal incidence, and
+    // whether it is Multiscatter GGX.
+    struct Microfacet {
+        Vec3 ns, wo, f0;
+        bool multiscatter;
+    };
     // The rays around the mirror direction (or, `through`, the refracted
     // direction) `dir` that a rough surface scatters into: the exact ray at
-    // roughness 0, else a normalised Phong lobe of the roughness.
+    // roughness 0, else a normalised Phong lobe of the roughness; with `ggx`
+    // (a reflection), the GGX lobe's rays instead, weighted by its Fresnel and
+    // shadowing (dir unused).
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
-                     float weight, bool split, bool through, SampleState& st, TraceContext& ctx) const;
+                     float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
+                     const Microfacet* ggx = nullptr) const;
     // The lights whose shapes the mirror or refraction ray r (leaving sp) sees before
     // any surface (lights.h, light_shape_hit): their radiance, summed (lights are
     // transparent, as in Cycles: the ray goes on to what lies behind).

@@ -66,6 +66,17 @@ inline double flat_area(const Light& L) {
                                           : double(L.size[0]) * L.size[1];
 }
 
+// The angle from the light's centre to its rim as seen from p (radians, at
+// most pi / 2; 0 for a point): a flat light's by its half diagonal.
+inline float angular_radius(const Light& L, const Vec3& p) {
+    if (L.kind == LightKind::Sun) return 0.5f * L.angle;
+    const float half = L.kind == LightKind::Rect      ? 0.5f * std::hypot(L.size[0], L.size[1])
+                       : L.kind == LightKind::Ellipse ? 0.5f * std::max(L.size[0], L.size[1])
+                                                      : L.radius;
+    if (!(half > 0)) return 0;
+    return std::atan2(half, length(L.position - p));
+}
+
 // Whether the point of a flat light's plane at (cx, cy) from its centre,
 // along axis_u and axis_v, lies on the light.
 inline bool on_flat_light(const Light& L, double cx, double cy) {

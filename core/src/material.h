@@ -49,6 +49,9 @@ struct Material {
     // through it, and with tints_reflection what it reflects too (the Glass
     // BSDF). NFF's transmission (and Whitted's) is not tinted.
     bool tints_refraction = false, tints_reflection = false;
+    // A glossy surface's (roughness > 0) GGX lobe gets back the energy single
+    // scattering loses, as Cycles' Multiscatter GGX (microfacet.h).
+    bool multiscatter = false;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.

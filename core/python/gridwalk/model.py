@@ -98,7 +98,12 @@ class Record:
 class Material(Record):
     """Whitted / NFF material. NFF's `f r g b Kd Ks Shine T ior` maps to
     color, kd, ks, shininess, transmittance, ior, with mirror = Ks.
-    roughness: 0 = exact mirror, > 0 glossy. emission: self-lit strength
+    roughness: 0 = exact mirror and Phong highlights of the shininess
+    exponent; > 0 glossy: highlights and mirror reflection take a GGX
+    microfacet lobe of alpha = roughness^2 (shininess unused), Fresnel rising
+    from ks * 8 / (shininess + 8) at normal incidence (metallic's share: the
+    colour) to white at grazing; multiscatter: that lobe keeps the energy
+    single scattering loses (Cycles' Multiscatter GGX). emission: self-lit strength
     (color * emission is added to the shaded colour); emission_color: emitted
     radiance added as it is. alpha: coverage in [0, 1] (< 1 lets camera,
     secondary and shadow rays through the uncovered part). metallic in [0, 1]:
@@ -160,6 +165,7 @@ class Material(Record):
     emits_light: bool = _MAT.emits_light
     tints_refraction: bool = _MAT.tints_refraction
     tints_reflection: bool = _MAT.tints_reflection
+    multiscatter: bool = _MAT.multiscatter
     CORE = _core.Material
 
 

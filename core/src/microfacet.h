@@ -1,0 +1,92 @@
+// GGX (Trowbridge-Reitz) microfacet reflection, the lobe of glossy surfaces
+// (roughness > 0) for lamp highlights and for glossy reflection rays, as
+// Cycles' Principled and Glossy BSDFs use it:
+// * alpha = roughness^2 (Blender's mapping);
+// * Smith's height-correlated masking-shadowing G2 = 1 / (1 + L(wo) + L(wi));
+// * Schlick's Fresnel per channel from the reflectance at normal incidence f0;
+// * glossy rays drawn from the distribution of the normals that wo sees
+//   (Heitz 2018), weighted F G2 / G1(wo);
+// * Cycles' Multiscatter GGX (its default from Blender 4.0) as the
+//   single-scattering lobe times 1 + f0 (1 - E) / E, where E(cos_o, alpha) is
+//   the lobe's directional albedo at F = 1 (Turquin 2019): the energy that
+//   single scattering loses at high roughness comes back, tinted by f0.
+// A lamp's intensity carries the 1 / pi of the diffuse term (lights.h), so
+// the highlight's factor is pi x the BRDF x cos_i.
+#pragma once
+#include <cmath>
+
+#include "math.h"
+
+namespace gw {
+
+inline float ggx_alpha(float roughness) { return std::max(roughness * roughness, 1e-4f); }
+
+// pi x D(h) for a microfacet normal at cosine cos_h and squared sine sin2_h
+// to the normal (the sine from a cross product: 1 - cos^2 in float loses
+// the lobes of roughness under about 0.1, whose alpha^2 is below 1e-4).
+inline float ggx_d_pi(float cos_h, float sin2_h, float a2) {
+    const float k = sin2_h + cos_h * cos_h * a2;
+    return a2 / (k * k);
+}
+
+// Smith's Lambda of a direction at cosine c (> 0) to the normal.
+inline float ggx_lambda(float c, float a2) {
+    const float c2 = c * c;
+    return 0.5f * (std::sqrt(1 + a2 * std::max(1 - c2, 0.0f) / std::max(c2, 1e-12f)) - 1);
+}
+
+inline Vec3 schlick(const Vec3& f0, float c) {
+    const float k = 1 - std::min(std::max(c, 0.0f), 1.0f), k2 = k * k, k5 = k2 * k2 * k;
+    return f0 + (Vec3(1, 1, 1) - f0) * k5;
+}
+
+// The lobe's directional albedo at F = 1 for a view at cosine cos_o
+// (a table over cos_o and roughness, integrated once).
+float ggx_albedo(float cos_o, float alpha);
+
+// Multiscatter GGX's factor on the single-scattering lobe (1 where multiscatter is off).
+inline Vec3 ggx_multiscatter(const Vec3& f0, float cos_o, float alpha, bool multiscatter) {
+    if (!multiscatter) return Vec3(1, 1, 1);
+    const float e = ggx_albedo(cos_o, alpha);
+    return Vec3(1, 1, 1) + f0 * ((1 - e) / e);
+}
+
+// The highlight of a light from wi seen from wo (unit vectors, ns the
+// shading normal): F D G2 pi / (4 cos_o), times the light's intensity.
+inline Vec3 ggx_highlight(const Vec3& ns, const Vec3& wi, const Vec3& wo, float alpha, const Vec3& f0) {
+    const float cos_o = dot(ns, wo), cos_i = dot(ns, wi);
+    if (!(cos_o > 0) || !(cos_i > 0)) return Vec3();
+    const Vec3 sum = wi + wo;
+    const float len = length(sum);
+    if (!(len > 0)) return Vec3();
+    const Vec3 h = sum / len;
+    const float a2 = alpha * alpha;
+    const float g2 = 1 / (1 + ggx_lambda(cos_o, a2) + ggx_lambda(cos_i, a2));
+    const Vec3 side = cross(ns, h);
+    return schlick(f0, dot(wi, h)) * (ggx_d_pi(std::max(dot(ns, h), 0.0f), dot(side, side), a2) * g2 / (4 * cos_o));
+}
+
+// A microfacet normal seen from wo, drawn from the visible normals'
+// distribution, in the frame whose z is the normal (wo.z > 0); u1, u2 in [0, 1).
+inline Vec3 ggx_visible_normal(const Vec3& wo, float alpha, float u1, float u2) {
+    // The view in the frame where the lobe is a hemisphere (stretched by 1 / alpha).
+    const Vec3 v = normalize(Vec3(alpha * wo.x, alpha * wo.y, wo.z));
+    const float lsq = v.x * v.x + v.y * v.y;
+    const Vec3 t1 = lsq > 0 ? Vec3(-v.y, v.x, 0) / std::sqrt(lsq) : Vec3(1, 0, 0);
+    const Vec3 t2 = cross(v, t1);
+    // A point on the disk, its half behind the view squashed to the projected hemisphere.
+    const float r = std::sqrt(u1), phi = float(2 * kPi) * u2;
+    const float p1 = r * std::cos(phi), s = 0.5f * (1 + v.z);
+    const float p2 = (1 - s) * std::sqrt(std::max(1 - p1 * p1, 0.0f)) + s * r * std::sin(phi);
+    const Vec3 n = t1 * p1 + t2 * p2 + v * std::sqrt(std::max(1 - p1 * p1 - p2 * p2, 0.0f));
+    return normalize(Vec3(alpha * n.x, alpha * n.y, std::max(n.z, 0.0f)));
+}
+
+// G2 / G1(wo): the weight of a glossy ray drawn with ggx_visible_normal (before Fresnel).
+inline float ggx_ray_weight(float cos_o, float cos_i, float alpha) {
+    if (!(cos_i > 0)) return 0;
+    const float a2 = alpha * alpha, lo = ggx_lambda(cos_o, a2);
+    return (1 + lo) / (1 + lo + ggx_lambda(cos_i, a2));
+}
+
+}  // namespace gw

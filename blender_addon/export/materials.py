@@ -39,9 +39,12 @@ factor is folded into the light intensities, see lights.py):
                   2 * Specular IOR Level (0.092 at IOR 1.5 and level 0.5; the
                   default material rendered 11% brighter than Cycles without it)
   F0            = 0.08 * Specular (3.x) or ((ior-1)/(ior+1))^2 * 2 * Specular IOR Level (4.x)
-  shininess     = 2 / a^2 - 2 with a = max(r^2, 1e-3), capped at 1000 (Blinn-Phong ~ GGX)
-  ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Blinn-Phong lobe)
+  shininess     = 2 / a^2 - 2 with a = max(r^2, 1e-3), capped at 1000 (a Phong lobe ~ GGX's)
+  ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Phong weight; the
+                  core's GGX lobe, used where r > 0, takes ks * 8 / (shininess + 8) as its
+                  reflectance at normal incidence)
   mirror        = m,  roughness = r  (glossy when r > 0)
+  multiscatter  = the shader's distribution is Multiscatter GGX (Blender 4.0+'s default)
   metallic      = m   (the metal's share of the highlight and of the mirror
                   reflection takes the base colour: gold reflects gold)
   transmittance = t,  ior = IOR,  tints_refraction = t > 0 (the base colour

@@ -66,15 +66,18 @@ inline double flat_area(const Light& L) {
                                           : double(L.size[0]) * L.size[1];
 }
 
-// The angle from the light's centre to its rim as seen from p (radians, at
-// most pi / 2; 0 for a point): a flat light's by its half diagonal.
+// About the angle from the light's centre to its rim as seen from p: the
+// tangent of it (no more than it's worth: radians are dearer), at most 2; a
+// flat light's by its half diagonal; 0 for a point.
 inline float angular_radius(const Light& L, const Vec3& p) {
     if (L.kind == LightKind::Sun) return 0.5f * L.angle;
-    const float half = L.kind == LightKind::Rect      ? 0.5f * std::hypot(L.size[0], L.size[1])
+    const float half = L.kind == LightKind::Rect      ? 0.5f * std::sqrt(L.size[0] * L.size[0] + L.size[1] * L.size[1])
                        : L.kind == LightKind::Ellipse ? 0.5f * std::max(L.size[0], L.size[1])
                                                       : L.radius;
     if (!(half > 0)) return 0;
-    return std::atan2(half, length(L.position - p));
+    const Vec3 to = L.position - p;
+    const float d2 = dot(to, to);
+    return half * half >= 4 * d2 ? 2.0f : half / std::sqrt(d2);
 }
 
 // Whether the point of a flat light's plane at (cx, cy) from its centre,

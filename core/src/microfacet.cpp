@@ -6,7 +6,7 @@
 namespace gw {
 namespace {
 
-constexpr int kCosines = 32, kRoughness = 32, kStrata = 24;
+constexpr int kCosines = 32, kRoughness = 32, kStrata = 12;
 
 // E(cos_o, alpha) at F = 1: the mean of G2 / G1 over glossy rays drawn from
 // the visible normals, on a kStrata x kStrata grid of their midpoints; rows

@@ -51,19 +51,55 @@ inline Vec3 ggx_multiscatter(const Vec3& f0, float cos_o, float alpha, bool mult
     return Vec3(1, 1, 1) + f0 * ((1 - e) / e);
 }
 
-// The highlight of a light from wi seen from wo (unit vectors, ns the
-// shading normal): F D G2 pi / (4 cos_o), times the light's intensity.
-inline Vec3 ggx_highlight(const Vec3& ns, const Vec3& wi, const Vec3& wo, float alpha, const Vec3& f0) {
-    const float cos_o = dot(ns, wo), cos_i = dot(ns, wi);
-    if (!(cos_o > 0) || !(cos_i > 0)) return Vec3();
-    const Vec3 sum = wi + wo;
-    const float len = length(sum);
-    if (!(len > 0)) return Vec3();
-    const Vec3 h = sum / len;
-    const float a2 = alpha * alpha;
-    const float g2 = 1 / (1 + ggx_lambda(cos_o, a2) + ggx_lambda(cos_i, a2));
-    const Vec3 side = cross(ns, h);
-    return schlick(f0, dot(wi, h)) * (ggx_d_pi(std::max(dot(ns, h), 0.0f), dot(side, side), a2) * g2 / (4 * cos_o));
+// What a lobe seen from wo (unit, ns the shading normal) fixes for every
+// light sample of a shading point: set up once per light, not per sample.
+struct GgxView {
+    Vec3 ns, wo, f0, scale;   // scale: the multiscatter factor
+    float a2 = 0, cos_o = 0, s_o = 0;
+    bool seen = false;        // wo above the lobe's normal
+};
+
+// sqrt(c^2 + a2 (1 - c^2)): Smith's 1 + 2 Lambda = this / c.
+inline float ggx_smith_root(float c, float a2) { return std::sqrt(c * c + a2 * std::max(1 - c * c, 0.0f)); }
+
+inline GgxView ggx_view(const Vec3& ns, const Vec3& wo, float alpha, const Vec3& f0, bool multiscatter) {
+    GgxView v;
+    v.cos_o = dot(ns, wo);
+    v.seen = v.cos_o > 0;
+    if (!v.seen) return v;
+    v.ns = ns, v.wo = wo, v.f0 = f0, v.a2 = alpha * alpha;
+    v.s_o = ggx_smith_root(v.cos_o, v.a2);
+    v.scale = ggx_multiscatter(f0, v.cos_o, alpha, multiscatter);
+    return v;
+}
+
+// The view with a wider lobe (alpha above the view's), the multiscatter
+// factor kept (it is about 1 where lobes are narrow enough to be widened).
+inline GgxView ggx_widened(GgxView v, float alpha) {
+    if (v.seen && alpha * alpha > v.a2) {
+        v.a2 = alpha * alpha;
+        v.s_o = ggx_smith_root(v.cos_o, v.a2);
+    }
+    return v;
+}
+
+// The highlight of a light from wi (unit): F D G2 pi / (4 cos_o) (times the
+// multiscatter factor), times the light's intensity. With S = sqrt(c^2 +
+// a2 (1 - c^2)) on each side, G2 = 2 c_o c_i / (S_o c_i + S_i c_o) and
+// pi D = a2 / k^2, k = sin^2 h + a2 cos^2 h, so the whole is
+// a2 c_i / (2 k^2 (S_o c_i + S_i c_o)): one division.
+inline Vec3 ggx_highlight(const GgxView& v, const Vec3& wi) {
+    const float cos_i = dot(v.ns, wi);
+    if (!v.seen || !(cos_i > 0)) return Vec3();
+    const Vec3 sum = wi + v.wo;                  // along h, |sum| in (0, 2]
+    const float len2 = dot(sum, sum);
+    if (!(len2 > 1e-12f)) return Vec3();
+    const Vec3 side = cross(v.ns, sum);
+    const float cos_h = dot(v.ns, sum), sin2_h = dot(side, side);   // (both x |sum|: k below is x len2)
+    const float k = sin2_h + cos_h * cos_h * v.a2;
+    const float s_i = ggx_smith_root(cos_i, v.a2);
+    const float value = v.a2 * cos_i * len2 * len2 / (2 * k * k * (v.s_o * cos_i + s_i * v.cos_o));
+    return schlick(v.f0, dot(wi, sum) / std::sqrt(len2)) * v.scale * value;
 }
 
 // A microfacet normal seen from wo, drawn from the visible normals'

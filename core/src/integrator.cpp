@@ -23,22 +23,21 @@ Vec3 specular_f0(const Material& m) {
     return metal_tint(m, std::min(1.0f, m.metallic / s)) * s;
 }
 
-// A glossy surface's (roughness > 0) GGX lobe for a light's highlight, at
-// least kLobeOverLight of the light's angular radius wide. Lights are sampled
-// by their shape alone, so a lobe much narrower than the light would be met
-// by few of its points, each weighing D's peak: a sun 0.4 radians wide on a
-// metal of roughness 0.01 summed to 0.5-2.3% of a mirror's highlight at
-// 16 x 4 samples a pixel (test67). Widened, the lobe keeps its energy (the
-// highlight's brightness) and meets a share of about (2 x 0.2)^2 of the
-// light's points; the highlight's edge blurs by a fifth of the light's radius.
-constexpr float kLobeOverLight = 0.2f;
+// A glossy surface's (roughness > 0) GGX lobe for its highlights.
 GgxView glossy_view(const Material& m, const Vec3& f0, const Vec3& ns, const Vec3& wo) {
     return ggx_view(ns, wo, ggx_alpha(m.roughness), f0, m.multiscatter);
 }
-GgxView for_light(const GgxView& v, const Light& L, const Vec3& p) {
-    // (a lobe wider than the widest widening needs no light's size)
-    return v.a2 >= kLobeOverLight * kLobeOverLight * 4 ? v : ggx_widened(v, kLobeOverLight * angular_radius(L, p));
-}
+
+// Lights are sampled by their shape alone (no MIS with the lobe), so a lobe
+// much narrower than a light would be met by few of its points, each weighing
+// D's peak: a sun 0.4 radians wide on a metal of roughness 0.01 summed to
+// 0.5-2.3% of a mirror's highlight at 16 x 4 samples a pixel, and widening
+// the lobe instead (to a fifth of the light's radius) dimmed a rect light's
+// reflection by 25-40%. Where alpha is below kMirrorLobe of the light's
+// (tangent) radius, the reflected lobe lies well inside the light's image, and
+// the highlight is the light seen in the mirror direction times the lobe's
+// albedo: exact inside the reflection, sharp at its edge, no noise.
+constexpr float kMirrorLobe = 0.1f;
 
 }  // namespace
 
@@ -140,7 +139,14 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
-        const GgxView lobe = m.roughness > 0 && highlight > 0 ? for_light(glossy, L, sp.p) : GgxView();
+        const bool glossy_highlight = m.roughness > 0 && highlight > 0;
+        // (lights without falloff other than the sun, which Blender does not make, have
+        // no radiance that their light points' intensities stand for: sampled only)
+        const float radius = glossy_highlight && has_visible_shape(L) &&
+                                     (L.inverse_square || L.kind == LightKind::Sun)
+                                 ? angular_radius(L, sp.p) : 0.0f;
+        const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
+        if (mirrored) total += mirrored_light(L, sp, ng, glossy, radius, ctx);
         // A flat light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
         const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
@@ -156,8 +162,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
             Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
-            if (highlight > 0 && m.roughness > 0) {
-                f += ggx_highlight(lobe, ls.wi);
+            if (glossy_highlight) {
+                if (!mirrored) f += ggx_highlight(glossy, ls.wi);
             } else if (highlight > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
@@ -176,6 +182,22 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     }
     if (!scene_.emitters().empty()) total += from_emitters(sp, ng, ns, wo, m, depth, split, st, ctx);
     return total;
+}
+
+Vec3 Integrator::mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe,
+                                float radius, TraceContext& ctx) const {
+    if (!lobe.seen) return Vec3();
+    const Vec3 r = lobe.ns * (2.0f * lobe.cos_o) - lobe.wo;
+    if (!(dot(r, ng) > 0)) return Vec3();
+    float t;
+    Vec3 radiance;
+    if (!light_shape_hit(L, sp.p, r, t, radiance)) return Vec3();
+    const Vec3 seen = L.casts_shadows ? radiance * visible(sp.p, sp.p_err, sp.ng, r, t, ctx) : radiance;
+    // (less the lobe's tails beyond the light: GGX's normals lie within angle t of the
+    // normal with probability tan^2 t / (alpha^2 + tan^2 t), here t about half the
+    // light's radius, the mirror direction at its centre)
+    const float t2 = 0.25f * radius * radius;
+    return seen * ggx_albedo_fresnel(lobe) * (t2 / (lobe.a2 + t2));
 }
 
 int Integrator::light_points(ShadowMode mode, const SampleState& st) const {
@@ -308,9 +330,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         if (m.ks > 0 && m.mirror < 1 && m.roughness > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
-            // (the triangle's angular size: that of a square of its area)
-            const float radius = std::sqrt(0.5f * length(area_normal)) / dist;
-            f += ggx_highlight(ggx_widened(glossy, kLobeOverLight * radius), wi) * (1.0f - m.mirror);
+            f += ggx_highlight(glossy, wi) * (1.0f - m.mirror);
         } else if (m.ks > 0 && m.mirror < 1) {
             const Vec3 h = normalize(wi + wo);
             const float spec = m.ks * (1.0f - m.mirror) * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);

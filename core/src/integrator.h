@@ -3,6 +3,7 @@
 // effects: soft shadows from area lights and glossy reflection.
 #pragma once
 #include "accel.h"
+#include "microfacet.h"
 #include "sampler.h"
 #include "settings.h"
 
@@ -68,6 +69,10 @@ private:
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
                      const Microfacet* ggx = nullptr) const;
+    // The light L as a glossy lobe far narrower than it reflects it: its
+    // radiance in the mirror direction, if unblocked, times the lobe's albedo.
+    Vec3 mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, float radius,
+                        TraceContext& ctx) const;
     // The lights whose shapes the mirror or refraction ray r (leaving sp) sees before
     // any surface (lights.h, light_shape_hit): their radiance, summed (lights are
     // transparent, as in Cycles: the ray goes on to what lies behind).

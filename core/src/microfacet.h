@@ -73,14 +73,11 @@ inline GgxView ggx_view(const Vec3& ns, const Vec3& wo, float alpha, const Vec3&
     return v;
 }
 
-// The view with a wider lobe (alpha above the view's), the multiscatter
-// factor kept (it is about 1 where lobes are narrow enough to be widened).
-inline GgxView ggx_widened(GgxView v, float alpha) {
-    if (v.seen && alpha * alpha > v.a2) {
-        v.a2 = alpha * alpha;
-        v.s_o = ggx_smith_root(v.cos_o, v.a2);
-    }
-    return v;
+// The lobe's albedo for the view, with Fresnel at the view's angle (and the
+// multiscatter factor): what it reflects of light arriving from all around
+// its mirror direction.
+inline Vec3 ggx_albedo_fresnel(const GgxView& v) {
+    return schlick(v.f0, v.cos_o) * v.scale * ggx_albedo(v.cos_o, std::sqrt(v.a2));
 }
 
 // The highlight of a light from wi (unit): F D G2 pi / (4 cos_o) (times the
@@ -98,7 +95,8 @@ inline Vec3 ggx_highlight(const GgxView& v, const Vec3& wi) {
     const float cos_h = dot(v.ns, sum), sin2_h = dot(side, side);   // (both x |sum|: k below is x len2)
     const float k = sin2_h + cos_h * cos_h * v.a2;
     const float s_i = ggx_smith_root(cos_i, v.a2);
-    const float value = v.a2 * cos_i * len2 * len2 / (2 * k * k * (v.s_o * cos_i + s_i * v.cos_o));
+    const float q = len2 / k;   // (k alone squared underflows for alpha under 3e-4 at grazing cosines)
+    const float value = (v.a2 * q) * (q * cos_i) / (2 * (v.s_o * cos_i + s_i * v.cos_o));
     return schlick(v.f0, dot(wi, sum) / std::sqrt(len2)) * v.scale * value;
 }
 

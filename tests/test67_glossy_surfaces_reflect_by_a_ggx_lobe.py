@@ -127,3 +127,31 @@ def test_a_narrow_lobe_reflects_a_rect_light_as_bright_as_a_mirror_does(roughnes
     fresnel = 0.5 + 0.5 * (1 - wo[2]) ** 5
     assert floor_under_rect(roughness, 0.0) == pytest.approx(floor_under_rect(0.0, 1.0) * fresnel, rel=0.03)
 
+
+
+def floor_under_emitter(material):
+    """A glossy floor lit only by an emissive 1 x 1 panel 1.5 above it, seen near the panel's
+    reflection (the panel itself out of view), as an image."""
+    verts = np.array([[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0],
+                      [-0.5, 1.5, 1.5], [0.5, 1.5, 1.5], [0.5, 2.5, 1.5], [-0.5, 2.5, 1.5]], np.float32)
+    panel = gw.Material(color=(1, 1, 1), kd=0.0, emission=4.0, emits_light=True)
+    cam = gw.Camera(eye=(0, -2, 1.2), target=(0, 1.2, 0), fov=30, width=24, height=24)
+    scene = gw.Scene(vertices=verts, triangles=[[0, 1, 2], [0, 2, 3], [4, 6, 5], [4, 7, 6]],
+                     triangle_materials=[0, 0, 1, 1], materials=[material, panel], camera=cam,
+                     background=(0, 0, 0))
+    settings = gw.RenderSettings(aa="jittered", aa_samples=4, shadow="random", shadow_samples=8, glossy_samples=8)
+    return gw.render(scene, settings)[..., :3]
+
+
+def test_a_half_metal_reflects_emitters_as_the_mean_of_metal_and_dielectric():
+    # Every term of the material is linear in its metallic share (the Principled mapping: half
+    # the diffuse, Fresnel from the mean reflectance, half the mirror reflection), so its image is
+    # the mean of the metal's and the dielectric's. Emitters are seen by the glossy rays (the
+    # mirror share) and sampled (the rest): sampled with f0 x (1 - mirror) before, the half metal
+    # took 0.25 of the metal's highlight twice over.
+    copper, r = (0.9, 0.6, 0.3), 0.3
+    metal = gw.Material(color=copper, kd=0.0, ks=1.0, shininess=0.0, mirror=1.0, metallic=1.0, roughness=r)
+    dielectric = gw.Material(color=copper, kd=0.6, ks=0.04, shininess=0.0, roughness=r)
+    half = gw.Material(color=copper, kd=0.3, ks=0.52, shininess=0.0, mirror=0.5, metallic=0.5, roughness=r)
+    mean = (floor_under_emitter(metal) + floor_under_emitter(dielectric)) / 2
+    assert floor_under_emitter(half).sum() == pytest.approx(mean.sum(), rel=0.03)

@@ -23,6 +23,16 @@ Vec3 specular_f0(const Material& m) {
     return metal_tint(m, std::min(1.0f, m.metallic / s)) * s;
 }
 
+// What of specular_f0 a glossy surface's reflection rays do not see: f0 less
+// the mirror share's tint (shade_hit's reflection), none behind glass's
+// Fresnel reflection ray.
+Vec3 emitter_f0(const Material& m) {
+    if (m.transmittance > 0) return Vec3();
+    const Vec3 f0 = specular_f0(m), seen = m.mirror > 0 ? metal_tint(m, std::min(m.metallic, m.mirror) / m.mirror) * m.mirror
+                                                        : Vec3();
+    return Vec3(std::max(f0.x - seen.x, 0.0f), std::max(f0.y - seen.y, 0.0f), std::max(f0.z - seen.z, 0.0f));
+}
+
 // A glossy surface's (roughness > 0) GGX lobe for its highlights.
 GgxView glossy_view(const Material& m, const Vec3& f0, const Vec3& ns, const Vec3& wo) {
     return ggx_view(ns, wo, ggx_alpha(m.roughness), f0, m.multiscatter);
@@ -293,7 +303,11 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     const int count = light_points(s_.shadow, st);
     const Vec3* corners = scene_.triangle_vertices();
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (as in direct())
-    const GgxView glossy = m.roughness > 0 && m.ks > 0 ? glossy_view(m, specular_f0(m), ns, wo) : GgxView();
+    // A glossy surface's own reflection rays see the emitters (trace() returns what they emit):
+    // the highlight sampled here is what they leave out, f0 less the mirror share's tint (all of
+    // it for glass, whose Fresnel reflection ray sees them). Lamps, which those rays do not
+    // see, take the whole f0 in direct().
+    const GgxView glossy = m.roughness > 0 && m.ks > 0 ? glossy_view(m, emitter_f0(m), ns, wo) : GgxView();
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
@@ -329,9 +343,9 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const double scale = 0.5 * double(cos_l) / (kPi * double(dist) * double(dist) * double(probability));
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
-        if (m.ks > 0 && m.mirror < 1 && m.roughness > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
-            f += ggx_highlight(glossy, wi) * (1.0f - m.mirror);
-        } else if (m.ks > 0 && m.mirror < 1) {
+        if (m.roughness > 0) {
+            f += ggx_highlight(glossy, wi);
+        } else if (m.ks > 0 && m.mirror < 1) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
             const float spec = m.ks * (1.0f - m.mirror) * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
             f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * spec

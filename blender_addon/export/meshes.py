@@ -331,6 +331,7 @@ class MeshCollector:
         self._sources = {}         # (object, original, data addresses) -> what _source() read of it
         self._lookups = {}         # material lookup bytes -> the one array the parts share
         self._hair = {}            # object_key -> whether it has hair particle systems to render
+        self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
 
     def add_instance(self, inst):
         if inst.is_instance and inst.parent is not None:
@@ -380,10 +381,17 @@ class MeshCollector:
             return "shapes", lookup
         layers = self.materials.layers(lookup)
         if sphere:
-            corners = [tuple(c) for c in obj.bound_box]
-            lo, hi = [min(c[a] for c in corners) for a in range(3)], [max(c[a] for c in corners) for a in range(3)]
-            return "sphere", lookup, ([(l + h) / 2.0 for l, h in zip(lo, hi)],
-                                      max(h - l for l, h in zip(lo, hi)) / 2.0, layers[0] is not None)
+            # (objects sharing one evaluated mesh share its local bounds: read once, not per
+            # object; 820 balls of one mesh spent most of their export here)
+            data_key = obj.data.as_pointer() if obj.data is not None else None
+            bounds = self._sphere_bounds.get(data_key) if data_key is not None else None
+            if bounds is None:
+                corners = [tuple(c) for c in obj.bound_box]
+                lo, hi = [min(c[a] for c in corners) for a in range(3)], [max(c[a] for c in corners) for a in range(3)]
+                bounds = ([(l + h) / 2.0 for l, h in zip(lo, hi)], max(h - l for l, h in zip(lo, hi)) / 2.0)
+                if data_key is not None:
+                    self._sphere_bounds[data_key] = bounds
+            return "sphere", lookup, (*bounds, layers[0] is not None)
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
         if data is None or not len(data.triangles):

@@ -61,6 +61,15 @@ def test_render_as_sphere_gives_one_analytic_sphere(export):
     assert len(out.triangles) == 12          # only the cube stays a mesh
 
 
+def test_objects_sharing_a_mesh_keep_their_own_spheres(export):
+    # (the mesh's bounds are read once per evaluated mesh: a modifier makes the object's own)
+    out = export("sphere", shared=True)
+    order = np.argsort(out.sphere_centers[:, 0])
+    expected = np.argsort(np.array(out.expected["centers"])[:, 0])
+    np.testing.assert_allclose(out.sphere_centers[order], np.array(out.expected["centers"])[expected], atol=1e-5)
+    np.testing.assert_allclose(out.sphere_radii[order], np.array(out.expected["radii"])[expected], rtol=1e-5)
+
+
 def test_point_clouds_become_one_sphere_per_point(export):
     # Geometry Nodes' Mesh to Points: 30 points, radius 0.25 on an object scaled 1.5. They were
     # left out with a warning; Cycles renders each point as a sphere.

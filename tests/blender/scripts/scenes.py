@@ -370,15 +370,27 @@ def materials_scene(world_lights_diffuse=True):
     return {"face_slots": [0, 0, 1, 1, 2, 3]}
 
 
-def sphere_scene():
+def sphere_scene(shared=False):
+    """A ball flagged 'render as sphere' (and a cube); shared: two more objects using its
+    mesh, one scaled by 0.5, one whose Displace modifier grows its mesh to radius 1.5."""
     reset()
     bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(1.0, 2.0, 3.0))
     ball = bpy.context.object
     ball.scale = (2.0, 2.0, 2.0)
     ball.gridwalk.render_as_sphere = True
     link(cube_object())
+    centers, radii = [[1.0, 2.0, 3.0]], [2.0]
+    if shared:
+        for name, location, scale in (("Small", (-4.0, 0.0, 0.0), 0.5), ("Grown", (4.0, 0.0, 0.0), 1.0)):
+            other = link(bpy.data.objects.new(name, ball.data))
+            other.location, other.scale = location, (scale,) * 3
+            other.gridwalk.render_as_sphere = True
+            centers.append(list(location))
+            radii.append(scale)
+        other.modifiers.new("Displace", "DISPLACE").strength = 1.0   # (no texture: + 0.5 along the normals)
+        radii[-1] = 1.5
     bpy.context.view_layer.update()
-    return {"center": [1.0, 2.0, 3.0], "radius": 2.0}
+    return {"center": centers[0], "radius": radii[0], "centers": centers, "radii": radii}
 
 
 def _sun_and_grey_world():

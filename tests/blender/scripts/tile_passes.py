@@ -2,8 +2,11 @@
 in, and the Depth, Normal and Denoising passes of those tiles are there.
 
 usage: <python with bpy> tile_passes.py OUT_DIR
-Writes OUT_DIR/partial.exr (multilayer) from a render cancelled about 0.2 s
-after its first tile was written, and OUT_DIR/info.json.
+Writes OUT_DIR/partial.exr (multilayer) from a render cancelled two tiles after
+the first tile holding pixels that every sample hit was written (tiles go row by
+row from the top, the sky first), and OUT_DIR/info.json. (Cancelling 10 polls
+after the first tile was timing: a slower render or a busy machine had no such
+tile written by then.)
 """
 import json
 import os
@@ -27,22 +30,25 @@ def main(argv):
     configure(scene, "GRIDWALK", {"settings": {"tile_size": 16, "threads": 1, "aa": "JITTERED", "aa_samples": 10,
                                                "denoising_data": True}})
     scene.render.filepath = os.path.join(out_dir, "partial.exr")
-    polls = {"n": 0}
-    real = streaming.break_requested
+    seen = {"covered": False, "after": 0, "tiles": 0}
+    real, real_write = streaming.break_requested, streaming.ResultWriter.write
 
-    def break_requested(engine):            # cancel 10 checks (~0.2 s) after the first tile was written
-        writer = getattr(engine, "writer", None)
-        if writer is not None and writer.written:
-            polls["n"] += 1
-        return polls["n"] >= 10
+    def write(writer, x, y, arrays):
+        real_write(writer, x, y, arrays)
+        seen["tiles"] += 1
+        seen["after"] += seen["covered"]
+        seen["covered"] = seen["covered"] or bool((arrays["rgba"][..., 3] > 0.999).any())
 
-    streaming.break_requested = break_requested
+    def break_requested(engine):            # two tiles after the first with fully covered pixels
+        return seen["covered"] and seen["after"] >= 2
+
+    streaming.break_requested, streaming.ResultWriter.write = break_requested, write
     try:
         bpy.ops.render.render(write_still=True)
     finally:
-        streaming.break_requested = real
+        streaming.break_requested, streaming.ResultWriter.write = real, real_write
     with open(os.path.join(out_dir, "info.json"), "w") as f:
-        json.dump({"polls": polls["n"]}, f)
+        json.dump(seen, f)
 
 
 if __name__ == "__main__":

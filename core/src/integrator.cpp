@@ -26,10 +26,17 @@ Vec3 specular_f0(const Material& m) {
 // What of specular_f0 a glossy surface's reflection rays do not see: f0 less
 // the mirror share's tint (shade_hit's reflection), none behind glass's
 // Fresnel reflection ray.
+// The colour of the mirror reflection of weight refl > 0 (shade_hit): the
+// metallic share's base colour, a Glass BSDF's colour, else white.
+Vec3 reflection_tint(const Material& m, float refl) {
+    return m.metallic > 0        ? metal_tint(m, std::min(m.metallic, m.mirror) / refl)
+           : m.tints_reflection ? m.color
+                                : Vec3(1, 1, 1);
+}
+
 Vec3 emitter_f0(const Material& m) {
     if (m.transmittance > 0) return Vec3();
-    const Vec3 f0 = specular_f0(m), seen = m.mirror > 0 ? metal_tint(m, std::min(m.metallic, m.mirror) / m.mirror) * m.mirror
-                                                        : Vec3();
+    const Vec3 f0 = specular_f0(m), seen = m.mirror > 0 ? reflection_tint(m, m.mirror) * m.mirror : Vec3();
     return Vec3(std::max(f0.x - seen.x, 0.0f), std::max(f0.y - seen.y, 0.0f), std::max(f0.z - seen.z, 0.0f));
 }
 
@@ -46,7 +53,9 @@ GgxView glossy_view(const Material& m, const Vec3& f0, const Vec3& ns, const Vec
 // reflection by 25-40%. Where alpha is below kMirrorLobe of the light's
 // (tangent) radius, the reflected lobe lies well inside the light's image, and
 // the highlight is the light seen in the mirror direction times the lobe's
-// albedo: exact inside the reflection, sharp at its edge, no noise.
+// albedo with Fresnel and its share within about half the light's radius
+// (mirrored_light): within a few percent inside the reflection, sharp at its
+// edge, no noise.
 constexpr float kMirrorLobe = 0.1f;
 
 }  // namespace
@@ -551,9 +560,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         }
     }
     if (refl > 0 && weight * refl > s_.min_weight) {
-        const Vec3 tint = m.metallic > 0        ? metal_tint(m, std::min(m.metallic, m.mirror) / refl)
-                          : m.tints_reflection ? m.color
-                                               : Vec3(1, 1, 1);
+        const Vec3 tint = reflection_tint(m, refl);
         if (m.roughness > 0 && !(m.transmittance > 0)) {
             // A glossy mirror (metal, a Glossy BSDF): the GGX lobe, its Fresnel rising from the tint.
             const Microfacet ggx{ns, wo, tint, m.multiscatter};

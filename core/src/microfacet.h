@@ -21,14 +21,6 @@ namespace gw {
 
 inline float ggx_alpha(float roughness) { return std::max(roughness * roughness, 1e-4f); }
 
-// pi x D(h) for a microfacet normal at cosine cos_h and squared sine sin2_h
-// to the normal (the sine from a cross product: 1 - cos^2 in float loses
-// the lobes of roughness under about 0.1, whose alpha^2 is below 1e-4).
-inline float ggx_d_pi(float cos_h, float sin2_h, float a2) {
-    const float k = sin2_h + cos_h * cos_h * a2;
-    return a2 / (k * k);
-}
-
 // Smith's Lambda of a direction at cosine c (> 0) to the normal.
 inline float ggx_lambda(float c, float a2) {
     const float c2 = c * c;
@@ -92,7 +84,9 @@ inline Vec3 ggx_highlight(const GgxView& v, const Vec3& wi) {
     const float len2 = dot(sum, sum);
     if (!(len2 > 1e-12f)) return Vec3();
     const Vec3 side = cross(v.ns, sum);
-    const float cos_h = dot(v.ns, sum), sin2_h = dot(side, side);   // (both x |sum|: k below is x len2)
+    // (both x |sum|: k below is x len2; the sine from a cross product, as 1 - cos^2 in float
+    // loses the lobes whose alpha^2 is under 1e-4)
+    const float cos_h = dot(v.ns, sum), sin2_h = dot(side, side);
     const float k = sin2_h + cos_h * cos_h * v.a2;
     const float s_i = ggx_smith_root(cos_i, v.a2);
     const float q = len2 / k;   // (k alone squared underflows for alpha under 3e-4 at grazing cosines)

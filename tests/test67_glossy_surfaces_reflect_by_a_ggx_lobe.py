@@ -8,31 +8,9 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from microfacet_math import dielectric_fresnel, ggx_albedo, ggx_brdf
 
 RES = 41                                       # odd: the middle pixel's ray goes through the target
-
-
-def ggx_albedo(cos_o, alpha, n=1200):
-    """The GGX lobe's directional albedo at F = 1 (Smith height-correlated G2), by a midpoint rule
-    over the hemisphere of light directions."""
-    theta = (np.arange(n) + 0.5) / n * np.pi / 2
-    phi = (np.arange(2 * n) + 0.5) / (2 * n) * 2 * np.pi
-    t, p = np.meshgrid(theta, phi, indexing="ij")
-    wi = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
-    wo = np.array([np.sqrt(1 - cos_o ** 2), 0.0, cos_o])
-    brdf = ggx_brdf(wi, wo, alpha)
-    return float((brdf * wi[..., 2] * np.sin(t)).sum() * (np.pi / 2 / n) * (np.pi / n))
-
-
-def ggx_brdf(wi, wo, alpha, f=1.0):
-    """F D G2 / (4 cos_i cos_o) in the frame whose z is the normal (numpy, float64)."""
-    h = wi + wo
-    h = h / np.linalg.norm(h, axis=-1, keepdims=True)
-    a2 = alpha ** 2
-    d = a2 / (np.pi * (h[..., 2] ** 2 * (a2 - 1) + 1) ** 2)
-    lam = lambda c: 0.5 * (np.sqrt(1 + a2 * (1 - c * c) / (c * c)) - 1)
-    g2 = 1 / (1 + lam(wo[..., 2]) + lam(wi[..., 2]))
-    return f * d * g2 / (4 * wi[..., 2] * wo[..., 2])
 
 
 def floor_pixel(material, light_at, eye=(0.0, -3.0, 2.0)):
@@ -53,7 +31,7 @@ def test_a_lamps_highlight_is_the_ggx_formula(roughness):
     ratio = floor_pixel(glossy, tuple(light_at)) / floor_pixel(diffuse, tuple(light_at))
     wi, wo = light_at / np.linalg.norm(light_at), eye / np.linalg.norm(eye)
     h = (wi + wo) / np.linalg.norm(wi + wo)
-    fresnel = 0.5 + 0.5 * (1 - wi @ h) ** 5
+    fresnel = dielectric_fresnel(wi @ h, 0.5)    # (a non-metal: the exact Fresnel of the IOR of f0 0.5)
     # a lamp lights a diffuse point by kd cos_i / pi (the lamps' intensities carry the 1 / pi)
     expected = ggx_brdf(wi, wo, roughness ** 2, fresnel) * np.pi
     assert ratio == pytest.approx([expected] * 3, rel=2e-3)
@@ -120,11 +98,11 @@ def floor_under_rect(roughness, mirror, res=5):
 @pytest.mark.parametrize("roughness", [0.03, 0.08])
 def test_a_narrow_lobe_reflects_a_rect_light_as_bright_as_a_mirror_does(roughness):
     # Inside the light's reflection a narrow lobe returns the light's radiance times Fresnel
-    # (Schlick from 0.5 at the view's angle; the albedo is about 1). Widening such lobes to a
+    # (a dielectric's of f0 0.5 at the view's angle; the albedo is about 1). Widening such lobes to a
     # fifth of the light's radius instead (the commit before) dimmed such reflections to
     # 0.61-0.78 of it in a review's measurements; sampling the light alone is noise.
     wo = np.array([0.0, -3.0, 2.0]) / np.linalg.norm([0.0, -3.0, 2.0])
-    fresnel = 0.5 + 0.5 * (1 - wo[2]) ** 5
+    fresnel = dielectric_fresnel(wo[2], 0.5)
     assert floor_under_rect(roughness, 0.0) == pytest.approx(floor_under_rect(0.0, 1.0) * fresnel, rel=0.03)
 
 

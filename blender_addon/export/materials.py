@@ -31,13 +31,12 @@ Principled BSDF -> Whitted model (our shading has no 1/pi in the BRDF: that
 factor is folded into the light intensities, see lights.py):
   m = metallic, t = transmission * (1 - m), r = roughness
   color         = base color
-  kd            = (1 - m) * (1 - t) * (1 - E)      (diffuse albedo = kd * color)
-  E             = the specular layer's albedo over the diffuse, Blender 4.0+
-                  only (its Principled BSDF takes it out of the diffuse; 3.x's
-                  adds the specular on top): the cosine-weighted average of the
-                  dielectric's Fresnel reflectance at that IOR, times
-                  2 * Specular IOR Level (0.092 at IOR 1.5 and level 0.5; the
-                  default material rendered 11% brighter than Cycles without it)
+  kd            = (1 - m) * (1 - t)      (diffuse albedo = kd * color)
+  layered_diffuse = Blender 4.0+ only: its Principled BSDF puts the diffuse under
+                  the specular layer, which takes its albedo seen from the viewer
+                  out of the diffuse (the core: kd x (1 - Fresnel at the view's
+                  angle x the lobe's albedo), 0.04 head-on at IOR 1.5 and level
+                  0.5); 3.x's adds the specular on top
   F0            = 0.08 * Specular (3.x) or ((ior-1)/(ior+1))^2 * 2 * Specular IOR Level (4.x)
   shininess     = 2 / a^2 - 2 with a = max(r^2, 1e-3), capped at 1000 (a Phong lobe ~ GGX's)
   ks            = ((1 - m) * F0 + m) * (shininess + 8) / 8   (normalised Phong weight; the
@@ -45,6 +44,9 @@ factor is folded into the light intensities, see lights.py):
                   reflectance at normal incidence)
   mirror        = m,  roughness = r  (glossy when r > 0)
   multiscatter  = the shader's distribution is Multiscatter GGX (Blender 4.0+'s default)
+  dielectric_reflection = True: the specular layer (F0 on the share that is neither
+                  metal nor transmission) reflects the scene by Fresnel, not only the
+                  lamps (a glossy floor mirrors what stands on it, spheres get bright rims)
   metallic      = m   (the metal's share of the highlight and of the mirror
                   reflection takes the base colour: gold reflects gold)
   transmittance = t,  ior = IOR,  tints_refraction = t > 0 (the base colour
@@ -62,7 +64,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
 
 from gridwalk.model import Material
 
@@ -86,7 +87,7 @@ def default_material(version) -> Material:
     if tuple(version) < (5, 0, 0):
         return DEFAULT_MATERIAL
     f0 = ((1.5 - 1.0) / (1.5 + 1.0)) ** 2
-    return principled_material((0.8, 0.8, 0.8), 0.0, 0.5, 0.0, 1.5, f0, specular_albedo=dielectric_albedo(1.5))
+    return principled_material((0.8, 0.8, 0.8), 0.0, 0.5, 0.0, 1.5, f0, layered=True, reflects=True)
 
 
 class Links:
@@ -169,34 +170,22 @@ def _value(node, names, default, links: Links, field=None):
     return value[:3] if isinstance(value, tuple) else value
 
 
-def dielectric_albedo(ior: float) -> float:
-    """The cosine-weighted hemispherical average of the unpolarised Fresnel
-    reflectance of light arriving from outside a dielectric of this IOR
-    (0.092 at 1.5; 0 at 1)."""
-    mu = (np.arange(256) + 0.5) / 256.0             # cosines of incidence, midpoints
-    eta = max(float(ior), 1e-3)
-    sin_t2 = (1.0 - mu * mu) / (eta * eta)
-    cos_t = np.sqrt(np.maximum(1.0 - sin_t2, 0.0))
-    rs = (mu - eta * cos_t) / (mu + eta * cos_t)
-    rp = (eta * mu - cos_t) / (eta * mu + cos_t)
-    fresnel = np.where(sin_t2 >= 1.0, 1.0, 0.5 * (rs * rs + rp * rp))   # (total internal reflection for ior < 1)
-    return float(np.mean(fresnel * 2.0 * mu))
-
-
-def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0, specular_albedo=0.0):
+def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0, layered=False,
+                        reflects=False):
     """The documented Principled -> Whitted mapping (also used for viewport colours).
     emission: a strength (colour * emission) or an RGB emitted colour;
-    specular_albedo: E, what the specular layer takes out of the diffuse."""
+    layered: the diffuse lies under the specular layer (layered_diffuse);
+    reflects: the specular layer reflects the scene (dielectric_reflection)."""
     m = min(max(metallic, 0.0), 1.0)
     t = min(max(transmission, 0.0), 1.0) * (1.0 - m)
     r = min(max(roughness, 0.0), 1.0)
     a = max(r * r, 1e-3)
     shininess = min(2.0 / (a * a) - 2.0, SHININESS_CAP)
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
-    under = 1.0 - min(max(specular_albedo, 0.0), 1.0)
-    return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t) * under, ks=ks,
+    return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t), ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, **_emission(emission))
+                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, layered_diffuse=bool(layered), dielectric_reflection=bool(reflects),
+                    **_emission(emission))
 
 
 def _emission(emission) -> dict:
@@ -214,11 +203,10 @@ def _from_principled(node, textured):
     roughness = _value(node, "Roughness", 0.5, textured, "roughness_texture")
     transmission = _value(node, ("Transmission Weight", "Transmission"), 0.0, textured)
     ior = max(_value(node, "IOR", 1.45, textured), 1e-3)        # (a Value node may give any number)
-    specular_albedo = 0.0
-    if _socket(node, "Specular IOR Level") is not None:          # Blender 4.0+
+    layered = _socket(node, "Specular IOR Level") is not None     # Blender 4.0+
+    if layered:
         level = max(_value(node, "Specular IOR Level", 0.5, textured), 0.0)
         f0 = ((ior - 1.0) / (ior + 1.0)) ** 2 * 2.0 * level
-        specular_albedo = dielectric_albedo(ior) * 2.0 * level
     else:                                                       # Blender 3.x
         f0 = 0.08 * max(_value(node, "Specular", 0.5, textured), 0.0)
     strength = _value(node, "Emission Strength", 1.0, textured)
@@ -226,7 +214,7 @@ def _from_principled(node, textured):
     if "emission_texture" in textured.fields:
         emission_color = (1.0, 1.0, 1.0)       # the texture's colour x the strength, per hit
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
-                                   tuple(c * strength for c in emission_color), specular_albedo)
+                                   tuple(c * strength for c in emission_color), layered, reflects=True)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
     material.multiscatter = multiscatter(node)
     _name_unread(node, PRINCIPLED_UNREAD, textured)

@@ -46,6 +46,8 @@ void bind_records(nb::module_& m) {
         .def_rw("tints_refraction", &Material::tints_refraction)
         .def_rw("tints_reflection", &Material::tints_reflection)
         .def_rw("multiscatter", &Material::multiscatter)
+        .def_rw("dielectric_reflection", &Material::dielectric_reflection)
+        .def_rw("layered_diffuse", &Material::layered_diffuse)
         .def_rw("emits_light", &Material::emits_light)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 

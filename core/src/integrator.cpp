@@ -14,18 +14,47 @@ Vec3 metal_tint(const Material& m, float metal) {
     return Vec3(1, 1, 1) + (m.color - Vec3(1, 1, 1)) * metal;
 }
 
-// A glossy surface's Fresnel reflectance at normal incidence: ks without the
-// normalised Phong lobe's (shininess + 8) / 8 (the Principled mapping's
-// (1 - metallic) F0 + metallic), its metallic share taking the base colour.
-Vec3 specular_f0(const Material& m) {
-    const float s = std::min(m.ks * 8.0f / (m.shininess + 8.0f), 1.0f);
-    if (!(s > 0)) return Vec3();
-    return metal_tint(m, std::min(1.0f, m.metallic / s)) * s;
+// The specular weight at normal incidence: ks without the normalised Phong
+// lobe's (shininess + 8) / 8 (the Principled mapping's (1 - metallic) F0 + metallic).
+float specular_weight(const Material& m) { return std::min(m.ks * 8.0f / (m.shininess + 8.0f), 1.0f); }
+
+// The share of a surface whose dielectric specular layer reflects the scene
+// (Material::dielectric_reflection): what is neither mirror (metal) nor glass.
+float dielectric_share(const Material& m) {
+    return m.dielectric_reflection ? std::max(1.0f - m.mirror - m.transmittance, 0.0f) : 0.0f;
 }
 
-// What of specular_f0 a glossy surface's reflection rays do not see: f0 less
-// the mirror share's tint (shade_hit's reflection), none behind glass's
-// Fresnel reflection ray.
+// The non-metal's reflectance at normal incidence (white): the specular
+// weight's non-metal part, per unit of non-metal (the Principled mapping's F0).
+float dielectric_f0(const Material& m) {
+    if (!(m.metallic < 1)) return 0;
+    return std::min(std::max((specular_weight(m) - m.metallic) / (1 - m.metallic), 0.0f), 1.0f);
+}
+
+// A glossy surface's whole reflectance (what its lamp highlights take): the
+// metallic share rising from the base colour, the rest a dielectric.
+Fresnel specular_fresnel(const Material& m) {
+    Fresnel f;
+    const float s = specular_weight(m);
+    if (!(s > 0)) return f;
+    f.tint = m.color;
+    f.mirror = std::min(std::max(m.metallic, 0.0f), s);
+    f.f0 = dielectric_f0(m);
+    f.dielectric = f.f0 > 0 ? 1 - std::max(m.metallic, 0.0f) : 0.0f;
+    return f;
+}
+
+// What the dielectric layer reflects, seen from cos_o, of light arriving from
+// all around: Fresnel at the view's angle times the GGX lobe's albedo (with
+// multiscatter's gain). A layered diffuse (Material::layered_diffuse) gets
+// the rest.
+float layer_albedo(const Material& m, float f0, float cos_o) {
+    const float f = fresnel_dielectric(cos_o, dielectric_eta(f0));
+    if (!(m.roughness > 0)) return f;
+    const float e = ggx_albedo(cos_o, ggx_alpha(m.roughness));
+    return std::min(f * (m.multiscatter ? e + f0 * (1 - e) : e), 1.0f);
+}
+
 // The colour of the mirror reflection of weight refl > 0 (shade_hit): the
 // metallic share's base colour, a Glass BSDF's colour, else white.
 Vec3 reflection_tint(const Material& m, float refl) {
@@ -34,15 +63,23 @@ Vec3 reflection_tint(const Material& m, float refl) {
                                 : Vec3(1, 1, 1);
 }
 
-Vec3 emitter_f0(const Material& m) {
-    if (m.transmittance > 0) return Vec3();
-    const Vec3 f0 = specular_f0(m), seen = m.mirror > 0 ? reflection_tint(m, m.mirror) * m.mirror : Vec3();
-    return Vec3(std::max(f0.x - seen.x, 0.0f), std::max(f0.y - seen.y, 0.0f), std::max(f0.z - seen.z, 0.0f));
+// What of a glossy surface's highlight its reflection rays do not see (they
+// see the emitters: trace() returns what they emit): the whole specular less
+// the mirror share (beyond the metal, out of the dielectric) and less the
+// dielectric layer's share; nothing behind glass's Fresnel reflection ray.
+// Lamps, which those rays do not see, take the whole specular in direct().
+Fresnel emitter_fresnel(const Material& m) {
+    if (m.transmittance > 0) return Fresnel();
+    Fresnel f = specular_fresnel(m);
+    const float beyond_metal = std::max(m.mirror - f.mirror, 0.0f);
+    f.mirror = std::max(f.mirror - m.mirror, 0.0f);
+    f.dielectric = std::max(f.dielectric - beyond_metal - dielectric_share(m), 0.0f);
+    return f;
 }
 
-// A glossy surface's (roughness > 0) GGX lobe for its highlights.
-GgxView glossy_view(const Material& m, const Vec3& f0, const Vec3& ns, const Vec3& wo) {
-    return ggx_view(ns, wo, ggx_alpha(m.roughness), f0, m.multiscatter);
+// A glossy surface's (roughness > 0) GGX lobe, of the reflectance f.
+GgxView glossy_view(const Material& m, const Fresnel& f, const Vec3& ns, const Vec3& wo) {
+    return ggx_view(ns, wo, ggx_alpha(m.roughness), f, m.multiscatter);
 }
 
 // Lights are sampled by their shape alone (no MIS with the lobe), so a lobe
@@ -57,6 +94,14 @@ GgxView glossy_view(const Material& m, const Vec3& f0, const Vec3& ns, const Vec
 // (mirrored_light): within a few percent inside the reflection, sharp at its
 // edge, no noise.
 constexpr float kMirrorLobe = 0.1f;
+
+// A dielectric layer's reflection rays (shade_hit) where the layer alone reflects less than
+// this, seen from the view, are traced by Russian roulette. Measured as error x time against
+// tracing every one (RMSE against each one's 200-spp reference, 4 and 16 spp, three seeds):
+// SPD balls size 3 as the Cycles benchmark builds them (a rough Principled floor) 16 spp 1.24x
+// as efficient at 0.25 (the same RMSE, 0.81x the time), 1.09x at 0.1; a dark glossy floor
+// under a sky, whose reflection is most of its colour, 1.02x at 0.25 and 0.4x at 0.5.
+constexpr float kLayerRoulette = 0.25f;
 
 }  // namespace
 
@@ -139,7 +184,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     Vec3 total;
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (on ng's side, as ns is)
     const auto& lights = scene_.lights();
-    const GgxView glossy = m.roughness > 0 ? glossy_view(m, specular_f0(m), ns, wo) : GgxView();
+    const GgxView glossy = m.roughness > 0 ? glossy_view(m, specular_fresnel(m), ns, wo) : GgxView();
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
         const bool has_area = L.kind == LightKind::Sphere || L.kind == LightKind::Spot ? L.radius > 0
@@ -151,10 +196,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // A sharp mirror reflects what its rays see: a light with a shape (lights_seen),
         // nothing of a Blender point light, as in Cycles. Its share of the highlight is
         // theirs, as an emitter's is (from_emitters), and so is sharp glass's (its Fresnel
-        // reflection ray sees the light). (Lights without falloff, NFF's, keep
+        // reflection ray sees the light), and a dielectric layer's that reflects (its rays see
+        // it too). (Lights without falloff, NFF's, keep
         // Whitted's highlight: the SPD scenes' mirror balls show it.)
         const bool reflected = m.roughness <= 0 && (L.inverse_square || has_visible_shape(L));
-        const float highlight = reflected ? m.ks * std::max(1.0f - m.mirror - m.transmittance, 0.0f) : m.ks;
+        const float highlight =
+            reflected ? m.ks * std::max(1.0f - m.mirror - m.transmittance - dielectric_share(m), 0.0f) : m.ks;
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
@@ -313,10 +360,11 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     const Vec3* corners = scene_.triangle_vertices();
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (as in direct())
     // A glossy surface's own reflection rays see the emitters (trace() returns what they emit):
-    // the highlight sampled here is what they leave out, f0 less the mirror share's tint (all of
-    // it for glass, whose Fresnel reflection ray sees them). Lamps, which those rays do not
-    // see, take the whole f0 in direct().
-    const GgxView glossy = m.roughness > 0 && m.ks > 0 ? glossy_view(m, emitter_f0(m), ns, wo) : GgxView();
+    // the highlight sampled here is what they leave out (emitter_f0).
+    const Fresnel rest = m.roughness > 0 ? emitter_fresnel(m) : Fresnel();
+    const bool glossy_highlight = rest.mirror > 0 || rest.dielectric > 0;
+    const GgxView glossy = glossy_highlight ? glossy_view(m, rest, ns, wo) : GgxView();
+    const float sharp_highlight = m.ks * std::max(1.0f - m.mirror - dielectric_share(m), 0.0f);
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
@@ -353,10 +401,10 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         if (m.roughness > 0) {
-            f += ggx_highlight(glossy, wi);
-        } else if (m.ks > 0 && m.mirror < 1) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
+            if (glossy_highlight) f += ggx_highlight(glossy, wi);
+        } else if (sharp_highlight > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
-            const float spec = m.ks * (1.0f - m.mirror) * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
+            const float spec = sharp_highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
             f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * spec
                                 : Vec3(spec, spec, spec);
         }
@@ -369,7 +417,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
 
 Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness,
                              int depth, float weight, bool split, bool through, SampleState& st,
-                             TraceContext& ctx, const Microfacet* ggx) const {
+                             TraceContext& ctx, const GgxView* ggx) const {
     Ray r;
     r.d = dir;
     r.spawned = true;
@@ -416,7 +464,7 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
             w = normalize(mh * (2.0f * cos_m) - ggx->wo);
             const float g = ggx_ray_weight(wo_local.z, dot(w, ggx->ns), alpha);
             if (!(g > 0)) continue;
-            fresnel = schlick(ggx->f0, cos_m) * g;
+            fresnel = ggx_fresnel(*ggx, cos_m) * g;
         } else {
             const float ct = std::pow(1.0f - u1, 1.0f / (e + 1.0f)), s = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
             const float phi = float(2 * kPi) * u2;
@@ -428,7 +476,6 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
         // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
         sum += trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3()) * fresnel;
     }
-    if (ggx) sum = sum * ggx_multiscatter(ggx->f0, wo_local.z, alpha, ggx->multiscatter);
     return sum * (1.0f / float(n));
 }
 
@@ -525,9 +572,19 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     // (a Weighted Normal modifier's rim, lit slivers Cycles leaves black).
     const Vec3 ns_lit = ns;
     if (dot(ns, wo) <= 0) ns = ng;              // interpolated normal facing away: the true one (reflections, ambient)
-    Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, m, depth, split, st, ctx);
+    // The dielectric layer (Material::dielectric_reflection, layered_diffuse): its Fresnel
+    // reflectance at normal incidence, and what it reflects seen from here.
+    const float layer = dielectric_share(m), f0d = layer > 0 || m.layered_diffuse ? dielectric_f0(m) : 0.0f;
+    const float cos_o = std::min(std::max(dot(wo, ns), 0.0f), 1.0f);
+    Material under;   // (a layered diffuse: kd less the layer's albedo seen from wo)
+    if (m.layered_diffuse && m.kd > 0 && f0d > 0) {
+        under = m;
+        under.kd = m.kd * (1 - layer_albedo(m, f0d, cos_o));
+    }
+    const Material& lit = m.layered_diffuse && m.kd > 0 && f0d > 0 ? under : m;
+    Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
-    if (scene_.has_ambient() && m.kd > 0) {
+    if (scene_.has_ambient() && lit.kd > 0) {
         Vec3 a = scene_.ambient(ns);
         // (unclamped: a shading point's estimate may dip below 0 where a sun is
         // blocked; the pixel's mean is the estimate, clamped once, in pixel())
@@ -535,7 +592,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
             if (!scene_.sun_map().empty()) a = a - scene_.sun_ambient(ns) + sun_seen(sp, ng, ns, depth, split, st, ctx);
         }
-        color += m.color * a * m.kd;
+        color += m.color * a * lit.kd;
     }
     if (depth >= s_.max_depth) return color;
 
@@ -559,18 +616,35 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             trans = m.transmittance * (1.0f - F);
         }
     }
-    if (refl > 0 && weight * refl > s_.min_weight) {
-        const Vec3 tint = reflection_tint(m, refl);
+    // The reflection rays carry the mirror share (metal, glass's Fresnel) in its tint and the
+    // dielectric layer's share (Material::dielectric_reflection) by its own Fresnel: one set of
+    // rays for both.
+    float layer_seen = layer > 0 && f0d > 0 ? layer * fresnel_dielectric(cos_o, dielectric_eta(f0d)) : 0.0f;
+    const float w = weight * (refl + layer_seen);
+    // A layer alone reflecting little (under kLayerRoulette, seen from here) traces its rays
+    // with probability layer_seen / kLayerRoulette, weighted by the inverse (Russian roulette:
+    // unbiased; st.rng, so images stay independent of threads and tiles).
+    float boost = 1;
+    if (!(refl > 0) && layer_seen > 0 && layer_seen < kLayerRoulette && w > s_.min_weight) {
+        const float p = layer_seen / kLayerRoulette;
+        if (st.rng.next() >= p) layer_seen = 0;
+        else boost = 1 / p;
+    }
+    if ((refl > 0 || layer_seen > 0) && w > s_.min_weight) {
+        const Vec3 tint = refl > 0 ? reflection_tint(m, refl) : Vec3();
+        layer_seen *= boost;
         if (m.roughness > 0 && !(m.transmittance > 0)) {
-            // A glossy mirror (metal, a Glossy BSDF): the GGX lobe, its Fresnel rising from the tint.
-            const Microfacet ggx{ns, wo, tint, m.multiscatter};
-            color += glossy_lobe(sp, ng, d, m.roughness, depth, weight * refl, split, false, st, ctx, &ggx) * refl;
+            // A glossy mirror (metal, a Glossy BSDF, a dielectric's layer): the GGX lobe, each
+            // share's Fresnel rising from its colour.
+            Fresnel f;
+            f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
+            const GgxView lobe = glossy_view(m, f, ns, wo);
+            color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe);
         } else {
             Vec3 rdir = d - ns * (2.0f * dot(d, ns));
             if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));
-            const Vec3 reflected =
-                glossy_lobe(sp, ng, normalize(rdir), m.roughness, depth, weight * refl, split, false, st, ctx);
-            color += reflected * tint * refl;
+            const Vec3 reflected = glossy_lobe(sp, ng, normalize(rdir), m.roughness, depth, w, split, false, st, ctx);
+            color += reflected * (tint * refl + Vec3(layer_seen, layer_seen, layer_seen));
         }
     }
     if (trans > 0 && weight * trans > s_.min_weight && dot(tdir, ng) < 0) {

@@ -54,13 +54,6 @@ private:
     ShadowMode spread_mode() const { return s_.shadow == ShadowMode::Hard ? ShadowMode::Random : s_.shadow; }
     void light_point(ShadowMode mode, uint32_t li, int j, int count, int depth, bool split, SampleState& st,
                      float& u1, float& u2) const;
-    // A glossy reflection's GGX lobe (microfacet.h): the shading normal and
-    // the view it is seen from, the Fresnel colour at normal incidence, and
-    // whether it is Multiscatter GGX.
-    struct Microfacet {
-        Vec3 ns, wo, f0;
-        bool multiscatter;
-    };
     // The rays around the mirror direction (or, `through`, the refracted
     // direction) `dir` that a rough surface scatters into: the exact ray at
     // roughness 0, else a normalised Phong lobe of the roughness; with `ggx`
@@ -68,7 +61,7 @@ private:
     // shadowing (dir unused).
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
-                     const Microfacet* ggx = nullptr) const;
+                     const GgxView* ggx = nullptr) const;
     // The light L as a glossy lobe far narrower than it reflects it: its
     // radiance in the mirror direction, if unblocked, times the lobe's albedo.
     Vec3 mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, float radius,

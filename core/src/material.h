@@ -52,6 +52,18 @@ struct Material {
     // A glossy surface's (roughness > 0) GGX lobe gets back the energy single
     // scattering loses, as Cycles' Multiscatter GGX (microfacet.h).
     bool multiscatter = false;
+    // The specular layer of the surface's dielectric share (neither mirror nor
+    // transmittance) reflects the scene as well as the lamps: reflection rays
+    // weighted by Schlick's Fresnel from the specular weight's non-metal part
+    // (ks * 8 / (shininess + 8) less metallic, per unit of non-metal), along
+    // the GGX lobe of the roughness, as Cycles' Principled BSDF does. NFF's
+    // Phong highlight reflects only the lamps.
+    bool dielectric_reflection = false;
+    // The diffuse lies under that layer and gets what the layer does not
+    // reflect as seen from the viewer: kd times 1 - the layer's albedo in the
+    // view direction (Blender 4.0+'s Principled BSDF); without it the layer
+    // adds to the diffuse (3.x's Principled, NFF).
+    bool layered_diffuse = false;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.

@@ -27,49 +27,84 @@ inline float ggx_lambda(float c, float a2) {
     return 0.5f * (std::sqrt(1 + a2 * std::max(1 - c2, 0.0f) / std::max(c2, 1e-12f)) - 1);
 }
 
+// Schlick's Fresnel, rising from f0 at normal incidence to 1 at grazing.
 inline Vec3 schlick(const Vec3& f0, float c) {
     const float k = 1 - std::min(std::max(c, 0.0f), 1.0f), k2 = k * k, k5 = k2 * k2 * k;
     return f0 + (Vec3(1, 1, 1) - f0) * k5;
 }
 
+// The relative IOR of a dielectric whose reflectance at normal incidence is f0.
+inline float dielectric_eta(float f0) {
+    const float r = std::sqrt(std::min(std::max(f0, 0.0f), 0.9999f));
+    return (1 + r) / (1 - r);
+}
+
+// The exact (unpolarised) Fresnel reflectance of light arriving at cosine c
+// on a dielectric of relative IOR eta >= 1 (from outside).
+inline float fresnel_dielectric(float c, float eta) {
+    c = std::min(std::max(c, 0.0f), 1.0f);
+    const float g = std::sqrt(eta * eta - 1 + c * c);
+    const float a = (g - c) / (g + c), b = (c * (g + c) - 1) / (c * (g - c) + 1);
+    return 0.5f * a * a * (1 + b * b);
+}
+
+// A surface's reflectance as two shares: a mirror of weight `mirror`, its
+// Schlick curve rising from `tint` (a metal's colour), and a dielectric of
+// weight `dielectric` (what is not metal, or a layer of it), the exact
+// Fresnel of the IOR whose reflectance at normal incidence is f0 (Cycles'
+// Principled BSDF, whose Specular IOR Level scales that f0, does the same).
+struct Fresnel {
+    Vec3 tint;
+    float mirror = 0, f0 = 0, dielectric = 0;
+};
+
 // The lobe's directional albedo at F = 1 for a view at cosine cos_o
 // (a table over cos_o and roughness, integrated once).
 float ggx_albedo(float cos_o, float alpha);
 
-// Multiscatter GGX's factor on the single-scattering lobe (1 where multiscatter is off).
-inline Vec3 ggx_multiscatter(const Vec3& f0, float cos_o, float alpha, bool multiscatter) {
-    if (!multiscatter) return Vec3(1, 1, 1);
+// Multiscatter GGX's factor on the single-scattering lobe is 1 + f0 g, with
+// this gain g = (1 - E) / E.
+inline float ggx_multiscatter_gain(float cos_o, float alpha) {
     const float e = ggx_albedo(cos_o, alpha);
-    return Vec3(1, 1, 1) + f0 * ((1 - e) / e);
+    return (1 - e) / e;
 }
 
 // What a lobe seen from wo (unit, ns the shading normal) fixes for every
-// light sample of a shading point: set up once per light, not per sample.
+// light sample or ray of a shading point: set up once, not per sample.
 struct GgxView {
-    Vec3 ns, wo, f0, scale;   // scale: the multiscatter factor
-    float a2 = 0, cos_o = 0, s_o = 0;
-    bool seen = false;        // wo above the lobe's normal
+    Vec3 ns, wo, tint, mirror_scale;  // the scales: each share's weight times its multiscatter factor
+    float eta = 1, dielectric_scale = 0, a2 = 0, cos_o = 0, s_o = 0;
+    bool seen = false;                // wo above the lobe's normal
 };
 
 // sqrt(c^2 + a2 (1 - c^2)): Smith's 1 + 2 Lambda = this / c.
 inline float ggx_smith_root(float c, float a2) { return std::sqrt(c * c + a2 * std::max(1 - c * c, 0.0f)); }
 
-inline GgxView ggx_view(const Vec3& ns, const Vec3& wo, float alpha, const Vec3& f0, bool multiscatter) {
+inline GgxView ggx_view(const Vec3& ns, const Vec3& wo, float alpha, const Fresnel& f, bool multiscatter) {
     GgxView v;
     v.cos_o = dot(ns, wo);
     v.seen = v.cos_o > 0;
     if (!v.seen) return v;
-    v.ns = ns, v.wo = wo, v.f0 = f0, v.a2 = alpha * alpha;
+    v.ns = ns, v.wo = wo, v.tint = f.tint, v.a2 = alpha * alpha;
     v.s_o = ggx_smith_root(v.cos_o, v.a2);
-    v.scale = ggx_multiscatter(f0, v.cos_o, alpha, multiscatter);
+    const float gain = multiscatter ? ggx_multiscatter_gain(v.cos_o, alpha) : 0.0f;
+    v.mirror_scale = (Vec3(1, 1, 1) + f.tint * gain) * f.mirror;
+    v.dielectric_scale = (1 + f.f0 * gain) * f.dielectric;
+    v.eta = dielectric_eta(f.f0);
     return v;
+}
+
+// The lobe's Fresnel (with multiscatter's factors) where light meets the microfacets at cosine c.
+inline Vec3 ggx_fresnel(const GgxView& v, float c) {
+    const float d = v.dielectric_scale > 0 ? fresnel_dielectric(c, v.eta) * v.dielectric_scale : 0.0f;
+    return schlick(v.tint, c) * v.mirror_scale + Vec3(d, d, d);
 }
 
 // The lobe's albedo for the view, with Fresnel at the view's angle (and the
 // multiscatter factor): what it reflects of light arriving from all around
 // its mirror direction.
 inline Vec3 ggx_albedo_fresnel(const GgxView& v) {
-    return schlick(v.f0, v.cos_o) * v.scale * ggx_albedo(v.cos_o, std::sqrt(v.a2));
+    return ggx_fresnel(v, v.cos_o) * ggx_albedo(v.cos_o, std::sqrt(v.a2));
 }
 
 // The highlight of a light from wi (unit): F D G2 pi / (4 cos_o) (times the
@@ -91,7 +126,7 @@ inline Vec3 ggx_highlight(const GgxView& v, const Vec3& wi) {
     const float s_i = ggx_smith_root(cos_i, v.a2);
     const float q = len2 / k;   // (k alone squared underflows for alpha under 3e-4 at grazing cosines)
     const float value = (v.a2 * q) * (q * cos_i) / (2 * (v.s_o * cos_i + s_i * v.cos_o));
-    return schlick(v.f0, dot(wi, sum) / std::sqrt(len2)) * v.scale * value;
+    return ggx_fresnel(v, dot(wi, sum) / std::sqrt(len2)) * value;
 }
 
 // A microfacet normal seen from wo, drawn from the visible normals'

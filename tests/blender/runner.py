@@ -144,3 +144,26 @@ def run(argv, env=None, timeout: float = 180, cwd=None) -> subprocess.CompletedP
     return proc
 
 
+
+
+# Gridwalk at 6 x 6 jittered samples and 4 glossy rays against Cycles at 128 samples: the
+# comparisons of glossy surfaces (test_b34, test_b35).
+GLOSSY_ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 6, "glossy_samples": 4}',
+                  "CYCLES": "samples=128"}
+
+
+def combined_rgb_by_variant(kind: str, out: Path, scene: str, key: str, values, engines: dict) -> dict:
+    """{(value, engine): linear RGB} of scripts/render_scene.py's `scene` with scene option
+    `key` set to each of `values`, rendered by each engine (option strings as render_scene.py
+    takes them), all in one Blender `kind` (render_batch), the film opaque."""
+    import exr
+    jobs, folders = [], {}
+    for value in values:
+        for engine, option in engines.items():
+            folders[value, engine] = out / f"{value}_{engine}"
+            folders[value, engine].mkdir()
+            jobs.append([scene, folders[value, engine], engine, "transparent=false", option,
+                         f'scene={{"{key}": "{value}"}}'])
+    render_batch(kind, jobs)
+    return {k: exr.rgba(exr.read_exr(folder / f"{k[1].lower()}.exr"), "ViewLayer.Combined.")[..., :3]
+            for k, folder in folders.items()}

@@ -83,10 +83,10 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"
-    # metallic 0: the core blends towards metal per hit; Blender 4+ takes the
-    # specular layer's albedo at IOR 1.5 (0.0918, test_b03) out of the diffuse
+    # metallic 0: the core blends towards metal per hit; Blender 4+'s diffuse lies under the
+    # specular layer (the core takes the layer's albedo seen from the viewer out of it)
     assert render["mirror"] == 0.0
-    assert render["kd"] == (pytest.approx(1.0 - 0.09178, abs=1e-4) if links.blender[0] >= 4 else 1.0)
+    assert render["kd"] == 1.0 and render["layered_diffuse"] == (links.blender[0] >= 4)
     alpha = textures[render["alpha_texture"]]
     assert name(render["alpha_texture"]) == "Shared" and alpha["use_alpha"] and alpha["extension"] == "extend"
     colour = textures[render["color_texture"]]

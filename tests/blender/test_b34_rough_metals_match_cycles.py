@@ -6,28 +6,16 @@ Cycles' brightness under the sun at Roughness 0.2 / 0.3 / 0.5 / 0.8."""
 import numpy as np
 import pytest
 
-import exr
-from runner import render_batch
+from runner import GLOSSY_ENGINES, combined_rgb_by_variant
 
 ROUGHNESS = (0.2, 0.35, 0.5, 0.8)        # glossy_scenes.ROUGH_METALS, left to right
-ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 6, "glossy_samples": 4}',
-           "CYCLES": "samples=128"}
 
 
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     """{(lit, engine): linear RGB} for both lightings and engines, in one Blender."""
     out = tmp_path_factory.mktemp(f"rough_metal_{module_blender}")
-    jobs, folders = [], {}
-    for lit in ("sun", "world"):
-        for engine, option in ENGINES.items():
-            folders[lit, engine] = out / f"{lit}_{engine}"
-            folders[lit, engine].mkdir()
-            jobs.append(["rough_metal", folders[lit, engine], engine, "transparent=false", option,
-                         f'scene={{"lit": "{lit}"}}'])
-    render_batch(module_blender, jobs)
-    return {key: exr.rgba(exr.read_exr(folder / f"{key[1].lower()}.exr"), "ViewLayer.Combined.")[..., :3]
-            for key, folder in folders.items()}
+    return combined_rgb_by_variant(module_blender, out, "rough_metal", "lit", ("sun", "world"), GLOSSY_ENGINES)
 
 
 def sphere_means(rgb):

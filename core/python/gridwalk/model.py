@@ -138,7 +138,17 @@ class Material(Record):
     cylinders do not. tints_refraction: the colour tints what the surface
     refracts, also along shadow rays through it (coloured glass: Cycles'
     Principled transmission and Glass BSDF); tints_reflection: and what it
-    reflects (the Glass BSDF). NFF's transmission is untinted."""
+    reflects (the Glass BSDF). NFF's transmission is untinted.
+    dielectric_reflection: the share of the surface that is neither mirror nor
+    transmittance reflects the scene (not only the lamps) by its specular
+    layer: rays along the roughness's lobe (the mirror direction at 0),
+    weighted by Schlick's Fresnel from (ks * 8 / (shininess + 8) - metallic)
+    / (1 - metallic) at normal incidence to 1 at grazing, as Cycles'
+    Principled BSDF reflects; NFF's Phong highlight reflects only lamps.
+    layered_diffuse: the diffuse lies under that specular layer and gets kd
+    times 1 - the layer's albedo seen from the viewer (Fresnel at the view's
+    angle times the lobe's albedo: 0.04 head-on at F0 0.04, more at grazing),
+    as Blender 4.0+'s Principled BSDF; without it the layer adds to kd."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -166,6 +176,8 @@ class Material(Record):
     tints_refraction: bool = _MAT.tints_refraction
     tints_reflection: bool = _MAT.tints_reflection
     multiscatter: bool = _MAT.multiscatter
+    dielectric_reflection: bool = _MAT.dielectric_reflection
+    layered_diffuse: bool = _MAT.layered_diffuse
     CORE = _core.Material
 
 

@@ -4,9 +4,18 @@ import math
 import bpy
 
 from blender_addon.scripting import principled_material
-from scenes import add_light, link, plain_world, reset, uv_sphere_object
+from scenes import add_light, cube_object, link, plain_world, reset, uv_sphere_object
 
 ROUGH_METALS = (0.2, 0.35, 0.5, 0.8)     # left to right
+
+
+def sphere_row(name, roughnesses, color, **inputs):
+    """Spheres of radius 0.8 at x = -3, -1, 1, 3 (y = z = 0), a Principled BSDF of the colour, the
+    inputs and each of the roughnesses, left to right."""
+    for i, roughness in enumerate(roughnesses):
+        sphere = link(uv_sphere_object(f"{name}{roughness}", 0.8, segments=64, rings=32))
+        sphere.location = (-3.0 + 2.0 * i, 0.0, 0.0)
+        sphere.data.materials.append(principled_material(f"{name}{roughness}", color, Roughness=roughness, **inputs))
 
 
 def rough_metal_scene(resolution=(160, 40), lit="sun"):
@@ -18,15 +27,44 @@ def rough_metal_scene(resolution=(160, 40), lit="sun"):
     scene = bpy.context.scene
     scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
     scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
-    for i, roughness in enumerate(ROUGH_METALS):
-        sphere = link(uv_sphere_object(f"Metal{roughness}", 0.8, segments=64, rings=32))
-        sphere.location = (-3.0 + 2.0 * i, 0.0, 0.0)
-        sphere.data.materials.append(principled_material(f"Metal{roughness}", (0.9, 0.6, 0.3), Metallic=1.0,
-                                                         Roughness=roughness))
+    sphere_row("Metal", ROUGH_METALS, (0.9, 0.6, 0.3), Metallic=1.0)
     if lit == "sun":
         plain_world("Black", (0.0, 0.0, 0.0))
         add_light("Sun", "SUN", (0, -5, 5), (math.radians(60), 0, math.radians(-30)), energy=2.0, angle=0.05)
     else:
         plain_world("Grey", (0.5, 0.5, 0.5))
+    bpy.context.view_layer.update()
+    return {}
+
+
+DIELECTRICS = (0.0, 0.2, 0.5, 0.8)       # left to right
+
+
+def dielectric_scene(resolution=(160, 40), lit="world"):
+    """Dark grey (0.05) dielectric spheres (Principled Metallic 0, the default IOR and specular) of
+    the DIELECTRICS roughnesses, seen head on by an orthographic camera 8 units wide: lit "world"
+    (a grey world of 0.5, no lamp: all but the diffuse is the world's reflection, bright at the
+    rims) or "floor" (the spheres on a black dielectric floor of roughness 0.1 that reflects
+    them, a white backdrop lit by a sun, a black world; the camera looks down 15 degrees, the
+    image half as high as wide)."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
+    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    sphere_row("Dielectric", DIELECTRICS, (0.05, 0.05, 0.05))
+    if lit == "world":
+        plain_world("Grey", (0.5, 0.5, 0.5))
+    else:
+        floor = link(cube_object("Floor", 1.0))
+        floor.scale, floor.location = (12.0, 12.0, 0.01), (0.0, 0.0, -0.81)
+        floor.data.materials.append(principled_material("Floor", (0.0, 0.0, 0.0), Roughness=0.1))
+        panel = link(cube_object("Backdrop", 1.0))
+        panel.scale, panel.location = (12.0, 0.01, 6.0), (0.0, 3.0, 0.0)
+        panel.data.materials.append(principled_material("Backdrop", (0.8, 0.8, 0.8), Roughness=1.0))
+        plain_world("Black", (0.0, 0.0, 0.0))
+        add_light("Sun", "SUN", (0, -5, 5), (math.radians(50), 0, math.radians(-20)), energy=3.0, angle=0.05)
+        # (looking down by 15 degrees: the floor's lower half of the image holds the reflections)
+        scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 2.68), (math.radians(75), 0.0, 0.0)
+        scene.render.resolution_y = resolution[0] // 2
     bpy.context.view_layer.update()
     return {}

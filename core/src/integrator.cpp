@@ -95,6 +95,14 @@ GgxView glossy_view(const Material& m, const Fresnel& f, const Vec3& ns, const V
 // edge, no noise.
 constexpr float kMirrorLobe = 0.1f;
 
+// The least integer whose square is at least x.
+uint32_t ceil_sqrt(uint32_t x) {
+    uint32_t r = uint32_t(std::sqrt(double(x)));
+    while (uint64_t(r) * r < x) ++r;
+    while (r > 0 && uint64_t(r - 1) * (r - 1) >= x) --r;
+    return r;
+}
+
 // A dielectric layer's reflection rays (shade_hit) where the layer alone reflects less than
 // this, seen from the view, are traced by Russian roulette. Measured as error x time against
 // tracing every one (RMSE against each one's 200-spp reference, 4 and 16 spp, three seeds):
@@ -288,13 +296,18 @@ void Integrator::light_point(ShadowMode mode, uint32_t li, int j, int count, int
         // each depth has its own shuffle and jitter (depth 1 keeps the
         // primary hits' key), so a mirror's or a refraction's hits are
         // stratified over the pixel's samples too.
-        const uint32_t n = uint32_t(std::max(1, s_.shadow_samples)), grid = n * n;
+        // A pixel of more samples than the n x n strata (anti-aliasing raised, shadow samples
+        // not) takes a finer grid, one stratum per sample: with n x n it met the same n x n
+        // jittered points over and over (4 per pixel at 16 x 16 samples and n = 2), and
+        // its soft shadows and world shadows stayed as grainy as at 2 x 2.
+        const uint32_t n = uint32_t(std::max(1, s_.shadow_samples));
+        const uint32_t side = n * n >= st.samples ? n : ceil_sqrt(st.samples), grid = side * side;
         const uint32_t slot = (st.sample * uint32_t(count) + uint32_t(j)) % grid;
         const uint32_t light_key = li + uint32_t(depth - 1) * kGoldenRatio32;
         const uint32_t key = hash4(st.seed, st.pixel, light_key, uint32_t(Stream::AreaLightGrid));
         const uint32_t cell = permute(slot, grid, key);
-        u1 = (float(cell % n) + to_unit(hash4(key, cell, 1, 0))) / float(n);
-        u2 = (float(cell / n) + to_unit(hash4(key, cell, 2, 0))) / float(n);
+        u1 = (float(cell % side) + to_unit(hash4(key, cell, 1, 0))) / float(side);
+        u2 = (float(cell / side) + to_unit(hash4(key, cell, 2, 0))) / float(side);
     }
 }
 

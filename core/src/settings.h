@@ -57,7 +57,7 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
       "Gaussian standard deviation in pixels (clipped at 2 sigma)")                                                \
     X(ShadowMode, shadow, ShadowMode::Hard, 0, 0, "lights", "", "Soft Shadows", "Where shadow rays go on a light") \
     X(int, shadow_samples, 1, 1, 64, "lights", "shadow!=hard", "Shadow Samples",                                   \
-      "random: rays per light; area: n of the n x n light grid")                                                   \
+      "random: rays per light; area: n of the n x n light grid (finer for more pixel samples)")                   \
     X(bool, world_shadows, false, 0, 1, "lights", "", "World Shadows",                                             \
       "The scene blocks the world's light (ambient colour, environment): shadow rays toward the world, as many "   \
       "as a light with a size gets")                                                                              \

@@ -43,7 +43,8 @@ inline float dielectric_eta(float f0) {
 // on a dielectric of relative IOR eta >= 1 (from outside).
 inline float fresnel_dielectric(float c, float eta) {
     c = std::min(std::max(c, 0.0f), 1.0f);
-    const float g = std::sqrt(eta * eta - 1 + c * c);
+    const float g = std::sqrt(std::max(eta * eta - 1 + c * c, 0.0f));
+    if (!(g > 0)) return 1;   // (grazing on an IOR that rounds to 1: the limit, where 0 / 0 would be NaN)
     const float a = (g - c) / (g + c), b = (c * (g + c) - 1) / (c * (g - c) + 1);
     return 0.5f * a * a * (1 + b * b);
 }

@@ -27,7 +27,7 @@ def dielectric(roughness=0.0, kd=0.0, color=(1, 1, 1), f0=F0, **flags):
                        roughness=roughness, **flags)
 
 
-def floor_scene(material, background=(1, 1, 1), lights=(), extra=None):
+def floor_scene(material, background=(1, 1, 1), lights=(), extra=None, eye=EYE, world=None):
     verts = [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]
     tris, mats, tri_mats = [[0, 1, 2], [0, 2, 3]], [material], [0, 0]
     if extra is not None:                      # (corners, material) of one more quad
@@ -36,9 +36,10 @@ def floor_scene(material, background=(1, 1, 1), lights=(), extra=None):
         tris += [[4, 6, 5], [4, 7, 6]]
         mats.append(extra_material)
         tri_mats += [1, 1]
-    cam = gw.Camera(eye=tuple(EYE), target=(0, 0, 0), fov=30, width=RES, height=RES)
+    cam = gw.Camera(eye=tuple(eye), target=(0, 0, 0), fov=30, width=RES, height=RES)
+    extra_world = {} if world is None else {"world": world}
     return gw.Scene(vertices=np.array(verts, np.float32), triangles=tris, triangle_materials=tri_mats,
-                    materials=mats, camera=cam, lights=list(lights), background=background)
+                    materials=mats, camera=cam, lights=list(lights), background=background, **extra_world)
 
 
 def middle(scene, **settings):
@@ -54,12 +55,35 @@ def test_without_the_flag_a_phong_highlight_reflects_nothing_of_the_world():
     assert middle(floor_scene(dielectric())).max() == 0
 
 
+GRAZING_EYE = np.array([0.0, -3.0, 0.75])      # the floor's middle seen at cos 0.24
+COS_GRAZING = GRAZING_EYE[2] / np.linalg.norm(GRAZING_EYE)
+
+
+def middle_patch(scene, **settings):
+    image = gw.render(scene, gw.RenderSettings(aa="jittered", aa_samples=8, max_depth=2, **settings))
+    return image[RES // 2 - 1:RES // 2 + 2, RES // 2 - 1:RES // 2 + 2, :3].mean()
+
+
 @pytest.mark.parametrize("roughness", [0.3, 0.6])
 def test_a_rough_dielectric_returns_the_lobes_albedo_with_fresnel(roughness):
-    settings = dict(aa="jittered", aa_samples=8, glossy_samples=16, max_depth=2)
-    image = gw.render(floor_scene(dielectric(roughness, dielectric_reflection=True)), gw.RenderSettings(**settings))
-    value = image[RES // 2 - 1:RES // 2 + 2, RES // 2 - 1:RES // 2 + 2, :3].mean()
-    assert value == pytest.approx(ggx_albedo(COS_O, roughness ** 2, n=600, f0=F0), rel=0.02)
+    # Seen at a grazing angle, where the Fresnel at each microfacet and the Fresnel at the view's
+    # angle (or Schlick's) part most.
+    scene = floor_scene(dielectric(roughness, dielectric_reflection=True), eye=GRAZING_EYE)
+    expected = ggx_albedo(COS_GRAZING, roughness ** 2, n=600, f0=F0)
+    assert middle_patch(scene, glossy_samples=16) == pytest.approx(expected, rel=0.02)
+
+
+@pytest.mark.parametrize("roughness, multiscatter", [(0.0, False), (0.5, False), (0.8, True)])
+def test_a_white_layered_diffuse_in_a_white_world_returns_all_its_light(roughness, multiscatter):
+    # The layer reflects what its albedo says, the diffuse under it gets the rest: a white furnace
+    # (ambient light 1, a white background its rays see) returns 1 at a grazing view as head on.
+    # (With the Fresnel at the view's angle times the lobe's albedo as the layer's albedo, the
+    # diffuse lost 19% here at roughness 0.8.)
+    material = dielectric(roughness, kd=1.0, f0=0.04, dielectric_reflection=True, layered_diffuse=True,
+                          multiscatter=multiscatter)
+    for eye in (GRAZING_EYE, EYE):
+        scene = floor_scene(material, eye=eye, world=gw.World(ambient=(1, 1, 1)))
+        assert middle_patch(scene, glossy_samples=16) == pytest.approx(1.0, abs=0.02), eye
 
 
 def test_a_layered_diffuse_gets_what_the_layer_does_not_reflect_towards_the_viewer():
@@ -67,6 +91,32 @@ def test_a_layered_diffuse_gets_what_the_layer_does_not_reflect_towards_the_view
     plain = middle(floor_scene(gw.Material(color=(1, 1, 1), kd=1.0), (0, 0, 0), [lamp]))
     layered = middle(floor_scene(dielectric(kd=1.0, layered_diffuse=True), (0, 0, 0), [lamp]))
     assert layered / plain == pytest.approx([1 - dielectric_fresnel(COS_O, F0)] * 3, rel=1e-3)
+
+
+def test_highlights_the_rays_would_see_are_sampled_where_no_ray_is_traced():
+    # At the last generation (max_depth 1) no reflection ray leaves the floor: the emitter's
+    # highlight on a rough layer is sampled as on a surface without one (it was lost: black).
+    panel = gw.Material(color=(1, 1, 1), kd=0.0, emission=4.0, emits_light=True)
+    corners = [[-0.5, 2.5, 2.0], [0.5, 2.5, 2.0], [0.5, 3.5, 2.0], [-0.5, 3.5, 2.0]]
+    settings = dict(shadow="random", shadow_samples=16, max_depth=1)
+    layered = middle(floor_scene(dielectric(0.3, dielectric_reflection=True), (0, 0, 0), extra=(corners, panel)),
+                     **settings)
+    plain = middle(floor_scene(dielectric(0.3), (0, 0, 0), extra=(corners, panel)), **settings)
+    assert plain.min() > 0.05
+    assert layered == pytest.approx(plain, rel=1e-6)
+
+
+def test_an_emitter_seen_in_sharp_glass_is_counted_once():
+    # Glass's Fresnel reflection ray sees the panel; sampling it adds no highlight (it added a
+    # Phong highlight of the whole ks: 1.21x here, a review found).
+    h = 2.0
+    centre = np.array([0.0, 3.0 * h / 2.0, h])
+    corners = [list(centre + [dx, dy, 0]) for dx, dy in ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))]
+    panel = gw.Material(color=(1, 1, 1), kd=0.0, emission=4.0, emits_light=True)
+    glass = gw.Material(color=(1, 1, 1), kd=0.0, ks=0.04 * 126, shininess=1000.0, transmittance=1.0, ior=1.5)
+    value = middle(floor_scene(glass, (0, 0, 0), extra=(corners, panel)), shadow="random", shadow_samples=16)
+    schlick = 0.04 + 0.96 * (1 - COS_O) ** 5          # (glass's Fresnel reflection ray: Schlick on its IOR)
+    assert value == pytest.approx([4 * schlick] * 3, rel=1e-3)
 
 
 def test_an_emitter_seen_in_the_layer_is_counted_once():

@@ -64,7 +64,6 @@ from __future__ import annotations
 
 import dataclasses
 
-
 from gridwalk.model import Material
 
 from .hair_color import hair_color
@@ -184,7 +183,8 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
     return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t), ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, layered_diffuse=bool(layered), dielectric_reflection=bool(reflects),
+                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, layered_diffuse=bool(layered),
+                    dielectric_reflection=bool(reflects),
                     **_emission(emission))
 
 

@@ -45,14 +45,17 @@ Fresnel specular_fresnel(const Material& m) {
 }
 
 // What the dielectric layer reflects, seen from cos_o, of light arriving from
-// all around: Fresnel at the view's angle times the GGX lobe's albedo (with
-// multiscatter's gain). A layered diffuse (Material::layered_diffuse) gets
-// the rest.
+// all around: what its rays return from a white world (the GGX lobe's albedo
+// with the Fresnel at each microfacet, and multiscatter's gain), the Fresnel
+// at the view's angle where it is sharp. A layered diffuse
+// (Material::layered_diffuse) gets the rest. (The Fresnel at the view's angle
+// times the lobe's albedo, first used here, took 0.476 where the rays return
+// 0.082 at roughness 0.8 seen at cos 0.1: the diffuse lost up to 40% at
+// silhouettes, a review found.)
 float layer_albedo(const Material& m, float f0, float cos_o) {
-    const float f = fresnel_dielectric(cos_o, dielectric_eta(f0));
-    if (!(m.roughness > 0)) return f;
-    const float e = ggx_albedo(cos_o, ggx_alpha(m.roughness));
-    return std::min(f * (m.multiscatter ? e + f0 * (1 - e) : e), 1.0f);
+    if (!(m.roughness > 0)) return fresnel_dielectric(cos_o, dielectric_eta(f0));
+    const float alpha = ggx_alpha(m.roughness), e = ggx_dielectric_albedo(cos_o, alpha, f0);
+    return std::min(m.multiscatter ? e * (1 + f0 * ggx_multiscatter_gain(cos_o, alpha)) : e, 1.0f);
 }
 
 // The colour of the mirror reflection of weight refl > 0 (shade_hit): the
@@ -71,9 +74,13 @@ Vec3 reflection_tint(const Material& m, float refl) {
 Fresnel emitter_fresnel(const Material& m) {
     if (m.transmittance > 0) return Fresnel();
     Fresnel f = specular_fresnel(m);
-    const float beyond_metal = std::max(m.mirror - f.mirror, 0.0f);
+    // (a mirror beyond the metal, white, takes its weight out of the dielectric's reflectance
+    // at normal incidence: the dielectric is scaled down by that share of it)
+    const float beyond_metal = std::max(m.mirror - f.mirror, 0.0f), reflectance = f.dielectric * f.f0;
     f.mirror = std::max(f.mirror - m.mirror, 0.0f);
-    f.dielectric = std::max(f.dielectric - beyond_metal - dielectric_share(m), 0.0f);
+    if (beyond_metal > 0)
+        f.dielectric = reflectance > beyond_metal ? f.dielectric * (1 - beyond_metal / reflectance) : 0.0f;
+    f.dielectric = std::max(f.dielectric - dielectric_share(m), 0.0f);
     return f;
 }
 
@@ -373,11 +380,11 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     const Vec3* corners = scene_.triangle_vertices();
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (as in direct())
     // A glossy surface's own reflection rays see the emitters (trace() returns what they emit):
-    // the highlight sampled here is what they leave out (emitter_f0).
+    // the highlight sampled here is what they leave out (emitter_fresnel).
     const Fresnel rest = m.roughness > 0 ? emitter_fresnel(m) : Fresnel();
     const bool glossy_highlight = rest.mirror > 0 || rest.dielectric > 0;
     const GgxView glossy = glossy_highlight ? glossy_view(m, rest, ns, wo) : GgxView();
-    const float sharp_highlight = m.ks * std::max(1.0f - m.mirror - dielectric_share(m), 0.0f);
+    const float sharp_highlight = m.ks * std::max(1.0f - m.mirror - m.transmittance - dielectric_share(m), 0.0f);
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
@@ -589,12 +596,23 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     // reflectance at normal incidence, and what it reflects seen from here.
     const float layer = dielectric_share(m), f0d = layer > 0 || m.layered_diffuse ? dielectric_f0(m) : 0.0f;
     const float cos_o = std::min(std::max(dot(wo, ns), 0.0f), 1.0f);
-    Material under;   // (a layered diffuse: kd less the layer's albedo seen from wo)
-    if (m.layered_diffuse && m.kd > 0 && f0d > 0) {
+    float layer_seen = layer > 0 && f0d > 0 ? layer * fresnel_dielectric(cos_o, dielectric_eta(f0d)) : 0.0f;
+    // What the lights see (direct(), from_emitters()): a layered diffuse gets kd less the layer's
+    // albedo seen from wo; where this hit traces no reflection or refraction rays (the last
+    // generation, or a path weight under min_weight), the highlights those rays would have seen
+    // (emitters, lights with a shape) are sampled as a surface without mirror, glass or
+    // reflecting layer has them (they were lost there: a rough Principled floor under an
+    // emissive panel rendered black at max_depth 1, a review found).
+    const bool layered = m.layered_diffuse && m.kd > 0 && f0d > 0;
+    const bool rays = depth < s_.max_depth && weight * (m.mirror + m.transmittance + layer_seen) > s_.min_weight;
+    const bool untraced = !rays && (m.mirror > 0 || m.transmittance > 0 || layer > 0);
+    Material under;
+    if (layered || untraced) {
         under = m;
-        under.kd = m.kd * (1 - layer_albedo(m, f0d, cos_o));
+        if (layered) under.kd = m.kd * (1 - layer_albedo(m, f0d, cos_o));
+        if (untraced) under.mirror = 0, under.transmittance = 0, under.dielectric_reflection = false;
     }
-    const Material& lit = m.layered_diffuse && m.kd > 0 && f0d > 0 ? under : m;
+    const Material& lit = layered || untraced ? under : m;
     Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
     if (scene_.has_ambient() && lit.kd > 0) {
@@ -632,7 +650,6 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     // The reflection rays carry the mirror share (metal, glass's Fresnel) in its tint and the
     // dielectric layer's share (Material::dielectric_reflection) by its own Fresnel: one set of
     // rays for both.
-    float layer_seen = layer > 0 && f0d > 0 ? layer * fresnel_dielectric(cos_o, dielectric_eta(f0d)) : 0.0f;
     const float w = weight * (refl + layer_seen);
     // A layer alone reflecting little (under kLayerRoulette, seen from here) traces its rays
     // with probability layer_seen / kLayerRoulette, weighted by the inverse (Russian roulette:

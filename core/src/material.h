@@ -54,8 +54,9 @@ struct Material {
     bool multiscatter = false;
     // The specular layer of the surface's dielectric share (neither mirror nor
     // transmittance) reflects the scene as well as the lamps: reflection rays
-    // weighted by Schlick's Fresnel from the specular weight's non-metal part
-    // (ks * 8 / (shininess + 8) less metallic, per unit of non-metal), along
+    // weighted by the exact Fresnel of the IOR whose reflectance at normal
+    // incidence is the specular weight's non-metal part (ks * 8 / (shininess
+    // + 8) less metallic, per unit of non-metal), along
     // the GGX lobe of the roughness, as Cycles' Principled BSDF does. NFF's
     // Phong highlight reflects only the lamps.
     bool dielectric_reflection = false;

@@ -63,6 +63,12 @@ struct Fresnel {
 // (a table over cos_o and roughness, integrated once).
 float ggx_albedo(float cos_o, float alpha);
 
+// The lobe's directional albedo with the exact Fresnel of the dielectric of
+// reflectance f0 at normal incidence at each microfacet (single scattering;
+// a table over cos_o, roughness and 8 values of f0, interpolated linearly in
+// f0, integrated on first use).
+float ggx_dielectric_albedo(float cos_o, float alpha, float f0);
+
 // Multiscatter GGX's factor on the single-scattering lobe is 1 + f0 g, with
 // this gain g = (1 - E) / E.
 inline float ggx_multiscatter_gain(float cos_o, float alpha) {

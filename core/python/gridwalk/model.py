@@ -142,12 +142,12 @@ class Material(Record):
     dielectric_reflection: the share of the surface that is neither mirror nor
     transmittance reflects the scene (not only the lamps) by its specular
     layer: rays along the roughness's lobe (the mirror direction at 0),
-    weighted by Schlick's Fresnel from (ks * 8 / (shininess + 8) - metallic)
-    / (1 - metallic) at normal incidence to 1 at grazing, as Cycles'
+    weighted by the exact Fresnel of the IOR whose reflectance at normal
+    incidence is (ks * 8 / (shininess + 8) - metallic) / (1 - metallic), as Cycles'
     Principled BSDF reflects; NFF's Phong highlight reflects only lamps.
     layered_diffuse: the diffuse lies under that specular layer and gets kd
-    times 1 - the layer's albedo seen from the viewer (Fresnel at the view's
-    angle times the lobe's albedo: 0.04 head-on at F0 0.04, more at grazing),
+    times 1 - the layer's albedo seen from the viewer (what its rays return
+    from a white world: 0.04 head-on at F0 0.04, more at grazing),
     as Blender 4.0+'s Principled BSDF; without it the layer adds to kd."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)

@@ -122,6 +122,32 @@ constexpr float kLayerRoulette = 0.25f;
 
 Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(accel), scene_(accel.scene()), s_(s) {
     for (const Light& L : scene_.lights()) shaped_lights_ = shaped_lights_ || has_visible_shape(L);
+    if (!scene_.sun_map().empty()) sun_radius_ = float(std::sqrt(scene_.sun_map().solid_angle() / kPi));
+}
+
+// The environment's sun (its bright cells, scene.sun_map()) seen in a GGX lobe of alpha wider than
+// the sun: sampled as a light, the lobe's Fresnel f (what its rays carry) times D G2 / (4 cos_o)
+// times the sun's radiance over the density of the sun's points, one shadow ray each, as many as
+// a light with a size gets; the lobe's rays leave the sun out (Ray::without_sun). Its rays alone
+// met the sun with a small chance and its whole radiance (thousands of times the sky's):
+// fireflies over every glossy surface under an HDRI with a sun, Principled dielectrics included.
+Vec3 Integrator::sun_highlight(const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, int depth, bool split,
+                               SampleState& st, TraceContext& ctx) const {
+    if (!lobe.seen) return Vec3();
+    const WorldMap& sun = scene_.sun_map();
+    const int count = light_points(s_.shadow, st);
+    Vec3 sum;
+    for (int j = 0; j < count; ++j) {
+        float u1, u2;
+        light_point(spread_mode(), uint32_t(scene_.lights().size()) + 3, j, count, depth, split, st, u1, u2);
+        const Vec3 e = sun.sample(u1, u2), wi = scene_.from_environment(e);
+        const float pdf = sun.pdf(e);
+        if (!(pdf > 0) || dot(ng, wi) <= 0) continue;
+        const Vec3 f = ggx_highlight(lobe, wi);   // (pi x the BRDF x cos_i)
+        if (!(f.x > 0 || f.y > 0 || f.z > 0)) continue;
+        sum += f * sun.radiance(e) * visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) * (float(1 / kPi) / pdf);
+    }
+    return sum * (1.0f / float(count));
 }
 
 Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx,
@@ -493,6 +519,7 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
         if (through ? dot(w, ng) >= 0 : dot(w, ng) <= 0) continue;
         r.d = w;
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
+        r.without_sun = ggx && samples_sun(alpha);
         // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
         sum += trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3()) * fresnel;
     }
@@ -520,8 +547,16 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     const RayPre r(ray);
     Hit hit;
     hit.t = ray.tmax;
-    if (!accel_.closest(r, hit, ctx))
-        return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);   // fh: the camera's own path
+    if (!accel_.closest(r, hit, ctx)) {
+        if (fh && scene_.world().transparent) return Vec3();   // fh: the camera's own path
+        // A glossy ray whose lobe samples the sun sees the environment's radiance map less its
+        // sun (world_map(): 512 x 256 cells, what the sun map was split from), so that the two
+        // add up to the environment. (The texture less the sun's cells was 14% too bright on a
+        // rough metal: its filtering spreads the sun beyond them; the texel less the cell's mean
+        // went negative in darker texels, black dots.)
+        if (ray.without_sun) return scene_.world_map().radiance(scene_.to_environment(ray.d));
+        return scene_.miss(ray.d);
+    }
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
@@ -670,6 +705,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
             const GgxView lobe = glossy_view(m, f, ns, wo);
             color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe);
+            if (samples_sun(ggx_alpha(m.roughness))) color += sun_highlight(sp, ng, lobe, depth, split, st, ctx);
         } else {
             Vec3 rdir = d - ns * (2.0f * dot(d, ns));
             if (dot(rdir, ng) <= 0) rdir = d - ng * (2.0f * dot(d, ng));

@@ -70,6 +70,10 @@ private:
     // any surface (lights.h, light_shape_hit): their radiance, summed (lights are
     // transparent, as in Cycles: the ray goes on to what lies behind).
     Vec3 lights_seen(const Ray& r, TraceContext& ctx) const;
+    // The environment's sun as a GGX lobe wider than it reflects it (sampled; see the .cpp).
+    Vec3 sun_highlight(const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, int depth, bool split,
+                       SampleState& st, TraceContext& ctx) const;
+    bool samples_sun(float alpha) const { return alpha > sun_radius_; }
     Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                  TraceContext& ctx) const;
     Vec3 transmission(Ray r, float dist, TraceContext& ctx) const;
@@ -82,6 +86,7 @@ private:
     const Scene& scene_;
     const RenderSettings& s_;
     bool shaped_lights_ = false;   // a light has a shape that mirror rays see (lights_seen)
+    float sun_radius_ = kInf;      // the environment's sun's angular radius (none: infinite)
 };
 
 }  // namespace gw

@@ -14,6 +14,9 @@ struct Ray {
     // surface the ray leaves and rejected (see triangle.h). Rays from arbitrary
     // points (camera, batch queries) keep every hit, like Embree.
     bool spawned = false;
+    // A glossy ray whose lobe samples the environment's sun as a light
+    // (Integrator::sun_highlight): a miss sees the environment less its sun.
+    bool without_sun = false;
 };
 
 // Closest-hit record. prim is the global primitive index (triangles, then

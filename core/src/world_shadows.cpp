@@ -32,6 +32,7 @@ WorldMap::WorldMap(const RadianceMap& radiance) {
         const double omega = (z1 - z0) * 2 * kPi / w_;
         double run = 0;
         for (int x = 0; x < w_; ++x) {
+            if (lum_[size_t(y) * size_t(w_) + size_t(x)] > 0) solid_angle_ += omega;
             run += double(lum_[size_t(y) * size_t(w_) + size_t(x)]) * omega;
             cols_[size_t(y) * size_t(w_) + size_t(x)] = run;
         }

@@ -37,6 +37,8 @@ public:
     // The map's radiance along d (its cell's mean: the radiance the irradiance
     // table integrates, so that what is blocked and what is lit agree).
     Vec3 radiance(const Vec3& d) const;
+    // The solid angle of its cells that hold light (a sun's size), in steradians.
+    double solid_angle() const { return solid_angle_; }
 
 private:
     int w_ = 0, h_ = 0;
@@ -46,6 +48,7 @@ private:
     std::vector<double> rows_;     // cumulative share of each row (luminance x solid angle), last = 1
     std::vector<double> cols_;     // per row, the cumulative share of each column within it
     double total_ = 0;             // sum of luminance x solid angle: pdf = luminance / total
+    double solid_angle_ = 0;
 };
 
 // A cosine-distributed direction about n (unit), and its density cos / pi.

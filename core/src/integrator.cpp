@@ -134,20 +134,11 @@ Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(acc
 Vec3 Integrator::sun_highlight(const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, int depth, bool split,
                                SampleState& st, TraceContext& ctx) const {
     if (!lobe.seen) return Vec3();
-    const WorldMap& sun = scene_.sun_map();
-    const int count = light_points(s_.shadow, st);
-    Vec3 sum;
-    for (int j = 0; j < count; ++j) {
-        float u1, u2;
-        light_point(spread_mode(), uint32_t(scene_.lights().size()) + 3, j, count, depth, split, st, u1, u2);
-        const Vec3 e = sun.sample(u1, u2), wi = scene_.from_environment(e);
-        const float pdf = sun.pdf(e);
-        if (!(pdf > 0) || dot(ng, wi) <= 0) continue;
-        const Vec3 f = ggx_highlight(lobe, wi);   // (pi x the BRDF x cos_i)
-        if (!(f.x > 0 || f.y > 0 || f.z > 0)) continue;
-        sum += f * sun.radiance(e) * visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) * (float(1 / kPi) / pdf);
-    }
-    return sum * (1.0f / float(count));
+    // (pi x the BRDF x cos_i; the sun's points after sun_seen's in the grid's key)
+    return sun_light(sp, ng, 3, depth, split, st, ctx, [&](const Vec3& wi, float& s) {
+        s = 1;
+        return ggx_highlight(lobe, wi);
+    });
 }
 
 Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx,
@@ -382,16 +373,28 @@ Vec3 Integrator::sun_seen(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns
     // by their luminance, each lighting what sees it (never below 0, unlike
     // the blocked-part estimate, whose variance a sun would make huge). The
     // sun is the light after the world in the grid's key.
+    return sun_light(sp, ng, 2, depth, split, st, ctx, [&](const Vec3& wi, float& s) {
+        s = dot(ns, wi);
+        return Vec3(1, 1, 1);
+    });
+}
+
+template <class Response>
+Vec3 Integrator::sun_light(const SurfacePoint& sp, const Vec3& ng, uint32_t key, int depth, bool split,
+                           SampleState& st, TraceContext& ctx, Response response) const {
     const WorldMap& sun = scene_.sun_map();
     const int count = light_points(s_.shadow, st);
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
-        light_point(spread_mode(), uint32_t(scene_.lights().size()) + 2, j, count, depth, split, st, u1, u2);
+        light_point(spread_mode(), uint32_t(scene_.lights().size()) + key, j, count, depth, split, st, u1, u2);
         const Vec3 e = sun.sample(u1, u2), wi = scene_.from_environment(e);
-        const float cos_i = dot(ns, wi), pdf = sun.pdf(e);
-        if (!(cos_i > 0) || !(pdf > 0) || dot(ng, wi) <= 0) continue;
-        sum += sun.radiance(e) * visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) * (cos_i * float(1 / kPi) / pdf);
+        const float pdf = sun.pdf(e);
+        if (!(pdf > 0) || dot(ng, wi) <= 0) continue;
+        float s;
+        const Vec3 f = response(wi, s);
+        if (!(s > 0) || !(f.x > 0 || f.y > 0 || f.z > 0)) continue;
+        sum += f * sun.radiance(e) * visible(sp.p, sp.p_err, sp.ng, wi, kInf, ctx) * (s * float(1 / kPi) / pdf);
     }
     return sum * (1.0f / float(count));
 }

@@ -74,6 +74,12 @@ private:
     Vec3 sun_highlight(const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, int depth, bool split,
                        SampleState& st, TraceContext& ctx) const;
     bool samples_sun(float alpha) const { return alpha > sun_radius_; }
+    // The sun's light points (light key: lights + key), each weighing response(wi, s): a colour
+    // times a scalar s (skipped unless both are positive), times the sun's radiance / pi /
+    // density where unblocked. sun_seen and sun_highlight.
+    template <class Response>
+    Vec3 sun_light(const SurfacePoint& sp, const Vec3& ng, uint32_t key, int depth, bool split, SampleState& st,
+                   TraceContext& ctx, Response response) const;
     Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                  TraceContext& ctx) const;
     Vec3 transmission(Ray r, float dist, TraceContext& ctx) const;

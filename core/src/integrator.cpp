@@ -1,6 +1,8 @@
 // Whitted shading with distribution effects. See integrator.h.
 #include "integrator.h"
 
+#include <optional>
+
 #include "lights.h"
 #include "microfacet.h"
 #include "near_area_light.h"
@@ -644,13 +646,13 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     const bool layered = m.layered_diffuse && m.kd > 0 && f0d > 0;
     const bool rays = depth < s_.max_depth && weight * (m.mirror + m.transmittance + layer_seen) > s_.min_weight;
     const bool untraced = !rays && (m.mirror > 0 || m.transmittance > 0 || layer > 0);
-    Material under;
+    std::optional<Material> under;   // (a copy only where one of the two applies)
     if (layered || untraced) {
-        under = m;
-        if (layered) under.kd = m.kd * (1 - layer_albedo(m, f0d, cos_o));
-        if (untraced) under.mirror = 0, under.transmittance = 0, under.dielectric_reflection = false;
+        under.emplace(m);
+        if (layered) under->kd = m.kd * (1 - layer_albedo(m, f0d, cos_o));
+        if (untraced) under->mirror = 0, under->transmittance = 0, under->dielectric_reflection = false;
     }
-    const Material& lit = layered || untraced ? under : m;
+    const Material& lit = under ? *under : m;
     Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
     if (scene_.has_ambient() && lit.kd > 0) {

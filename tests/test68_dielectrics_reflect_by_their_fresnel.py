@@ -115,8 +115,8 @@ def test_an_emitter_seen_in_sharp_glass_is_counted_once():
     panel = gw.Material(color=(1, 1, 1), kd=0.0, emission=4.0, emits_light=True)
     glass = gw.Material(color=(1, 1, 1), kd=0.0, ks=0.04 * 126, shininess=1000.0, transmittance=1.0, ior=1.5)
     value = middle(floor_scene(glass, (0, 0, 0), extra=(corners, panel)), shadow="random", shadow_samples=16)
-    schlick = 0.04 + 0.96 * (1 - COS_O) ** 5          # (glass's Fresnel reflection ray: Schlick on its IOR)
-    assert value == pytest.approx([4 * schlick] * 3, rel=1e-3)
+    fresnel = dielectric_fresnel(COS_O, 0.04)        # (glass's Fresnel reflection ray: the exact Fresnel of IOR 1.5)
+    assert value == pytest.approx([4 * fresnel] * 3, rel=1e-3)
 
 
 def test_an_emitter_seen_in_the_layer_is_counted_once():

@@ -180,10 +180,11 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
         const float alpha = scene_.alpha_at(m, hit);
         float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
-        if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects (Schlick's Fresnel at the ray's
-            const float r0 = ((m.ior - 1) / (m.ior + 1)) * ((m.ior - 1) / (m.ior + 1));
-            const float c = 1.0f - std::min(std::abs(dot(r.d, sp.ng)), 1.0f);   // angle; IOR 1: none)
-            passed *= 1.0f - (r0 + (1.0f - r0) * c * c * c * c * c);
+        if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
+            // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
+            // none is a total internal reflection); IOR 1: none
+            const float eta = m.ior > 1.0f ? m.ior : 1.0f / m.ior;
+            passed *= 1.0f - fresnel_dielectric(std::abs(dot(r.d, sp.ng)), eta);
         }
         const Vec3 tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
         through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
@@ -678,11 +679,9 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         } else {
             const float cos_t = std::sqrt(k);
             tdir = normalize(d * eta + ns * (eta * cos_i - cos_t));
-            const float r0 = ((n1 - n2) / (n1 + n2)) * ((n1 - n2) / (n1 + n2));
-            const float c = 1.0f - (n1 <= n2 ? cos_i : cos_t);   // Schlick, angle on the rarer side
-            // (IOR 1 is no interface at all: nothing reflects, where Schlick's
-            // grazing term would still draw a rim round an invisible object)
-            const float F = n1 == n2 ? 0.0f : r0 + (1.0f - r0) * c * c * c * c * c;
+            // The exact unpolarised Fresnel, as Cycles' glass (Schlick's approximation was 20% low
+            // at 60 degrees on IOR 1.5). IOR 1 is no interface at all: nothing reflects.
+            const float F = n1 == n2 ? 0.0f : fresnel_dielectric(cos_i, n2 / n1);
             refl += m.transmittance * F;
             trans = m.transmittance * (1.0f - F);
         }

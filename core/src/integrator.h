@@ -1,5 +1,5 @@
 // Whitted shading (Blinn-Phong, shadows, mirror reflection, refraction with
-// Schlick Fresnel and total internal reflection) plus the distribution-ray
+// the exact dielectric Fresnel and total internal reflection) plus the distribution-ray
 // effects: soft shadows from area lights and glossy reflection.
 #pragma once
 #include "accel.h"

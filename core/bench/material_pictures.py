@@ -29,6 +29,8 @@ SCENES = (   # (scene, label, options for both engines)
     ("chrome_ball", "A rectangle light in a chrome ball", ["transparent=false"]),
     ("emission_panel", "An Emission panel lighting a floor (no lamps)",
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
+    ("panel_floor", "A small Emission panel over a rough metal floor (Roughness 0.3)",
+     ['scene={"floor": "metal", "resolution": [128, 96]}', "transparent=false"]),
     ("world_shadow", "A white world's light blocked by a ball (no lamps)",
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("sunny_monkey", "An HDRI with a sun and an Emission panel light Suzanne (no lamps)",

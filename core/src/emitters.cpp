@@ -50,4 +50,11 @@ int32_t Emitters::pick(float u, float& probability, float& u_rest) const {
     return tris_[i];
 }
 
+float Emitters::probability_of(int32_t tri) const {
+    const auto at = std::lower_bound(tris_.begin(), tris_.end(), tri);   // (tris_ ascends)
+    if (at == tris_.end() || *at != tri) return 0;
+    const size_t i = size_t(at - tris_.begin());
+    return float(cdf_[i] - (i ? cdf_[i - 1] : 0.0));
+}
+
 }  // namespace gw

@@ -28,6 +28,8 @@ public:
     // The triangle for u in [0, 1), its selection probability, and u
     // rescaled to [0, 1) within the triangle's share (still stratified).
     int32_t pick(float u, float& probability, float& u_rest) const;
+    // The probability that pick() selects triangle tri (0 for a triangle that is no emitter).
+    float probability_of(int32_t tri) const;
 
 private:
     std::vector<int32_t> tris_;   // the emissive triangles

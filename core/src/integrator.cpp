@@ -215,7 +215,7 @@ static float bump_shadowing(const Vec3& smooth, const Vec3& mapped, const Vec3& 
 }
 
 Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
-                        int depth, bool split, SampleState& st, TraceContext& ctx) const {
+                        int depth, bool split, SampleState& st, TraceContext& ctx, const GgxView* traced) const {
     Vec3 total;
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (on ng's side, as ns is)
     const auto& lights = scene_.lights();
@@ -281,7 +281,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         }
         total += sum * (1.0f / float(count));
     }
-    if (!scene_.emitters().empty()) total += from_emitters(sp, ng, ns, wo, m, depth, split, st, ctx);
+    if (!scene_.emitters().empty()) total += from_emitters(sp, ng, ns, wo, m, depth, split, st, ctx, traced);
     return total;
 }
 
@@ -403,7 +403,8 @@ Vec3 Integrator::sun_light(const SurfacePoint& sp, const Vec3& ng, uint32_t key,
 }
 
 Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo,
-                               const Material& m, int depth, bool split, SampleState& st, TraceContext& ctx) const {
+                               const Material& m, int depth, bool split, SampleState& st, TraceContext& ctx,
+                               const GgxView* traced) const {
     // The emissive triangles as one area light after the lamps (its index in
     // the light grid's key): the same number of points per shading point and
     // the same stratification as a lamp with a size.
@@ -417,6 +418,12 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     const bool glossy_highlight = rest.mirror > 0 || rest.dielectric > 0;
     const GgxView glossy = glossy_highlight ? glossy_view(m, rest, ns, wo) : GgxView();
     const float sharp_highlight = m.ks * std::max(1.0f - m.mirror - m.transmittance - dielectric_share(m), 0.0f);
+    // Where the shares whose rays are traced (traced) meet emitters by those rays too, each way
+    // weighs its estimate by the power heuristic over both densities (Veach's multiple importance
+    // sampling, as Cycles does): a small emitter's highlight on a rough surface comes from its
+    // light points, a large one's on a nearly sharp surface from the rays. The rays alone took
+    // it before: fireflies wherever a small panel lit a rough metal or Principled floor.
+    const double ray_density = traced ? double(glossy_rays(split)) / double(count) : 0.0;
     Vec3 sum;
     for (int j = 0; j < count; ++j) {
         float u1, u2;
@@ -454,6 +461,11 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         if (m.roughness > 0) {
             if (glossy_highlight) f += ggx_highlight(glossy, wi);
+            if (traced) {   // (the light point's density per solid angle; the rays' over it, per point)
+                const double light_density = double(probability) * double(dist) * double(dist) / (0.5 * double(cos_l));
+                const double ratio = ray_density * double(ggx_pdf(*traced, wi)) / light_density;
+                f += ggx_highlight(*traced, wi) * float(1 / (1 + ratio * ratio));
+            }
         } else if (sharp_highlight > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
             const float spec = sharp_highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
@@ -467,9 +479,23 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     return sum * (1.0f / float(count));
 }
 
+float Integrator::emitter_weight(const Ray& ray, const Hit& hit, const SurfacePoint& sp) const {
+    if (!(ray.emitter_mis > 0) || size_t(hit.prim) >= scene_.num_triangles()) return 1;
+    const float probability = scene_.emitters().probability_of(hit.prim);
+    if (!(probability > 0)) return 1;
+    // The density with which from_emitters' light points reach this point, per solid angle at
+    // the shading point the ray left (as there: twice the area along the normal, both sides emit).
+    const Vec3* v = scene_.triangle_vertices() + 3 * size_t(hit.prim);
+    const double cos_l = std::abs(double(dot(cross(v[1] - v[0], v[2] - v[0]), ray.d)));
+    const double dist = double(ray.mis_offset) + double(length(sp.p - ray.o));
+    const double light_density = double(probability) * dist * dist / (0.5 * cos_l);
+    const double ratio = light_density / double(ray.emitter_mis);
+    return float(1 / (1 + ratio * ratio));
+}
+
 Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness,
                              int depth, float weight, bool split, bool through, SampleState& st,
-                             TraceContext& ctx, const GgxView* ggx) const {
+                             TraceContext& ctx, const GgxView* ggx, bool emitter_mis) const {
     Ray r;
     r.d = dir;
     r.spawned = true;
@@ -489,7 +515,9 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     // a rough mirror blurs what it reflects.)
     const float alpha = std::max(roughness * roughness, 1e-4f);
     const float e = std::max(2.0f / (alpha * alpha) - 2.0f, 0.0f);
-    const int n = split ? 1 : std::max(1, s_.glossy_samples);
+    const int n = glossy_rays(split);
+    // (Ray::emitter_mis: n over the emitters' light points per shading point, times the density)
+    const float mis_scale = emitter_mis ? float(n) / float(light_points(s_.shadow, st)) : 0.0f;
     Vec3 t, b;
     basis(ggx ? ggx->ns : dir, t, b);
     // (GGX: the view in the frame of the shading normal)
@@ -517,6 +545,8 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
             const float g = ggx_ray_weight(wo_local.z, dot(w, ggx->ns), alpha);
             if (!(g > 0)) continue;
             fresnel = ggx_fresnel(*ggx, cos_m) * g;
+            // (a density that rounds to 0 leaves the emitter to the light points: weight 0 here)
+            if (emitter_mis) r.emitter_mis = std::max(mis_scale * ggx_pdf(*ggx, w), 1e-30f);
         } else {
             const float ct = std::pow(1.0f - u1, 1.0f / (e + 1.0f)), s = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
             const float phi = float(2 * kPi) * u2;
@@ -594,10 +624,11 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         if (fh) fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
         Material opaque = m;
         opaque.alpha = 1;
-        const Vec3 front = shade_hit(sp, ray, opaque, depth, weight * m.alpha, split, st, ctx);
+        const Vec3 front =
+            shade_hit(sp, ray, opaque, depth, weight * m.alpha, split, st, ctx, emitter_weight(ray, hit, sp));
         return front * m.alpha + behind * (1 - m.alpha);
     }
-    return shade_hit(sp, ray, m, depth, weight, split, st, ctx);
+    return shade_hit(sp, ray, m, depth, weight, split, st, ctx, emitter_weight(ray, hit, sp));
 }
 
 // Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
@@ -610,6 +641,7 @@ Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int de
     next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
     next.spawned = true;
     if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
+    if (ray.emitter_mis > 0) next.mis_offset = ray.mis_offset + length(next.o - ray.o);
     // The passes measure depth from the camera: the offset origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
@@ -622,7 +654,7 @@ Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int de
 }
 
 Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth,
-                           float weight, bool split, SampleState& st, TraceContext& ctx) const {
+                           float weight, bool split, SampleState& st, TraceContext& ctx, float emission_weight) const {
     const Vec3 d = ray.d, wo = -d;
     const bool entering = dot(d, sp.ng) < 0;
     const Vec3 ng = entering ? sp.ng : -sp.ng;   // both normals face the incoming ray
@@ -654,8 +686,22 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         if (untraced) under->mirror = 0, under->transmittance = 0, under->dielectric_reflection = false;
     }
     const Material& lit = under ? *under : m;
-    Vec3 color = m.color * m.emission + direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx);
-    if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0) color += m.emission_color;
+    // The GGX rays traced below (the metal's share and the layer's, as one set of rays) and
+    // from_emitters' light points share the emitters' highlights (multiple importance sampling),
+    // where both reach the same directions: the interpolated normal faces the viewer.
+    const bool emitter_mis = rays && !scene_.emitters().empty() && m.roughness > 0 && !(m.transmittance > 0) &&
+                             (m.mirror > 0 || layer_seen > 0) && dot(ns_lit, wo) > 0;
+    std::optional<GgxView> traced;
+    if (emitter_mis) {
+        Fresnel f;   // (the layer's share without the roulette's boost: what its rays return on average)
+        f.tint = m.mirror > 0 ? reflection_tint(m, m.mirror) : Vec3();
+        f.mirror = m.mirror, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer : 0.0f;
+        traced = glossy_view(m, f, ns, wo);
+    }
+    Vec3 color = m.color * (m.emission * emission_weight) +
+                 direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx, traced ? &*traced : nullptr);
+    if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0)
+        color += m.emission_color * emission_weight;
     if (scene_.has_ambient() && lit.kd > 0) {
         Vec3 a = scene_.ambient(ns);
         // (unclamped: a shading point's estimate may dip below 0 where a sun is
@@ -708,7 +754,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             Fresnel f;
             f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
             const GgxView lobe = glossy_view(m, f, ns, wo);
-            color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe);
+            color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe, emitter_mis);
             if (samples_sun(ggx_alpha(m.roughness))) color += sun_highlight(sp, ng, lobe, depth, split, st, ctx);
         } else {
             Vec3 rdir = d - ns * (2.0f * dot(d, ns));

@@ -35,11 +35,19 @@ public:
 private:
     Vec3 trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,
                TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
+    // traced: the GGX lobe of the shares whose reflection rays are traced from here, where they
+    // share the emitters' highlights with from_emitters (multiple importance sampling); else null.
     Vec3 direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
-                int depth, bool split, SampleState& st, TraceContext& ctx) const;
+                int depth, bool split, SampleState& st, TraceContext& ctx, const GgxView* traced = nullptr) const;
     // The emissive triangles' light (scene.emitters()), sampled as one area light.
     Vec3 from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
-                       int depth, bool split, SampleState& st, TraceContext& ctx) const;
+                       int depth, bool split, SampleState& st, TraceContext& ctx, const GgxView* traced) const;
+    // The power heuristic's weight of what an emissive triangle that `ray` meets at sp emits:
+    // below 1 for a glossy ray whose lobe shares the emitters with light sampling
+    // (Ray::emitter_mis), 1 for every other ray and primitive.
+    float emitter_weight(const Ray& ray, const Hit& hit, const SurfacePoint& sp) const;
+    // How many rays a glossy lobe traces (glossy_lobe).
+    int glossy_rays(bool split) const { return split ? 1 : std::max(1, s_.glossy_samples); }
     // The light of the environment's bright cells (a sun) that reaches a diffuse point, / pi.
     Vec3 sun_seen(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split, SampleState& st,
                   TraceContext& ctx) const;
@@ -59,9 +67,10 @@ private:
     // roughness 0, else a normalised Phong lobe of the roughness; with `ggx`
     // (a reflection), the GGX lobe's rays instead, weighted by its Fresnel and
     // shadowing (dir unused).
+    // (emitter_mis: the GGX rays share the emitters with light sampling, Ray::emitter_mis.)
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
-                     const GgxView* ggx = nullptr) const;
+                     const GgxView* ggx = nullptr, bool emitter_mis = false) const;
     // The light L as a glossy lobe far narrower than it reflects it: its
     // radiance in the mirror direction, if unblocked, times the lobe's albedo.
     Vec3 mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, float radius,
@@ -85,8 +94,9 @@ private:
     Vec3 transmission(Ray r, float dist, TraceContext& ctx) const;
     Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
                           SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
+    // (emission_weight: emitter_weight's, on what the surface emits)
     Vec3 shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth, float weight, bool split,
-                   SampleState& st, TraceContext& ctx) const;
+                   SampleState& st, TraceContext& ctx, float emission_weight = 1) const;
 
     const Accel& accel_;
     const Scene& scene_;

@@ -136,6 +136,20 @@ inline Vec3 ggx_highlight(const GgxView& v, const Vec3& wi) {
     return ggx_fresnel(v, dot(wi, sum) / std::sqrt(len2)) * value;
 }
 
+// The density (per unit solid angle) with which the lobe's rays (ggx_visible_normal, then the
+// mirror direction about that normal) take the direction wi (unit): D G1(wo) / (4 cos_o), that is
+// a2 / (2 pi k^2 (cos_o + S_o)) with k as in ggx_highlight. 0 below the lobe's normal.
+inline float ggx_pdf(const GgxView& v, const Vec3& wi) {
+    if (!v.seen || !(dot(v.ns, wi) > 0)) return 0;
+    const Vec3 sum = wi + v.wo;
+    const float len2 = dot(sum, sum);
+    if (!(len2 > 1e-12f)) return 0;
+    const Vec3 side = cross(v.ns, sum);
+    const float cos_h = dot(v.ns, sum), k = dot(side, side) + cos_h * cos_h * v.a2;
+    const float q = len2 / k;
+    return (v.a2 * q) * q / (float(2 * kPi) * (v.cos_o + v.s_o));
+}
+
 // A microfacet normal seen from wo, drawn from the visible normals'
 // distribution, in the frame whose z is the normal (wo.z > 0); u1, u2 in [0, 1).
 inline Vec3 ggx_visible_normal(const Vec3& wo, float alpha, float u1, float u2) {

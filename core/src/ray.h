@@ -17,6 +17,12 @@ struct Ray {
     // A glossy ray whose lobe samples the environment's sun as a light
     // (Integrator::sun_highlight): a miss sees the environment less its sun.
     bool without_sun = false;
+    // A glossy ray whose lobe shares the emissive triangles with light sampling
+    // (multiple importance sampling, Integrator::emitter_weight): n x the lobe's density
+    // for this direction over the shading point's light points for emitters; 0 for every
+    // other ray. mis_offset: how far the ray's origin lies from that shading point along
+    // it (it moves on past alpha cut-outs).
+    float emitter_mis = 0, mis_offset = 0;
 };
 
 // Closest-hit record. prim is the global primitive index (triangles, then

@@ -4,7 +4,7 @@ import math
 import bpy
 
 from blender_addon.scripting import principled_material
-from scenes import add_light, cube_object, link, plain_world, reset, uv_sphere_object
+from scenes import add_light, cube_object, link, plain_world, reset, shader_material, uv_sphere_object
 
 ROUGH_METALS = (0.2, 0.35, 0.5, 0.8)     # left to right
 
@@ -66,5 +66,30 @@ def dielectric_scene(resolution=(160, 40), lit="world"):
         # (looking down by 15 degrees: the floor's lower half of the image holds the reflections)
         scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 2.68), (math.radians(75), 0.0, 0.0)
         scene.render.resolution_y = resolution[0] // 2
+    bpy.context.view_layer.update()
+    return {}
+
+
+def panel_floor_scene(resolution=(96, 72), floor="metal"):
+    """A small Emission panel (0.3 x 0.3, strength 60, facing down) 1.5 above a 40 x 40 floor of
+    Roughness 0.3: "metal" (Principled Metallic 1, light grey) or "dielectric" (Metallic 0,
+    grey); no lamps, a black world. The camera looks down 20 degrees at where the floor mirrors
+    the panel: its highlight is the panel seen through the floor's GGX lobe."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0.0, -3.0, 1.5), (math.radians(70), 0.0, 0.0)
+    ground = link(cube_object("Floor", 1.0))
+    ground.scale, ground.location = (40.0, 40.0, 0.01), (0.0, 0.0, -0.005)
+    inputs = {"Metallic": 1.0} if floor == "metal" else {"Metallic": 0.0}
+    colour = (0.9, 0.9, 0.9) if floor == "metal" else (0.3, 0.3, 0.3)
+    ground.data.materials.append(principled_material("Floor", colour, Roughness=0.3, **inputs))
+    mesh = bpy.data.meshes.new("Panel")
+    h = 0.15
+    mesh.from_pydata([(-h, -h, 0.0), (h, -h, 0.0), (h, h, 0.0), (-h, h, 0.0)], [], [(0, 3, 2, 1)])
+    mesh.update()
+    panel = link(bpy.data.objects.new("Panel", mesh))
+    panel.location = (0.0, 2.0, 1.5)
+    panel.data.materials.append(shader_material("Panel", "ShaderNodeEmission", [("Strength", 60.0)]))
+    plain_world("Black", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}

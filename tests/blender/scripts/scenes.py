@@ -668,7 +668,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
 
 
 from gltf_scenes import gltf_model_scene  # noqa: E402,F401
-from glossy_scenes import dielectric_scene, rough_metal_scene  # noqa: E402,F401
+from glossy_scenes import dielectric_scene, panel_floor_scene, rough_metal_scene  # noqa: E402,F401
 from light_scenes import chrome_ball_scene, lit_wall_scene, mirrored_light_scene  # noqa: E402,F401
 from material_scenes import (bad_materials_scene, checker_scene, coloured_glass_scene, cutout_scene,  # noqa: E402,F401
                              emission_mirror_scene, png_alpha_scene,

@@ -479,6 +479,64 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
     return sum * (1.0f / float(count));
 }
 
+Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo,
+                             const Material& m, float n1, float n2, int depth, float weight, bool split,
+                             SampleState& st, TraceContext& ctx) const {
+    const float alpha = ggx_alpha(m.roughness), eta = n1 / n2;
+    Vec3 t, b;
+    basis(ns, t, b);
+    const Vec3 wo_local(dot(wo, t), dot(wo, b), dot(wo, ns));
+    if (!(wo_local.z > 0)) return Vec3();
+    const int n = glossy_rays(split);
+    // (the pixel's samples share one stratified set at the first bounce, as glossy_lobe's do)
+    const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, uint32_t(n));
+    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(Stream::RoughRefraction)) : 0;
+    const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
+    const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
+    const Vec3 reflect_tint = m.tints_reflection ? m.color : Vec3(1, 1, 1);
+    const Vec3 pass_tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
+    Ray r;
+    r.spawned = true;
+    Vec3 sum;
+    for (int j = 0; j < n; ++j) {
+        float u1, u2;
+        strat2(shared_slot(sample, samples, key, uint32_t(j)), uint32_t(n) * samples, st.rng.next(), rot, u1, u2);
+        const Vec3 h = ggx_visible_normal(wo_local, alpha, u1, u2);
+        const Vec3 mh = normalize(t * h.x + b * h.y + ns * h.z);
+        const float c = std::min(dot(wo, mh), 1.0f);
+        if (!(c > 0)) continue;
+        const float k = 1.0f - eta * eta * (1.0f - c * c);   // (below 0: total internal reflection)
+        const float F = k <= 0 ? 1.0f : fresnel_dielectric(c, n2 / n1);
+        // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
+        const bool split_on = split || n > 1;
+        if (F > 0 && weight * F > s_.min_weight) {
+            const Vec3 w = normalize(mh * (2.0f * c) - wo);
+            const float g = ggx_ray_weight(wo_local.z, dot(w, ns), alpha);
+            if (g > 0 && dot(w, ng) > 0) {
+                r.d = w;
+                r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
+                sum += trace(r, depth + 1, weight * F, split_on, RayType::Secondary, st, ctx, nullptr, Vec3()) *
+                       reflect_tint * (F * g);
+            }
+        }
+        if (F < 1 && weight * (1 - F) > s_.min_weight) {
+            const Vec3 w = normalize(-wo * eta + mh * (eta * c - std::sqrt(k)));
+            const float g = ggx_ray_weight(wo_local.z, -dot(w, ns), alpha);
+            if (g > 0 && dot(w, ng) < 0) {
+                r.d = w;
+                r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
+                sum += trace(r, depth + 1, weight * (1 - F), split_on, RayType::Secondary, st, ctx, nullptr, Vec3()) *
+                       pass_tint * ((1 - F) * g);
+            }
+        }
+    }
+    // Multiscatter GGX (Material::multiscatter, Blender 4+'s default): what single scattering
+    // loses between the microfacets is returned, over reflection and refraction alike, as
+    // Cycles' multiscatter glass conserves a white world's light.
+    const float gain = m.multiscatter ? 1.0f / ggx_glass_albedo(wo_local.z, alpha, n2 / n1) : 1.0f;
+    return sum * (gain / float(n));
+}
+
 float Integrator::emitter_weight(const Ray& ray, const Hit& hit, const SurfacePoint& sp) const {
     if (!(ray.emitter_mis > 0) || size_t(hit.prim) >= scene_.num_triangles()) return 1;
     const float probability = scene_.emitters().probability_of(hit.prim);
@@ -716,7 +774,11 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
 
     float refl = m.mirror, trans = 0;
     Vec3 tdir;
-    if (m.transmittance > 0) {
+    if (m.transmittance > 0 && m.roughness > 0 && m.ior != 1.0f) {
+        if (weight * m.transmittance > s_.min_weight)
+            color += rough_glass(sp, ng, ns, wo, m, entering ? 1.0f : m.ior, entering ? m.ior : 1.0f, depth,
+                                 weight * m.transmittance, split, st, ctx) * m.transmittance;
+    } else if (m.transmittance > 0) {
         const float n1 = entering ? 1.0f : m.ior, n2 = entering ? m.ior : 1.0f, eta = n1 / n2;
         const float cos_i = std::min(dot(wo, ns), 1.0f);
         const float k = 1.0f - eta * eta * (1.0f - cos_i * cos_i);

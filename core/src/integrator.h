@@ -71,6 +71,16 @@ private:
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
                      const GgxView* ggx = nullptr, bool emitter_mis = false) const;
+    // Rough glass (roughness > 0, transmittance > 0, IOR not 1): a GGX microfacet dielectric
+    // (Walter et al. 2007). Each of the lobe's samples draws a microfacet normal m from those the
+    // view sees and traces both the reflection about m, weighing F G2 / G1, and the refraction
+    // through m, weighing (1 - F) G2 / G1 (tinted where the glass tints what it lets through),
+    // F the exact Fresnel at m; with Material::multiscatter, divided by what one such
+    // interface returns of a white world (ggx_glass_albedo). n1, n2: the indices on the view's
+    // side and beyond.
+    Vec3 rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
+                     float n1, float n2, int depth, float weight, bool split, SampleState& st,
+                     TraceContext& ctx) const;
     // The light L as a glossy lobe far narrower than it reflects it: its
     // radiance in the mirror direction, if unblocked, times the lobe's albedo.
     Vec3 mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, float radius,

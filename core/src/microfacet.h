@@ -69,6 +69,12 @@ float ggx_albedo(float cos_o, float alpha);
 // f0, integrated on first use).
 float ggx_dielectric_albedo(float cos_o, float alpha, float f0);
 
+// What a rough dielectric interface returns of a white world, reflection and refraction
+// together, single scattering (Integrator::rough_glass), seen from cos_o; eta: the index beyond
+// the surface over the view's side's (a table over cos_o, roughness and 17 values of eta in
+// [1/3, 3], integrated on first use). Multiscatter glass divides by it.
+float ggx_glass_albedo(float cos_o, float alpha, float eta);
+
 // Multiscatter GGX's factor on the single-scattering lobe is 1 + f0 g, with
 // this gain g = (1 - E) / E.
 inline float ggx_multiscatter_gain(float cos_o, float alpha) {

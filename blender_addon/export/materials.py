@@ -273,6 +273,7 @@ def _from_other_bsdf(node, textured):
         glass = principled_material(color, 0.0, _value(node, "Roughness", 0.0, textured), 1.0,
                                     _value(node, "IOR", 1.45, textured), 0.04)
         glass.tints_reflection = True
+        glass.multiscatter = multiscatter(node)   # (rough glass: Multiscatter GGX keeps its light)
         return glass
     if kind == "BSDF_HAIR":
         return principled_material(color, 0.0, 0.5, 0.0, 1.55, 0.04)

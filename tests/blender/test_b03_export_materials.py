@@ -18,6 +18,8 @@ def test_principled_inputs_map_to_the_whitted_model(export):
     assert glass["layered_diffuse"] == (out.blender[0] >= 4)
     assert red["roughness"] == pytest.approx(0.3)
     assert glass["transmittance"] == pytest.approx(1.0)
+    # Blender 4's default distribution, Multiscatter GGX, for the glass too (GGX in 3.4)
+    assert red["multiscatter"] == glass["multiscatter"] == (out.blender[0] >= 4)
     assert glass["ior"] == pytest.approx(1.33, rel=1e-5)
     assert glass["kd"] == pytest.approx(0.0)
 

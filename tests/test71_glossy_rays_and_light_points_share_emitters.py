@@ -10,28 +10,10 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
-from microfacet_math import dielectric_fresnel, ggx_brdf
+from panel_floor import CENTRE, EYE, dielectric_layer, lobe_over_panel, white_metal
 
 RES = 41                                        # odd: the middle pixel's ray meets the origin
-EYE = np.array([0.0, -3.0, 2.0])
-CENTRE = np.array([0.0, 3.0, 2.0])              # the panel's centre, on the middle ray's reflection
 RADIANCE = 4.0
-
-
-def shininess(roughness):
-    return min(2 / max(roughness ** 2, 1e-3) ** 2 - 2, 1000.0)
-
-
-def white_metal(roughness):
-    s = shininess(roughness)
-    return gw.Material(color=(1, 1, 1), kd=0.0, ks=(s + 8) / 8, shininess=s, roughness=roughness, mirror=1.0,
-                       metallic=1.0)
-
-
-def dielectric_layer(roughness, f0):
-    s = shininess(roughness)
-    return gw.Material(color=(1, 1, 1), kd=0.0, ks=f0 * (s + 8) / 8, shininess=s, roughness=roughness,
-                       dielectric_reflection=True)
 
 
 def panel_scene(floor, size):
@@ -44,24 +26,6 @@ def panel_scene(floor, size):
                     triangle_materials=[0, 0, 1, 1], materials=[floor, panel], camera=camera, background=(0, 0, 0))
 
 
-def lobe_over_panel(roughness, size, f0=None, n=400):
-    """The floor's origin lit by the panel: the GGX BRDF (F = 1, or a dielectric's Fresnel of
-    f0) x radiance x cos_i over the panel's solid angle, by a midpoint rule over its area."""
-    g = ((np.arange(n) + 0.5) / n - 0.5) * size
-    x, y = np.meshgrid(g, g)
-    q = np.stack([x + CENTRE[0], y + CENTRE[1], np.full_like(x, CENTRE[2])], -1)
-    d2 = (q ** 2).sum(-1)
-    wi = q / np.sqrt(d2)[..., None]
-    wo = EYE / np.linalg.norm(EYE)
-    f = 1.0
-    if f0 is not None:
-        h = (wi + wo) / np.linalg.norm(wi + wo, axis=-1, keepdims=True)
-        f = dielectric_fresnel((wi * h).sum(-1), f0)
-    brdf = ggx_brdf(wi, wo, roughness ** 2, f)
-    # dw = cos_l dA / d^2, the panel facing along z (cos_l = wi.z, as cos_i)
-    return float((brdf * wi[..., 2] * wi[..., 2] / d2).sum() * (size / n) ** 2 * RADIANCE)
-
-
 def middle(scene, seed, rays, points):
     settings = gw.RenderSettings(glossy_samples=rays, shadow="random", shadow_samples=points, seed=seed)
     return float(gw.render(scene, settings)[RES // 2, RES // 2, :3].mean())
@@ -72,21 +36,21 @@ def test_a_rough_metal_returns_the_lobe_integrated_over_the_panel(roughness, siz
     scene = panel_scene(white_metal(roughness), size)
     value = np.mean([middle(scene, seed, 256, 64) for seed in range(2)])
     # (measured 0.995-1.002 of it)
-    assert value == pytest.approx(lobe_over_panel(roughness, size), rel=0.015)
+    assert value == pytest.approx(lobe_over_panel(roughness, size, RADIANCE), rel=0.015)
 
 
 @pytest.mark.parametrize("f0", [0.3, 0.04])      # (0.04: the layer's rays are traced by roulette)
 def test_a_rough_dielectric_layer_returns_its_lobe_integrated_over_the_panel(f0):
     scene = panel_scene(dielectric_layer(0.3, f0), 0.2)
     value = np.mean([middle(scene, seed, 256, 64) for seed in range(2)])
-    assert value == pytest.approx(lobe_over_panel(0.3, 0.2, f0), rel=0.04)
+    assert value == pytest.approx(lobe_over_panel(0.3, 0.2, RADIANCE, f0), rel=0.04)
 
 
 @pytest.mark.parametrize("floor", [white_metal(0.3), dielectric_layer(0.3, 0.3)], ids=["metal", "dielectric"])
 def test_a_small_panels_highlight_on_a_rough_floor_has_no_fireflies(floor):
     scene = panel_scene(floor, 0.2)
     values = np.array([middle(scene, seed, 4, 4) for seed in range(16)])
-    expected = lobe_over_panel(0.3, 0.2, None if floor.metallic > 0 else 0.3)
+    expected = lobe_over_panel(0.3, 0.2, RADIANCE, None if floor.metallic > 0 else 0.3)
     # (rays alone: a standard deviation of 2.1 x the mean and a mean of 0.55 x over these 16;
     # with the light points, 0.03 and 1.00)
     assert values.std() < 0.1 * expected

@@ -3,6 +3,7 @@
 
 #include <optional>
 
+#include "light_density.h"
 #include "lights.h"
 #include "microfacet.h"
 #include "near_area_light.h"
@@ -86,17 +87,24 @@ Fresnel emitter_fresnel(const Material& m) {
     return f;
 }
 
+// Whether a lobe reflects anything (a share of some weight).
+bool carries(const GgxView& v) {
+    return v.seen && (v.dielectric_scale > 0 || v.mirror_scale.x > 0 || v.mirror_scale.y > 0 || v.mirror_scale.z > 0);
+}
+
 // A glossy surface's (roughness > 0) GGX lobe, of the reflectance f.
 GgxView glossy_view(const Material& m, const Fresnel& f, const Vec3& ns, const Vec3& wo) {
     return ggx_view(ns, wo, ggx_alpha(m.roughness), f, m.multiscatter);
 }
 
-// Lights are sampled by their shape alone (no MIS with the lobe), so a lobe
+// The shares of a lobe that no ray carries (direct()'s `own`: all of it where no reflection rays
+// are traced, or for lights that rays do not see) take a light by its points alone, so a lobe
 // much narrower than a light would be met by few of its points, each weighing
 // D's peak: a sun 0.4 radians wide on a metal of roughness 0.01 summed to
 // 0.5-2.3% of a mirror's highlight at 16 x 4 samples a pixel, and widening
 // the lobe instead (to a fifth of the light's radius) dimmed a rect light's
-// reflection by 25-40%. Where alpha is below kMirrorLobe of the light's
+// reflection by 25-40%. (The shares whose rays are traced take it by multiple importance
+// sampling with those rays instead, tails and all.) Where alpha is below kMirrorLobe of the light's
 // (tangent) radius, the reflected lobe lies well inside the light's image, and
 // the highlight is the light seen in the mirror direction times the lobe's
 // albedo with Fresnel and its share within about half the light's radius
@@ -220,6 +228,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     const Vec3 smooth = dot(sp.ng, ng) < 0 ? -sp.unmapped : sp.unmapped;   // (on ng's side, as ns is)
     const auto& lights = scene_.lights();
     const GgxView glossy = m.roughness > 0 ? glossy_view(m, specular_fresnel(m), ns, wo) : GgxView();
+    // Where reflection rays are traced from here (traced), they see the lamps' shapes too, and
+    // the light points of a lamp with a shape take the traced shares' highlight by multiple
+    // importance sampling (glossy_lobe takes the rays' part); what no ray carries (rest) they
+    // take whole, as every share of a lamp without a shape or with hard shadows.
+    const GgxView rest = traced ? glossy_view(m, emitter_fresnel(m), ns, wo) : GgxView();
+    const double rays_per_point = traced ? double(glossy_rays(split)) / double(light_points(s_.shadow, st)) : 0.0;
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
         const bool has_area = L.kind == LightKind::Sphere || L.kind == LightKind::Spot ? L.radius > 0
@@ -247,7 +261,9 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                      (L.inverse_square || L.kind == LightKind::Sun)
                                  ? angular_radius(L, sp.p) : 0.0f;
         const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
-        if (mirrored) total += mirrored_light(L, sp, ng, glossy, radius, ctx);
+        const bool shared = traced && mode != ShadowMode::Hard && has_visible_shape(L);
+        const GgxView& own = shared ? rest : glossy;   // what the light points take whole
+        if (mirrored && carries(own)) total += mirrored_light(L, sp, ng, own, radius, ctx);
         // A flat light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
         const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
@@ -264,7 +280,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (cos_i <= 0) continue;
             Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
             if (glossy_highlight) {
-                if (!mirrored) f += ggx_highlight(glossy, ls.wi);
+                if (!mirrored) f += ggx_highlight(own, ls.wi);
+                if (shared) {   // (the power heuristic: the rays' density over the light points')
+                    const double ratio = rays_per_point * double(ggx_pdf(*traced, ls.wi)) /
+                                         light_density(L, near_state, near, sp.p, ns, ls.wi, ls.dist);
+                    f += ggx_highlight(*traced, ls.wi) * float(1 / (1 + ratio * ratio));
+                }
             } else if (highlight > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
@@ -537,6 +558,29 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     return sum * (gain / float(n));
 }
 
+Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density,
+                               const SampleState& st, TraceContext& ctx) const {
+    Vec3 sum;
+    const double points = double(light_points(s_.shadow, st));
+    for (const Light& L : scene_.lights()) {
+        float t;
+        Vec3 radiance;
+        if (!has_visible_shape(L) || !light_shape_hit(L, r.o, r.d, t, radiance)) continue;
+        NearArea near;   // (as direct() sets it up for this point)
+        const int near_state = near_area_light(L, sp.p, ns, near);
+        const double ratio = points * light_density(L, near_state, near, sp.p, ns, r.d, t) / ray_density;
+        const float weight = float(1 / (1 + ratio * ratio));
+        if (!(weight > 0)) continue;
+        // (any surface before the light hides it; lights are transparent, as in Cycles)
+        Ray shadow = r;
+        shadow.emitter_mis = 0;
+        shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);
+        ++ctx.stats.rays[int(RayType::Shadow)];
+        if (!accel_.occluded(RayPre(shadow), ctx)) sum += radiance * weight;
+    }
+    return sum;
+}
+
 float Integrator::emitter_weight(const Ray& ray, const Hit& hit, const SurfacePoint& sp) const {
     if (!(ray.emitter_mis > 0) || size_t(hit.prim) >= scene_.num_triangles()) return 1;
     const float probability = scene_.emitters().probability_of(hit.prim);
@@ -553,7 +597,7 @@ float Integrator::emitter_weight(const Ray& ray, const Hit& hit, const SurfacePo
 
 Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness,
                              int depth, float weight, bool split, bool through, SampleState& st,
-                             TraceContext& ctx, const GgxView* ggx, bool emitter_mis) const {
+                             TraceContext& ctx, const GgxView* ggx, bool mis) const {
     Ray r;
     r.d = dir;
     r.spawned = true;
@@ -575,7 +619,9 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     const float e = std::max(2.0f / (alpha * alpha) - 2.0f, 0.0f);
     const int n = glossy_rays(split);
     // (Ray::emitter_mis: n over the emitters' light points per shading point, times the density)
-    const float mis_scale = emitter_mis ? float(n) / float(light_points(s_.shadow, st)) : 0.0f;
+    const float mis_scale = mis ? float(n) / float(light_points(s_.shadow, st)) : 0.0f;
+    const bool emitters = mis && !scene_.emitters().empty();
+    const bool lamps = mis && shaped_lights_ && s_.shadow != ShadowMode::Hard;
     Vec3 t, b;
     basis(ggx ? ggx->ns : dir, t, b);
     // (GGX: the view in the frame of the shading normal)
@@ -604,7 +650,7 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
             if (!(g > 0)) continue;
             fresnel = ggx_fresnel(*ggx, cos_m) * g;
             // (a density that rounds to 0 leaves the emitter to the light points: weight 0 here)
-            if (emitter_mis) r.emitter_mis = std::max(mis_scale * ggx_pdf(*ggx, w), 1e-30f);
+            if (emitters) r.emitter_mis = std::max(mis_scale * ggx_pdf(*ggx, w), 1e-30f);
         } else {
             const float ct = std::pow(1.0f - u1, 1.0f / (e + 1.0f)), s = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
             const float phi = float(2 * kPi) * u2;
@@ -615,7 +661,9 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
         r.without_sun = ggx && samples_sun(alpha);
         // (Only n > 1 rays split the sample: one ray goes on as the sample's own.)
-        sum += trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3()) * fresnel;
+        Vec3 seen = trace(r, depth + 1, weight, split || n > 1, RayType::Secondary, st, ctx, nullptr, Vec3());
+        if (lamps) seen += lamps_in_lobe(r, sp, ggx->ns, double(n) * double(ggx_pdf(*ggx, w)), st, ctx);
+        sum += seen * fresnel;
     }
     return sum * (1.0f / float(n));
 }
@@ -747,10 +795,11 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
     // The GGX rays traced below (the metal's share and the layer's, as one set of rays) and
     // from_emitters' light points share the emitters' highlights (multiple importance sampling),
     // where both reach the same directions: the interpolated normal faces the viewer.
-    const bool emitter_mis = rays && !scene_.emitters().empty() && m.roughness > 0 && !(m.transmittance > 0) &&
-                             (m.mirror > 0 || layer_seen > 0) && dot(ns_lit, wo) > 0;
+    const bool mis = rays && m.roughness > 0 && !(m.transmittance > 0) && (m.mirror > 0 || layer_seen > 0) &&
+                     dot(ns_lit, wo) > 0 &&
+                     (!scene_.emitters().empty() || (shaped_lights_ && s_.shadow != ShadowMode::Hard));
     std::optional<GgxView> traced;
-    if (emitter_mis) {
+    if (mis) {
         Fresnel f;   // (the layer's share without the roulette's boost: what its rays return on average)
         f.tint = m.mirror > 0 ? reflection_tint(m, m.mirror) : Vec3();
         f.mirror = m.mirror, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer : 0.0f;
@@ -816,7 +865,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
             Fresnel f;
             f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
             const GgxView lobe = glossy_view(m, f, ns, wo);
-            color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe, emitter_mis);
+            color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe, mis);
             if (samples_sun(ggx_alpha(m.roughness))) color += sun_highlight(sp, ng, lobe, depth, split, st, ctx);
         } else {
             Vec3 rdir = d - ns * (2.0f * dot(d, ns));

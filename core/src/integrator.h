@@ -36,7 +36,8 @@ private:
     Vec3 trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,
                TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     // traced: the GGX lobe of the shares whose reflection rays are traced from here, where they
-    // share the emitters' highlights with from_emitters (multiple importance sampling); else null.
+    // share the emitters' and the shaped lamps' highlights with the light points (multiple
+    // importance sampling); else null.
     Vec3 direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                 int depth, bool split, SampleState& st, TraceContext& ctx, const GgxView* traced = nullptr) const;
     // The emissive triangles' light (scene.emitters()), sampled as one area light.
@@ -67,10 +68,16 @@ private:
     // roughness 0, else a normalised Phong lobe of the roughness; with `ggx`
     // (a reflection), the GGX lobe's rays instead, weighted by its Fresnel and
     // shadowing (dir unused).
-    // (emitter_mis: the GGX rays share the emitters with light sampling, Ray::emitter_mis.)
+    // (mis: the GGX rays share the emitters and the lamps' shapes with their light points,
+    // Ray::emitter_mis and lamps_in_lobe.)
     Vec3 glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3& dir, float roughness, int depth,
                      float weight, bool split, bool through, SampleState& st, TraceContext& ctx,
-                     const GgxView* ggx = nullptr, bool emitter_mis = false) const;
+                     const GgxView* ggx = nullptr, bool mis = false) const;
+    // The lamps whose shapes the glossy ray r (leaving sp, ns its lobe's normal) meets unblocked:
+    // their radiance, each weighted by the power heuristic against its light points, whose
+    // density it takes from light_density; ray_density: the lobe's rays' (n x ggx_pdf).
+    Vec3 lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density,
+                       const SampleState& st, TraceContext& ctx) const;
     // Rough glass (roughness > 0, transmittance > 0, IOR not 1): a GGX microfacet dielectric
     // (Walter et al. 2007). Each of the lobe's samples draws a microfacet normal m from those the
     // view sees and traces both the reflection about m, weighing F G2 / G1, and the refraction

@@ -74,15 +74,23 @@ def panel_floor_scene(resolution=(96, 72), floor="metal"):
     """A small Emission panel (0.3 x 0.3, strength 60, facing down) 1.5 above a 40 x 40 floor of
     Roughness 0.3: "metal" (Principled Metallic 1, light grey) or "dielectric" (Metallic 0,
     grey); no lamps, a black world. The camera looks down 20 degrees at where the floor mirrors
-    the panel: its highlight is the panel seen through the floor's GGX lobe."""
+    the panel: its highlight is the panel seen through the floor's GGX lobe. floor "lamp": a
+    1 x 1 m area light (200 W) in the panel's place over the metal at Roughness 0.15, no panel:
+    the lamp's reflection with GGX's glow around it."""
     reset(resolution=tuple(resolution))
     scene = bpy.context.scene
     scene.camera.location, scene.camera.rotation_euler = (0.0, -3.0, 1.5), (math.radians(70), 0.0, 0.0)
     ground = link(cube_object("Floor", 1.0))
     ground.scale, ground.location = (40.0, 40.0, 0.01), (0.0, 0.0, -0.005)
-    inputs = {"Metallic": 1.0} if floor == "metal" else {"Metallic": 0.0}
-    colour = (0.9, 0.9, 0.9) if floor == "metal" else (0.3, 0.3, 0.3)
-    ground.data.materials.append(principled_material("Floor", colour, Roughness=0.3, **inputs))
+    metal = floor in ("metal", "lamp")
+    colour = (0.9, 0.9, 0.9) if metal else (0.3, 0.3, 0.3)
+    ground.data.materials.append(principled_material("Floor", colour, Roughness=0.15 if floor == "lamp" else 0.3,
+                                                     Metallic=1.0 if metal else 0.0))
+    if floor == "lamp":
+        add_light("Lamp", "AREA", (0.0, 2.0, 1.5), (0.0, 0.0, 0.0), shape="SQUARE", size=1.0, energy=200.0)
+        plain_world("Black", (0.0, 0.0, 0.0))
+        bpy.context.view_layer.update()
+        return {}
     mesh = bpy.data.meshes.new("Panel")
     h = 0.15
     mesh.from_pydata([(-h, -h, 0.0), (h, -h, 0.0), (h, h, 0.0), (-h, h, 0.0)], [], [(0, 3, 2, 1)])

@@ -31,6 +31,8 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("panel_floor", "A small Emission panel over a rough metal floor (Roughness 0.3)",
      ['scene={"floor": "metal", "resolution": [128, 96]}', "transparent=false"]),
+    ("panel_floor", "A 1 m area light over a glossy metal floor (Roughness 0.15): its reflection's glow",
+     ['scene={"floor": "lamp", "resolution": [128, 96]}', "transparent=false"]),
     ("world_shadow", "A white world's light blocked by a ball (no lamps)",
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("sunny_monkey", "An HDRI with a sun and an Emission panel light Suzanne (no lamps)",

@@ -15,15 +15,24 @@ from panel_floor import CENTRE, EYE, lobe_over_panel, white_metal
 RADIANCE = 4.0
 
 
-def lamp_scene(floor, size, centre=CENTRE):
+def lamp_scene(floor, size, centre=CENTRE, blocker=False, casts_shadows=True):
     """The floor (100 x 100) seen through one pixel at its origin, and a size x size rect light
-    (radiance RADIANCE, facing down) centred at `centre`."""
-    verts = np.array([[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]], np.float32)
+    (radiance RADIANCE, facing down) centred at `centre`; blocker: a black 2 x 2 quad halfway
+    between them."""
+    verts = [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]
+    tris, tri_mats = [[0, 1, 2], [0, 2, 3]], [0, 0]
+    if blocker:
+        mid = np.asarray(centre) / 2
+        verts += [list(mid + [dx, dy, 0]) for dx, dy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        tris += [[4, 5, 6], [4, 6, 7]]
+        tri_mats += [1, 1]
     lamp = gw.Light(kind="rect", position=tuple(centre), size=(size, size), axis_u=(1, 0, 0), axis_v=(0, -1, 0),
-                    direction=(0, 0, -1), color=(RADIANCE * size * size / np.pi,) * 3, inverse_square=True)
+                    direction=(0, 0, -1), color=(RADIANCE * size * size / np.pi,) * 3, inverse_square=True,
+                    casts_shadows=casts_shadows)
     camera = gw.Camera(eye=tuple(EYE), target=(0, 0, 0), up=(0, 0, 1), fov=1, width=1, height=1)
-    return gw.Scene(vertices=verts, triangles=[[0, 1, 2], [0, 2, 3]], materials=[floor], camera=camera,
-                    lights=[lamp], background=(0, 0, 0))
+    black = gw.Material(color=(0, 0, 0), kd=0.0, ks=0.0)
+    return gw.Scene(vertices=np.array(verts, np.float32), triangles=tris, triangle_materials=tri_mats,
+                    materials=[floor, black], camera=camera, lights=[lamp], background=(0, 0, 0))
 
 
 def pixel(scene, seed, rays, points, mode="random"):
@@ -61,3 +70,16 @@ def test_a_large_lamps_highlight_on_a_glossy_metal_is_smooth_at_few_samples(size
     expected = lobe_over_panel(0.2, size, RADIANCE)
     assert values.std() < 0.3 * expected
     assert values.mean() == pytest.approx(expected, rel=0.1)
+
+
+def test_a_lamp_that_casts_no_shadows_is_seen_through_what_blocks_it():
+    # Its light points ignore what lies between; the lobe's rays that meet its shape must too
+    # (with a blocker: 0 without the shadows' switch, all of it with it). One light point against
+    # 256 rays: the rays take most of the highlight (testing the blocker, they took 0.0007 of it).
+    floor = white_metal(0.3)
+
+    def value(**blocking):
+        return np.mean([pixel(lamp_scene(floor, 0.5, **blocking), seed, 256, 1) for seed in range(8)])
+    free = value()
+    assert value(blocker=True) < 0.01 * free
+    assert value(blocker=True, casts_shadows=False) == pytest.approx(free, rel=0.02)

@@ -571,7 +571,12 @@ Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3&
         const double ratio = points * light_density(L, near_state, near, sp.p, ns, r.d, t) / ray_density;
         const float weight = float(1 / (1 + ratio * ratio));
         if (!(weight > 0)) continue;
-        // (any surface before the light hides it; lights are transparent, as in Cycles)
+        // (any surface before the light hides it, unless it casts no shadows, as its light points
+        // take it; lights are transparent, as in Cycles)
+        if (!L.casts_shadows) {
+            sum += radiance * weight;
+            continue;
+        }
         Ray shadow = r;
         shadow.emitter_mis = 0;
         shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);

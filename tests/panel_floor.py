@@ -10,6 +10,18 @@ EYE = np.array([0.0, -3.0, 2.0])
 CENTRE = np.array([0.0, 3.0, 2.0])              # on the reflection of the ray from EYE to the origin
 
 
+# What may stand halfway between the floor's origin and the light (blocker_quad).
+BLOCKERS = {"opaque": gw.Material(color=(0, 0, 0), kd=0.0, ks=0.0),
+            "cut-out": gw.Material(color=(0, 0, 0), kd=0.0, ks=0.0, alpha=0.0),
+            "clear pane": gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=1.0)}
+
+
+def blocker_quad(centre=CENTRE):
+    """The corners of a 2 x 2 horizontal quad halfway between the floor's origin and `centre`."""
+    mid = np.asarray(centre) / 2
+    return [list(mid + [dx, dy, 0]) for dx, dy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+
+
 def shininess(roughness):
     return min(2 / max(roughness ** 2, 1e-3) ** 2 - 2, 1000.0)
 

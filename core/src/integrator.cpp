@@ -112,6 +112,9 @@ GgxView glossy_view(const Material& m, const Fresnel& f, const Vec3& ns, const V
 // edge, no noise.
 constexpr float kMirrorLobe = 0.1f;
 
+// lamps_in_lobe's Russian roulette on small weights.
+constexpr float kLampRoulette = 0.1f;
+
 // The least integer whose square is at least x.
 uint32_t ceil_sqrt(uint32_t x) {
     uint32_t r = uint32_t(std::sqrt(double(x)));
@@ -158,9 +161,10 @@ Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& 
 
 // 1 where the light is seen, 0 where it is blocked, per channel; in between
 // behind surfaces that let light through, tinted by coloured glass (only
-// scenes with such materials pay for it).
+// scenes with such materials pay for it). glass_blocks: only alpha's
+// uncovered part lets light through (transmission()).
 Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
-                          TraceContext& ctx) const {
+                          TraceContext& ctx, bool glass_blocks) const {
     Ray r;
     r.o = offset_origin(p, p_err, ng, wi);
     r.d = wi;
@@ -168,14 +172,29 @@ Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
     r.tmax = std::isinf(dist) ? kInf : dist * (1.0f - 1e-5f);
     r.spawned = true;
     ++ctx.stats.rays[int(RayType::Shadow)];
-    if (scene_.transparent_shadows()) return transmission(r, dist, ctx);
+    if (scene_.transparent_shadows()) return transmission(r, dist, ctx, glass_blocks);
     return accel_.occluded(RayPre(r), ctx) ? Vec3(0, 0, 0) : Vec3(1, 1, 1);
+}
+
+// A light point's contribution c, and c_shared, the part weighted against the glossy rays that
+// meet the same light (multiple importance sampling): those rays pass alpha cut-outs but not
+// glass (the light behind glass reaches them by its own refraction rays, at full weight), so
+// c_shared sees the light through cut-outs only.
+Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c,
+                                  const Vec3& c_shared, bool casts_shadows, TraceContext& ctx) const {
+    auto some = [](const Vec3& v) { return v.x > 0 || v.y > 0 || v.z > 0; };
+    if (!casts_shadows) return c + c_shared;
+    if (!scene_.transparent_shadows() || !some(c_shared))
+        return (c + c_shared) * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
+    Vec3 sum = c_shared * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx, true);
+    if (some(c)) sum += c * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
+    return sum;
 }
 
 // Whitted's transparent shadows: each surface on the way passes (1 - alpha)
 // of the light uncovered plus its transmittance of the covered part, tinted
 // by its colour where it tints what it refracts (coloured glass).
-Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
+Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks) const {
     const Vec3 target = r.o + r.d * (std::isinf(dist) ? 0.0f : dist);
     Vec3 through(1, 1, 1);
     for (int crossings = 0; crossings < 64; ++crossings) {
@@ -187,7 +206,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx) const {
         const Material& m = scene_.materials()[size_t(sp.material)];
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
         const float alpha = scene_.alpha_at(m, hit);
-        float passed = std::min(std::max(m.transmittance, 0.0f), 1.0f);
+        float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
         if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
             // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
             // none is a total internal reflection); IOR 1: none
@@ -232,7 +251,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     // the light points of a lamp with a shape take the traced shares' highlight by multiple
     // importance sampling (glossy_lobe takes the rays' part); what no ray carries (rest) they
     // take whole, as every share of a lamp without a shape or with hard shadows.
-    const GgxView rest = traced ? glossy_view(m, emitter_fresnel(m), ns, wo) : GgxView();
+    const Fresnel untraced = traced ? emitter_fresnel(m) : Fresnel();
+    const GgxView rest = untraced.mirror > 0 || untraced.dielectric > 0 ? glossy_view(m, untraced, ns, wo) : GgxView();
     const double rays_per_point = traced ? double(glossy_rays(split)) / double(light_points(s_.shadow, st)) : 0.0;
     for (size_t li = 0; li < lights.size(); ++li) {
         const Light& L = lights[li];
@@ -263,7 +283,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
         const bool shared = traced && mode != ShadowMode::Hard && has_visible_shape(L);
         const GgxView& own = shared ? rest : glossy;   // what the light points take whole
-        if (mirrored && carries(own)) total += mirrored_light(L, sp, ng, own, radius, ctx);
+        const bool own_highlight = glossy_highlight && carries(own);
+        if (mirrored && own_highlight) total += mirrored_light(L, sp, ng, own, radius, ctx);
         // A flat light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
         const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
@@ -279,26 +300,23 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
             Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
+            Vec3 f_shared;
+            if (shared) {   // (the power heuristic: the rays' density over the light points')
+                const double ratio = rays_per_point * double(ggx_pdf(*traced, ls.wi)) /
+                                     light_density(L, near_state, near, sp.p, ns, ls.wi, ls.dist);
+                f_shared = ggx_highlight(*traced, ls.wi) * float(1 / (1 + ratio * ratio));
+            }
             if (glossy_highlight) {
-                if (!mirrored) f += ggx_highlight(own, ls.wi);
-                if (shared) {   // (the power heuristic: the rays' density over the light points')
-                    const double ratio = rays_per_point * double(ggx_pdf(*traced, ls.wi)) /
-                                         light_density(L, near_state, near, sp.p, ns, ls.wi, ls.dist);
-                    f += ggx_highlight(*traced, ls.wi) * float(1 / (1 + ratio * ratio));
-                }
+                if (!mirrored && own_highlight) f += ggx_highlight(own, ls.wi);
             } else if (highlight > 0) {
                 const Vec3 h = normalize(ls.wi + wo);
                 const float sp_ = highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
                 f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * sp_
                                     : Vec3(sp_, sp_, sp_);
             }
-            const Vec3 c = f * ls.intensity;
-            if (c.x <= 0 && c.y <= 0 && c.z <= 0) continue;
-            if (!L.casts_shadows) {
-                sum += c;
-            } else {
-                sum += c * visible(sp.p, sp.p_err, sp.ng, ls.wi, ls.dist, ctx);
-            }
+            const Vec3 c = f * ls.intensity, c_shared = f_shared * ls.intensity;
+            if (c.x <= 0 && c.y <= 0 && c.z <= 0 && !(c_shared.x > 0 || c_shared.y > 0 || c_shared.z > 0)) continue;
+            sum += point_light_seen(sp, ls.wi, ls.dist, c, c_shared, L.casts_shadows, ctx);
         }
         total += sum * (1.0f / float(count));
     }
@@ -480,22 +498,23 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const double scale = 0.5 * double(cos_l) / (kPi * double(dist) * double(dist) * double(probability));
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
+        Vec3 f_shared;
+        if (traced) {   // (the light point's density per solid angle; the rays' over it, per point)
+            const double light_density = double(probability) * double(dist) * double(dist) / (0.5 * double(cos_l));
+            const double ratio = ray_density * double(ggx_pdf(*traced, wi)) / light_density;
+            f_shared = ggx_highlight(*traced, wi) * float(1 / (1 + ratio * ratio));
+        }
         if (m.roughness > 0) {
             if (glossy_highlight) f += ggx_highlight(glossy, wi);
-            if (traced) {   // (the light point's density per solid angle; the rays' over it, per point)
-                const double light_density = double(probability) * double(dist) * double(dist) / (0.5 * double(cos_l));
-                const double ratio = ray_density * double(ggx_pdf(*traced, wi)) / light_density;
-                f += ggx_highlight(*traced, wi) * float(1 / (1 + ratio * ratio));
-            }
         } else if (sharp_highlight > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
             const float spec = sharp_highlight * std::pow(std::max(dot(ns, h), 0.0f), m.shininess);
             f += m.metallic > 0 ? metal_tint(m, std::min(1.0f, m.metallic * (m.shininess + 8.0f) / (8.0f * m.ks))) * spec
                                 : Vec3(spec, spec, spec);
         }
-        const Vec3 c = f * intensity;
-        if (!(c.x > 0 || c.y > 0 || c.z > 0)) continue;
-        sum += c * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
+        const Vec3 c = f * intensity, c_shared = f_shared * intensity;
+        if (!(c.x > 0 || c.y > 0 || c.z > 0) && !(c_shared.x > 0 || c_shared.y > 0 || c_shared.z > 0)) continue;
+        sum += point_light_seen(sp, wi, dist, c, c_shared, true, ctx);
     }
     return sum * (1.0f / float(count));
 }
@@ -559,7 +578,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
 }
 
 Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density,
-                               const SampleState& st, TraceContext& ctx) const {
+                               SampleState& st, TraceContext& ctx) const {
     Vec3 sum;
     const double points = double(light_points(s_.shadow, st));
     for (const Light& L : scene_.lights()) {
@@ -569,19 +588,21 @@ Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3&
         NearArea near;   // (as direct() sets it up for this point)
         const int near_state = near_area_light(L, sp.p, ns, near);
         const double ratio = points * light_density(L, near_state, near, sp.p, ns, r.d, t) / ray_density;
-        const float weight = float(1 / (1 + ratio * ratio));
+        float weight = float(1 / (1 + ratio * ratio));
         if (!(weight > 0)) continue;
-        // (any surface before the light hides it, unless it casts no shadows, as its light points
-        // take it; lights are transparent, as in Cycles)
-        if (!L.casts_shadows) {
-            sum += radiance * weight;
-            continue;
+        // A weight under kLampRoulette (a wide lobe, whose light points take nearly all of the lamp)
+        // tests the lamp's visibility with probability weight / kLampRoulette, weighing the
+        // inverse: the same mean, without a shadow ray for every such ray.
+        if (weight < kLampRoulette) {
+            if (st.rng.next() * kLampRoulette >= weight) continue;
+            weight = kLampRoulette;
         }
-        Ray shadow = r;
-        shadow.emitter_mis = 0;
-        shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);
-        ++ctx.stats.rays[int(RayType::Shadow)];
-        if (!accel_.occluded(RayPre(shadow), ctx)) sum += radiance * weight;
+        // (what lies before the light hides it, as it hides the light's points from their shared
+        // part: alpha's uncovered part lets it through, glass does not, the refraction rays take
+        // what comes through glass; nothing, where it casts no shadows; lights are transparent,
+        // as in Cycles)
+        sum += L.casts_shadows ? radiance * weight * visible(sp.p, sp.p_err, sp.ng, r.d, t, ctx, true)
+                               : radiance * weight;
     }
     return sum;
 }
@@ -867,9 +888,17 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         if (m.roughness > 0 && !(m.transmittance > 0)) {
             // A glossy mirror (metal, a Glossy BSDF, a dielectric's layer): the GGX lobe, each
             // share's Fresnel rising from its colour.
-            Fresnel f;
-            f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
-            const GgxView lobe = glossy_view(m, f, ns, wo);
+            // (where the light points share these rays' highlights, `traced` is this lobe without
+            // the roulette's boost: its dielectric scale is linear in the layer's weight)
+            GgxView lobe;
+            if (traced) {
+                lobe = *traced;
+                lobe.dielectric_scale *= layer_seen > 0 ? boost : 0.0f;
+            } else {
+                Fresnel f;
+                f.tint = tint, f.mirror = refl, f.f0 = f0d, f.dielectric = layer_seen > 0 ? layer * boost : 0.0f;
+                lobe = glossy_view(m, f, ns, wo);
+            }
             color += glossy_lobe(sp, ng, d, m.roughness, depth, w, split, false, st, ctx, &lobe, mis);
             if (samples_sun(ggx_alpha(m.roughness))) color += sun_highlight(sp, ng, lobe, depth, split, st, ctx);
         } else {

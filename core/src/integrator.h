@@ -77,7 +77,7 @@ private:
     // their radiance, each weighted by the power heuristic against its light points, whose
     // density it takes from light_density; ray_density: the lobe's rays' (n x ggx_pdf).
     Vec3 lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density,
-                       const SampleState& st, TraceContext& ctx) const;
+                       SampleState& st, TraceContext& ctx) const;
     // Rough glass (roughness > 0, transmittance > 0, IOR not 1): a GGX microfacet dielectric
     // (Walter et al. 2007). Each of the lobe's samples draws a microfacet normal m from those the
     // view sees and traces both the reflection about m, weighing F G2 / G1, and the refraction
@@ -107,8 +107,10 @@ private:
     Vec3 sun_light(const SurfacePoint& sp, const Vec3& ng, uint32_t key, int depth, bool split, SampleState& st,
                    TraceContext& ctx, Response response) const;
     Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
-                 TraceContext& ctx) const;
-    Vec3 transmission(Ray r, float dist, TraceContext& ctx) const;
+                 TraceContext& ctx, bool glass_blocks = false) const;
+    Vec3 transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks = false) const;
+    Vec3 point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c, const Vec3& c_shared,
+                          bool casts_shadows, TraceContext& ctx) const;
     Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
                           SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const;
     // (emission_weight: emitter_weight's, on what the surface emits)

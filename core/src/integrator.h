@@ -76,8 +76,12 @@ private:
     // The lamps whose shapes the glossy ray r (leaving sp, ns its lobe's normal) meets unblocked:
     // their radiance, each weighted by the power heuristic against its light points, whose
     // density it takes from light_density; ray_density: the lobe's rays' (n x ggx_pdf).
-    Vec3 lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density,
+    Vec3 lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3& ns, double ray_density, float alpha,
                        SampleState& st, TraceContext& ctx) const;
+    // Whether a GGX lobe of this alpha at p and lamp L's light points share its highlight
+    // (multiple importance sampling): L has a shape and the lobe is narrower than L seen from p;
+    // a wider lobe is L's points' alone. direct() and lamps_in_lobe ask alike.
+    bool shares_lamp(const Light& L, const Vec3& p, float alpha) const;
     // Rough glass (roughness > 0, transmittance > 0, IOR not 1): a GGX microfacet dielectric
     // (Walter et al. 2007). Each of the lobe's samples draws a microfacet normal m from those the
     // view sees and traces both the reflection about m, weighing F G2 / G1, and the refraction

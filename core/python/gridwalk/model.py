@@ -102,7 +102,9 @@ class Material(Record):
     exponent; > 0 glossy: highlights and mirror reflection take a GGX
     microfacet lobe of alpha = roughness^2 (shininess unused), Fresnel rising
     from ks * 8 / (shininess + 8) at normal incidence (metallic's share: the
-    colour) to white at grazing; multiscatter: that lobe keeps the energy
+    colour) to white at grazing; with transmittance (rough glass) a GGX
+    microfacet dielectric reflecting and refracting through each microfacet by
+    the exact Fresnel of ior; multiscatter: that lobe keeps the energy
     single scattering loses (Cycles' Multiscatter GGX). emission: self-lit strength
     (color * emission is added to the shaded colour); emission_color: emitted
     radiance added as it is. alpha: coverage in [0, 1] (< 1 lets camera,

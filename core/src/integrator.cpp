@@ -112,6 +112,35 @@ GgxView glossy_view(const Material& m, const Fresnel& f, const Vec3& ns, const V
 // edge, no noise.
 constexpr float kMirrorLobe = 0.1f;
 
+// Whether any channel of v is positive.
+bool any_positive(const Vec3& v) { return v.x > 0 || v.y > 0 || v.z > 0; }
+
+// The density per solid angle with which from_emitters' light points reach a point of an
+// emissive triangle picked with `probability`, dist away, cos_l being |area normal . direction|
+// (the area normal twice the triangle's area long; both sides emit).
+double emitter_point_density(double probability, double dist, double cos_l) {
+    return probability * dist * dist / (0.5 * cos_l);
+}
+
+// The (u1, u2) of a lobe's n rays at a shading point (glossy_lobe, rough_glass): at a path's
+// first glossy bounce (not split) the pixel's samples' directions form one stratified set, as
+// the lens points do (sampler.h, shared_slot), shuffled per pixel and depth; split paths (inside
+// the first bounce's n rays) draw at random.
+struct LobeStrata {
+    uint32_t n, key, sample, samples;
+    float rot;
+    LobeStrata(SampleState& st, bool split, int rays, int depth, Stream stream) : n(uint32_t(rays)) {
+        const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, n);
+        key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(stream)) : 0;
+        rot = shared ? to_unit(mix32(key)) : st.rng.next();
+        sample = shared ? st.sample : 0;
+        samples = shared ? st.samples : 1;
+    }
+    void point(int j, SampleState& st, float& u1, float& u2) const {
+        strat2(shared_slot(sample, samples, key, uint32_t(j)), n * samples, st.rng.next(), rot, u1, u2);
+    }
+};
+
 // lamps_in_lobe's Russian roulette on small weights.
 constexpr float kLampRoulette = 0.1f;
 
@@ -188,12 +217,11 @@ Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
 // c_shared sees the light through cut-outs only.
 Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c,
                                   const Vec3& c_shared, bool casts_shadows, TraceContext& ctx) const {
-    auto some = [](const Vec3& v) { return v.x > 0 || v.y > 0 || v.z > 0; };
     if (!casts_shadows) return c + c_shared;
-    if (!scene_.transparent_shadows() || !some(c_shared))
+    if (!scene_.transparent_shadows() || !any_positive(c_shared))
         return (c + c_shared) * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
     Vec3 sum = c_shared * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx, true);
-    if (some(c)) sum += c * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
+    if (any_positive(c)) sum += c * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
     return sum;
 }
 
@@ -321,7 +349,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                     : Vec3(sp_, sp_, sp_);
             }
             const Vec3 c = f * ls.intensity, c_shared = f_shared * ls.intensity;
-            if (c.x <= 0 && c.y <= 0 && c.z <= 0 && !(c_shared.x > 0 || c_shared.y > 0 || c_shared.z > 0)) continue;
+            if (!any_positive(c) && !any_positive(c_shared)) continue;
             sum += point_light_seen(sp, ls.wi, ls.dist, c, c_shared, L.casts_shadows, ctx);
         }
         total += sum * (1.0f / float(count));
@@ -506,8 +534,8 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         Vec3 f_shared;
         if (traced) {   // (the light point's density per solid angle; the rays' over it, per point)
-            const double light_density = double(probability) * double(dist) * double(dist) / (0.5 * double(cos_l));
-            const double ratio = ray_density * double(ggx_pdf(*traced, wi)) / light_density;
+            const double ratio = ray_density * double(ggx_pdf(*traced, wi)) /
+                                 emitter_point_density(probability, dist, cos_l);
             f_shared = ggx_highlight(*traced, wi) * float(1 / (1 + ratio * ratio));
         }
         if (m.roughness > 0) {
@@ -519,7 +547,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
                                 : Vec3(spec, spec, spec);
         }
         const Vec3 c = f * intensity, c_shared = f_shared * intensity;
-        if (!(c.x > 0 || c.y > 0 || c.z > 0) && !(c_shared.x > 0 || c_shared.y > 0 || c_shared.z > 0)) continue;
+        if (!any_positive(c) && !any_positive(c_shared)) continue;
         sum += point_light_seen(sp, wi, dist, c, c_shared, true, ctx);
     }
     return sum * (1.0f / float(count));
@@ -534,11 +562,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     const Vec3 wo_local(dot(wo, t), dot(wo, b), dot(wo, ns));
     if (!(wo_local.z > 0)) return Vec3();
     const int n = glossy_rays(split);
-    // (the pixel's samples share one stratified set at the first bounce, as glossy_lobe's do)
-    const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, uint32_t(n));
-    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth), uint32_t(Stream::RoughRefraction)) : 0;
-    const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
-    const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
+    const LobeStrata strata(st, split, n, depth, Stream::RoughRefraction);
     const Vec3 reflect_tint = m.tints_reflection ? m.color : Vec3(1, 1, 1);
     const Vec3 pass_tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
     Ray r;
@@ -546,7 +570,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     Vec3 sum;
     for (int j = 0; j < n; ++j) {
         float u1, u2;
-        strat2(shared_slot(sample, samples, key, uint32_t(j)), uint32_t(n) * samples, st.rng.next(), rot, u1, u2);
+        strata.point(j, st, u1, u2);
         const Vec3 h = ggx_visible_normal(wo_local, alpha, u1, u2);
         const Vec3 mh = normalize(t * h.x + b * h.y + ns * h.z);
         const float c = std::min(dot(wo, mh), 1.0f);
@@ -627,8 +651,7 @@ float Integrator::emitter_weight(const Ray& ray, const Hit& hit, const SurfacePo
     const Vec3* v = scene_.triangle_vertices() + 3 * size_t(hit.prim);
     const double cos_l = std::abs(double(dot(cross(v[1] - v[0], v[2] - v[0]), ray.d)));
     const double dist = double(ray.mis_offset) + double(length(sp.p - ray.o));
-    const double light_density = double(probability) * dist * dist / (0.5 * cos_l);
-    const double ratio = light_density / double(ray.emitter_mis);
+    const double ratio = emitter_point_density(probability, dist, cos_l) / double(ray.emitter_mis);
     return float(1 / (1 + ratio * ratio));
 }
 
@@ -664,19 +687,11 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     // (GGX: the view in the frame of the shading normal)
     const Vec3 wo_local = ggx ? Vec3(dot(ggx->wo, t), dot(ggx->wo, b), dot(ggx->wo, ggx->ns)) : Vec3();
     if (ggx && !(wo_local.z > 0)) return Vec3();
-    // At a path's first glossy bounce (not split) the lobe directions of all
-    // the pixel's samples form one stratified set, as the lens points do
-    // (sampler.h, shared_slot), shuffled per pixel and depth. Split paths
-    // (inside the first bounce's n rays) draw at random.
-    const bool shared = !split && st.samples > 1 && shared_set_fits(st.samples, uint32_t(n));
-    const uint32_t key = shared ? hash4(st.seed, st.pixel, uint32_t(depth),
-                                        uint32_t(through ? Stream::RoughRefraction : Stream::GlossyLobe)) : 0;
-    const float rot = shared ? to_unit(mix32(key)) : st.rng.next();
-    const uint32_t sample = shared ? st.sample : 0, samples = shared ? st.samples : 1;
+    const LobeStrata strata(st, split, n, depth, through ? Stream::RoughRefraction : Stream::GlossyLobe);
     Vec3 sum;
     for (int j = 0; j < n; ++j) {
         float u1, u2;
-        strat2(shared_slot(sample, samples, key, uint32_t(j)), uint32_t(n) * samples, st.rng.next(), rot, u1, u2);
+        strata.point(j, st, u1, u2);
         Vec3 w, fresnel(1, 1, 1);
         if (ggx) {
             const Vec3 h = ggx_visible_normal(wo_local, alpha, u1, u2);

@@ -127,6 +127,8 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
         col.prop(light, "use_shadow", text="Cast Shadow")
         if light.type in ("POINT", "SPOT"):
             col.prop(light, "shadow_soft_size", text="Radius")
+            if hasattr(light, "use_soft_falloff"):   # (Blender 4.0+)
+                col.prop(light, "use_soft_falloff")
         if light.type == "SPOT":
             col.prop(light, "spot_size")
             col.prop(light, "spot_blend")

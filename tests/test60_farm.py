@@ -108,9 +108,9 @@ def test_nff_tiles_put_together_equal_the_single_machine_render(cluster, tmp_pat
         assert sum(w.items for w in report.workers.values()) == tiles
 
 
-def test_a_killed_worker_leaves_the_output_identical(cluster, heavy_reference, tmp_path):
-    address, client = cluster
-    out = tmp_path / "killed.npy"
+def render_killing_a_worker_mid_tile(address, client, out):
+    """Renders the heavy scene on the cluster and SIGKILLs a worker while it runs a tile; returns
+    the farm's report, the killed worker's address and the tile it was running."""
     outcome = {}
 
     def render():
@@ -136,11 +136,22 @@ def test_a_killed_worker_leaves_the_output_identical(cluster, heavy_reference, t
     thread.join(timeout=120)
     assert not thread.is_alive()
     assert "error" not in outcome, outcome.get("error")
-    report = outcome["report"]
-    killed_tile = int(keys[0].rsplit("-", 1)[1])
-    assert report.done_by[killed_tile] != victim           # its tile was rendered again, elsewhere
-    assert np.array_equal(np.load(out), heavy_reference)
-    client.wait_for_workers(2, timeout=60)                  # the nanny restarted it, for the next tests
+    client.wait_for_workers(2, timeout=60)                  # the nanny restarted it, for what follows
+    return outcome["report"], victim, int(keys[0].rsplit("-", 1)[1])
+
+
+def test_a_killed_worker_leaves_the_output_identical(cluster, heavy_reference, tmp_path):
+    address, client = cluster
+    # The tile seen running may finish in the moment before the kill lands (a loaded machine):
+    # then it was not lost, and the kill is tried again on a new render.
+    for attempt in range(3):
+        out = tmp_path / f"killed{attempt}.npy"
+        report, victim, killed_tile = render_killing_a_worker_mid_tile(address, client, out)
+        assert np.array_equal(np.load(out), heavy_reference)
+        if report.done_by[killed_tile] != victim:          # its tile was rendered again, elsewhere
+            break
+    else:
+        pytest.fail("the killed worker's tile was never lost to the kill (it always finished first)")
 
 
 def test_a_bad_scheduler_address_fails_within_seconds_with_a_clear_message(tmp_path):

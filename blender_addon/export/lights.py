@@ -159,14 +159,18 @@ def _convert_light(light, matrix) -> Light:
                      direction=direction, inverse_square=True, casts_shadows=shadows)
     radius = float(light.shadow_soft_size)   # Blender does not scale it with the object
     color = rgb * _power(light, 4.0 * math.pi * radius * radius) * POINT_FACTOR
+    # Soft Falloff (Blender 4.0+, on by default): a disk facing the lit point, as every
+    # point light with a radius was before 4.0; off, a sphere of uniform radiance.
+    soft = bool(getattr(light, "use_soft_falloff", True))
     if kind == "SPOT":
         return Light(position=position, color=tuple(color), kind="spot", radius=radius,
                      direction=direction, spot_size=float(light.spot_size),
-                     spot_blend=float(light.spot_blend), inverse_square=True, casts_shadows=shadows)
+                     spot_blend=float(light.spot_blend), inverse_square=True, casts_shadows=shadows,
+                     soft_falloff=soft)
     if kind == "POINT":
         return Light(position=position, color=tuple(color),
                      kind="sphere" if radius > 0 else "point", radius=radius,
-                     inverse_square=True, casts_shadows=shadows)
+                     inverse_square=True, casts_shadows=shadows, soft_falloff=soft)
     raise ValueError(f"unsupported light type {kind!r}")
 
 

@@ -20,16 +20,9 @@ inline double light_density(const Light& L, int near_state, const NearArea& near
         return 1.0 / (2 * kPi * (1 - cos_half));
     }
     case LightKind::Spot:
-    case LightKind::Sphere: {   // uniform on the disk of the sphere's radius facing p
-        const Vec3d n = normalize(Vec3d(p) - Vec3d(L.position)), w(wi);
-        const double facing = dot(w, n);
-        if (!(facing < 0)) return 0;
-        const double t = dot(Vec3d(L.position) - Vec3d(p), n) / facing;
-        const Vec3d q = Vec3d(p) + w * t - Vec3d(L.position);
-        const double r2 = double(L.radius) * L.radius;
-        if (!(t > 0) || !(dot(q, q) <= r2)) return 0;
-        return t * t / (kPi * r2 * -facing);
-    }
+    case LightKind::Sphere:   // (sphere_light.h)
+        return uniform_sphere(L) ? sphere_cap_density(L.position, L.radius, p, wi)
+                                 : soft_disk_density(L.position, L.radius, p, wi);
     case LightKind::Rect:
     case LightKind::Disk:
     case LightKind::Ellipse: {

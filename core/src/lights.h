@@ -13,6 +13,7 @@
 
 #include "enums.h"
 #include "sampler.h"
+#include "sphere_light.h"
 
 namespace gw {
 
@@ -31,9 +32,14 @@ struct Light {
     float spot_blend = 0.15f;             // spot: soft edge, 0..1
     bool inverse_square = false;          // physical falloff (Blender's lights); NFF's lights have none
     bool casts_shadows = true;            // false: lights every point it faces (Blender's Cast Shadow off)
+    bool soft_falloff = true;             // sphere, spot with a radius: see sphere_light.h
     // Derived by prepare_light:
     float spot_cos = -1;                  // cos(spot_size / 2)
 };
+
+// A sphere light or spot with a radius that is a sphere of uniform radiance
+// (Blender's Soft Falloff off; sphere_light.h), not the soft disk.
+inline bool uniform_sphere(const Light& L) { return !L.soft_falloff && L.inverse_square; }
 
 // Validates `l` (throws std::invalid_argument naming `where` and the field),
 // normalises its axes and direction and computes the derived fields.
@@ -94,6 +100,15 @@ inline bool on_flat_light(const Light& L, double cx, double cy) {
     }
 }
 
+// Colour x a weight, the weight in double and the product clamped to float's
+// range per channel (a tiny light near p has an enormous weight: inf x 0 would
+// put NaN in the pixel).
+inline Vec3 scaled_color(const Vec3& color, double weight) {
+    const double top = std::numeric_limits<float>::max();
+    return Vec3(float(std::min(double(color.x) * weight, top)), float(std::min(double(color.y) * weight, top)),
+                float(std::min(double(color.z) * weight, top)));
+}
+
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
 // Flat lights get uniform points on their area here; near the
 // shading point, where those weigh cos / distance^2 and explode,
@@ -120,16 +135,20 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
     case LightKind::Spot:   // a spot with a radius is a sphere light whose cone is
         if (!(L.radius > 0)) break;   // applied to each sampled point's direction, as in Cycles
         [[fallthrough]];
-    case LightKind::Sphere: {
-        // A disk of the sphere's radius facing the shading point: the sphere's
-        // silhouette (exact for distant points, close otherwise).
-        Vec3 n = normalize(p - L.position), t, b;
-        basis(n, t, b);
-        float x, y;
-        concentric_disk(u1, u2, x, y);
-        pos = L.position + (t * x + b * y) * L.radius;
+    case LightKind::Sphere:
+        if (uniform_sphere(L)) {
+            double scale;
+            if (!sample_sphere_cap(L.position, L.radius, p, u1, u2, s.wi, s.dist, scale)) return false;
+            s.intensity = scaled_color(L.color, scale);
+            if (L.kind == LightKind::Spot) {
+                const float cone = spot_cone(L, dot(L.direction, -s.wi));
+                if (!(cone > 0)) return false;
+                s.intensity *= cone;
+            }
+            return true;
+        }
+        pos = L.position + soft_disk_offset(L.position, L.radius, p, u1, u2);
         break;
-    }
     case LightKind::Rect:
         pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
         break;
@@ -160,10 +179,17 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         const float c = dot(L.direction, -s.wi);   // one-sided Lambertian emitter
         if (c <= 0) return false;
         s.intensity *= c;
-    } else if (L.kind == LightKind::Spot) {
-        const float cone = spot_cone(L, dot(L.direction, -s.wi));
-        if (!(cone > 0)) return false;
-        s.intensity *= cone;
+    } else if (L.kind == LightKind::Spot || L.kind == LightKind::Sphere) {
+        if (L.radius > 0) {   // the soft disk, Lambertian: its cosine towards the point
+            const float c = soft_disk_cosine(L.position, p, s.wi);
+            if (!(c > 0)) return false;
+            s.intensity *= c;
+        }
+        if (L.kind == LightKind::Spot) {
+            const float cone = spot_cone(L, dot(L.direction, -s.wi));
+            if (!(cone > 0)) return false;
+            s.intensity *= cone;
+        }
     }
     if (L.inverse_square) {
         const float d2 = dot(to, to);
@@ -172,11 +198,7 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
             std::max(quick.x, std::max(quick.y, quick.z)) <= std::numeric_limits<float>::max()) {
             s.intensity = quick;
         } else {   // beyond float's square or its range (a light nearer than ~1e-19): the product in double
-            const double inv = 1.0 / (double(s.dist) * double(s.dist));
-            const double top = std::numeric_limits<float>::max();
-            s.intensity = Vec3(float(std::min(double(s.intensity.x) * inv, top)),
-                               float(std::min(double(s.intensity.y) * inv, top)),
-                               float(std::min(double(s.intensity.z) * inv, top)));
+            s.intensity = scaled_color(s.intensity, 1.0 / (double(s.dist) * double(s.dist)));
         }
     }
     return true;
@@ -225,16 +247,10 @@ inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float&
         return true;
     }
     case LightKind::Spot:
-    case LightKind::Sphere: {   // (in double: the light may be small and far)
-        const Vec3d oc = Vec3d(o) - Vec3d(L.position), dd(d);
-        const double b = dot(oc, dd), c = dot(oc, oc) - double(L.radius) * double(L.radius);
-        const double disc = b * b - c;
-        if (!(disc >= 0)) return false;
-        const double root = std::sqrt(disc), near = -b - root, far = -b + root;
-        const double hit = near > 0 ? near : far;
-        if (!(hit > 0)) return false;
-        t = float(hit);
-        radiance = L.color * float(1.0 / (double(L.radius) * double(L.radius)));
+    case LightKind::Sphere: {
+        if (!(uniform_sphere(L) ? sphere_hit(L.position, L.radius, L.color, o, d, t, radiance)
+                                : soft_disk_hit(L.position, L.radius, L.color, o, d, t, radiance)))
+            return false;
         if (L.kind == LightKind::Spot) {
             const float cone = spot_cone(L, -dot(L.direction, d));
             if (!(cone > 0)) return false;

@@ -186,15 +186,6 @@ inline int near_area_light(const Light& L, const Vec3& p, const Vec3& ns, NearAr
     return 1;
 }
 
-// Colour x a weight, the weight in double and the product clamped to float's
-// range per channel (a tiny light near p has an enormous weight: inf x 0 would
-// put NaN in the pixel).
-inline Vec3 scaled_color(const Vec3& color, double weight) {
-    const double top = std::numeric_limits<float>::max();
-    return Vec3(float(std::min(double(color.x) * weight, top)), float(std::min(double(color.y) * weight, top)),
-                float(std::min(double(color.z) * weight, top)));
-}
-
 // The balance heuristic's estimate, radiance over the mixture's density:
 // the light's points have density 1 / S over the rectangle's solid angle
 // (a disk's points outside it count as drawn and lost), the

@@ -39,6 +39,8 @@ def test_every_light_type_is_exported(export, any_blender):
     assert spot["spot_blend"] == pytest.approx(0.25)
     np.testing.assert_allclose(spot["direction"], exp["Spot"]["down"], atol=1e-6)
     np.testing.assert_allclose(spot["color"], [200 * POINT] * 3, rtol=1e-5)
+    # Soft Falloff: on for the sphere (the default), off for the spot (4.0+; before, always on)
+    assert sphere["soft_falloff"] and spot["soft_falloff"] == (any_blender == "blender34")
     square = get("Square")
     assert square["kind"] == "rect"
     np.testing.assert_allclose(square["size"], [2.0, 2.0], rtol=1e-5)

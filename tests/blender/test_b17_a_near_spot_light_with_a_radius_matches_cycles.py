@@ -23,10 +23,11 @@ def test_the_spot_lights_the_wall_as_in_cycles(walls, radius):
     ours, cycles = walls[("GRIDWALK", radius)], walls[("CYCLES", radius)]
     lit = cycles > 0.05 * cycles.max()
     assert 0.1 < lit.mean() < 0.9
-    # (the sphere is sampled as the disk facing each point: 4% more light than Cycles 4.5 and 5.0
-    # give at this distance, 8% more than Blender 3.4's Cycles)
-    assert abs(ours.sum() / cycles.sum() - 1) < 0.1
-    assert abs(np.percentile(ours, 99) / np.percentile(cycles, 99) - 1) < 0.1
+    # (Soft Falloff, the default: the Lambertian disk facing each point, test_b37. Measured 0.996
+    # of Cycles 4.5's and 5.0's light, 1.034 of 3.4's; 1.04 and 1.08 when the disk lacked its
+    # cosine)
+    assert abs(ours.sum() / cycles.sum() - 1) < 0.06
+    assert abs(np.percentile(ours, 99) / np.percentile(cycles, 99) - 1) < 0.06
     assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.97
 
 

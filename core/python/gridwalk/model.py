@@ -286,6 +286,9 @@ class Light(Record):
     spot_size: full cone angle (radians); spot_blend: 0..1 soft edge.
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
+    soft_falloff: a sphere light (or a spot with a radius) is, as in Cycles, a Lambertian disk facing the
+    point it lights (True, Blender's Soft Falloff, its default), or a sphere of uniform radiance (False),
+    which near the light lights like a point light at its centre (see core/src/sphere_light.h).
     Area lights (rect, disk, ellipse) emit along `direction` with a cosine falloff.
     """
     position: tuple = _LIGHT.position
@@ -301,6 +304,7 @@ class Light(Record):
     spot_blend: float = _f32(_LIGHT.spot_blend)
     inverse_square: bool = _LIGHT.inverse_square   # NFF lights have no falloff; Blender's do
     casts_shadows: bool = _LIGHT.casts_shadows
+    soft_falloff: bool = _LIGHT.soft_falloff
     CORE = _core.Light
 
     def converters(self) -> dict:

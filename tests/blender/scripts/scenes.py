@@ -248,8 +248,10 @@ def lights_scene(nodes=False):
                 blackbody = light.data.node_tree.nodes.new("ShaderNodeBlackbody")
                 light.data.node_tree.links.new(blackbody.outputs[0], emission.inputs["Color"])
     add_light("Sun", "SUN", (0, 0, 9), (0.5, 0, 0), energy=3.0, angle=math.radians(10))
-    add_light("Spot", "SPOT", (2, 0, 5), (0, 0.3, 0), energy=200.0, spot_size=math.radians(60),
-              spot_blend=0.25, shadow_soft_size=0.1)
+    spot = add_light("Spot", "SPOT", (2, 0, 5), (0, 0.3, 0), energy=200.0, spot_size=math.radians(60),
+                     spot_blend=0.25, shadow_soft_size=0.1)
+    if hasattr(spot.data, "use_soft_falloff"):   # (Blender 4.0+; on by default)
+        spot.data.use_soft_falloff = False
     add_light("Square", "AREA", (0, 3, 5), (0.2, 0, 0), energy=80.0, shape="SQUARE", size=2.0)
     rect = add_light("Rect", "AREA", (0, -3, 5), energy=60.0, shape="RECTANGLE", size=2.0, size_y=0.5)
     rect.scale = (1.5, 2.0, 1.0)
@@ -284,6 +286,26 @@ def near_spot_scene(radius=0.5, resolution=(64, 64)):
     wall.data.materials.append(shader_material("Wall", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))]))
     add_light("Spot", "SPOT", (0, -1.0, 0), (math.pi / 2, 0, 0), energy=10.0, spot_size=math.radians(45),
               spot_blend=0.15, shadow_soft_size=radius)
+    bpy.context.view_layer.update()
+    return {}
+
+
+def near_sphere_scene(height=0.6, soft=True, resolution=(48, 48)):
+    """A white Diffuse floor seen from just above it (orthographic, 3 units across, looking
+    down, so the lamp stays out of view) under a point light of radius 0.5 at `height`,
+    30 W, Soft Falloff on or off (Blender 4.0+; before, always soft). No world light."""
+    scene = reset(resolution=tuple(resolution))
+    cam = scene.camera
+    cam.data.type = "ORTHO"
+    cam.data.ortho_scale = 3.0
+    cam.data.clip_start = 0.001
+    cam.location, cam.rotation_euler = (0.0, 0.0, 0.02), (0.0, 0.0, 0.0)
+    bpy.ops.mesh.primitive_plane_add(size=40.0, location=(0, 0, 0))
+    floor = bpy.context.object
+    floor.data.materials.append(shader_material("Floor", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))]))
+    lamp = add_light("Bulb", "POINT", (0, 0, height), energy=30.0, shadow_soft_size=0.5)
+    if hasattr(lamp.data, "use_soft_falloff"):
+        lamp.data.use_soft_falloff = soft
     bpy.context.view_layer.update()
     return {}
 

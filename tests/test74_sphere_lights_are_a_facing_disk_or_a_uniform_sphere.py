@@ -107,3 +107,10 @@ def test_a_rough_metal_under_a_near_lamp_returns_the_lobe_over_its_cone(soft):
     value = floor_pixel(lamp(centre, soft), 0.0, floor=white_metal(0.5), eye=EYE, seeds=(1, 2),
                         glossy_samples=256, shadow="random", shadow_samples=64)
     assert value == pytest.approx(expected, rel=0.015)
+
+
+@pytest.mark.parametrize("soft", [True, False])
+def test_a_sphere_light_of_radius_zero_is_a_point_light(soft):
+    light = gw.Light(kind="sphere", position=(0, 0, 0.6), radius=0.0, color=(1, 1, 1), inverse_square=True,
+                     soft_falloff=soft)
+    assert floor_pixel(light, 0.8) == pytest.approx(0.6 / 1.0 ** 3, rel=1e-4)   # cos / d^2 at d = 1

@@ -38,8 +38,9 @@ struct Light {
 };
 
 // A sphere light or spot with a radius that is a sphere of uniform radiance
-// (Blender's Soft Falloff off; sphere_light.h), not the soft disk.
-inline bool uniform_sphere(const Light& L) { return !L.soft_falloff && L.inverse_square; }
+// (Blender's Soft Falloff off; sphere_light.h), not the soft disk (which,
+// of radius 0, is a point light).
+inline bool uniform_sphere(const Light& L) { return !L.soft_falloff && L.inverse_square && L.radius > 0; }
 
 // Validates `l` (throws std::invalid_argument naming `where` and the field),
 // normalises its axes and direction and computes the derived fields.

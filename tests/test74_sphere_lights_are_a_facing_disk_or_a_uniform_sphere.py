@@ -96,17 +96,28 @@ def test_a_spot_with_a_radius_takes_the_same_forms():
 
 
 @pytest.mark.parametrize("soft", [True, False])
-def test_a_rough_metal_under_a_near_lamp_returns_the_lobe_over_its_cone(soft):
-    # Its reflection rays that meet the lamp and its light points share the highlight (multiple
-    # importance sampling): both must see the same form of it, or the sum is off.
-    centre = CENTRE * 0.3   # (1.05 m from the pixel's point: the disk's cone 25.4 degrees, the sphere's 28.4)
-    p = np.zeros(3)
-    wo = EYE / np.linalg.norm(EYE)
-    expected = np.pi * over_cone(p, centre, cone_of(p, centre, soft),   # (radiance pi)
-                                 lambda wi: ggx_brdf(wi, wo, 0.5 ** 2) * np.maximum(wi[..., 2], 0))
-    value = floor_pixel(lamp(centre, soft), 0.0, floor=white_metal(0.5), eye=EYE, seeds=(1, 2),
-                        glossy_samples=256, shadow="random", shadow_samples=64)
-    assert value == pytest.approx(expected, rel=0.015)
+def test_a_spots_cone_weighs_each_direction_from_its_lamp(soft):
+    # A cone of half-angle 30 degrees pointing down; the floor point 0.5 m aside sees the lamp's
+    # centre 40 degrees off its axis, and only the part of the lamp whose light leaves within the
+    # cone lights it (blend 0: a sharp edge): about a third of what the lamp would give.
+    centre = (0, 0, 0.6)
+    light = gw.Light(kind="spot", position=centre, radius=RADIUS, color=(np.pi * RADIUS ** 2,) * 3,
+                     inverse_square=True, soft_falloff=soft, direction=(0, 0, -1), spot_size=np.radians(60),
+                     spot_blend=0.0)
+    p = np.array([0.5, 0.0, 0.0])
+    expected = over_cone(p, centre, cone_of(p, centre, soft),
+                         lambda wi: np.maximum(wi[..., 2], 0) * (wi[..., 2] >= np.cos(np.radians(30))))
+    assert 0.2 * irradiance(0.5, centre, soft) < expected < 0.5 * irradiance(0.5, centre, soft)
+    assert floor_pixel(light, 0.5) == pytest.approx(expected, rel=0.02)
+
+
+@pytest.mark.parametrize("soft", [True, False])
+@pytest.mark.parametrize("height, x", [(0.6, 0.8), (0.2, 0.1)])
+def test_hard_shadows_take_the_lamps_centre_as_a_point_light(soft, height, x):
+    # (0.2, 0.1): the point lies inside the lamp; the centre still lights it.
+    d2 = height ** 2 + x ** 2
+    expected = np.pi * RADIUS ** 2 * height / d2 ** 1.5   # colour x cos / d^2
+    assert floor_pixel(lamp((0, 0, height), soft), x, shadow="hard") == pytest.approx(expected, rel=1e-4)
 
 
 @pytest.mark.parametrize("soft", [True, False])

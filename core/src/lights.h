@@ -181,7 +181,9 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
         if (c <= 0) return false;
         s.intensity *= c;
     } else if (L.kind == LightKind::Spot || L.kind == LightKind::Sphere) {
-        if (L.radius > 0) {   // the soft disk, Lambertian: its cosine towards the point
+        // The soft disk, Lambertian: its cosine towards the point. (A light without falloff,
+        // NFF's, has no radiance for it to shape: its points are averaged, soft shadows alone.)
+        if (L.radius > 0 && L.inverse_square) {
             const float c = soft_disk_cosine(L.position, p, s.wi);
             if (!(c > 0)) return false;
             s.intensity *= c;

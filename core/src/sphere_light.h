@@ -95,9 +95,10 @@ inline double sphere_cone_width(double d2, double r2) {
 // radius r around c seen from p, the distance to it, and the factor of the
 // light's colour it brings: directions uniform in the cone the sphere
 // subtends (the colour's radiance, colour / (pi r^2), over their density);
-// from inside the sphere, uniform over all directions. (0.5, 0.5), hard
-// shadows, is its centre's direction with a point light's 1 / d^2 (exact
-// for a point that sees the whole sphere). False at the centre itself.
+// from inside the sphere, uniform over all directions (half of them below
+// the surface: wasted, but such points are rare). (0.5, 0.5), hard shadows,
+// is its centre's direction with a point light's 1 / d^2 (exact for a point
+// that sees the whole sphere), as the soft disk's centre. False at the centre itself.
 inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, float u2, Vec3& wi, float& dist,
                               double& scale) {
     const Vec3d to = Vec3d(c) - Vec3d(p);
@@ -105,13 +106,13 @@ inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, f
     if (!(d2 > 0)) return false;
     const double d = std::sqrt(d2), phi = 2 * kPi * double(u2);
     const Vec3d axis = to / d;
+    if (u1 == 0.5f && u2 == 0.5f) {
+        wi = Vec3(axis);
+        dist = float(d2 > r2 ? d - r : d);
+        scale = 1 / d2;
+        return true;
+    }
     if (d2 > r2) {
-        if (u1 == 0.5f && u2 == 0.5f) {
-            wi = Vec3(axis);
-            dist = float(d - r);
-            scale = 1 / d2;
-            return true;
-        }
         const double width = sphere_cone_width(d2, r2), below = double(u1) * width;   // 1 - cos
         const double ct = 1 - below, st = std::sqrt(std::max(0.0, below * (2 - below)));
         Vec3 t, b;
@@ -132,13 +133,18 @@ inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, f
 }
 
 // Uniform: the density, per unit solid angle at p, of sample_sphere_cap's
-// directions in direction wi (unit).
+// directions in direction wi (unit). Whether wi lies in the cone is decided
+// by its distance from the centre, |to x wi|, not by its cosine, which a
+// float direction cannot resolve for a small or far lamp (its cone's 1 - cos
+// of 1e-7 at an angular radius of 5e-4), with a slack of 2^-22 of d for the
+// float direction's own rounding (the sampled directions must all count).
 inline double sphere_cap_density(const Vec3& c, float r, const Vec3& p, const Vec3& wi) {
-    const Vec3d to = Vec3d(c) - Vec3d(p);
+    const Vec3d to = Vec3d(c) - Vec3d(p), w = normalize(Vec3d(wi));
     const double d2 = dot(to, to), r2 = double(r) * r;
     if (!(d2 > r2)) return 1 / (4 * kPi);
-    const double width = sphere_cone_width(d2, r2);
-    return dot(Vec3d(wi), to) >= (1 - width) * std::sqrt(d2) ? 1 / (2 * kPi * width) : 0;
+    const Vec3d off = cross(to, w);
+    const double reach = double(r) + std::sqrt(d2) * 0x1p-22;
+    return dot(w, to) > 0 && dot(off, off) <= reach * reach ? 1 / (2 * kPi * sphere_cone_width(d2, r2)) : 0;
 }
 
 }  // namespace gw

@@ -288,7 +288,8 @@ class Light(Record):
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
     soft_falloff: a sphere light (or a spot with a radius) is, as in Cycles, a Lambertian disk facing the
     point it lights (True, Blender's Soft Falloff, its default), or a sphere of uniform radiance (False),
-    which near the light lights like a point light at its centre (see core/src/sphere_light.h).
+    which near the light lights like a point light at its centre (see core/src/sphere_light.h); for
+    lights with inverse_square only (one without falloff averages its disk's points: soft shadows).
     Area lights (rect, disk, ellipse) emit along `direction` with a cosine falloff.
     """
     position: tuple = _LIGHT.position

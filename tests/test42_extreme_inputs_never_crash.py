@@ -178,9 +178,13 @@ def test_build_stops_within_100ms_of_a_cancel():
     python_threads = threading.active_count()
     for accel in ("adaptive", "grid"):
         settings = gw.RenderSettings(accel=accel)
-        start = time.perf_counter()
-        gw.Scene(vertices=V, triangles=T).accel(settings)
-        whole = time.perf_counter() - start
+        # (the faster of two builds: one slowed by other work overestimates the build, and the
+        # later fractions' cancels then land after it has finished)
+        whole = np.inf
+        for _ in range(2):
+            start = time.perf_counter()
+            gw.Scene(vertices=V, triangles=T).accel(settings)
+            whole = min(whole, time.perf_counter() - start)
         cancelled = []
         for fraction in (0.05, 0.2, 0.35, 0.5, 0.65, 0.8):
             latencies = []

@@ -290,10 +290,10 @@ def near_spot_scene(radius=0.5, resolution=(64, 64)):
     return {}
 
 
-def near_sphere_scene(height=0.6, soft=True, resolution=(48, 48)):
+def near_sphere_scene(height=0.6, soft=True, energy=30.0, resolution=(48, 48)):
     """A white Diffuse floor seen from just above it (orthographic, 3 units across, looking
     down, so the lamp stays out of view) under a point light of radius 0.5 at `height`,
-    30 W, Soft Falloff on or off (Blender 4.0+; before, always soft). No world light."""
+    `energy` W, Soft Falloff on or off (Blender 4.0+; before, always soft). No world light."""
     scene = reset(resolution=tuple(resolution))
     cam = scene.camera
     cam.data.type = "ORTHO"
@@ -303,7 +303,7 @@ def near_sphere_scene(height=0.6, soft=True, resolution=(48, 48)):
     bpy.ops.mesh.primitive_plane_add(size=40.0, location=(0, 0, 0))
     floor = bpy.context.object
     floor.data.materials.append(shader_material("Floor", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))]))
-    lamp = add_light("Bulb", "POINT", (0, 0, height), energy=30.0, shadow_soft_size=0.5)
+    lamp = add_light("Bulb", "POINT", (0, 0, height), energy=energy, shadow_soft_size=0.5)
     if hasattr(lamp.data, "use_soft_falloff"):
         lamp.data.use_soft_falloff = soft
     bpy.context.view_layer.update()

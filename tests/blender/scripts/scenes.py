@@ -290,19 +290,27 @@ def near_spot_scene(radius=0.5, resolution=(64, 64)):
     return {}
 
 
-def near_sphere_scene(height=0.6, soft=True, energy=30.0, resolution=(48, 48)):
+def near_sphere_scene(height=0.6, soft=True, energy=30.0, mirror=False, resolution=(48, 48)):
     """A white Diffuse floor seen from just above it (orthographic, 3 units across, looking
     down, so the lamp stays out of view) under a point light of radius 0.5 at `height`,
-    `energy` W, Soft Falloff on or off (Blender 4.0+; before, always soft). No world light."""
+    `energy` W, Soft Falloff on or off (Blender 4.0+; before, always soft). No world light.
+    mirror: the floor is a sharp mirror (a Glossy BSDF of Roughness 0) seen from (0, -2.5, 1.2),
+    62 degrees down, the lamp's reflection in the middle of the view."""
     scene = reset(resolution=tuple(resolution))
     cam = scene.camera
-    cam.data.type = "ORTHO"
-    cam.data.ortho_scale = 3.0
-    cam.data.clip_start = 0.001
-    cam.location, cam.rotation_euler = (0.0, 0.0, 0.02), (0.0, 0.0, 0.0)
+    if mirror:
+        cam.location, cam.rotation_euler = (0.0, -2.5, 1.2), (math.radians(62), 0.0, 0.0)
+        cam.data.lens = 30.0
+    else:
+        cam.data.type = "ORTHO"
+        cam.data.ortho_scale = 3.0
+        cam.data.clip_start = 0.001
+        cam.location, cam.rotation_euler = (0.0, 0.0, 0.02), (0.0, 0.0, 0.0)
     bpy.ops.mesh.primitive_plane_add(size=40.0, location=(0, 0, 0))
     floor = bpy.context.object
-    floor.data.materials.append(shader_material("Floor", "ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))]))
+    shader = ("ShaderNodeBsdfGlossy", [("Color", (0.8, 0.8, 0.8, 1.0)), ("Roughness", 0.0)]) if mirror else \
+        ("ShaderNodeBsdfDiffuse", [("Color", (0.8, 0.8, 0.8, 1.0))])
+    floor.data.materials.append(shader_material("Floor", *shader))
     lamp = add_light("Bulb", "POINT", (0, 0, height), energy=energy, shadow_soft_size=0.5)
     if hasattr(lamp.data, "use_soft_falloff"):
         lamp.data.use_soft_falloff = soft

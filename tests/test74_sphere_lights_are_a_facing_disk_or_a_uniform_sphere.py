@@ -125,3 +125,13 @@ def test_a_sphere_light_of_radius_zero_is_a_point_light(soft):
     light = gw.Light(kind="sphere", position=(0, 0, 0.6), radius=0.0, color=(1, 1, 1), inverse_square=True,
                      soft_falloff=soft)
     assert floor_pixel(light, 0.8) == pytest.approx(0.6 / 1.0 ** 3, rel=1e-4)   # cos / d^2 at d = 1
+
+
+def test_inside_a_uniform_sphere_a_diffuse_floor_gets_its_light_without_noise():
+    # The lamp fills the whole sky there: its light points are cosine-weighted about the normal,
+    # so each brings the same light (spread over all directions, half of them below the floor,
+    # one light point a pixel varied by 1.4x the mean from seed to seed).
+    light = lamp((0, 0, 0.2), False)
+    values = [floor_pixel(light, 0.1, seeds=(seed,), shadow="random", shadow_samples=1) for seed in range(8)]
+    assert np.mean(values) == pytest.approx(np.pi, rel=1e-4)
+    assert np.std(values) < 1e-4 * np.pi

@@ -328,7 +328,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             light_point(mode, uint32_t(li), j, count, depth, split, st, u1, u2);
             LightSample ls;
             if (near_state == 0) continue;   // (no light reaches the point; its light points are drawn all the same)
-            if (!(near_state == 1 ? sample_near_area(L, near, ns, u1, u2, ls) : sample_light(L, sp.p, u1, u2, ls)))
+            if (!(near_state == 1 ? sample_near_area(L, near, ns, u1, u2, ls) : sample_light(L, sp.p, ns, u1, u2, ls)))
                 continue;
             if (dot(ng, ls.wi) <= 0) continue;
             const float cos_i = dot(ns, ls.wi);

@@ -21,7 +21,7 @@ inline double light_density(const Light& L, int near_state, const NearArea& near
     }
     case LightKind::Spot:
     case LightKind::Sphere:   // (sphere_light.h)
-        return uniform_sphere(L) ? sphere_cap_density(L.position, L.radius, p, wi)
+        return uniform_sphere(L) ? sphere_cap_density(L.position, L.radius, p, ns, wi)
                                  : soft_disk_density(L.position, L.radius, p, wi);
     case LightKind::Rect:
     case LightKind::Disk:

@@ -111,10 +111,11 @@ inline Vec3 scaled_color(const Vec3& color, double weight) {
 }
 
 // (u1, u2) in [0,1)^2; (0.5, 0.5) gives the light's centre (hard shadows).
+// n: the shading normal at p (a uniform sphere light around p samples about it).
 // Flat lights get uniform points on their area here; near the
 // shading point, where those weigh cos / distance^2 and explode,
 // Integrator::direct samples them by near_area_light.h instead.
-inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, LightSample& s) {
+inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1, float u2, LightSample& s) {
     Vec3 pos = L.position;
     switch (L.kind) {
     case LightKind::Sun: {
@@ -139,7 +140,7 @@ inline bool sample_light(const Light& L, const Vec3& p, float u1, float u2, Ligh
     case LightKind::Sphere:
         if (uniform_sphere(L)) {
             double scale;
-            if (!sample_sphere_cap(L.position, L.radius, p, u1, u2, s.wi, s.dist, scale)) return false;
+            if (!sample_sphere_cap(L.position, L.radius, p, n, u1, u2, s.wi, s.dist, scale)) return false;
             s.intensity = scaled_color(L.color, scale);
             if (L.kind == LightKind::Spot) {
                 const float cone = spot_cone(L, dot(L.direction, -s.wi));

@@ -95,16 +95,17 @@ inline double sphere_cone_width(double d2, double r2) {
 // radius r around c seen from p, the distance to it, and the factor of the
 // light's colour it brings: directions uniform in the cone the sphere
 // subtends (the colour's radiance, colour / (pi r^2), over their density);
-// from inside the sphere, uniform over all directions (half of them below
-// the surface: wasted, but such points are rare). (0.5, 0.5), hard shadows,
-// is its centre's direction with a point light's 1 / d^2 (exact for a point
-// that sees the whole sphere), as the soft disk's centre. False at the centre itself.
-inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, float u2, Vec3& wi, float& dist,
-                              double& scale) {
+// from inside the sphere, which fills the whole sky, cosine-weighted about
+// the shading normal n (a diffuse surface then gets the same light from every
+// point). (0.5, 0.5), hard shadows, is its centre's direction with a point
+// light's 1 / d^2 (exact for a point that sees the whole sphere), as the soft
+// disk's centre. False at the centre itself and below the horizon.
+inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, const Vec3& n, float u1, float u2, Vec3& wi,
+                              float& dist, double& scale) {
     const Vec3d to = Vec3d(c) - Vec3d(p);
     const double d2 = dot(to, to), r2 = double(r) * r;
     if (!(d2 > 0)) return false;
-    const double d = std::sqrt(d2), phi = 2 * kPi * double(u2);
+    const double d = std::sqrt(d2);
     const Vec3d axis = to / d;
     if (u1 == 0.5f && u2 == 0.5f) {
         wi = Vec3(axis);
@@ -114,7 +115,7 @@ inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, f
     }
     if (d2 > r2) {
         const double width = sphere_cone_width(d2, r2), below = double(u1) * width;   // 1 - cos
-        const double ct = 1 - below, st = std::sqrt(std::max(0.0, below * (2 - below)));
+        const double ct = 1 - below, st = std::sqrt(std::max(0.0, below * (2 - below))), phi = 2 * kPi * double(u2);
         Vec3 t, b;
         basis(Vec3(axis), t, b);
         const Vec3d w = normalize(axis * ct + (Vec3d(t) * std::cos(phi) + Vec3d(b) * std::sin(phi)) * st);
@@ -123,25 +124,30 @@ inline bool sample_sphere_cap(const Vec3& c, float r, const Vec3& p, float u1, f
         scale = 2 * width / r2;
         return true;
     }
-    const double z = 1 - 2 * double(u1), s = std::sqrt(std::max(0.0, 1 - z * z));
-    const Vec3d w(s * std::cos(phi), s * std::sin(phi), z);
-    const double b = -dot(to, w);
+    Vec3 t, b;
+    basis(n, t, b);
+    float x, y;
+    concentric_disk(u1, u2, x, y);
+    const double z = std::sqrt(std::max(0.0, 1.0 - double(x) * x - double(y) * y));
+    if (!(z > 0)) return false;
+    const Vec3d w = normalize(Vec3d(t) * double(x) + Vec3d(b) * double(y) + Vec3d(n) * z);
+    const double along = -dot(to, w);
     wi = Vec3(w);
-    dist = float(-b + std::sqrt(std::max(0.0, b * b - (d2 - r2))));
-    scale = 4 / r2;
+    dist = float(-along + std::sqrt(std::max(0.0, along * along - (d2 - r2))));
+    scale = 1 / (r2 * z);
     return true;
 }
 
-// Uniform: the density, per unit solid angle at p, of sample_sphere_cap's
-// directions in direction wi (unit). Whether wi lies in the cone is decided
+// Uniform: the density, per unit solid angle at p (shading normal n), of
+// sample_sphere_cap's directions in direction wi (unit). Whether wi lies in the cone is decided
 // by its distance from the centre, |to x wi|, not by its cosine, which a
 // float direction cannot resolve for a small or far lamp (its cone's 1 - cos
 // of 1e-7 at an angular radius of 5e-4), with a slack of 2^-22 of d for the
 // float direction's own rounding (the sampled directions must all count).
-inline double sphere_cap_density(const Vec3& c, float r, const Vec3& p, const Vec3& wi) {
+inline double sphere_cap_density(const Vec3& c, float r, const Vec3& p, const Vec3& n, const Vec3& wi) {
     const Vec3d to = Vec3d(c) - Vec3d(p), w = normalize(Vec3d(wi));
     const double d2 = dot(to, to), r2 = double(r) * r;
-    if (!(d2 > r2)) return 1 / (4 * kPi);
+    if (!(d2 > r2)) return std::max(dot(Vec3d(n), w), 0.0) / kPi;
     const Vec3d off = cross(to, w);
     const double reach = double(r) + std::sqrt(d2) * 0x1p-22;
     return dot(w, to) > 0 && dot(off, off) <= reach * reach ? 1 / (2 * kPi * sphere_cone_width(d2, r2)) : 0;

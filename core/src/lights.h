@@ -61,6 +61,16 @@ inline float spot_cone(const Light& L, float c) {
     return x * x * (3.0f - 2.0f * x);
 }
 
+// Weighs `value` by a spot's cone in the direction `out` (unit) in which the
+// light leaves it (other lights: unchanged); false where the cone gives nothing.
+inline bool through_spot_cone(const Light& L, const Vec3& out, Vec3& value) {
+    if (L.kind != LightKind::Spot) return true;
+    const float cone = spot_cone(L, dot(L.direction, out));
+    if (!(cone > 0)) return false;
+    value *= cone;
+    return true;
+}
+
 // Rect, disk and ellipse lights: flat, one-sided (Lambertian) emitters.
 inline bool is_flat(const Light& L) {
     return L.kind == LightKind::Rect || L.kind == LightKind::Disk || L.kind == LightKind::Ellipse;
@@ -117,6 +127,7 @@ inline Vec3 scaled_color(const Vec3& color, double weight) {
 // Integrator::direct samples them by near_area_light.h instead.
 inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1, float u2, LightSample& s) {
     Vec3 pos = L.position;
+    Vec3 facing;   // a soft sphere light's disk: its normal, towards p
     switch (L.kind) {
     case LightKind::Sun: {
         // Uniform direction inside the cone of half-angle angle/2 around -direction.
@@ -142,14 +153,10 @@ inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1,
             double scale;
             if (!sample_sphere_cap(L.position, L.radius, p, n, u1, u2, s.wi, s.dist, scale)) return false;
             s.intensity = scaled_color(L.color, scale);
-            if (L.kind == LightKind::Spot) {
-                const float cone = spot_cone(L, dot(L.direction, -s.wi));
-                if (!(cone > 0)) return false;
-                s.intensity *= cone;
-            }
-            return true;
+            return through_spot_cone(L, -s.wi, s.intensity);
         }
-        pos = L.position + soft_disk_offset(L.position, L.radius, p, u1, u2);
+        facing = normalize(p - L.position);
+        pos = L.position + soft_disk_offset(facing, L.radius, u1, u2);
         break;
     case LightKind::Rect:
         pos = L.position + L.axis_u * ((u1 - 0.5f) * L.size[0]) + L.axis_v * ((u2 - 0.5f) * L.size[1]);
@@ -185,15 +192,11 @@ inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1,
         // The soft disk, Lambertian: its cosine towards the point. (A light without falloff,
         // NFF's, has no radiance for it to shape: its points are averaged, soft shadows alone.)
         if (L.radius > 0 && L.inverse_square) {
-            const float c = soft_disk_cosine(L.position, p, s.wi);
+            const float c = -dot(facing, s.wi);
             if (!(c > 0)) return false;
             s.intensity *= c;
         }
-        if (L.kind == LightKind::Spot) {
-            const float cone = spot_cone(L, dot(L.direction, -s.wi));
-            if (!(cone > 0)) return false;
-            s.intensity *= cone;
-        }
+        if (!through_spot_cone(L, -s.wi, s.intensity)) return false;
     }
     if (L.inverse_square) {
         const float d2 = dot(to, to);
@@ -255,12 +258,7 @@ inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float&
         if (!(uniform_sphere(L) ? sphere_hit(L.position, L.radius, L.color, o, d, t, radiance)
                                 : soft_disk_hit(L.position, L.radius, L.color, o, d, t, radiance)))
             return false;
-        if (L.kind == LightKind::Spot) {
-            const float cone = spot_cone(L, -dot(L.direction, d));
-            if (!(cone > 0)) return false;
-            radiance *= cone;
-        }
-        return true;
+        return through_spot_cone(L, -d, radiance);
     }
     case LightKind::Sun: {
         const double half = 0.5 * double(L.angle), cos_half = std::cos(half);

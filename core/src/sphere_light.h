@@ -25,19 +25,16 @@
 
 namespace gw {
 
-// Soft: the point (u1, u2) of the disk of radius r through c facing p, from c.
-inline Vec3 soft_disk_offset(const Vec3& c, float r, const Vec3& p, float u1, float u2) {
-    const Vec3 n = normalize(p - c);
+// Soft: the point (u1, u2) of the disk of radius r whose normal is n (unit,
+// from its centre towards the lit point), from its centre. Its light points
+// weigh the cosine there, -n . wi.
+inline Vec3 soft_disk_offset(const Vec3& n, float r, float u1, float u2) {
     Vec3 t, b;
     basis(n, t, b);
     float x, y;
     concentric_disk(u1, u2, x, y);
     return (t * x + b * y) * r;
 }
-
-// Soft: the cosine, at the disk through c facing p, of the direction wi (unit)
-// from p towards a point of it.
-inline float soft_disk_cosine(const Vec3& c, const Vec3& p, const Vec3& wi) { return -dot(normalize(p - c), wi); }
 
 // Soft: where the ray o + t d (d unit) meets the disk of radius r through c
 // facing o, and the radiance it sees there. (In double: the light may be small and far.)

@@ -119,7 +119,7 @@ def _materials(parts, chunk):
 
 
 def _corner_values(data, name, flips, fill):
-    """The chunk's corner UVs or colours in world-space corner order, (K T, 3, C)."""
+    """The chunk's corner UVs, colours or Generated coordinates in world-space corner order, (K T, 3, C)."""
     values = getattr(data, name)
     if values is None:
         return np.full((len(flips) * len(data.triangles), 3, fill[1]), fill[0], np.float32)
@@ -137,7 +137,8 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
     need_normals = any(data.normals is not None for _, data, _, _ in parts)
     need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
     need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
+    need_generated = any(data.generated is not None for _, data, _, _ in parts)
+    vertices, triangles, normals, materials, uvs, colors, generated = [], [], [], [], [], [], []
     layout = [None] * len(parts)
     offset = triangle_offset = 0
     for chunk in chunks(parts):
@@ -159,6 +160,8 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
             uvs.append(_corner_values(data, "uvs", flips, (0.0, 2)))
         if need_colors:
             colors.append(_corner_values(data, "colors", flips, (1.0, 3)))
+        if need_generated:
+            generated.append(_corner_values(data, "generated", flips, (0.5, 3)))
         offset += world.shape[0]
     out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32, copy=False),
            "normals": np.concatenate(normals) if need_normals else None,
@@ -167,4 +170,6 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
         out["uvs"] = np.concatenate(uvs)
     if need_colors:
         out["colors"] = np.concatenate(colors)
+    if need_generated:
+        out["generated"] = np.concatenate(generated)
     return out, layout

@@ -68,8 +68,8 @@ from gridwalk.model import Material
 
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
-from .uv_mapping import texture_coordinates
-from .value_nodes import image_through_nodes, mix_inputs
+from .uv_mapping import VECTOR_IDENTITY, texture_fields
+from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -98,16 +98,31 @@ class Links:
         self.fields = {}           # Material field -> value
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
         self.color_layer = None    # likewise for the colour attribute
+        self.generated = False     # a texture reads the Generated coordinates
         self.textured = []         # "input (node)" left at its default value
         self.unmodelled = []       # "input value" of layers the Whitted model does not have
 
     def take(self, socket, field, colour: bool = True) -> bool:
-        """Turn a linked input into `field` (a texture index); True if it did."""
+        """Turn a linked input into `field` (a texture index); True if it did. Normal
+        and bump maps take images at the UV map only (their slopes are the image's)."""
         node, out = _source(socket)
         if node is None:
             return False
-        if node.type == "TEX_IMAGE" and self.textures is not None:
-            self.fields[field] = self.textures.texture(node, out.name, self._uv(node))
+        if field in ("normal_texture", "bump_texture"):
+            taken = self._take(socket, node, out, field, colour)
+            texture = self.textures.textures[self.fields[field]] if taken else None
+            if texture is not None and (texture.kind != "image" or texture.coordinates != "uv"
+                                        or tuple(texture.vector_transform) != VECTOR_IDENTITY):
+                del self.fields[field]
+                self.textured.append(f"{socket.name} ({node.bl_idname}: normal and bump maps read images "
+                                     "at the UV map only)")
+                return False
+            return taken
+        return self._take(socket, node, out, field, colour)
+
+    def _take(self, socket, node, out, field, colour) -> bool:
+        if node.type in TEXTURE_NODES and self.textures is not None:
+            self.fields[field] = self._texture(node, out.name)
             return True
         if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
             self.fields["vertex_color"] = True
@@ -115,7 +130,7 @@ class Links:
             return True
         image, output, adjust = image_through_nodes(socket) if self.textures is not None else (None, None, "")
         if image is not None:
-            self.fields[field] = self.textures.texture(image, output, self._uv(image), adjust)
+            self.fields[field] = self._texture(image, output, adjust)
             return True
         if colour and field == "color_texture" and self._image_times_attribute(node):
             return True
@@ -140,20 +155,30 @@ class Links:
             image, output, adjust = image_through_nodes(image_side)
             if image is None:
                 return False
-            self.fields["color_texture"] = self.textures.texture(image, output, self._uv(image), adjust)
+            self.fields["color_texture"] = self._texture(image, output, adjust)
             self.fields["vertex_color"] = True
             self.color_layer = getattr(attribute, "layer_name", "") or ""
             return True
         return False
 
-    def _uv(self, node) -> tuple:
-        """The node's uv_transform; notes the UV layer it reads (uv_mapping.py)."""
-        layer, transform, problems = texture_coordinates(node)
+    def _texture(self, node, output, adjust=None) -> int:
+        """The texture index of an Image or Checker Texture node's output."""
+        if node.type == "TEX_CHECKER":
+            return self.textures.checker(node, output, self._coords(node, "generated", False), adjust, self.textured)
+        return self.textures.texture(node, output, self._coords(node, "uv", True), adjust)
+
+    def _coords(self, node, default, image) -> dict:
+        """The node's coordinate fields (uv_mapping.texture_fields); notes the UV
+        layer it reads, or that it reads the Generated coordinates."""
+        layer, fields, problems = texture_fields(node, default, image)
         self.textured += problems
+        if layer is None:
+            self.generated = True
+            return fields
         if self.uv_layer and layer and layer != self.uv_layer:
             self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
         self.uv_layer = self.uv_layer or layer
-        return transform
+        return fields
 
 
 def _value(node, names, default, links: Links, field=None):
@@ -467,6 +492,8 @@ class MaterialTable:
         self._index = {None: 0}
         self._problems = {}
         self.override = override
+        self._names = {}             # index -> material name
+        self.shape_notes = set()     # materials whose Generated textures spheres and cylinders dropped
 
     def index_of(self, mat) -> int:
         key = None if mat is None else mat.original.name_full
@@ -479,27 +506,49 @@ class MaterialTable:
             if problem:
                 self._problems[key] = problem
             index = self._index[key] = len(self.materials)
+            self._names[index] = key or "(none)"
             self.materials.append(material)
             self.links.append(links)
         return index
 
     def layers(self, indices) -> tuple:
-        """(uv, colour layer) the materials `indices` (an object's slots) need.
+        """(uv, colour layer, Generated coordinates) the materials `indices` (an
+        object's slots) need; the last True where a texture reads them.
         The colour layer: None when none does, "" for the active render layer,
         else the first layer named. The UV layer likewise, or, where the slots'
         materials name different UV maps, a tuple of each slot's (None for a
         material without textures): meshes.read_mesh then reads each
         triangle's corners from its own material's map."""
-        uvs, color = [], None
+        uvs, color, generated = [], None, False
         for i in indices:
             links = self.links[i]
             uvs.append(None if links is None else links.uv_layer)
             if links is not None:
                 color = color if color else links.color_layer if links.color_layer is not None else color
+                generated = generated or links.generated
         named = {uv for uv in uvs if uv is not None}
         if len(named) > 1:
-            return tuple(uvs), color
-        return (named.pop() if named else None), color
+            return tuple(uvs), color, generated
+        return (named.pop() if named else None), color, generated
+
+    def shape_material(self, index: int) -> int:
+        """`index`, or where that material's textures read Generated coordinates,
+        which spheres and cylinders (point clouds, hair) do not have, the index
+        of a copy without those textures (their inputs' own values), noted."""
+        links = self.links[index]
+        if links is None or not links.generated:
+            return index
+        key = ("without Generated", index)
+        if key not in self._index:
+            material = self.materials[index]
+            fields = {f.name: -1 for f in dataclasses.fields(material)
+                      if f.name.endswith("_texture") and getattr(material, f.name) >= 0
+                      and self.textures.textures[getattr(material, f.name)].coordinates == "generated"}
+            self._index[key] = len(self.materials)
+            self.materials.append(dataclasses.replace(material, **fields))
+            self.links.append(None)
+            self.shape_notes.add(self._names.get(index, "?"))
+        return self._index[key]
 
     def slot_indices(self, obj):
         """Global material index for each material slot of `obj` (at least one entry)."""
@@ -513,6 +562,9 @@ class MaterialTable:
         if self._problems:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
+        if self.shape_notes:
+            out.append("Generated texture coordinates are not read on point clouds and hair (their textures' "
+                       f"inputs take their own values): {', '.join(sorted(self.shape_notes))}")
         return out
 
 

@@ -50,10 +50,11 @@ MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 exte
 class MeshData:
     """One evaluated mesh in object space (float32 / int32 arrays)."""
 
-    def __init__(self, co, triangles, normals, material_slot, uvs=None, colors=None):
+    def __init__(self, co, triangles, normals, material_slot, uvs=None, colors=None, generated=None):
         self.co = co                   # (V, 3) positions; one per corner for CORNER meshes
         self.uvs = uvs                 # (T, 3, 2) corner UVs, or None (not asked for, or no UV map)
         self.colors = colors           # (T, 3, 3) corner colours (linear RGB), or None
+        self.generated = generated     # (T, 3, 3) corner Generated coordinates, or None (not asked for)
         self.triangles = triangles     # (T, 3) indices into co
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
@@ -174,7 +175,23 @@ def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
     return rgba[:, :3], None
 
 
-def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
+def generated_coordinates(co, texspace):
+    """Blender's Generated coordinates of object-space points: the mesh's texture
+    space (location L, size S: half its extent) mapped to [0, 1], (co - L) / (2 S)
+    + 1/2, as Cycles computes them (an axis of size 0 gives 1/2)."""
+    location, size = (np.asarray(v, np.float64) for v in texspace)
+    factor = np.divide(0.5, size, out=np.zeros(3), where=size != 0)
+    return ((co - location) * factor + 0.5).astype(np.float32)
+
+
+def texture_space(mesh) -> tuple:
+    """(location, size) of a mesh's texture space (Blender 4.0+ and 3.x names)."""
+    location = getattr(mesh, "texture_space_location", None) or getattr(mesh, "texspace_location")
+    size = getattr(mesh, "texture_space_size", None) or getattr(mesh, "texspace_size")
+    return tuple(location), tuple(size)
+
+
+def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None) -> MeshData:
     """Triangulate an evaluated mesh into numpy arrays (no per-element Python loops).
 
     Uses Blender's own triangulation (loop_triangles) and, where Blender has
@@ -182,7 +199,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
     per-element RNA collections (~0.3 s for 1M triangles). Corner UVs and
     colours are read only when a material needs them (uv_layer / color_layer
     not None; "" = the active render layer; uv_layer may also be a tuple of
-    each material slot's layer, MaterialTable.layers).
+    each material slot's layer, MaterialTable.layers); corner Generated
+    coordinates where texspace (texture_space) is given.
     """
     if hasattr(mesh, "calc_loop_triangles"):
         mesh.calc_loop_triangles()
@@ -211,6 +229,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None) -> MeshData:
         tri_verts = _corner_verts(mesh, n_loops)[tri_loops]
         normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
         data = MeshData(co, tri_verts, normals, slots, uvs, colors)
+    if texspace is not None:
+        data.generated = generated_coordinates(data.co, texspace)[data.triangles]
     if uvs is not None:
         data.missing_uv_layer = missing
     data.missing_color_layer = missing_colors
@@ -292,10 +312,19 @@ def as_sphere(obj) -> bool:
 
 def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     """The evaluated object's mesh (modifiers applied), read into arrays;
-    layers = (uv layer, colour layer) as read_mesh takes them."""
+    layers = (uv layer, colour layer[, Generated coordinates]) as
+    MaterialTable.layers gives them. The Generated coordinates take the texture
+    space of the object's mesh before its modifiers, as Cycles does (and the
+    positions after them, where Cycles takes them before deforming modifiers)."""
+    uv, color, generated = (tuple(layers) + (False,))[:3]
+    texspace = texture_space(obj.data) if generated and getattr(obj, "type", "") == "MESH" else None
     mesh = obj.to_mesh()
     try:
-        return read_mesh(mesh, *layers) if mesh is not None else None
+        if mesh is None:
+            return None
+        if generated and texspace is None:
+            texspace = texture_space(mesh)
+        return read_mesh(mesh, uv, color, texspace)
     finally:
         obj.to_mesh_clear()
 
@@ -326,6 +355,7 @@ class MeshCollector:
         self.missing_color_layers = {}  # object name -> the colour attribute its material reads and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
+        self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
         self._sources = {}         # (object, original, data addresses) -> what _source() read of it
@@ -380,6 +410,9 @@ class MeshCollector:
         if kind in ("POINTCLOUD", "CURVES"):
             return "shapes", lookup
         layers = self.materials.layers(lookup)
+        if sphere and layers[2]:
+            sphere = False                 # (an analytic sphere has no Generated coordinates)
+            self.mesh_spheres.add(obj.name)
         if sphere:
             # (objects sharing one evaluated mesh share its local bounds: read once, not per
             # object; 820 balls of one mesh spent most of their export here)
@@ -513,6 +546,9 @@ class MeshCollector:
         if self.textured_spheres:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
+        if self.mesh_spheres:
+            out.append("'Render as sphere' objects whose textures read Generated coordinates are rendered as "
+                       "their meshes: " + _quoted(self.mesh_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "
@@ -529,16 +565,24 @@ class MeshCollector:
         ).astype(np.float32)
         out["sphere_radii"] = np.concatenate(
             [np.array([s[1] for s in self.spheres], np.float64)] + [p.radii for p in sets]).astype(np.float32)
-        out["sphere_materials"] = np.concatenate(
-            [np.array([s[2] for s in self.spheres], np.int32)] + [p.materials for p in sets]).astype(np.int32)
+        out["sphere_materials"] = self._shape_materials(np.concatenate(
+            [np.array([s[2] for s in self.spheres], np.int32)] + [p.materials for p in sets]).astype(np.int32))
         if self.cone_sets:
             joined = lambda field, shape: np.concatenate([getattr(c, field).reshape(shape) for c in self.cone_sets])
             out.update(cylinder_base=joined("base", (-1, 3)).astype(np.float32),
                        cylinder_apex=joined("apex", (-1, 3)).astype(np.float32),
                        cylinder_base_radius=joined("base_radius", -1).astype(np.float32),
                        cylinder_apex_radius=joined("apex_radius", -1).astype(np.float32),
-                       cylinder_materials=joined("materials", -1).astype(np.int32))
+                       cylinder_materials=self._shape_materials(joined("materials", -1).astype(np.int32)))
         return out
+
+    def _shape_materials(self, indices):
+        """The spheres' or cylinders' material indices, each without textures at
+        Generated coordinates (MaterialTable.shape_material)."""
+        remap = {i: self.materials.shape_material(i) for i in np.unique(indices).tolist()}
+        if all(k == v for k, v in remap.items()):
+            return indices
+        return np.array([remap[i] for i in indices.tolist()], np.int32)
 
 
 def count_geometry(depsgraph) -> dict:

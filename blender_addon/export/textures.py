@@ -24,7 +24,8 @@ import numpy as np
 
 from gridwalk import Image, Texture
 
-from .uv_mapping import IDENTITY
+from .node_links import _source, input_value
+
 
 MAGENTA = (1.0, 0.0, 1.0)
 # The largest image read: foreach_get needs a float32 copy of every channel
@@ -220,10 +221,11 @@ class TextureTable:
             self.images.append(image)
         return self._image_index[key]
 
-    def texture(self, node, output: str = "Color", uv_transform: tuple = IDENTITY, adjust: dict | None = None) -> int:
+    def texture(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None) -> int:
         """Index of the texture an Image or Environment Texture node's `output` gives,
-        its coordinates mapped by `uv_transform` (uv_mapping.py), its value adjusted
-        by `adjust` (Texture's channel, gain, bias and clamp: value_nodes.py)."""
+        at the coordinates `coords` says (Texture's uv_transform, or coordinates and
+        vector_transform: uv_mapping.texture_fields; the UV map by default), its value
+        adjusted by `adjust` (Texture's channel, gain, bias and clamp: value_nodes.py)."""
         image = self._image(node.image)
         interpolation = INTERPOLATION.get(node.interpolation, "linear")
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
@@ -240,14 +242,34 @@ class TextureTable:
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
         premultiply = has_alpha and not img.is_float and not getattr(self.images[image], "grey_alpha_file", False)
         unassociate = has_alpha and _alpha_used(node)
-        adjust = adjust or {}
-        key = (image, interpolation, extension, output == "Alpha", premultiply, unassociate, uv_transform,
-               tuple(sorted(adjust.items())))
+        return self._add(dict(image=image, interpolation=interpolation, extension=extension,
+                              use_alpha=output == "Alpha", premultiply=premultiply, unassociate=unassociate,
+                              **(coords or {}), **(adjust or {})))
+
+    def checker(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
+                problems: list | None = None) -> int:
+        """Index of the texture a Checker Texture node's `output` (Color, or Fac: white
+        and black) gives, as texture() takes coords and adjust. Linked Color1, Color2 or
+        Scale inputs take their own values, noted in `problems`."""
+        values = {}
+        for name in ("Color1", "Color2", "Scale"):
+            socket = node.inputs[name]
+            if socket.is_linked and problems is not None:
+                problems.append(f"{name} of {node.name!r} ({_source(socket)[0].bl_idname}: its own value is used)")
+            values[name] = input_value(socket)
+        if output in ("Fac", "Factor"):          # (5.0 names the output Factor)
+            color1, color2 = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
+        else:
+            color1, color2 = (tuple(float(c) for c in values[k][:3]) for k in ("Color1", "Color2"))
+        return self._add(dict(kind="checker", color1=color1, color2=color2, scale=float(values["Scale"]),
+                              **(coords or {}), **(adjust or {})))
+
+    def _add(self, fields: dict) -> int:
+        """Index of the texture with these gridwalk.Texture fields (each distinct one once)."""
+        key = tuple(sorted(fields.items()))
         if key not in self._texture_index:
             self._texture_index[key] = len(self.textures)
-            self.textures.append(Texture(image=image, interpolation=interpolation, extension=extension,
-                                         use_alpha=output == "Alpha", premultiply=premultiply,
-                                         unassociate=unassociate, uv_transform=uv_transform, **adjust))
+            self.textures.append(Texture(**fields))
         return self._texture_index[key]
 
     def prune(self):

@@ -1,16 +1,19 @@
-"""The texture coordinates an Image Texture node reads: its Vector input.
+"""The texture coordinates an Image or Checker Texture node reads: its Vector input.
 
 An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
-that vector is the mesh's active render UV map, (u, v, 0); a UV Map node
-gives a named layer, a Texture Coordinate node's UV output the active render
-one. Mapping nodes between them and the texture (any number, chained) move
+that vector is the mesh's active render UV map, (u, v, 0) (a Checker
+Texture's: the object's Generated coordinates); a UV Map node gives a named
+layer, a Texture Coordinate node's UV output the active render one, its
+Generated output the Generated coordinates (gridwalk.Texture.coordinates). Mapping nodes between them and the texture (any number, chained) move
 the vector by an affine map of 3-space, as Blender defines them:
   Point:   R (S p) + L
   Texture: R^T (p - L) / S   (a zero component of S gives 0: Blender's safe divide)
   Vector:  R (S p)
 with R = Rz Ry Rx of the node's Rotation (Euler XYZ), S its Scale and L its
 Location. Since the UV map's z is 0, the composition restricted to (u, v) ->
-(x, y) is a 2 x 3 affine map: gridwalk.Texture.uv_transform. A Mapping whose
+(x, y) is a 2 x 3 affine map, an image's gridwalk.Texture.uv_transform;
+a Checker (or an image at Generated coordinates) takes the whole 3 x 4 map,
+gridwalk.Texture.vector_transform. A Mapping whose
 own Vector is unlinked maps that input's value, as Cycles does: the texture
 then shows one texel everywhere. A Location, Rotation or Scale fed by a Value
 node (a float, as every axis) or a Combine XYZ of constants takes that value.
@@ -18,8 +21,9 @@ node (a float, as every axis) or a Combine XYZ of constants takes that value.
 Not read, each named in the material's warning: the Normal type (it
 normalises, which is not affine: the node is passed over), Location,
 Rotation or Scale inputs fed by other nodes (their own values are used), any
-other source of coordinates (Generated, Object, a Vector Math node...: the
-UV map is used), and a map beyond float range (the UV map is used).
+other source of coordinates (Object, a Vector Math node...: the node's own
+default, the UV map or Generated, is used), and a map beyond float range
+(likewise).
 """
 from __future__ import annotations
 
@@ -31,6 +35,7 @@ from .node_links import _source, input_value
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
 FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
 UV_SOURCES = {"UVMAP": None, "TEX_COORD": "UV"}   # node type -> the output that is a UV map (None: any)
+VECTOR_IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)
 
 
 def constant_vector(socket, problems, where):
@@ -68,11 +73,12 @@ def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
     return out, problems
 
 
-def texture_coordinates(node) -> tuple[str, tuple, list[str]]:
-    """(UV layer: "" the active render one, else its name; uv_transform as 6
-    floats; problems to warn about) for an Image Texture node's Vector input."""
+def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list[str]]:
+    """(coordinates "uv" | "generated", UV layer ("" the active render one), the
+    Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture
+    node's Vector input; unlinked, the `default` coordinates."""
     vector = node.inputs.get("Vector")
-    affine, problems, layer = np.eye(4), [], ""
+    affine, problems, layer, coordinates = np.eye(4), [], "", default
     socket, seen = vector, set()
     while socket is not None:
         src, out = _source(socket)
@@ -89,15 +95,31 @@ def texture_coordinates(node) -> tuple[str, tuple, list[str]]:
             problems += notes
             continue
         if src.type in UV_SOURCES and UV_SOURCES[src.type] in (None, out.name):
-            layer = src.uv_map if src.type == "UVMAP" else ""
+            layer, coordinates = (src.uv_map if src.type == "UVMAP" else ""), "uv"
+        elif src.type == "TEX_COORD" and out.name == "Generated":
+            coordinates = "generated"
         else:
-            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, "
-                            "through Mapping nodes, are read; the UV map is used)")
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps and Generated "
+                            f"coordinates, through Mapping nodes, are read; {_NAMES[default]} is used)")
             affine = np.eye(4)
         break
-    # (u, v, 0, 1) -> (x, y): rows x and y, columns u, v and the translation
-    transform = tuple(float(affine[r, c]) for r in (0, 1) for c in (0, 1, 3))
-    if not all(abs(x) <= FLOAT_MAX for x in transform):          # (NaN fails too)
-        problems.append(f"Vector of {node.name!r} (its Mapping is beyond float range: the UV map is used)")
-        transform = IDENTITY
-    return layer, transform, problems
+    if not all(abs(x) <= FLOAT_MAX for x in affine[:3].reshape(-1)):          # (NaN fails too)
+        problems.append(f"Vector of {node.name!r} (its Mapping is beyond float range: {_NAMES[default]} is used)")
+        affine, coordinates, layer = np.eye(4), default, ""
+    return coordinates, layer, affine, problems
+
+
+_NAMES = {"uv": "the UV map", "generated": "Generated"}
+
+
+def texture_fields(node, default: str = "uv", image: bool = True) -> tuple[str | None, dict, list[str]]:
+    """(UV layer the texture reads, or None where it reads Generated coordinates;
+    its gridwalk.Texture coordinate fields; problems) of an Image (image) or
+    procedural texture node: an image on the UV map takes a 2 x 3 uv_transform,
+    anything else the coordinates and a 3 x 4 vector_transform."""
+    coordinates, layer, affine, problems = vector_source(node, default)
+    if image and coordinates == "uv":
+        # (u, v, 0, 1) -> (x, y): rows x and y, columns u, v and the translation
+        return layer, {"uv_transform": tuple(float(affine[r, c]) for r in (0, 1) for c in (0, 1, 3))}, problems
+    fields = {"coordinates": coordinates, "vector_transform": tuple(float(x) for x in affine[:3].reshape(-1))}
+    return (layer if coordinates == "uv" else None), fields, problems

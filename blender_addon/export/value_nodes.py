@@ -185,13 +185,16 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
+TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER")   # the nodes gridwalk.Texture models
+
+
 def image_through_nodes(socket):
-    """(Image Texture node, its output's name, Texture fields) for an input fed by an
-    image through the nodes above, or (None, None, why not) for any other chain."""
+    """(Image or Checker Texture node, its output's name, Texture fields) for an input
+    fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
     steps = []
     try:
         node, out = _source(socket)
-        while node is not None and node.type != "TEX_IMAGE":
+        while node is not None and node.type not in TEXTURE_NODES:
             chain, others = _chain_input(node)
             steps.append((node, out, others))
             node, out = _source(chain)

@@ -53,7 +53,13 @@ void bind_records(nb::module_& m) {
 
     nb::class_<Texture>(m, "Texture")
         .def(nb::init<>())
+        .def_rw("kind", &Texture::kind)
         .def_rw("image", &Texture::image)
+        .def_rw("coordinates", &Texture::coordinates)
+        .def_rw("vector_transform", &Texture::vector_transform)
+        .def_rw("color1", &Texture::color1)
+        .def_rw("color2", &Texture::color2)
+        .def_rw("scale", &Texture::scale)
         .def_rw("interpolation", &Texture::interpolation)
         .def_rw("extension", &Texture::extension)
         .def_rw("use_alpha", &Texture::use_alpha)

@@ -105,13 +105,14 @@ NB_MODULE(_core, m) {
                 In<float> centers, In<float> radii, In<int32_t> sph_mat, In<float> cb, In<float> ca, In<float> cbr,
                 In<float> car, In<int32_t> cmat, std::vector<Material> materials, std::vector<Light> lights,
                 const CameraDesc& camera, Vec3 background, In<float> uvs, In<float> colors,
-                std::vector<std::shared_ptr<Image>> images, std::vector<Texture> textures, const World& world) {
+                std::vector<std::shared_ptr<Image>> images, std::vector<Texture> textures, const World& world,
+                In<float> generated) {
                  std::vector<std::shared_ptr<const Image>> shared(images.begin(), images.end());
                  new (self) Scene(pooled(vertices), pooled(triangles), pooled(normals), pooled(tri_mat), vec(centers),
                                   vec(radii),
                                   vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), std::move(materials),
                                   std::move(lights), camera, background, pooled(uvs), pooled(colors), std::move(shared),
-                                  std::move(textures), world);
+                                  std::move(textures), world, pooled(generated));
              })
         .def("moved",
              [](const Scene& s, std::vector<size_t> vertex_starts, std::vector<size_t> triangle_starts,

@@ -89,4 +89,15 @@ GW_ENUM(Interpolation, GW_INTERPOLATIONS)
     X(Mirror, "mirror", "Mirror", "Tile the image, every other tile mirrored")
 GW_ENUM(Extension, GW_EXTENSIONS)
 
+#define GW_TEXTURE_KINDS(X)                                                                              \
+    X(Image, "image", "Image", "An image, looked up at the texture coordinates")                           \
+    X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale")
+GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
+
+#define GW_TEXTURE_COORDS(X)                                                                                \
+    X(UV, "uv", "UV", "The triangles' UV map (u, v, 0)")                                                    \
+    X(Generated, "generated", "Generated",                                                                  \
+      "Blender's Generated coordinates: the object's own position in its texture space, 0..1 across its box")
+GW_ENUM(TextureCoords, GW_TEXTURE_COORDS)
+
 }  // namespace gw

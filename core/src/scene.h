@@ -69,7 +69,7 @@ public:
           std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
           Vec3 background, PooledVector<float> uvs = {}, PooledVector<float> colors = {},
           std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
-          const World& world = World());
+          const World& world = World(), PooledVector<float> generated = {});
 
     // A copy of this scene with the instances `moves` name moved: their
     // vertices become matrix x positions (in double, rounded to float), their
@@ -222,6 +222,7 @@ private:
     CameraDesc camera_;
     Vec3 background_;
     PooledVector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
+    PooledVector<float> generated_;       // 9 floats per triangle (corner Generated coordinates), or empty
     // 12 floats per triangle (tangents.h) where a material has a normal map
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
@@ -243,11 +244,16 @@ private:
     std::vector<SceneAncestor> ancestors_;
     static uint64_t next_id();
 
-    Rgba lookup(int32_t texture, float u, float v) const {
+    // The texture at a hit whose UV map gives (u, v) (hit_uv).
+    Rgba lookup(int32_t texture, const Hit& hit, float u, float v) const {
         const Texture& t = textures_[size_t(texture)];
+        if (!plain_image(t)) return lookup_vector(t, hit, u, v);
         if (uv_mapped(t)) map_uv(t, u, v);
         return sample_image(*images_[size_t(t.image)], t, u, v);
     }
+    // A procedural texture, or an image at other coordinates or mapped in 3D (see Texture).
+    Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v) const;
+    Vec3 hit_generated(const Hit& hit) const;
     void hit_uv(const Hit& hit, float& u, float& v) const;
     // sp.ns with the material's normal map applied (sp.ns where it has none),
     // kept from reflecting wo into the surface, as Cycles' Normal Map node
@@ -259,6 +265,7 @@ private:
     // (n where it has none).
     Vec3 bumped(const Material& m, const Hit& hit, const Vec3& n) const;
     void check_textures();   // scene_textures.cpp
+    void check_generated() const;
     void compute_bounds(const Bounds& tri_bounds);   // bounds_ (and the +-1e30 check), given the triangles'
     void apply(const RigidMove& m, size_t index);     // scene_moved.cpp
     std::vector<SceneAncestor> ancestors_after(const std::vector<RigidMove>& moves) const;

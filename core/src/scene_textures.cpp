@@ -33,12 +33,18 @@ void Scene::check_textures() {
         if (!std::isfinite(uvs_[i])) bad("uvs[" + std::to_string(i / 6) + "] has a non-finite value");
     for (size_t i = 0; i < colors_.size(); ++i)
         if (!std::isfinite(colors_[i])) bad("colors[" + std::to_string(i / 9) + "] has a non-finite value");
+    if (!generated_.empty() && generated_.size() != 9 * nt)
+        bad("generated must have shape (M, 3, 3): one point per triangle corner, got " +
+            std::to_string(generated_.size()) + " values for " + std::to_string(nt) + " triangles");
+    for (size_t i = 0; i < generated_.size(); ++i)
+        if (!std::isfinite(generated_[i])) bad("generated[" + std::to_string(i / 9) + "] has a non-finite value");
     for (size_t i = 0; i < images_.size(); ++i)
         if (!images_[i]) bad("images[" + std::to_string(i) + "] is missing");
     for (size_t i = 0; i < textures_.size(); ++i) {
         const std::string where = "textures[" + std::to_string(i) + "]";
         validate_texture(textures_[i], where);
         const int32_t k = textures_[i].image;
+        if (textures_[i].kind != TextureKind::Image) continue;   // (validate_texture: image -1)
         if (k < 0 || size_t(k) >= images_.size())
             bad(where + ".image = " + std::to_string(k) + " is out of range: images has " +
                 std::to_string(images_.size()) + " entries");
@@ -58,10 +64,20 @@ void Scene::check_textures() {
         check_index(m.normal_texture, where + "normal_texture");
         check_index(m.emission_texture, where + "emission_texture");
         check_index(m.bump_texture, where + "bump_texture");
+        // Normal and bump maps take an image's slopes in its own (u, v).
+        for (const auto& [k, name] : {std::pair{m.normal_texture, "normal_texture"}, std::pair{m.bump_texture, "bump_texture"}})
+            if (k >= 0 && !plain_image(textures_[size_t(k)]))
+                bad(where + name + " = " + std::to_string(k) +
+                    " names a procedural texture or one at other coordinates than the UV map: "
+                    "normal and bump maps take an image at the UV map");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
     check_index(world_.environment, "World.environment");
+    if (world_.environment >= 0 && !plain_image(textures_[size_t(world_.environment)]))
+        bad("World.environment = " + std::to_string(world_.environment) +
+            " names a procedural texture or one with coordinates or a vector_transform: an environment is an image "
+            "looked up along the ray's direction");
     if (world_.environment >= 0 && uv_mapped(textures_[size_t(world_.environment)]))
         bad("World.environment = " + std::to_string(world_.environment) +
             " names a texture with a uv_transform, which an environment does not use: "
@@ -87,6 +103,52 @@ void Scene::check_textures() {
     }
 }
 
+// Generated coordinates exist on triangles only (Scene(generated=...)): a
+// material whose textures take them may not be on a sphere or a cone, and
+// triangles using it need the array.
+void Scene::check_generated() const {
+    auto generated = [&](int32_t k) {
+        return k >= 0 && textures_[size_t(k)].coordinates == TextureCoords::Generated;
+    };
+    std::vector<uint8_t> uses(materials_.size(), 0);
+    for (size_t i = 0; i < materials_.size(); ++i) {
+        const Material& m = materials_[i];
+        uses[i] = generated(m.color_texture) || generated(m.roughness_texture) || generated(m.metallic_texture) ||
+                  generated(m.alpha_texture) || generated(m.emission_texture);
+    }
+    auto what = [&](int32_t mat) {
+        return "materials[" + std::to_string(mat) + "] has a texture at generated coordinates, ";
+    };
+    for (size_t i = 0; i < sphere_mat_.size(); ++i)
+        if (uses[size_t(sphere_mat_[i])])
+            bad(what(sphere_mat_[i]) + "which spheres do not have: sphere_materials[" + std::to_string(i) + "] uses it");
+    for (size_t i = 0; i < cone_mat_.size(); ++i)
+        if (uses[size_t(cone_mat_[i])])
+            bad(what(cone_mat_[i]) + "which cylinders do not have: cylinder_materials[" + std::to_string(i) +
+                "] uses it");
+    if (generated_.empty())
+        for (size_t i = 0; i < tri_mat_.size(); ++i)
+            if (uses[size_t(tri_mat_[i])])
+                bad(what(tri_mat_[i]) + "and triangle_materials[" + std::to_string(i) +
+                    "] uses it, but the scene has no generated coordinates (Scene(generated=...))");
+}
+
+Vec3 Scene::hit_generated(const Hit& hit) const {
+    if (generated_.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
+    const float* c = &generated_[9 * size_t(hit.prim)];
+    const float b0 = 1.0f - hit.u - hit.v;
+    return Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+}
+
+Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) const {
+    Vec3 p = t.coordinates == TextureCoords::Generated ? hit_generated(hit) : Vec3(u, v, 0);
+    if (vector_mapped(t)) p = map_vector(t, p);
+    if (t.kind == TextureKind::Checker) return checker_color(t, p);
+    float x = p.x, y = p.y;
+    if (uv_mapped(t)) map_uv(t, x, y);
+    return sample_image(*images_[size_t(t.image)], t, x, y);
+}
+
 void Scene::hit_uv(const Hit& hit, float& u, float& v) const {
     u = v = 0;
     if (uvs_.empty() || size_t(hit.prim) >= num_triangles()) return;
@@ -101,7 +163,7 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     float u, v;
     hit_uv(hit, u, v);
     if (m.color_texture >= 0)
-        out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, u, v));
+        out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, hit, u, v));
     if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
         const float* c = &colors_[9 * size_t(hit.prim)];
         const float b0 = 1.0f - hit.u - hit.v;
@@ -110,14 +172,14 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         out.color = m.color_texture >= 0 ? out.color * corner : corner;
     }
     if (m.roughness_texture >= 0) {
-        const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, u, v)));
+        const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, hit, u, v)));
         out.shininess = shininess_of(r);
         out.ks = m.ks * (out.shininess + 8.0f) / (m.shininess + 8.0f);   // same specular weight, new lobe
         out.roughness = r;
     }
     if (m.metallic_texture >= 0) {
         // The record holds the non-metal (metallic = 0) mapping; blend towards the metal.
-        const float mt = clamp01(scalar_of(textures_[size_t(m.metallic_texture)], lookup(m.metallic_texture, u, v)));
+        const float mt = clamp01(scalar_of(textures_[size_t(m.metallic_texture)], lookup(m.metallic_texture, hit, u, v)));
         const float norm = (out.shininess + 8.0f) / 8.0f, f0 = out.ks / norm;
         out.kd = m.kd * (1 - mt);
         out.transmittance = m.transmittance * (1 - mt);
@@ -128,7 +190,7 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
     if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);
     if (m.emission_texture >= 0) {
         out.emission_color =
-            color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, u, v)) * m.emission_color;
+            color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, hit, u, v)) * m.emission_color;
     }
     return out;
 }
@@ -199,7 +261,7 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
     const Vec3 B = cross(n, T) * sign;
     float u, v;
     hit_uv(hit, u, v);
-    const Vec3 rgb = color_of(textures_[size_t(m.normal_texture)], lookup(m.normal_texture, u, v));
+    const Vec3 rgb = color_of(textures_[size_t(m.normal_texture)], lookup(m.normal_texture, hit, u, v));
     Vec3 mapped = T * (2 * rgb.x - 1) + B * (2 * rgb.y - 1) + n * (2 * rgb.z - 1);
     if (m.normal_strength != 1) mapped = n + (normalize(mapped) - n) * m.normal_strength;
     const float ml = length(mapped);
@@ -271,7 +333,7 @@ float Scene::alpha_at(const Material& m, const Hit& hit) const {
     if (m.alpha_texture < 0) return m.alpha;
     float u, v;
     hit_uv(hit, u, v);
-    return clamp01(scalar_of(textures_[size_t(m.alpha_texture)], lookup(m.alpha_texture, u, v)));
+    return clamp01(scalar_of(textures_[size_t(m.alpha_texture)], lookup(m.alpha_texture, hit, u, v)));
 }
 
 size_t Scene::texture_bytes() const {

@@ -107,6 +107,32 @@ void validate_texture(const Texture& t, const std::string& where) {
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".gain has a non-finite value");
     for (float x : t.bias)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".bias has a non-finite value");
+    if (!enum_valid(t.kind)) throw std::invalid_argument(where + ".kind is not a texture kind");
+    if (!enum_valid(t.coordinates)) throw std::invalid_argument(where + ".coordinates is not a texture coordinate");
+    for (float x : t.vector_transform)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + ".vector_transform has a non-finite value");
+    for (float x : t.color1)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + ".color1 has a non-finite value");
+    for (float x : t.color2)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + ".color2 has a non-finite value");
+    if (!std::isfinite(t.scale)) throw std::invalid_argument(where + ".scale is not finite");
+    if (t.kind != TextureKind::Image && t.image != -1)
+        throw std::invalid_argument(where + ".image = " + std::to_string(t.image) + ": a " + enum_id(t.kind) +
+                                    " texture has no image (-1)");
+}
+
+Rgba checker_color(const Texture& t, const Vec3& p) {
+    // The cube index along an axis, as Cycles computes it; an index beyond
+    // int range (a point 2^31 cubes out, or NaN) counts as 0.
+    auto parity = [&](float x) {
+        const float f = std::floor((x * t.scale + 0.000001f) * 0.999999f);
+        if (!(std::abs(f) < 2147483648.0f)) return 0;
+        return int(std::abs(int64_t(f)) & 1);
+    };
+    const int xi = parity(p.x), yi = parity(p.y), zi = parity(p.z);
+    const bool first = (xi == yi) == (zi != 0);
+    const auto& c = first ? t.color1 : t.color2;
+    return Rgba{Vec3(c[0], c[1], c[2]), 1};
 }
 
 Rgba sample_image(const Image& img, const Texture& t, float u, float v) {

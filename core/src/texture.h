@@ -52,7 +52,21 @@ private:
 
 // The texture record, bound to Python field by field as gridwalk._core.Texture.
 struct Texture {
+    // What gives the value: an image (`image`), or a pattern computed at the
+    // hit (Blender's procedural textures; `image` is then -1).
+    TextureKind kind = TextureKind::Image;
     int32_t image = -1;                                  // index into the scene's images
+    // Where the lookup happens: the hit's (u, v, 0) from the UV map, or its
+    // Generated coordinates (Scene::texture_vector); then mapped by
+    // vector_transform (a 3 x 4 row-major affine map: Blender's Mapping node
+    // on that vector). An image takes the result's (x, y) as its (u, v),
+    // mapped on by uv_transform. The identity changes nothing, to the bit.
+    TextureCoords coordinates = TextureCoords::UV;
+    std::array<float, 12> vector_transform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    // Checker: color1 where the cubes of side 1 / scale have an even parity
+    // as Cycles counts it (checker_color), color2 elsewhere; scale as Blender's Scale.
+    std::array<float, 3> color1 = {0.8f, 0.8f, 0.8f}, color2 = {0.2f, 0.2f, 0.2f};
+    float scale = 5.0f;
     Interpolation interpolation = Interpolation::Linear;
     Extension extension = Extension::Repeat;
     bool use_alpha = false;                              // the Alpha output instead of Color
@@ -86,6 +100,30 @@ inline bool adjusts(const Texture& t) {
 }
 
 inline bool uv_mapped(const Texture& t) { return t.uv_transform != std::array<float, 6>{1, 0, 0, 0, 1, 0}; }
+
+inline bool vector_mapped(const Texture& t) {
+    return t.vector_transform != std::array<float, 12>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+}
+
+// Whether the texture is an image looked up at the UV map's (u, v) as it
+// was before procedural textures and other coordinates: what a normal map,
+// a bump map and the world's environment take.
+inline bool plain_image(const Texture& t) {
+    return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t);
+}
+
+// p mapped by t.vector_transform (see Texture).
+inline Vec3 map_vector(const Texture& t, const Vec3& p) {
+    const auto& m = t.vector_transform;
+    return Vec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+                m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+// Blender's Checker Texture at the (mapped) vector p: color1 or color2, as
+// Cycles decides between them (its cube index per axis is taken from p x
+// scale nudged by +1e-6 and shrunk by 0.999999, which keeps a plane at an
+// integer coordinate, such as a face of the unit cube, on one side).
+Rgba checker_color(const Texture& t, const Vec3& p);
 
 // (u, v) mapped by t.uv_transform (see Texture).
 inline void map_uv(const Texture& t, float& u, float& v) {

@@ -21,6 +21,8 @@ LIGHT_KINDS = tuple(kind for kind, _, _ in _core.light_kinds())
 PROJECTIONS = tuple(kind for kind, _, _ in _core.projections())
 INTERPOLATIONS = tuple(kind for kind, _, _ in _core.interpolations())
 EXTENSIONS = tuple(kind for kind, _, _ in _core.extensions())
+TEXTURE_KINDS = tuple(kind for kind, _, _ in _core.texture_kinds())
+TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -193,9 +195,17 @@ def _choice(choices, enum):
 
 @dataclass
 class Texture(Record):
-    """How a material (or the world) samples an image. image: a gridwalk.Image,
-    or an index into Scene(images=...); an Image used by several textures is
-    stored once. interpolation: linear | closest. extension: repeat | extend
+    """How a material (or the world) samples an image or a procedural pattern.
+    kind: image | checker (Blender's Checker Texture: color1 and color2, RGB,
+    in alternating cubes of side 1 / scale, as Cycles lays them; no image).
+    image: a gridwalk.Image, or an index into Scene(images=...); an Image used
+    by several textures is stored once. coordinates: uv (the hit's (u, v, 0)
+    from Scene(uvs=...)) | generated (Blender's Generated coordinates from
+    Scene(generated=...), triangles only); vector_transform: 12 numbers, a
+    row-major 3 x 4 affine map applied to that point (Blender's Mapping node;
+    the identity by default); an image then takes the point's (x, y) as its
+    (u, v), mapped on by uv_transform. Normal and bump maps and the world's
+    environment take images at the UV map only. interpolation: linear | closest. extension: repeat | extend
     | clip (transparent black outside) | mirror (every other tile flipped). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's
     luminance, a colour input as grey. premultiply: the colour is multiplied by
@@ -213,6 +223,12 @@ class Texture(Record):
     each, channel by channel); then clamped to [0, 1] if clamp. The defaults
     change nothing; an environment takes none of them."""
     image: object = None
+    kind: str = TEXTURE_KINDS[0]
+    coordinates: str = TEXTURE_COORDS[0]
+    vector_transform: tuple = tuple(_TEX.vector_transform)
+    color1: tuple = tuple(_f32(x) for x in _TEX.color1)
+    color2: tuple = tuple(_f32(x) for x in _TEX.color2)
+    scale: float = _f32(_TEX.scale)
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
@@ -227,12 +243,15 @@ class Texture(Record):
 
     def converters(self) -> dict:
         def image(value, where):
+            if value is None and self.kind != "image":
+                return -1
             if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
                 raise ValueError(f"{where} must be a gridwalk.Image or an index into Scene(images=...), "
                                  f"got {type(value).__name__}")
             return _scalar(value, int, where)
         return {"image": image, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
-                "extension": _choice(EXTENSIONS, _core.Extension)}
+                "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
+                "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords)}
 
 
 @dataclass

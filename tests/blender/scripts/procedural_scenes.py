@@ -1,0 +1,75 @@
+"""Scenes with procedural textures (render_scene.py and export_dump.py build them by name)."""
+import math
+
+import bpy
+import numpy as np
+
+from material_scenes import _filled_image
+from scenes import cube_object, link, plain_world, reset, shader_material
+
+# Checker variants: the object, where the Checker's Vector comes from, and what it feeds.
+#   plane      a plane facing the camera, the Checker's Vector unlinked (Generated), its Color
+#   cube       a cube turned towards the camera: Texture Coordinate Generated -> Mapping (Point, turned,
+#              moved, scaled) -> Checker
+#   subdivided the cube with a Subdivision modifier (level 2): Generated spans the cube before it
+#   uv         the plane, Texture Coordinate UV -> Checker
+#   fac        the plane, the Checker's Fac into the Emission's Color (white and black)
+#   image      the cube, Texture Coordinate Generated -> Mapping -> an 8 x 8 Image Texture
+#   principled the cube, the Checker into a Principled BSDF's Base Color, lit by a sun
+CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled")
+COLORS = ((0.9, 0.6, 0.1, 1.0), (0.05, 0.1, 0.4, 1.0))
+SCALE = 3.7          # cube edges do not fall on pixel centres
+TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
+
+
+def procedural_checker_scene(variant="plane", resolution=(96, 72)):
+    """One object seen by the camera at (0, -10, 0), its material's colour a Checker
+    Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
+    a black world. Returns the Checker's settings."""
+    reset(resolution=tuple(resolution))
+    if variant in ("plane", "uv", "fac"):
+        bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+        obj = bpy.context.object
+    else:
+        obj = link(cube_object("Cube", 3.0))
+        obj.rotation_euler = (math.radians(30.0), 0.0, math.radians(35.0))
+        if variant == "subdivided":
+            obj.modifiers.new("Subdivision", "SUBSURF").levels = 2
+    if variant == "principled":
+        mat = bpy.data.materials.new("Checkered")
+        mat.use_nodes = True
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        target = nodes["Principled BSDF"].inputs["Base Color"]
+        sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+        sun.data.energy, sun.data.angle = 3.0, 0.0
+        sun.rotation_euler = (math.radians(50.0), 0.0, math.radians(-30.0))
+        link(sun)
+    else:
+        mat = shader_material("Checkered", "ShaderNodeEmission", [("Strength", 1.0)])
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        target = nodes["Emission"].inputs["Color"]
+    if variant == "image":
+        texture = nodes.new("ShaderNodeTexImage")
+        pixels = np.random.default_rng(7).integers(0, 256, (8, 8, 4)) / 255.0
+        pixels[..., 3] = 1.0
+        texture.image, texture.interpolation = _filled_image("Random", pixels, float_buffer=False), "Closest"
+    else:
+        texture = nodes.new("ShaderNodeTexChecker")
+        texture.inputs["Color1"].default_value, texture.inputs["Color2"].default_value = COLORS
+        texture.inputs["Scale"].default_value = SCALE
+    links.new(texture.outputs["Fac" if variant == "fac" else "Color"], target)
+    if variant in ("cube", "image", "uv"):
+        coords = nodes.new("ShaderNodeTexCoord")
+        source = coords.outputs["UV" if variant == "uv" else "Generated"]
+        if variant != "uv":
+            mapping = nodes.new("ShaderNodeMapping")
+            mapping.vector_type = "POINT"
+            for name, value in zip(("Location", "Rotation", "Scale"), TURN):
+                mapping.inputs[name].default_value = value
+            links.new(source, mapping.inputs["Vector"])
+            source = mapping.outputs["Vector"]
+        links.new(source, texture.inputs["Vector"])
+    obj.data.materials.append(mat)
+    plain_world("World", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {"colors": COLORS, "scale": SCALE}

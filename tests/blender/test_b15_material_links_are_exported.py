@@ -79,7 +79,10 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "premultiply": True,   # its Alpha output is not linked: associated
                                                "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
                                                "channel": -1, "gain": [1.0, 1.0, 1.0], "bias": [0.0, 0.0, 0.0],
-                                               "clamp": False}
+                                               "clamp": False, "kind": "image", "coordinates": "uv",
+                                               "vector_transform": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
+                                                                    0.0, 0.0, 1.0, 0.0],
+                                               "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

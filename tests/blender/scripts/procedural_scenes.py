@@ -73,3 +73,29 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72)):
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {"colors": COLORS, "scale": SCALE}
+
+
+def checker_material():
+    """An Emission material whose Color is a Checker Texture at Generated coordinates."""
+    mat = shader_material("Checkered", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes = mat.node_tree.nodes
+    texture = nodes.new("ShaderNodeTexChecker")
+    mat.node_tree.links.new(texture.outputs["Color"], nodes["Emission"].inputs["Color"])
+    return mat
+
+
+def checker_on_shapes_scene(resolution=(96, 72)):
+    """hair_scene's strands (where the Python API makes hair curves) and a UV sphere flagged
+    'Render as sphere', both with checker_material: shapes without Generated coordinates.
+    Returns whether the hair exists."""
+    from scenes import hair_scene, uv_sphere_object
+    made = hair_scene(resolution=resolution)["segments"] is not None
+    mat = checker_material()
+    if made:
+        bpy.data.hair_curves["Hair"].materials[0] = mat
+    ball = link(uv_sphere_object("Ball", 1.0))
+    ball.location = (0.0, -2.0, 0.0)
+    ball.gridwalk.render_as_sphere = True
+    ball.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {"hair": made}

@@ -1,0 +1,60 @@
+"""Blender's Checker Texture renders as in Cycles, in bpy 4.5, bpy 5.0 and
+Debian's 3.4: at the Generated coordinates it reads when nothing feeds its
+Vector, through a Texture Coordinate node's Generated output and a Mapping
+node, on a cube with a Subdivision modifier (Generated spans the cube before
+it), at the UV map, its Fac output, into a lit Principled BSDF; and an Image
+Texture at Generated coordinates. Before, a Checker was a warning and its
+input's default colour. Shapes without Generated coordinates (a 'Render as
+sphere' object, hair) export without an error, each with a warning.
+Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene."""
+import numpy as np
+import pytest
+
+from runner import luminance_by_engine
+
+VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled")   # procedural_scenes.CHECKER_VARIANTS
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"checker_{module_blender}")
+    return luminance_by_engine(module_blender, out, "procedural_checker", ENGINES, {v: {"variant": v} for v in VARIANTS})
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_checker_lands_where_cycles_puts_it(renders, variant):
+    ours, cycles = renders[("GRIDWALK", variant)], renders[("CYCLES", variant)]
+    assert cycles.std() > 0.1                                            # a pattern, not a flat colour
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.99
+    assert np.abs(ours - cycles).mean() < 0.015
+
+
+def test_the_pattern_is_not_the_default_colour(renders):
+    # the plane at Generated coordinates and at the UV map: shifted by a quarter square, not alike
+    plane, uv = renders[("GRIDWALK", "plane")], renders[("GRIDWALK", "uv")]
+    assert np.abs(plane - uv).mean() > 0.05
+
+
+def test_the_export_names_generated_coordinates_and_the_checker(export):
+    out = export("procedural_checker", variant="cube")
+    (texture,) = out.textures
+    assert texture["kind"] == "checker" and texture["coordinates"] == "generated"
+    assert texture["scale"] == pytest.approx(3.7)
+    assert out.generated.shape == (len(out.triangles), 3, 3)
+    # the cube's corners are the corners of its texture space
+    assert out.generated.min() == pytest.approx(0.0, abs=1e-6) and out.generated.max() == pytest.approx(1.0, abs=1e-6)
+    assert not out.warnings, out.warnings
+
+
+def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):
+    out = export("checker_on_shapes")
+    assert "error" not in out.info, out.info.get("error")
+    assert len(out.sphere_radii) == 0                     # the flagged sphere went out as its mesh ...
+    assert len(out.generated) == len(out.triangles) > 0   # ... with Generated coordinates
+    warnings = " ".join(out.warnings)
+    assert "rendered as their meshes: 'Ball'" in warnings
+    if out.expected["hair"]:
+        textures = [out.materials[i]["color_texture"] for i in np.unique(out.cylinder_materials)]
+        assert textures == [-1]                           # the strands' copy of the material has no checker
+        assert "not read on point clouds and hair" in warnings

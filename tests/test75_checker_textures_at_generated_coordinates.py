@@ -1,0 +1,149 @@
+"""Texture(kind="checker") is Blender's Checker Texture: color1 and color2 in
+cubes of side 1 / scale, chosen per pixel as Cycles chooses (checked here
+against numpy's evaluation of that rule), at the UV map's (u, v, 0) or at the
+Generated coordinates (Scene(generated=...)), mapped by vector_transform (a
+Mapping node); an image can take Generated coordinates too. What has no
+Generated coordinates (spheres, cylinders, a scene without the array) or
+cannot take a pattern (normal and bump maps, the environment) is refused with
+the field named. (Blender's side: tests/blender/test_b38.)"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from gridwalk import memory
+
+N = 32
+VERTS = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
+TRIS = np.array([[0, 1, 2], [0, 2, 3]])
+RED, BLUE = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+# Generated coordinates of the square: x and y across [0.1, 0.9], z 0.3 (a flat object's mid-plane)
+GENERATED = np.column_stack([0.5 + 0.4 * VERTS[:, 0], 0.5 + 0.4 * VERTS[:, 1], np.full(4, 0.3)]).astype(np.float32)
+
+
+def _camera():
+    return gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic",
+                     ortho_height=2.0, width=N, height=N)
+
+
+def _render(texture, images=None, **scene):
+    scene.setdefault("generated", GENERATED[TRIS])
+    s = gw.Scene(VERTS, TRIS, camera=_camera(), images=images, textures=[texture],
+                 materials=[gw.Material(kd=0, emission=1.0, color_texture=0)], **scene)
+    return gw.RenderJob(s, gw.RenderSettings(threads=1)).start().wait()[..., :3]
+
+
+def _pixel_points():
+    """The square's (x, y) under each pixel centre (row 0 = top)."""
+    c = -1 + 2 * (np.arange(N) + 0.5) / N
+    return np.meshgrid(c, c[::-1])
+
+
+def _cycles_checker(p, scale):
+    """Whether color1 shows at the points p (..., 3): Cycles' rule, in float32."""
+    f32 = np.float32
+    index = np.floor((p.astype(f32) * f32(scale) + f32(0.000001)) * f32(0.999999))
+    odd = np.abs(index).astype(np.int64) & 1
+    return (odd[..., 0] == odd[..., 1]) == (odd[..., 2] != 0)
+
+
+def _expected(first):
+    return np.where(first[..., None], RED, BLUE)
+
+
+def test_a_checker_at_generated_coordinates_alternates_as_in_cycles():
+    x, y = _pixel_points()
+    p = np.stack([0.5 + 0.4 * x, 0.5 + 0.4 * y, np.full_like(x, 0.3)], axis=-1)
+    for scale in (3.0, 5.0, 7.5):
+        image = _render(gw.Texture(kind="checker", coordinates="generated", color1=RED, color2=BLUE, scale=scale))
+        first = _cycles_checker(p, scale)
+        assert 0.2 < first.mean() < 0.8                                   # both colours show
+        np.testing.assert_array_equal(image, _expected(first))
+
+
+def test_the_z_coordinate_flips_the_pattern():
+    # z = 0.3 at scale 5 lies in cube 1 (odd); z = 0.1 in cube 0: every square changes colour
+    flat = GENERATED.copy()
+    flat[:, 2] = 0.1
+    texture = gw.Texture(kind="checker", coordinates="generated", color1=RED, color2=BLUE)
+    a, b = _render(texture), _render(texture, generated=flat[TRIS])
+    np.testing.assert_array_equal(a, b[..., ::-1])
+
+
+def test_a_mapping_moves_the_checker():
+    # turned 30 degrees about z, scaled and moved: the 3 x 4 map of a Point Mapping node
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    m = np.array([[1.5 * c, -0.7 * s, 0, 0.2], [1.5 * s, 0.7 * c, 0, -0.1], [0, 0, 1.2, 0.05]])
+    texture = gw.Texture(kind="checker", coordinates="generated", color1=RED, color2=BLUE, scale=4.0,
+                         vector_transform=tuple(m.reshape(-1)))
+    x, y = _pixel_points()
+    p = np.stack([0.5 + 0.4 * x, 0.5 + 0.4 * y, np.full_like(x, 0.3), np.ones_like(x)], axis=-1)
+    mapped = (p.astype(np.float32) @ m.T.astype(np.float32))
+    image = _render(texture)
+    first = _cycles_checker(mapped, 4.0)
+    # (the core maps in float32 in its own order: a pixel centre within rounding of a cube face may differ)
+    assert np.mean(np.all(image == _expected(first), axis=-1)) > 0.995
+    assert np.mean(np.all(image == _render(replace(texture, vector_transform=gw.Texture().vector_transform)),
+                          axis=-1)) < 0.8
+
+
+def test_a_checker_at_the_uv_map_takes_u_v_and_zero():
+    uvs = np.array([[[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]], np.float32)
+    image = _render(gw.Texture(kind="checker", color1=RED, color2=BLUE, scale=3.0), uvs=uvs, generated=None)
+    x, y = _pixel_points()
+    first = _cycles_checker(np.stack([(x + 1) / 2, (y + 1) / 2, np.zeros_like(x)], axis=-1), 3.0)
+    np.testing.assert_array_equal(image, _expected(first))
+
+
+def test_an_image_at_generated_coordinates_is_read_at_their_x_and_y():
+    texels = np.random.default_rng(3).random((4, 4, 3)).astype(np.float32)
+    picture = gw.Image(texels, colorspace="linear")
+    image = _render(gw.Texture(picture, coordinates="generated", interpolation="closest"))
+    x, y = _pixel_points()
+    gx, gy = 0.5 + 0.4 * x, 0.5 + 0.4 * y
+    expected = texels[::-1][(gy * 4).astype(int), (gx * 4).astype(int)]      # row 0 of the array is the top
+    np.testing.assert_allclose(image, expected, atol=1e-6)
+
+
+def _scene(**kw):
+    base = dict(vertices=VERTS, triangles=TRIS, generated=GENERATED[TRIS],
+                materials=[gw.Material(color_texture=0)],
+                textures=[gw.Texture(kind="checker", coordinates="generated")])
+    base.update(kw)
+    return gw.Scene(**base)
+
+
+@pytest.mark.parametrize("kw, message", [
+    ({"generated": None}, r"triangle_materials\[0\] uses it, but the scene has no generated"),
+    ({"generated": np.zeros((1, 3, 3))}, "generated must have shape"),
+    ({"generated": np.full((2, 3, 3), np.nan)}, r"generated\[0\] has a non-finite value"),
+    ({"sphere_centers": [[0, 0, 3]], "sphere_radii": [1.0], "sphere_materials": [0]},
+     "which spheres do not have"),
+    ({"textures": [gw.Texture(kind="checker", image=0)], "images": [gw.Image(np.ones((2, 2, 3), np.float32))]},
+     "a checker texture has no image"),
+    ({"textures": [gw.Texture(kind="checker", vector_transform=(1, 0, 0, float("inf")) + (0,) * 8)]},
+     "vector_transform has a non-finite value"),
+    ({"textures": [gw.Texture(kind="checker", scale=float("nan"))]}, "scale is not finite"),
+    ({"materials": [gw.Material(normal_texture=0)]}, r"normal_texture = 0 names a procedural texture"),
+    ({"materials": [gw.Material(bump_texture=0)]}, r"bump_texture = 0 names a procedural texture"),
+    ({"world": gw.World(environment=0)}, "environment is an image"),
+])
+def test_what_cannot_take_the_texture_is_refused_naming_it(kw, message):
+    with pytest.raises(ValueError, match=message):
+        _scene(**kw)
+
+
+def test_unknown_kinds_and_coordinates_are_refused():
+    with pytest.raises(ValueError, match="kind must be one of"):
+        _scene(textures=[gw.Texture(kind="noise")])
+    with pytest.raises(ValueError, match="coordinates must be one of"):
+        _scene(textures=[gw.Texture(kind="checker", coordinates="object")])
+
+
+def test_the_generated_coordinates_count_in_the_memory_estimate():
+    plain = memory.estimate(1000)
+    assert memory.estimate(1000, generated=True).total - plain.total == 1000 * 2 * 36
+    scene = _scene()
+    without = gw.Scene(VERTS, TRIS, materials=[gw.Material()])
+    assert scene._native.memory_bytes - without._native.memory_bytes == 2 * 9 * 4

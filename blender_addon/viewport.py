@@ -201,7 +201,7 @@ class ViewportSession:
                                    normals=kwargs["normals"] is not None,
                                    texture_bytes=sum(image.memory_bytes for image in images),
                                    uvs=kwargs.get("uvs") is not None, colors=kwargs.get("colors") is not None,
-                                   generated=kwargs.get("generated") is not None,
+                                   corner_points=sum(kwargs.get(k) is not None for k in ("generated", "object_coords")),
                                    tangents=any(m.normal_texture >= 0 for m in kwargs["materials"]))
         limit, source = memory_limit(scene.gridwalk, memory)
         memory.check(estimate, limit, f"This scene ({len(kwargs['triangles']):,} triangles)", source)

@@ -118,6 +118,11 @@ def _materials(parts, chunk):
     return np.concatenate([lookup[np.clip(slots, 0, len(lookup) - 1)] for lookup in lookups])
 
 
+# Per-corner points a texture may read (gridwalk.Scene's arrays), and the value
+# of corners whose mesh has none (a mesh whose materials read none of them).
+CORNER_POINTS = {"generated": 0.5, "object_coords": 0.0}
+
+
 def _corner_values(data, name, flips, fill):
     """The chunk's corner UVs, colours or Generated coordinates in world-space corner order, (K T, 3, C)."""
     values = getattr(data, name)
@@ -137,8 +142,9 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
     need_normals = any(data.normals is not None for _, data, _, _ in parts)
     need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
     need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    need_generated = any(data.generated is not None for _, data, _, _ in parts)
-    vertices, triangles, normals, materials, uvs, colors, generated = [], [], [], [], [], [], []
+    points = [name for name in CORNER_POINTS if any(getattr(data, name) is not None for _, data, _, _ in parts)]
+    vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
+    corner_points = {name: [] for name in points}
     layout = [None] * len(parts)
     offset = triangle_offset = 0
     for chunk in chunks(parts):
@@ -160,8 +166,8 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
             uvs.append(_corner_values(data, "uvs", flips, (0.0, 2)))
         if need_colors:
             colors.append(_corner_values(data, "colors", flips, (1.0, 3)))
-        if need_generated:
-            generated.append(_corner_values(data, "generated", flips, (0.5, 3)))
+        for name in points:
+            corner_points[name].append(_corner_values(data, name, flips, (CORNER_POINTS[name], 3)))
         offset += world.shape[0]
     out = {"vertices": np.concatenate(vertices), "triangles": np.concatenate(triangles).astype(np.int32, copy=False),
            "normals": np.concatenate(normals) if need_normals else None,
@@ -170,6 +176,6 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
         out["uvs"] = np.concatenate(uvs)
     if need_colors:
         out["colors"] = np.concatenate(colors)
-    if need_generated:
-        out["generated"] = np.concatenate(generated)
+    for name in points:
+        out[name] = np.concatenate(corner_points[name])
     return out, layout

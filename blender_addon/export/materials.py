@@ -98,7 +98,7 @@ class Links:
         self.fields = {}           # Material field -> value
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
         self.color_layer = None    # likewise for the colour attribute
-        self.generated = False     # a texture reads the Generated coordinates
+        self.points = set()        # "generated", "object": the corner points a texture reads
         self.textured = []         # "input (node)" left at its default value
         self.unmodelled = []       # "input value" of layers the Whitted model does not have
 
@@ -169,11 +169,11 @@ class Links:
 
     def _coords(self, node, default, image) -> dict:
         """The node's coordinate fields (uv_mapping.texture_fields); notes the UV
-        layer it reads, or that it reads the Generated coordinates."""
+        layer it reads, or the Generated or Object coordinates."""
         layer, fields, problems = texture_fields(node, default, image)
         self.textured += problems
         if layer is None:
-            self.generated = True
+            self.points.add(fields["coordinates"])
             return fields
         if self.uv_layer and layer and layer != self.uv_layer:
             self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
@@ -493,7 +493,7 @@ class MaterialTable:
         self._problems = {}
         self.override = override
         self._names = {}             # index -> material name
-        self.shape_notes = set()     # materials whose Generated textures spheres and cylinders dropped
+        self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
 
     def index_of(self, mat) -> int:
         key = None if mat is None else mat.original.name_full
@@ -512,38 +512,39 @@ class MaterialTable:
         return index
 
     def layers(self, indices) -> tuple:
-        """(uv, colour layer, Generated coordinates) the materials `indices` (an
-        object's slots) need; the last True where a texture reads them.
+        """(uv, colour layer, corner points) the materials `indices` (an object's
+        slots) need; the last a sorted tuple of "generated" and "object", those
+        coordinates its textures read.
         The colour layer: None when none does, "" for the active render layer,
         else the first layer named. The UV layer likewise, or, where the slots'
         materials name different UV maps, a tuple of each slot's (None for a
         material without textures): meshes.read_mesh then reads each
         triangle's corners from its own material's map."""
-        uvs, color, generated = [], None, False
+        uvs, color, points = [], None, set()
         for i in indices:
             links = self.links[i]
             uvs.append(None if links is None else links.uv_layer)
             if links is not None:
                 color = color if color else links.color_layer if links.color_layer is not None else color
-                generated = generated or links.generated
+                points |= links.points
         named = {uv for uv in uvs if uv is not None}
         if len(named) > 1:
-            return tuple(uvs), color, generated
-        return (named.pop() if named else None), color, generated
+            return tuple(uvs), color, tuple(sorted(points))
+        return (named.pop() if named else None), color, tuple(sorted(points))
 
     def shape_material(self, index: int) -> int:
-        """`index`, or where that material's textures read Generated coordinates,
-        which spheres and cylinders (point clouds, hair) do not have, the index
-        of a copy without those textures (their inputs' own values), noted."""
+        """`index`, or where that material's textures read Generated or Object
+        coordinates, which spheres and cylinders (point clouds, hair) do not have,
+        the index of a copy without those textures (their inputs' own values), noted."""
         links = self.links[index]
-        if links is None or not links.generated:
+        if links is None or not links.points:
             return index
-        key = ("without Generated", index)
+        key = ("without corner points", index)
         if key not in self._index:
             material = self.materials[index]
             fields = {f.name: -1 for f in dataclasses.fields(material)
                       if f.name.endswith("_texture") and getattr(material, f.name) >= 0
-                      and self.textures.textures[getattr(material, f.name)].coordinates == "generated"}
+                      and self.textures.textures[getattr(material, f.name)].coordinates in ("generated", "object")}
             self._index[key] = len(self.materials)
             self.materials.append(dataclasses.replace(material, **fields))
             self.links.append(None)
@@ -563,7 +564,7 @@ class MaterialTable:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
         if self.shape_notes:
-            out.append("Generated texture coordinates are not read on point clouds and hair (their textures' "
+            out.append("Generated and Object texture coordinates are not read on point clouds and hair (their textures' "
                        f"inputs take their own values): {', '.join(sorted(self.shape_notes))}")
         return out
 

@@ -50,11 +50,12 @@ MAX_COORDINATE = 1e30       # larger world coordinates are refused (float32 exte
 class MeshData:
     """One evaluated mesh in object space (float32 / int32 arrays)."""
 
-    def __init__(self, co, triangles, normals, material_slot, uvs=None, colors=None, generated=None):
+    def __init__(self, co, triangles, normals, material_slot, uvs=None, colors=None):
         self.co = co                   # (V, 3) positions; one per corner for CORNER meshes
         self.uvs = uvs                 # (T, 3, 2) corner UVs, or None (not asked for, or no UV map)
         self.colors = colors           # (T, 3, 3) corner colours (linear RGB), or None
-        self.generated = generated     # (T, 3, 3) corner Generated coordinates, or None (not asked for)
+        self.generated = None          # (T, 3, 3) corner Generated coordinates, or None (not asked for)
+        self.object_coords = None      # (T, 3, 3) corner Object coordinates (object space), or None
         self.triangles = triangles     # (T, 3) indices into co
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
@@ -191,7 +192,7 @@ def texture_space(mesh) -> tuple:
     return tuple(location), tuple(size)
 
 
-def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None) -> MeshData:
+def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coords=False) -> MeshData:
     """Triangulate an evaluated mesh into numpy arrays (no per-element Python loops).
 
     Uses Blender's own triangulation (loop_triangles) and, where Blender has
@@ -200,7 +201,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None) -> MeshData:
     colours are read only when a material needs them (uv_layer / color_layer
     not None; "" = the active render layer; uv_layer may also be a tuple of
     each material slot's layer, MaterialTable.layers); corner Generated
-    coordinates where texspace (texture_space) is given.
+    coordinates where texspace (texture_space) is given, corner Object
+    coordinates (the positions) where object_coords is.
     """
     if hasattr(mesh, "calc_loop_triangles"):
         mesh.calc_loop_triangles()
@@ -231,6 +233,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None) -> MeshData:
         data = MeshData(co, tri_verts, normals, slots, uvs, colors)
     if texspace is not None:
         data.generated = generated_coordinates(data.co, texspace)[data.triangles]
+    if object_coords:
+        data.object_coords = data.co[data.triangles]
     if uvs is not None:
         data.missing_uv_layer = missing
     data.missing_color_layer = missing_colors
@@ -312,11 +316,12 @@ def as_sphere(obj) -> bool:
 
 def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     """The evaluated object's mesh (modifiers applied), read into arrays;
-    layers = (uv layer, colour layer[, Generated coordinates]) as
-    MaterialTable.layers gives them. The Generated coordinates take the texture
-    space of the object's mesh before its modifiers, as Cycles does (and the
-    positions after them, where Cycles takes them before deforming modifiers)."""
-    uv, color, generated = (tuple(layers) + (False,))[:3]
+    layers = (uv layer, colour layer[, corner points]) as MaterialTable.layers
+    gives them. The Generated coordinates take the texture space of the
+    object's mesh before its modifiers, as Cycles does (and the positions after
+    them, where Cycles takes them before deforming modifiers)."""
+    uv, color, points = (tuple(layers) + ((),))[:3]
+    generated = "generated" in points
     texspace = texture_space(obj.data) if generated and getattr(obj, "type", "") == "MESH" else None
     mesh = obj.to_mesh()
     try:
@@ -324,7 +329,7 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
             return None
         if generated and texspace is None:
             texspace = texture_space(mesh)
-        return read_mesh(mesh, uv, color, texspace)
+        return read_mesh(mesh, uv, color, texspace, "object" in points)
     finally:
         obj.to_mesh_clear()
 
@@ -547,7 +552,7 @@ class MeshCollector:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.mesh_spheres:
-            out.append("'Render as sphere' objects whose textures read Generated coordinates are rendered as "
+            out.append("'Render as sphere' objects whose textures read Generated or Object coordinates are rendered as "
                        "their meshes: " + _quoted(self.mesh_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))

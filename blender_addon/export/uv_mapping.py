@@ -4,7 +4,8 @@ An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
 that vector is the mesh's active render UV map, (u, v, 0) (a Checker
 Texture's: the object's Generated coordinates); a UV Map node gives a named
 layer, a Texture Coordinate node's UV output the active render one, its
-Generated output the Generated coordinates (gridwalk.Texture.coordinates). Mapping nodes between them and the texture (any number, chained) move
+Generated and Object outputs those coordinates (gridwalk.Texture.coordinates;
+Object only where the node names no other object). Mapping nodes between them and the texture (any number, chained) move
 the vector by an affine map of 3-space, as Blender defines them:
   Point:   R (S p) + L
   Texture: R^T (p - L) / S   (a zero component of S gives 0: Blender's safe divide)
@@ -74,7 +75,7 @@ def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
 
 
 def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list[str]]:
-    """(coordinates "uv" | "generated", UV layer ("" the active render one), the
+    """(coordinates "uv" | "generated" | "object", UV layer ("" the active render one), the
     Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture
     node's Vector input; unlinked, the `default` coordinates."""
     vector = node.inputs.get("Vector")
@@ -96,11 +97,13 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
             continue
         if src.type in UV_SOURCES and UV_SOURCES[src.type] in (None, out.name):
             layer, coordinates = (src.uv_map if src.type == "UVMAP" else ""), "uv"
-        elif src.type == "TEX_COORD" and out.name == "Generated":
-            coordinates = "generated"
+        elif src.type == "TEX_COORD" and (out.name == "Generated" or
+                                          out.name == "Object" and getattr(src, "object", None) is None):
+            coordinates = out.name.lower()
         else:
-            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps and Generated "
-                            f"coordinates, through Mapping nodes, are read; {_NAMES[default]} is used)")
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}"
+                            f"{' of another object' if out.name == 'Object' else ''}: only UV maps, Generated and "
+                            f"Object coordinates, through Mapping nodes, are read; {_NAMES[default]} is used)")
             affine = np.eye(4)
         break
     if not all(abs(x) <= FLOAT_MAX for x in affine[:3].reshape(-1)):          # (NaN fails too)
@@ -113,7 +116,7 @@ _NAMES = {"uv": "the UV map", "generated": "Generated"}
 
 
 def texture_fields(node, default: str = "uv", image: bool = True) -> tuple[str | None, dict, list[str]]:
-    """(UV layer the texture reads, or None where it reads Generated coordinates;
+    """(UV layer the texture reads, or None where it reads Generated or Object coordinates;
     its gridwalk.Texture coordinate fields; problems) of an Image (image) or
     procedural texture node: an image on the UV map takes a 2 x 3 uv_transform,
     anything else the coordinates and a 3 x 4 vector_transform."""

@@ -97,7 +97,8 @@ GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
 #define GW_TEXTURE_COORDS(X)                                                                                \
     X(UV, "uv", "UV", "The triangles' UV map (u, v, 0)")                                                    \
     X(Generated, "generated", "Generated",                                                                  \
-      "Blender's Generated coordinates: the object's own position in its texture space, 0..1 across its box")
+      "Blender's Generated coordinates: the object's own position in its texture space, 0..1 across its box") \
+    X(Object, "object", "Object", "Blender's Object coordinates: the point in its object's own space")
 GW_ENUM(TextureCoords, GW_TEXTURE_COORDS)
 
 }  // namespace gw

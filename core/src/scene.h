@@ -69,7 +69,7 @@ public:
           std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
           Vec3 background, PooledVector<float> uvs = {}, PooledVector<float> colors = {},
           std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
-          const World& world = World(), PooledVector<float> generated = {});
+          const World& world = World(), PooledVector<float> generated = {}, PooledVector<float> object_coords = {});
 
     // A copy of this scene with the instances `moves` name moved: their
     // vertices become matrix x positions (in double, rounded to float), their
@@ -222,7 +222,8 @@ private:
     CameraDesc camera_;
     Vec3 background_;
     PooledVector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
-    PooledVector<float> generated_;       // 9 floats per triangle (corner Generated coordinates), or empty
+    // 9 floats per triangle (corner Generated / Object coordinates), or empty
+    PooledVector<float> generated_, object_coords_;
     // 12 floats per triangle (tangents.h) where a material has a normal map
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
@@ -253,7 +254,8 @@ private:
     }
     // A procedural texture, or an image at other coordinates or mapped in 3D (see Texture).
     Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v) const;
-    Vec3 hit_generated(const Hit& hit) const;
+    // The hit's point in the per-corner array of those coordinates (Generated or Object).
+    Vec3 hit_point(const Hit& hit, TextureCoords coords) const;
     void hit_uv(const Hit& hit, float& u, float& v) const;
     // sp.ns with the material's normal map applied (sp.ns where it has none),
     // kept from reflecting wo into the surface, as Cycles' Normal Map node

@@ -33,11 +33,14 @@ void Scene::check_textures() {
         if (!std::isfinite(uvs_[i])) bad("uvs[" + std::to_string(i / 6) + "] has a non-finite value");
     for (size_t i = 0; i < colors_.size(); ++i)
         if (!std::isfinite(colors_[i])) bad("colors[" + std::to_string(i / 9) + "] has a non-finite value");
-    if (!generated_.empty() && generated_.size() != 9 * nt)
-        bad("generated must have shape (M, 3, 3): one point per triangle corner, got " +
-            std::to_string(generated_.size()) + " values for " + std::to_string(nt) + " triangles");
-    for (size_t i = 0; i < generated_.size(); ++i)
-        if (!std::isfinite(generated_[i])) bad("generated[" + std::to_string(i / 9) + "] has a non-finite value");
+    for (const auto& [values, name] : {std::pair{&generated_, "generated"}, std::pair{&object_coords_, "object_coords"}}) {
+        if (!values->empty() && values->size() != 9 * nt)
+            bad(std::string(name) + " must have shape (M, 3, 3): one point per triangle corner, got " +
+                std::to_string(values->size()) + " values for " + std::to_string(nt) + " triangles");
+        for (size_t i = 0; i < values->size(); ++i)
+            if (!std::isfinite((*values)[i]))
+                bad(std::string(name) + "[" + std::to_string(i / 9) + "] has a non-finite value");
+    }
     for (size_t i = 0; i < images_.size(); ++i)
         if (!images_[i]) bad("images[" + std::to_string(i) + "] is missing");
     for (size_t i = 0; i < textures_.size(); ++i) {
@@ -103,45 +106,50 @@ void Scene::check_textures() {
     }
 }
 
-// Generated coordinates exist on triangles only (Scene(generated=...)): a
-// material whose textures take them may not be on a sphere or a cone, and
-// triangles using it need the array.
+// Generated and Object coordinates exist on triangles only (Scene(generated=...),
+// Scene(object_coords=...)): a material whose textures take them may not be on
+// a sphere or a cone, and triangles using it need the array.
 void Scene::check_generated() const {
-    auto generated = [&](int32_t k) {
-        return k >= 0 && textures_[size_t(k)].coordinates == TextureCoords::Generated;
-    };
-    std::vector<uint8_t> uses(materials_.size(), 0);
-    for (size_t i = 0; i < materials_.size(); ++i) {
-        const Material& m = materials_[i];
-        uses[i] = generated(m.color_texture) || generated(m.roughness_texture) || generated(m.metallic_texture) ||
-                  generated(m.alpha_texture) || generated(m.emission_texture);
+    for (const TextureCoords coords : {TextureCoords::Generated, TextureCoords::Object}) {
+        auto reads = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].coordinates == coords; };
+        std::vector<uint8_t> uses(materials_.size(), 0);
+        for (size_t i = 0; i < materials_.size(); ++i) {
+            const Material& m = materials_[i];
+            uses[i] = reads(m.color_texture) || reads(m.roughness_texture) || reads(m.metallic_texture) ||
+                      reads(m.alpha_texture) || reads(m.emission_texture);
+        }
+        const std::string kind = enum_id(coords);
+        auto what = [&](int32_t mat) {
+            return "materials[" + std::to_string(mat) + "] has a texture at " + kind + " coordinates, ";
+        };
+        for (size_t i = 0; i < sphere_mat_.size(); ++i)
+            if (uses[size_t(sphere_mat_[i])])
+                bad(what(sphere_mat_[i]) + "which spheres do not have: sphere_materials[" + std::to_string(i) +
+                    "] uses it");
+        for (size_t i = 0; i < cone_mat_.size(); ++i)
+            if (uses[size_t(cone_mat_[i])])
+                bad(what(cone_mat_[i]) + "which cylinders do not have: cylinder_materials[" + std::to_string(i) +
+                    "] uses it");
+        const bool given = !(coords == TextureCoords::Generated ? generated_ : object_coords_).empty();
+        const std::string array = coords == TextureCoords::Generated ? "generated" : "object_coords";
+        if (!given)
+            for (size_t i = 0; i < tri_mat_.size(); ++i)
+                if (uses[size_t(tri_mat_[i])])
+                    bad(what(tri_mat_[i]) + "and triangle_materials[" + std::to_string(i) +
+                        "] uses it, but the scene has none (Scene(" + array + "=...))");
     }
-    auto what = [&](int32_t mat) {
-        return "materials[" + std::to_string(mat) + "] has a texture at generated coordinates, ";
-    };
-    for (size_t i = 0; i < sphere_mat_.size(); ++i)
-        if (uses[size_t(sphere_mat_[i])])
-            bad(what(sphere_mat_[i]) + "which spheres do not have: sphere_materials[" + std::to_string(i) + "] uses it");
-    for (size_t i = 0; i < cone_mat_.size(); ++i)
-        if (uses[size_t(cone_mat_[i])])
-            bad(what(cone_mat_[i]) + "which cylinders do not have: cylinder_materials[" + std::to_string(i) +
-                "] uses it");
-    if (generated_.empty())
-        for (size_t i = 0; i < tri_mat_.size(); ++i)
-            if (uses[size_t(tri_mat_[i])])
-                bad(what(tri_mat_[i]) + "and triangle_materials[" + std::to_string(i) +
-                    "] uses it, but the scene has no generated coordinates (Scene(generated=...))");
 }
 
-Vec3 Scene::hit_generated(const Hit& hit) const {
-    if (generated_.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
-    const float* c = &generated_[9 * size_t(hit.prim)];
+Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords) const {
+    const PooledVector<float>& values = coords == TextureCoords::Generated ? generated_ : object_coords_;
+    if (values.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
+    const float* c = &values[9 * size_t(hit.prim)];
     const float b0 = 1.0f - hit.u - hit.v;
     return Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
 }
 
 Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) const {
-    Vec3 p = t.coordinates == TextureCoords::Generated ? hit_generated(hit) : Vec3(u, v, 0);
+    Vec3 p = t.coordinates == TextureCoords::UV ? Vec3(u, v, 0) : hit_point(hit, t.coordinates);
     if (vector_mapped(t)) p = map_vector(t, p);
     if (t.kind == TextureKind::Checker) return checker_color(t, p);
     float x = p.x, y = p.y;

@@ -57,7 +57,7 @@ struct Texture {
     TextureKind kind = TextureKind::Image;
     int32_t image = -1;                                  // index into the scene's images
     // Where the lookup happens: the hit's (u, v, 0) from the UV map, or its
-    // Generated coordinates (Scene::texture_vector); then mapped by
+    // Generated or Object coordinates (Scene::hit_point); then mapped by
     // vector_transform (a 3 x 4 row-major affine map: Blender's Mapping node
     // on that vector). An image takes the result's (x, y) as its (u, v),
     // mapped on by uv_transform. The identity changes nothing, to the bit.

@@ -2,17 +2,19 @@
 Debian's 3.4: at the Generated coordinates it reads when nothing feeds its
 Vector, through a Texture Coordinate node's Generated output and a Mapping
 node, on a cube with a Subdivision modifier (Generated spans the cube before
-it), at the UV map, its Fac output, into a lit Principled BSDF; and an Image
-Texture at Generated coordinates. Before, a Checker was a warning and its
-input's default colour. Shapes without Generated coordinates (a 'Render as
-sphere' object, hair) export without an error, each with a warning.
+it), at the UV map, at a scaled cube's Object coordinates, its Fac output,
+into a lit Principled BSDF; and an Image Texture at Generated coordinates.
+Before, a Checker was a warning and its input's default colour. Shapes
+without Generated coordinates (a 'Render as sphere' object, hair) export
+without an error, each with a warning.
 Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene."""
 import numpy as np
 import pytest
 
 from runner import luminance_by_engine
 
-VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled")   # procedural_scenes.CHECKER_VARIANTS
+VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled",   # procedural_scenes.CHECKER_VARIANTS
+            "object")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 
 
@@ -45,6 +47,22 @@ def test_the_export_names_generated_coordinates_and_the_checker(export):
     # the cube's corners are the corners of its texture space
     assert out.generated.min() == pytest.approx(0.0, abs=1e-6) and out.generated.max() == pytest.approx(1.0, abs=1e-6)
     assert not out.warnings, out.warnings
+
+
+def test_object_coordinates_are_the_corners_in_object_space(export):
+    out = export("procedural_checker", variant="object")
+    (texture,) = out.textures
+    assert texture["coordinates"] == "object"
+    corners = out.object_coords.reshape(-1, 3)
+    np.testing.assert_allclose(np.abs(corners), 1.5, atol=1e-6)      # cube_object of size 3, before its scale
+    assert "generated" not in out.arrays
+
+
+def test_object_coordinates_of_another_object_are_named_in_a_warning(export):
+    out = export("procedural_checker", variant="object", other=True)
+    (texture,) = out.textures
+    assert texture["coordinates"] == "generated"                      # the Checker's own default
+    assert any("ShaderNodeTexCoord Object of another object" in w for w in out.warnings), out.warnings
 
 
 def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):

@@ -117,14 +117,14 @@ def grid_budget(primitives: int, density: float, max_cells: int) -> tuple[int, i
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,
              width: int = 1, height: int = 1, settings=None, normals: bool = True,
              texture_bytes: int = 0, uvs: bool = False, colors: bool = False,
-             tangents: bool = False, generated: bool = False) -> MemoryEstimate:
+             tangents: bool = False, corner_points: int = 0) -> MemoryEstimate:
     """Bytes needed to render a scene with these counts (see the module docstring).
 
     vertices defaults to 3 per triangle (unshared corners, the worst case).
     settings is a gridwalk.RenderSettings (defaults when None); its accel,
-    grid_density, max_cells, mailboxes and threads are used. uvs, colors,
-    generated: the triangles have corner UVs / colours / Generated
-    coordinates; tangents: a material has a
+    grid_density, max_cells, mailboxes and threads are used. uvs, colors:
+    the triangles have corner UVs / colours; corner_points: how many arrays
+    of corner points they have (Generated and Object coordinates); tangents: a material has a
     normal map (the core keeps a tangent per corner, 48 bytes a triangle,
     and needs 132 more while it builds them).
     """
@@ -155,7 +155,7 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
             mailboxes = prims * STAMP_BYTES * threads
     images = int(width) * int(height) * PIXEL_BYTES
     textures = (int(texture_bytes)
-                + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0) + (36 if generated else 0))
+                + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0) + 36 * int(corner_points))
                 + (triangles * TANGENT_BYTES if uvs and tangents else 0))
     return MemoryEstimate(scene_arrays, grid, mailboxes, images, textures)
 

@@ -163,12 +163,15 @@ class Scene:
                  cylinder_base=None, cylinder_apex=None, cylinder_base_radius=None,
                  cylinder_apex_radius=None, cylinder_materials=None,
                  materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0),
-                 uvs=None, colors=None, images=None, textures=None, world=None, generated=None):
+                 uvs=None, colors=None, images=None, textures=None, world=None, generated=None,
+                 object_coords=None):
         """uvs: (M, 3, 2) texture coordinates per triangle corner; colors:
         (M, 3, 3) RGB per triangle corner (Material.vertex_color); generated:
         (M, 3, 3) Blender's Generated coordinates per triangle corner, what
         textures with coordinates="generated" take (needed where a triangle's
-        material has one; spheres and cylinders have none); images:
+        material has one; spheres and cylinders have none); object_coords:
+        likewise Blender's Object coordinates (each corner in its object's
+        own space), for coordinates="object"; images:
         gridwalk.Image list that textures may refer to by index; textures:
         gridwalk.Texture list that materials and the world refer to by index
         (a Texture's image may also be a gridwalk.Image: each distinct Image
@@ -204,7 +207,7 @@ class Scene:
             [m.to_core() for m in self.materials], [l.to_core() for l in self.lights], self.camera.to_core(),
             self.background, _corners(uvs, "uvs", 2, n_tris), _corners(colors, "colors", 3, n_tris),
             [image._native for image in self.images], core_textures, self.world.to_core(),
-            _corners(generated, "generated", 3, n_tris))
+            _corners(generated, "generated", 3, n_tris), _corners(object_coords, "object_coords", 3, n_tris))
         self._accels = {}
 
     def moved(self, moves) -> "Scene":

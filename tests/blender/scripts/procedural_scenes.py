@@ -16,16 +16,18 @@ from scenes import cube_object, link, plain_world, reset, shader_material
 #   fac        the plane, the Checker's Fac into the Emission's Color (white and black)
 #   image      the cube, Texture Coordinate Generated -> Mapping -> an 8 x 8 Image Texture
 #   principled the cube, the Checker into a Principled BSDF's Base Color, lit by a sun
-CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled")
+#   object     the cube scaled (1.2, 0.8, 1.0), Texture Coordinate Object -> Mapping -> Checker (Scale 1.5)
+CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled", "object")
 COLORS = ((0.9, 0.6, 0.1, 1.0), (0.05, 0.1, 0.4, 1.0))
 SCALE = 3.7          # cube edges do not fall on pixel centres
 TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
 
 
-def procedural_checker_scene(variant="plane", resolution=(96, 72)):
+def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
-    a black world. Returns the Checker's settings."""
+    a black world (other: the Texture Coordinate node names another object, an
+    empty). Returns the Checker's settings."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac"):
         bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
@@ -35,6 +37,8 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72)):
         obj.rotation_euler = (math.radians(30.0), 0.0, math.radians(35.0))
         if variant == "subdivided":
             obj.modifiers.new("Subdivision", "SUBSURF").levels = 2
+        if variant == "object":
+            obj.scale = (1.2, 0.8, 1.0)
     if variant == "principled":
         mat = bpy.data.materials.new("Checkered")
         mat.use_nodes = True
@@ -56,11 +60,13 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72)):
     else:
         texture = nodes.new("ShaderNodeTexChecker")
         texture.inputs["Color1"].default_value, texture.inputs["Color2"].default_value = COLORS
-        texture.inputs["Scale"].default_value = SCALE
+        texture.inputs["Scale"].default_value = SCALE if variant != "object" else 1.5   # (object space spans 3)
     links.new(texture.outputs["Fac" if variant == "fac" else "Color"], target)
-    if variant in ("cube", "image", "uv"):
+    if variant in ("cube", "image", "uv", "object"):
         coords = nodes.new("ShaderNodeTexCoord")
-        source = coords.outputs["UV" if variant == "uv" else "Generated"]
+        source = coords.outputs[{"uv": "UV", "object": "Object"}.get(variant, "Generated")]
+        if other:
+            coords.object = link(bpy.data.objects.new("Empty", None))
         if variant != "uv":
             mapping = nodes.new("ShaderNodeMapping")
             mapping.vector_type = "POINT"

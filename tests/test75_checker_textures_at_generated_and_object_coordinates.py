@@ -1,9 +1,10 @@
 """Texture(kind="checker") is Blender's Checker Texture: color1 and color2 in
 cubes of side 1 / scale, chosen per pixel as Cycles chooses (checked here
-against numpy's evaluation of that rule), at the UV map's (u, v, 0) or at the
-Generated coordinates (Scene(generated=...)), mapped by vector_transform (a
-Mapping node); an image can take Generated coordinates too. What has no
-Generated coordinates (spheres, cylinders, a scene without the array) or
+against numpy's evaluation of that rule), at the UV map's (u, v, 0), at the
+Generated coordinates (Scene(generated=...)) or at the Object coordinates
+(Scene(object_coords=...)), mapped by vector_transform (a Mapping node); an
+image can take those coordinates too. What has no such coordinates
+(spheres, cylinders, a scene without the array) or
 cannot take a pattern (normal and bump maps, the environment) is refused with
 the field named. (Blender's side: tests/blender/test_b38.)"""
 from dataclasses import replace
@@ -96,6 +97,20 @@ def test_a_checker_at_the_uv_map_takes_u_v_and_zero():
     np.testing.assert_array_equal(image, _expected(first))
 
 
+def test_object_coordinates_are_their_own_array():
+    # the square's object space: scaled by 2 and moved, so that its Object coordinates differ from Generated
+    local = (VERTS * 2 + [0.25, -0.5, 0.7]).astype(np.float32)
+    texture = gw.Texture(kind="checker", coordinates="object", color1=RED, color2=BLUE, scale=1.3)
+    image = _render(texture, object_coords=local[TRIS], generated=None)
+    x, y = _pixel_points()
+    first = _cycles_checker(np.stack([2 * x + 0.25, 2 * y - 0.5, np.full_like(x, 0.7)], axis=-1), 1.3)
+    assert 0.2 < first.mean() < 0.8
+    np.testing.assert_array_equal(image, _expected(first))
+    # a scene with both arrays: each texture reads its own
+    both = _render(texture, object_coords=local[TRIS])
+    np.testing.assert_array_equal(both, image)
+
+
 def test_an_image_at_generated_coordinates_is_read_at_their_x_and_y():
     texels = np.random.default_rng(3).random((4, 4, 3)).astype(np.float32)
     picture = gw.Image(texels, colorspace="linear")
@@ -115,7 +130,10 @@ def _scene(**kw):
 
 
 @pytest.mark.parametrize("kw, message", [
-    ({"generated": None}, r"triangle_materials\[0\] uses it, but the scene has no generated"),
+    ({"generated": None}, r"triangle_materials\[0\] uses it, but the scene has none \(Scene\(generated=...\)\)"),
+    ({"textures": [gw.Texture(kind="checker", coordinates="object")]},
+     r"materials\[0\] has a texture at object coordinates, .* \(Scene\(object_coords=...\)\)"),
+    ({"object_coords": np.zeros((2, 3, 2))}, "object_coords must have shape"),
     ({"generated": np.zeros((1, 3, 3))}, "generated must have shape"),
     ({"generated": np.full((2, 3, 3), np.nan)}, r"generated\[0\] has a non-finite value"),
     ({"sphere_centers": [[0, 0, 3]], "sphere_radii": [1.0], "sphere_materials": [0]},
@@ -138,12 +156,12 @@ def test_unknown_kinds_and_coordinates_are_refused():
     with pytest.raises(ValueError, match="kind must be one of"):
         _scene(textures=[gw.Texture(kind="noise")])
     with pytest.raises(ValueError, match="coordinates must be one of"):
-        _scene(textures=[gw.Texture(kind="checker", coordinates="object")])
+        _scene(textures=[gw.Texture(kind="checker", coordinates="normal")])
 
 
 def test_the_generated_coordinates_count_in_the_memory_estimate():
     plain = memory.estimate(1000)
-    assert memory.estimate(1000, generated=True).total - plain.total == 1000 * 2 * 36
+    assert memory.estimate(1000, corner_points=2).total - plain.total == 1000 * 2 * 72
     scene = _scene()
     without = gw.Scene(VERTS, TRIS, materials=[gw.Material()])
     assert scene._native.memory_bytes - without._native.memory_bytes == 2 * 9 * 4

@@ -109,11 +109,13 @@ class Links:
         if node is None:
             return False
         if field in ("normal_texture", "bump_texture"):
+            before = set(self.points), self.uv_layer
             taken = self._take(socket, node, out, field, colour)
             texture = self.textures.textures[self.fields[field]] if taken else None
             if texture is not None and (texture.kind != "image" or texture.coordinates != "uv"
                                         or tuple(texture.vector_transform) != VECTOR_IDENTITY):
                 del self.fields[field]
+                self.points, self.uv_layer = before     # (nothing reads what it would have read)
                 self.textured.append(f"{socket.name} ({node.bl_idname}: normal and bump maps read images "
                                      "at the UV map only)")
                 return False
@@ -162,9 +164,10 @@ class Links:
         return False
 
     def _texture(self, node, output, adjust=None) -> int:
-        """The texture index of an Image or Checker Texture node's output."""
-        if node.type == "TEX_CHECKER":
-            return self.textures.checker(node, output, self._coords(node, "generated", False), adjust, self.textured)
+        """The texture index of an Image, Checker or Gradient Texture node's output."""
+        if node.type != "TEX_IMAGE":
+            return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
+                                            self.textured)
         return self.textures.texture(node, output, self._coords(node, "uv", True), adjust)
 
     def _coords(self, node, default, image) -> dict:

@@ -232,7 +232,13 @@ def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coord
         normals = _vertex_normals(mesh, n_verts) if domain == "POINT" else None
         data = MeshData(co, tri_verts, normals, slots, uvs, colors)
     if texspace is not None:
-        data.generated = generated_coordinates(data.co, texspace)[data.triangles]
+        # Blender's undeformed positions (each vertex before deforming modifiers and
+        # shape keys, as Cycles takes Generated coordinates; where the depsgraph kept
+        # none, the positions themselves)
+        orco = _get(mesh.vertices, "undeformed_co", n_verts, 3, np.float32)
+        if domain == "CORNER":
+            orco = orco[_corner_verts(mesh, n_loops)]
+        data.generated = generated_coordinates(orco, texspace)[data.triangles]
     if object_coords:
         data.object_coords = data.co[data.triangles]
     if uvs is not None:
@@ -318,8 +324,8 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     """The evaluated object's mesh (modifiers applied), read into arrays;
     layers = (uv layer, colour layer[, corner points]) as MaterialTable.layers
     gives them. The Generated coordinates take the texture space of the
-    object's mesh before its modifiers, as Cycles does (and the positions after
-    them, where Cycles takes them before deforming modifiers)."""
+    object's mesh before its modifiers and its undeformed positions, as Cycles
+    does (read_mesh)."""
     uv, color, points = (tuple(layers) + ((),))[:3]
     generated = "generated" in points
     texspace = texture_space(obj.data) if generated and getattr(obj, "type", "") == "MESH" else None

@@ -246,17 +246,23 @@ class TextureTable:
                               use_alpha=output == "Alpha", premultiply=premultiply, unassociate=unassociate,
                               **(coords or {}), **(adjust or {})))
 
-    def checker(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
-                problems: list | None = None) -> int:
-        """Index of the texture a Checker Texture node's `output` (Color, or Fac: white
-        and black) gives, as texture() takes coords and adjust. Linked Color1, Color2 or
-        Scale inputs take their own values, noted in `problems`."""
+    def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
+                   problems: list | None = None) -> int:
+        """Index of the texture a Checker or Gradient Texture node's `output` gives (a
+        Checker's Fac: white and black; a Gradient's Color and Fac are the same grey),
+        as texture() takes coords and adjust. Linked inputs other than the Vector
+        take their own values, noted in `problems`."""
         values = {}
-        for name in ("Color1", "Color2", "Scale"):
-            socket = node.inputs[name]
-            if socket.is_linked and problems is not None:
-                problems.append(f"{name} of {node.name!r} ({_source(socket)[0].bl_idname}: its own value is used)")
-            values[name] = input_value(socket)
+        for socket in node.inputs:
+            if socket.name == "Vector":
+                continue
+            source = _source(socket)[0]     # (None for constants: an RGB or Value node, a muted link)
+            if source is not None and problems is not None:
+                problems.append(f"{socket.name} of {node.name!r} ({source.bl_idname}: its own value is used)")
+            values[socket.name] = input_value(socket)
+        if node.type == "TEX_GRADIENT":
+            return self._add(dict(kind="gradient", gradient=node.gradient_type.lower(), **(coords or {}),
+                                  **(adjust or {})))
         if output in ("Fac", "Factor"):          # (5.0 names the output Factor)
             color1, color2 = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
         else:

@@ -1,8 +1,8 @@
-"""The texture coordinates an Image or Checker Texture node reads: its Vector input.
+"""The texture coordinates an Image, Checker or Gradient Texture node reads: its Vector input.
 
 An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
-that vector is the mesh's active render UV map, (u, v, 0) (a Checker
-Texture's: the object's Generated coordinates); a UV Map node gives a named
+that vector is the mesh's active render UV map, (u, v, 0) (a procedural
+texture's: the object's Generated coordinates); a UV Map node gives a named
 layer, a Texture Coordinate node's UV output the active render one, its
 Generated and Object outputs those coordinates (gridwalk.Texture.coordinates;
 Object only where the node names no other object). Mapping nodes between them and the texture (any number, chained) move
@@ -13,7 +13,7 @@ the vector by an affine map of 3-space, as Blender defines them:
 with R = Rz Ry Rx of the node's Rotation (Euler XYZ), S its Scale and L its
 Location. Since the UV map's z is 0, the composition restricted to (u, v) ->
 (x, y) is a 2 x 3 affine map, an image's gridwalk.Texture.uv_transform;
-a Checker (or an image at Generated coordinates) takes the whole 3 x 4 map,
+a procedural texture (or an image at other coordinates) takes the whole 3 x 4 map,
 gridwalk.Texture.vector_transform. A Mapping whose
 own Vector is unlinked maps that input's value, as Cycles does: the texture
 then shows one texel everywhere. A Location, Rotation or Scale fed by a Value

@@ -185,11 +185,11 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER")   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT")   # the nodes gridwalk.Texture models
 
 
 def image_through_nodes(socket):
-    """(Image or Checker Texture node, its output's name, Texture fields) for an input
+    """(Image, Checker or Gradient Texture node, its output's name, Texture fields) for an input
     fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
     steps = []
     try:

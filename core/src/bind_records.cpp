@@ -60,6 +60,7 @@ void bind_records(nb::module_& m) {
         .def_rw("color1", &Texture::color1)
         .def_rw("color2", &Texture::color2)
         .def_rw("scale", &Texture::scale)
+        .def_rw("gradient", &Texture::gradient)
         .def_rw("interpolation", &Texture::interpolation)
         .def_rw("extension", &Texture::extension)
         .def_rw("use_alpha", &Texture::use_alpha)

@@ -93,12 +93,14 @@ void bind_settings(nb::module_& m) {
     bind_enum<Extension>(m);
     bind_enum<TextureKind>(m);
     bind_enum<TextureCoords>(m);
+    bind_enum<Gradient>(m);
     m.def("light_kinds", &enum_items<LightKind>);
     m.def("projections", &enum_items<Projection>);
     m.def("interpolations", &enum_items<Interpolation>);
     m.def("extensions", &enum_items<Extension>);
     m.def("texture_kinds", &enum_items<TextureKind>);
     m.def("texture_coords", &enum_items<TextureCoords>);
+    m.def("gradients", &enum_items<Gradient>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");
     cls.def(nb::init<>());

@@ -91,8 +91,19 @@ GW_ENUM(Extension, GW_EXTENSIONS)
 
 #define GW_TEXTURE_KINDS(X)                                                                              \
     X(Image, "image", "Image", "An image, looked up at the texture coordinates")                           \
-    X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale")
+    X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale") \
+    X(Gradient, "gradient", "Gradient", "Blender's Gradient Texture: a grey ramp of the point, shaped by gradient")
 GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
+
+#define GW_GRADIENTS(X)                                                                                   \
+    X(Linear, "linear", "Linear", "x")                                                                      \
+    X(Quadratic, "quadratic", "Quadratic", "max(x, 0) squared")                                             \
+    X(Easing, "easing", "Easing", "x clamped to [0, 1], eased: 3 x^2 - 2 x^3")                             \
+    X(Diagonal, "diagonal", "Diagonal", "(x + y) / 2")                                                      \
+    X(Spherical, "spherical", "Spherical", "1 - the distance from the origin, from 0")                     \
+    X(QuadraticSphere, "quadratic_sphere", "Quadratic Sphere", "spherical, squared")                       \
+    X(Radial, "radial", "Radial", "the angle about z, a turn from -x round to -x again")
+GW_ENUM(Gradient, GW_GRADIENTS)
 
 #define GW_TEXTURE_COORDS(X)                                                                                \
     X(UV, "uv", "UV", "The triangles' UV map (u, v, 0)")                                                    \

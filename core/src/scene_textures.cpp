@@ -152,6 +152,7 @@ Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) co
     Vec3 p = t.coordinates == TextureCoords::UV ? Vec3(u, v, 0) : hit_point(hit, t.coordinates);
     if (vector_mapped(t)) p = map_vector(t, p);
     if (t.kind == TextureKind::Checker) return checker_color(t, p);
+    if (t.kind == TextureKind::Gradient) return gradient_color(t, p);
     float x = p.x, y = p.y;
     if (uv_mapped(t)) map_uv(t, x, y);
     return sample_image(*images_[size_t(t.image)], t, x, y);

@@ -116,9 +116,33 @@ void validate_texture(const Texture& t, const std::string& where) {
     for (float x : t.color2)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".color2 has a non-finite value");
     if (!std::isfinite(t.scale)) throw std::invalid_argument(where + ".scale is not finite");
+    if (!enum_valid(t.gradient)) throw std::invalid_argument(where + ".gradient is not a gradient type");
     if (t.kind != TextureKind::Image && t.image != -1)
         throw std::invalid_argument(where + ".image = " + std::to_string(t.image) + ": a " + enum_id(t.kind) +
                                     " texture has no image (-1)");
+}
+
+Rgba gradient_color(const Texture& t, const Vec3& p) {
+    float f = 0;
+    switch (t.gradient) {
+    case Gradient::Linear: f = p.x; break;
+    case Gradient::Quadratic: { const float r = std::max(p.x, 0.0f); f = r * r; break; }
+    case Gradient::Easing: {
+        const float r = std::min(std::max(p.x, 0.0f), 1.0f), s = r * r;
+        f = 3.0f * s - 2.0f * s * r;
+        break;
+    }
+    case Gradient::Diagonal: f = (p.x + p.y) * 0.5f; break;
+    case Gradient::Radial: f = std::atan2(p.y, p.x) / (2.0f * float(M_PI)) + 0.5f; break;
+    case Gradient::Spherical:
+    case Gradient::QuadraticSphere: {
+        const float r = std::max(0.999999f - std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), 0.0f);
+        f = t.gradient == Gradient::Spherical ? r : r * r;
+        break;
+    }
+    }
+    f = f > 0 ? (f < 1 ? f : 1) : 0;   // (NaN -> 0)
+    return Rgba{Vec3(f, f, f), 1};
 }
 
 Rgba checker_color(const Texture& t, const Vec3& p) {

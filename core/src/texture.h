@@ -67,6 +67,9 @@ struct Texture {
     // as Cycles counts it (checker_color), color2 elsewhere; scale as Blender's Scale.
     std::array<float, 3> color1 = {0.8f, 0.8f, 0.8f}, color2 = {0.2f, 0.2f, 0.2f};
     float scale = 5.0f;
+    // Gradient: the shape of the ramp (Blender's Gradient Texture's type); its
+    // value, clamped to [0, 1], is the grey colour.
+    Gradient gradient = Gradient::Linear;
     Interpolation interpolation = Interpolation::Linear;
     Extension extension = Extension::Repeat;
     bool use_alpha = false;                              // the Alpha output instead of Color
@@ -124,6 +127,10 @@ inline Vec3 map_vector(const Texture& t, const Vec3& p) {
 // scale nudged by +1e-6 and shrunk by 0.999999, which keeps a plane at an
 // integer coordinate, such as a face of the unit cube, on one side).
 Rgba checker_color(const Texture& t, const Vec3& p);
+
+// Blender's Gradient Texture at the (mapped) vector p: grey, its value as
+// Cycles computes it for t.gradient, clamped to [0, 1].
+Rgba gradient_color(const Texture& t, const Vec3& p);
 
 // (u, v) mapped by t.uv_transform (see Texture).
 inline void map_uv(const Texture& t, float& u, float& v) {

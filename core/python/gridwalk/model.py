@@ -23,6 +23,7 @@ INTERPOLATIONS = tuple(kind for kind, _, _ in _core.interpolations())
 EXTENSIONS = tuple(kind for kind, _, _ in _core.extensions())
 TEXTURE_KINDS = tuple(kind for kind, _, _ in _core.texture_kinds())
 TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
+GRADIENTS = tuple(kind for kind, _, _ in _core.gradients())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -197,7 +198,9 @@ def _choice(choices, enum):
 class Texture(Record):
     """How a material (or the world) samples an image or a procedural pattern.
     kind: image | checker (Blender's Checker Texture: color1 and color2, RGB,
-    in alternating cubes of side 1 / scale, as Cycles lays them; no image).
+    in alternating cubes of side 1 / scale, as Cycles lays them; no image) |
+    gradient (Blender's Gradient Texture, grey: gradient = linear | quadratic
+    | easing | diagonal | spherical | quadratic_sphere | radial; no image).
     image: a gridwalk.Image, or an index into Scene(images=...); an Image used
     by several textures is stored once. coordinates: uv (the hit's (u, v, 0)
     from Scene(uvs=...)) | generated (Blender's Generated coordinates from
@@ -230,6 +233,7 @@ class Texture(Record):
     color1: tuple = tuple(_f32(x) for x in _TEX.color1)
     color2: tuple = tuple(_f32(x) for x in _TEX.color2)
     scale: float = _f32(_TEX.scale)
+    gradient: str = GRADIENTS[0]
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
@@ -252,7 +256,8 @@ class Texture(Record):
             return _scalar(value, int, where)
         return {"image": image, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
                 "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
-                "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords)}
+                "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
+                "gradient": _choice(GRADIENTS, _core.Gradient)}
 
 
 @dataclass

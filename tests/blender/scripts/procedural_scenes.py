@@ -17,7 +17,11 @@ from scenes import cube_object, link, plain_world, reset, shader_material
 #   image      the cube, Texture Coordinate Generated -> Mapping -> an 8 x 8 Image Texture
 #   principled the cube, the Checker into a Principled BSDF's Base Color, lit by a sun
 #   object     the cube scaled (1.2, 0.8, 1.0), Texture Coordinate Object -> Mapping -> Checker (Scale 1.5)
-CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled", "object")
+#   twisted    the cube twisted 60 degrees by a Simple Deform modifier: Generated is taken before it
+#   valued     the plane, a Value node (2.0) into the Checker's Scale and an RGB node into its Color1
+CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled", "object", "twisted",
+                    "valued")
+VALUE_SCALE, RGB_COLOR = 2.0, (0.2, 0.8, 0.3, 1.0)
 COLORS = ((0.9, 0.6, 0.1, 1.0), (0.05, 0.1, 0.4, 1.0))
 SCALE = 3.7          # cube edges do not fall on pixel centres
 TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
@@ -29,7 +33,7 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
     a black world (other: the Texture Coordinate node names another object, an
     empty). Returns the Checker's settings."""
     reset(resolution=tuple(resolution))
-    if variant in ("plane", "uv", "fac"):
+    if variant in ("plane", "uv", "fac", "valued"):
         bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
         obj = bpy.context.object
     else:
@@ -39,6 +43,9 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
             obj.modifiers.new("Subdivision", "SUBSURF").levels = 2
         if variant == "object":
             obj.scale = (1.2, 0.8, 1.0)
+        if variant == "twisted":
+            twist = obj.modifiers.new("Twist", "SIMPLE_DEFORM")
+            twist.deform_method, twist.angle = "TWIST", math.radians(60.0)
     if variant == "principled":
         mat = bpy.data.materials.new("Checkered")
         mat.use_nodes = True
@@ -62,6 +69,11 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
         texture.inputs["Color1"].default_value, texture.inputs["Color2"].default_value = COLORS
         texture.inputs["Scale"].default_value = SCALE if variant != "object" else 1.5   # (object space spans 3)
     links.new(texture.outputs["Fac" if variant == "fac" else "Color"], target)
+    if variant == "valued":
+        value, rgb = nodes.new("ShaderNodeValue"), nodes.new("ShaderNodeRGB")
+        value.outputs[0].default_value, rgb.outputs[0].default_value = VALUE_SCALE, RGB_COLOR
+        links.new(value.outputs[0], texture.inputs["Scale"])
+        links.new(rgb.outputs[0], texture.inputs["Color1"])
     if variant in ("cube", "image", "uv", "object"):
         coords = nodes.new("ShaderNodeTexCoord")
         source = coords.outputs[{"uv": "UV", "object": "Object"}.get(variant, "Generated")]
@@ -78,7 +90,7 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
     obj.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
-    return {"colors": COLORS, "scale": SCALE}
+    return {"colors": COLORS, "scale": SCALE, "value_scale": VALUE_SCALE, "rgb": RGB_COLOR}
 
 
 def checker_material():
@@ -92,8 +104,10 @@ def checker_material():
 
 def checker_on_shapes_scene(resolution=(96, 72)):
     """hair_scene's strands (where the Python API makes hair curves) and a UV sphere flagged
-    'Render as sphere', both with checker_material: shapes without Generated coordinates.
-    Returns whether the hair exists."""
+    'Render as sphere', both with checker_material: shapes without Generated coordinates;
+    and a second flagged sphere, Bumpy, whose Principled BSDF's Normal is a Bump node whose
+    Height a Checker gives (which Gridwalk does not read: it stays a sphere). Returns
+    whether the hair exists."""
     from scenes import hair_scene, uv_sphere_object
     made = hair_scene(resolution=resolution)["segments"] is not None
     mat = checker_material()
@@ -103,5 +117,43 @@ def checker_on_shapes_scene(resolution=(96, 72)):
     ball.location = (0.0, -2.0, 0.0)
     ball.gridwalk.render_as_sphere = True
     ball.data.materials.append(mat)
+    bumpy = link(uv_sphere_object("Bumpy", 1.0))
+    bumpy.location = (2.5, -2.0, 0.0)
+    bumpy.gridwalk.render_as_sphere = True
+    bumped = bpy.data.materials.new("Bumped")
+    bumped.use_nodes = True
+    nodes = bumped.node_tree.nodes
+    bump = nodes.new("ShaderNodeBump")
+    bumped.node_tree.links.new(nodes.new("ShaderNodeTexChecker").outputs["Fac"], bump.inputs["Height"])
+    bumped.node_tree.links.new(bump.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
+    bumpy.data.materials.append(bumped)
     bpy.context.view_layer.update()
     return {"hair": made}
+
+
+GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
+
+
+def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72)):
+    """A plane facing the camera, its Emission's Color a Gradient Texture of type `gradient`
+    at the plane's Object coordinates through a Mapping node: the ramps from x = 0 to 1
+    across the plane (moved and scaled so that both clamped ends show), the spheres and
+    the radial one about its centre."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    mat = shader_material("Graded", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    texture = nodes.new("ShaderNodeTexGradient")
+    texture.gradient_type = gradient
+    mapping = nodes.new("ShaderNodeMapping")
+    centred = gradient in ("SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
+    mapping.inputs["Location"].default_value = (0.0, 0.0, 0.0) if centred else (0.5, 0.45, 0.0)
+    mapping.inputs["Scale"].default_value = (0.3, 0.3, 0.3) if centred else (0.16, 0.12, 0.16)
+    links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
+    links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], nodes["Emission"].inputs["Color"])
+    plane.data.materials.append(mat)
+    plain_world("World", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {}

@@ -1,6 +1,7 @@
 """Texture(kind="checker") is Blender's Checker Texture: color1 and color2 in
 cubes of side 1 / scale, chosen per pixel as Cycles chooses (checked here
-against numpy's evaluation of that rule), at the UV map's (u, v, 0), at the
+against numpy's evaluation of that rule); Texture(kind="gradient") its
+Gradient Texture, each type's grey ramp as Cycles computes it; at the UV map's (u, v, 0), at the
 Generated coordinates (Scene(generated=...)) or at the Object coordinates
 (Scene(object_coords=...)), mapped by vector_transform (a Mapping node); an
 image can take those coordinates too. What has no such coordinates
@@ -111,6 +112,29 @@ def test_object_coordinates_are_their_own_array():
     np.testing.assert_array_equal(both, image)
 
 
+def _cycles_gradient(kind, p):
+    """Blender's Gradient Texture value at the points p (..., 3), clamped, as Cycles computes it."""
+    x, y = p[..., 0], p[..., 1]
+    sphere = np.maximum(0.999999 - np.linalg.norm(p, axis=-1), 0)
+    r = np.clip(x, 0, 1)
+    f = {"linear": x, "quadratic": np.maximum(x, 0) ** 2, "easing": 3 * r * r - 2 * r * r * r,
+         "diagonal": (x + y) / 2, "spherical": sphere, "quadratic_sphere": sphere ** 2,
+         "radial": np.arctan2(y, x) / (2 * np.pi) + 0.5}[kind]
+    return np.clip(f, 0, 1)
+
+
+@pytest.mark.parametrize("kind", ["linear", "quadratic", "easing", "diagonal", "spherical", "quadratic_sphere",
+                                  "radial"])
+def test_a_gradient_is_the_grey_ramp_cycles_computes(kind):
+    # object space: the square spans [-1.2, 1.2] x [-1.2, 1.2] at z = 0.3: every ramp's clamped ends show
+    local = np.column_stack([1.2 * VERTS[:, 0], 1.2 * VERTS[:, 1], np.full(4, 0.3)]).astype(np.float32)
+    image = _render(gw.Texture(kind="gradient", gradient=kind, coordinates="object"), object_coords=local[TRIS])
+    x, y = _pixel_points()
+    expected = _cycles_gradient(kind, np.stack([1.2 * x, 1.2 * y, np.full_like(x, 0.3)], axis=-1))
+    assert expected.std() > 0.1
+    np.testing.assert_allclose(image, np.repeat(expected[..., None], 3, axis=-1), atol=2e-5)
+
+
 def test_an_image_at_generated_coordinates_is_read_at_their_x_and_y():
     texels = np.random.default_rng(3).random((4, 4, 3)).astype(np.float32)
     picture = gw.Image(texels, colorspace="linear")
@@ -157,6 +181,8 @@ def test_unknown_kinds_and_coordinates_are_refused():
         _scene(textures=[gw.Texture(kind="noise")])
     with pytest.raises(ValueError, match="coordinates must be one of"):
         _scene(textures=[gw.Texture(kind="checker", coordinates="normal")])
+    with pytest.raises(ValueError, match="gradient must be one of"):
+        _scene(textures=[gw.Texture(kind="gradient", gradient="wavy")])
 
 
 def test_the_generated_coordinates_count_in_the_memory_estimate():

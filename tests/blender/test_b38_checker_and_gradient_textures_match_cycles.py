@@ -2,20 +2,25 @@
 Debian's 3.4: at the Generated coordinates it reads when nothing feeds its
 Vector, through a Texture Coordinate node's Generated output and a Mapping
 node, on a cube with a Subdivision modifier (Generated spans the cube before
-it), at the UV map, at a scaled cube's Object coordinates, its Fac output,
+it) and on one twisted by a Simple Deform modifier (Generated is taken before
+it), with a Value node into its Scale and an RGB node into its Color1, at the UV map, at a scaled cube's Object coordinates, its Fac output,
 into a lit Principled BSDF; and an Image Texture at Generated coordinates.
 Before, a Checker was a warning and its input's default colour. Shapes
 without Generated coordinates (a 'Render as sphere' object, hair) export
 without an error, each with a warning.
-Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene."""
+Blender's Gradient Texture, each of its seven types at a plane's Object
+coordinates through a Mapping node, renders as in Cycles too.
+Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene,
+procedural_gradient_scene."""
 import numpy as np
 import pytest
 
 from runner import luminance_by_engine
 
 VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled",   # procedural_scenes.CHECKER_VARIANTS
-            "object")
+            "object", "twisted", "valued")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +63,14 @@ def test_object_coordinates_are_the_corners_in_object_space(export):
     assert "generated" not in out.arrays
 
 
+def test_constant_nodes_into_the_checker_give_their_values(export):
+    out = export("procedural_checker", variant="valued")
+    (texture,) = out.textures
+    assert texture["scale"] == pytest.approx(out.expected["value_scale"])
+    np.testing.assert_allclose(texture["color1"], out.expected["rgb"][:3], rtol=1e-6)
+    assert not out.warnings, out.warnings
+
+
 def test_object_coordinates_of_another_object_are_named_in_a_warning(export):
     out = export("procedural_checker", variant="object", other=True)
     (texture,) = out.textures
@@ -68,11 +81,29 @@ def test_object_coordinates_of_another_object_are_named_in_a_warning(export):
 def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):
     out = export("checker_on_shapes")
     assert "error" not in out.info, out.info.get("error")
-    assert len(out.sphere_radii) == 0                     # the flagged sphere went out as its mesh ...
-    assert len(out.generated) == len(out.triangles) > 0   # ... with Generated coordinates
+    assert len(out.sphere_radii) == 1                     # Bumpy stays a sphere (its checker is not read) ...
+    assert len(out.generated) == len(out.triangles) > 0   # ... Ball went out as its mesh, with Generated coordinates
     warnings = " ".join(out.warnings)
     assert "rendered as their meshes: 'Ball'" in warnings
     if out.expected["hair"]:
         textures = [out.materials[i]["color_texture"] for i in np.unique(out.cylinder_materials)]
         assert textures == [-1]                           # the strands' copy of the material has no checker
         assert "not read on point clouds and hair" in warnings
+
+
+@pytest.fixture(scope="module")
+def gradients(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"gradient_{module_blender}")
+    return luminance_by_engine(module_blender, out, "procedural_gradient", ENGINES, {g: {"gradient": g} for g in GRADIENTS})
+
+
+@pytest.mark.parametrize("gradient", GRADIENTS)
+def test_the_gradient_ramps_as_in_cycles(gradients, gradient):
+    ours, cycles = gradients[("GRIDWALK", gradient)], gradients[("CYCLES", gradient)]
+    assert cycles.std() > 0.15
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.998
+    assert np.abs(ours - cycles).mean() < 0.005
+    # (the plane's edges meet the black world; the radial ramp's seam, where it jumps from 1 to 0, is
+    # anti-aliased by different samples in each engine: two rows of pixels there differ by a sample's share)
+    inner = np.abs(ours - cycles)[3:-3, 3:-3]
+    assert np.percentile(inner, 98) < 0.005

@@ -23,18 +23,30 @@ ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES":
 GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
 
 
+def _both(module_blender, tmp_path_factory, scene, key, values):
+    """{(engine, value): luminance} of `scene` with its option `key` set to each of `values`."""
+    out = tmp_path_factory.mktemp(f"{scene}_{module_blender}")
+    return luminance_by_engine(module_blender, out, scene, ENGINES, {v: {key: v} for v in values})
+
+
+def _like_cycles(renders, key, spread, correlation, difference):
+    """(ours, Cycles') images after checking that Cycles' shows a pattern (its spread) and ours
+    correlates with it and differs from it by less than `difference` on average."""
+    ours, cycles = renders[("GRIDWALK", key)], renders[("CYCLES", key)]
+    assert cycles.std() > spread                                         # a pattern, not a flat colour
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > correlation
+    assert np.abs(ours - cycles).mean() < difference
+    return ours, cycles
+
+
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
-    out = tmp_path_factory.mktemp(f"checker_{module_blender}")
-    return luminance_by_engine(module_blender, out, "procedural_checker", ENGINES, {v: {"variant": v} for v in VARIANTS})
+    return _both(module_blender, tmp_path_factory, "procedural_checker", "variant", VARIANTS)
 
 
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_the_checker_lands_where_cycles_puts_it(renders, variant):
-    ours, cycles = renders[("GRIDWALK", variant)], renders[("CYCLES", variant)]
-    assert cycles.std() > 0.1                                            # a pattern, not a flat colour
-    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.99
-    assert np.abs(ours - cycles).mean() < 0.015
+    _like_cycles(renders, variant, 0.1, 0.99, 0.015)
 
 
 def test_the_pattern_is_not_the_default_colour(renders):
@@ -93,16 +105,12 @@ def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export
 
 @pytest.fixture(scope="module")
 def gradients(module_blender, tmp_path_factory):
-    out = tmp_path_factory.mktemp(f"gradient_{module_blender}")
-    return luminance_by_engine(module_blender, out, "procedural_gradient", ENGINES, {g: {"gradient": g} for g in GRADIENTS})
+    return _both(module_blender, tmp_path_factory, "procedural_gradient", "gradient", GRADIENTS)
 
 
 @pytest.mark.parametrize("gradient", GRADIENTS)
 def test_the_gradient_ramps_as_in_cycles(gradients, gradient):
-    ours, cycles = gradients[("GRIDWALK", gradient)], gradients[("CYCLES", gradient)]
-    assert cycles.std() > 0.15
-    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.998
-    assert np.abs(ours - cycles).mean() < 0.005
+    ours, cycles = _like_cycles(gradients, gradient, 0.15, 0.998, 0.005)
     # (the plane's edges meet the black world; the radial ramp's seam, where it jumps from 1 to 0, is
     # anti-aliased by different samples in each engine: two rows of pixels there differ by a sample's share)
     inner = np.abs(ours - cycles)[3:-3, 3:-3]

@@ -71,6 +71,8 @@ from .node_links import _socket, _source, input_value
 from .uv_mapping import VECTOR_IDENTITY, texture_fields
 from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs
 
+RAMP_INTERPOLATIONS = {"LINEAR": "linear", "EASE": "ease", "CONSTANT": "constant"}   # Color Ramp -> Texture
+
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
 GRIDWALK_MATERIAL = "gridwalk_material"
@@ -113,7 +115,7 @@ class Links:
             taken = self._take(socket, node, out, field, colour)
             texture = self.textures.textures[self.fields[field]] if taken else None
             if texture is not None and (texture.kind != "image" or texture.coordinates != "uv"
-                                        or tuple(texture.vector_transform) != VECTOR_IDENTITY):
+                                        or tuple(texture.vector_transform) != VECTOR_IDENTITY or texture.ramp):
                 del self.fields[field]
                 self.points, self.uv_layer = before     # (nothing reads what it would have read)
                 self.textured.append(f"{socket.name} ({node.bl_idname}: normal and bump maps read images "
@@ -126,6 +128,8 @@ class Links:
         if node.type in TEXTURE_NODES and self.textures is not None:
             self.fields[field] = self._texture(node, out.name)
             return True
+        if node.type == "VALTORGB" and self.textures is not None:
+            return self._ramp(socket, node, out, field)
         if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
             self.fields["vertex_color"] = True
             self.color_layer = getattr(node, "layer_name", "") or ""
@@ -162,6 +166,26 @@ class Links:
             self.color_layer = getattr(attribute, "layer_name", "") or ""
             return True
         return False
+
+    def _ramp(self, socket, node, out, field) -> bool:
+        """A Color Ramp's Color output whose Fac a texture gives (through the value
+        nodes): that texture with the ramp (Texture.ramp). RGB mode, Linear, Ease and
+        Constant interpolation; others (and the Alpha output) are named in a warning."""
+        image, output, adjust = image_through_nodes(node.inputs["Fac"])
+        if image is None or out.name != "Color":
+            why = "its Alpha output" if image is not None else f"Fac: {adjust or 'no texture'}"
+            self.textured.append(f"{socket.name} ({node.bl_idname}, {why})")
+            return False
+        ramp = node.color_ramp
+        interpolation = RAMP_INTERPOLATIONS.get(ramp.interpolation)
+        if interpolation is None:
+            self.textured.append(f"interpolation {ramp.interpolation.title()} of {node.name!r} (read as Linear)")
+        if ramp.color_mode != "RGB":
+            self.textured.append(f"colour mode {ramp.color_mode} of {node.name!r} (read as RGB)")
+        stops = tuple(sorted((float(e.position), *(float(c) for c in e.color)) for e in ramp.elements))
+        index = self._texture(image, output, adjust)
+        self.fields[field] = self.textures.with_ramp(index, stops, interpolation or "linear")
+        return True
 
     def _texture(self, node, output, adjust=None) -> int:
         """The texture index of an Image, Checker or Gradient Texture node's output."""

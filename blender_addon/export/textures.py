@@ -20,6 +20,8 @@ the Color and Alpha outputs of one node are two textures of one image.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from gridwalk import Image, Texture
@@ -269,6 +271,14 @@ class TextureTable:
             color1, color2 = (tuple(float(c) for c in values[k][:3]) for k in ("Color1", "Color2"))
         return self._add(dict(kind="checker", color1=color1, color2=color2, scale=float(values["Scale"]),
                               **(coords or {}), **(adjust or {})))
+
+    def with_ramp(self, index: int, stops: tuple, interpolation: str) -> int:
+        """Index of texture `index` with a colour ramp (Texture.ramp: (position, R, G, B, A)
+        stops in increasing position; Texture.ramp_interpolation)."""
+        base = self.textures[index]
+        fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
+        fields.update(ramp=stops, ramp_interpolation=interpolation)
+        return self._add(fields)
 
     def _add(self, fields: dict) -> int:
         """Index of the texture with these gridwalk.Texture fields (each distinct one once)."""

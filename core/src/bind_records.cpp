@@ -4,6 +4,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 #include "bind_casters.h"
 #include "bindings.h"
@@ -61,6 +62,8 @@ void bind_records(nb::module_& m) {
         .def_rw("color2", &Texture::color2)
         .def_rw("scale", &Texture::scale)
         .def_rw("gradient", &Texture::gradient)
+        .def_rw("ramp", &Texture::ramp)
+        .def_rw("ramp_interpolation", &Texture::ramp_interpolation)
         .def_rw("interpolation", &Texture::interpolation)
         .def_rw("extension", &Texture::extension)
         .def_rw("use_alpha", &Texture::use_alpha)

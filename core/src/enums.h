@@ -105,6 +105,12 @@ GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
     X(Radial, "radial", "Radial", "the angle about z, a turn from -x round to -x again")
 GW_ENUM(Gradient, GW_GRADIENTS)
 
+#define GW_RAMP_INTERPOLATIONS(X)                                                                         \
+    X(Linear, "linear", "Linear", "Straight lines between the stops' colours")                             \
+    X(Ease, "ease", "Ease", "Between two stops t eased to 3 t^2 - 2 t^3")                                  \
+    X(Constant, "constant", "Constant", "Each stop's colour up to the next stop")
+GW_ENUM(RampInterpolation, GW_RAMP_INTERPOLATIONS)
+
 #define GW_TEXTURE_COORDS(X)                                                                                \
     X(UV, "uv", "UV", "The triangles' UV map (u, v, 0)")                                                    \
     X(Generated, "generated", "Generated",                                                                  \

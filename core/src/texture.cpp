@@ -117,9 +117,58 @@ void validate_texture(const Texture& t, const std::string& where) {
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".color2 has a non-finite value");
     if (!std::isfinite(t.scale)) throw std::invalid_argument(where + ".scale is not finite");
     if (!enum_valid(t.gradient)) throw std::invalid_argument(where + ".gradient is not a gradient type");
+    if (!enum_valid(t.ramp_interpolation))
+        throw std::invalid_argument(where + ".ramp_interpolation is not a ramp interpolation");
+    if (t.ramp.size() % 5 || t.ramp.size() > 5 * kMaxRampStops)
+        throw std::invalid_argument(where + ".ramp has " + std::to_string(t.ramp.size()) +
+                                    " values: 5 per stop (position, R, G, B, A), at most " +
+                                    std::to_string(kMaxRampStops) + " stops");
+    for (size_t i = 0; i < t.ramp.size(); ++i)
+        if (!std::isfinite(t.ramp[i]))
+            throw std::invalid_argument(where + ".ramp stop " + std::to_string(i / 5) + " has a non-finite value");
+    for (size_t i = 5; i < t.ramp.size(); i += 5)
+        if (!(t.ramp[i] >= t.ramp[i - 5]))
+            throw std::invalid_argument(where + ".ramp stop " + std::to_string(i / 5) +
+                                        " lies before the one before it: give the stops in increasing position");
     if (t.kind != TextureKind::Image && t.image != -1)
         throw std::invalid_argument(where + ".image = " + std::to_string(t.image) + ": a " + enum_id(t.kind) +
                                     " texture has no image (-1)");
+}
+
+namespace {
+
+// Blender's Color Ramp at f: the stops' colours, before the first and after
+// the last stop their colours, between two stops as t.ramp_interpolation says
+// (Constant: the lower stop's).
+Vec3 ramp_at(const Texture& t, float f) {
+    const float* r = t.ramp.data();
+    const size_t n = t.ramp.size() / 5;
+    auto color = [&](size_t k) { return Vec3(r[5 * k + 1], r[5 * k + 2], r[5 * k + 3]); };
+    if (!(f > r[0])) return color(0);
+    if (f >= r[5 * (n - 1)]) return color(n - 1);
+    size_t k = 1;
+    while (r[5 * k] <= f) ++k;                             // stops k - 1 and k enclose f
+    if (t.ramp_interpolation == RampInterpolation::Constant) return color(k - 1);
+    const float a = r[5 * (k - 1)], b = r[5 * k];
+    float s = (f - a) / (b - a);                           // (b > a: a <= f < b)
+    if (t.ramp_interpolation == RampInterpolation::Ease) s = s * s * (3.0f - 2.0f * s);
+    return color(k - 1) * (1.0f - s) + color(k) * s;
+}
+
+}  // namespace
+
+// As Cycles evaluates a Color Ramp: from a table of the ramp at 256 evenly
+// spaced values of [0, 1], f clamped to [0, 1], read between its entries
+// (the entry below f where the ramp is Constant). The two entries around f
+// are computed here instead of stored.
+Vec3 ramp_color(const Texture& t, float f) {
+    constexpr int kTable = 256;
+    const float x = (f > 0 ? (f < 1 ? f : 1) : 0) * float(kTable - 1);   // (NaN -> 0)
+    const int i = int(x);
+    const float s = x - float(i);
+    const Vec3 below = ramp_at(t, float(i) / float(kTable - 1));
+    if (t.ramp_interpolation == RampInterpolation::Constant || !(s > 0)) return below;
+    return below * (1.0f - s) + ramp_at(t, float(i + 1) / float(kTable - 1)) * s;
 }
 
 Rgba gradient_color(const Texture& t, const Vec3& p) {

@@ -50,6 +50,8 @@ private:
     std::vector<float> floats_;
 };
 
+constexpr size_t kMaxRampStops = 32;   // Blender's Color Ramp holds at most 32
+
 // The texture record, bound to Python field by field as gridwalk._core.Texture.
 struct Texture {
     // What gives the value: an image (`image`), or a pattern computed at the
@@ -70,6 +72,12 @@ struct Texture {
     // Gradient: the shape of the ramp (Blender's Gradient Texture's type); its
     // value, clamped to [0, 1], is the grey colour.
     Gradient gradient = Gradient::Linear;
+    // A colour ramp the value goes through last (Blender's Color Ramp node,
+    // RGB mode): 5 floats per stop, position then RGBA, positions in
+    // increasing order; empty: none. The ramp's input is the value after the
+    // adjustments below, grey as it is, else its luminance.
+    std::vector<float> ramp;
+    RampInterpolation ramp_interpolation = RampInterpolation::Linear;
     Interpolation interpolation = Interpolation::Linear;
     Extension extension = Extension::Repeat;
     bool use_alpha = false;                              // the Alpha output instead of Color
@@ -112,8 +120,12 @@ inline bool vector_mapped(const Texture& t) {
 // was before procedural textures and other coordinates: what a normal map,
 // a bump map and the world's environment take.
 inline bool plain_image(const Texture& t) {
-    return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t);
+    return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t) && t.ramp.empty();
 }
+
+// The ramp's colour at f (see Texture::ramp; t.ramp not empty): Blender's
+// Color Ramp, as Cycles evaluates it.
+Vec3 ramp_color(const Texture& t, float f);
 
 // p mapped by t.vector_transform (see Texture).
 inline Vec3 map_vector(const Texture& t, const Vec3& p) {
@@ -153,12 +165,9 @@ Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 // Rec. 709 luminance: Blender's colour-to-float conversion.
 inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-// Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
-// else its colour (premultiplied by sample_image where the texture says), then
-// the texture's channel, gain, bias and clamp (see Texture::channel).
-inline Vec3 color_of(const Texture& t, const Rgba& c) {
-    Vec3 v = t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
-    if (!adjusts(t)) return v;
+// v (the texture's colour, or its alpha as grey) through the texture's
+// channel, gain, bias and clamp (see Texture::channel).
+inline Vec3 adjusted(const Texture& t, const Rgba& c, Vec3 v) {
     if (!t.use_alpha && t.channel >= 0) {
         const float grey = t.channel == 0   ? c.rgb.x
                            : t.channel == 1 ? c.rgb.y
@@ -172,6 +181,17 @@ inline Vec3 color_of(const Texture& t, const Rgba& c) {
         v = Vec3(unit(v.x), unit(v.y), unit(v.z));
     }
     return v;
+}
+
+// Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
+// else its colour (premultiplied by sample_image where the texture says), then
+// the texture's channel, gain, bias and clamp (see Texture::channel), then its
+// ramp, if it has one (the value grey as it is, else its luminance).
+inline Vec3 color_of(const Texture& t, const Rgba& c) {
+    Vec3 v = t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
+    if (adjusts(t)) v = adjusted(t, c, v);
+    if (t.ramp.empty()) return v;
+    return ramp_color(t, v.x == v.y && v.y == v.z ? v.x : luminance(v));
 }
 
 // Scalar value of a texture feeding a scalar input: a grey value (the alpha,

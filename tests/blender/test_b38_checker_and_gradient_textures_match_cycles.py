@@ -9,7 +9,8 @@ Before, a Checker was a warning and its input's default colour. Shapes
 without Generated coordinates (a 'Render as sphere' object, hair) export
 without an error, each with a warning.
 Blender's Gradient Texture, each of its seven types at a plane's Object
-coordinates through a Mapping node, renders as in Cycles too.
+coordinates through a Mapping node, renders as in Cycles too, and so does a
+Color Ramp of three stops after it (Linear, Ease and Constant).
 Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene,
 procedural_gradient_scene."""
 import numpy as np
@@ -115,3 +116,19 @@ def test_the_gradient_ramps_as_in_cycles(gradients, gradient):
     # anti-aliased by different samples in each engine: two rows of pixels there differ by a sample's share)
     inner = np.abs(ours - cycles)[3:-3, 3:-3]
     assert np.percentile(inner, 98) < 0.005
+
+
+RAMPS = ("LINEAR", "EASE", "CONSTANT")
+
+
+@pytest.fixture(scope="module")
+def ramps(module_blender, tmp_path_factory):
+    return _both(module_blender, tmp_path_factory, "procedural_gradient", "ramp", RAMPS)
+
+
+@pytest.mark.parametrize("ramp", RAMPS)
+def test_a_color_ramp_colours_the_gradient_as_in_cycles(ramps, ramp):
+    ours, cycles = _like_cycles(ramps, ramp, 0.08, 0.998, 0.003)
+    # (Constant's steps are anti-aliased by different samples in each engine)
+    assert np.percentile(np.abs(ours - cycles)[3:-3, 3:-3], 90) < 0.002
+    assert np.abs(ours - ramps[("GRIDWALK", "LINEAR" if ramp != "LINEAR" else "EASE")]).max() > 0.02

@@ -24,6 +24,7 @@ EXTENSIONS = tuple(kind for kind, _, _ in _core.extensions())
 TEXTURE_KINDS = tuple(kind for kind, _, _ in _core.texture_kinds())
 TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
 GRADIENTS = tuple(kind for kind, _, _ in _core.gradients())
+RAMP_INTERPOLATIONS = tuple(kind for kind, _, _ in _core.ramp_interpolations())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -201,6 +202,11 @@ class Texture(Record):
     in alternating cubes of side 1 / scale, as Cycles lays them; no image) |
     gradient (Blender's Gradient Texture, grey: gradient = linear | quadratic
     | easing | diagonal | spherical | quadratic_sphere | radial; no image).
+    ramp: a colour ramp the value goes through last (Blender's Color Ramp
+    node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
+    increasing position, at most 32 (a flat sequence of 5n numbers is taken
+    too); its input is the value after channel, gain, bias and clamp, grey as
+    it is, else its luminance; ramp_interpolation: linear | ease | constant.
     image: a gridwalk.Image, or an index into Scene(images=...); an Image used
     by several textures is stored once. coordinates: uv (the hit's (u, v, 0)
     from Scene(uvs=...)) | generated (Blender's Generated coordinates from
@@ -234,6 +240,8 @@ class Texture(Record):
     color2: tuple = tuple(_f32(x) for x in _TEX.color2)
     scale: float = _f32(_TEX.scale)
     gradient: str = GRADIENTS[0]
+    ramp: tuple = ()
+    ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
     use_alpha: bool = _TEX.use_alpha
@@ -254,10 +262,19 @@ class Texture(Record):
                 raise ValueError(f"{where} must be a gridwalk.Image or an index into Scene(images=...), "
                                  f"got {type(value).__name__}")
             return _scalar(value, int, where)
-        return {"image": image, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
+        def ramp(value, where):
+            try:
+                flat = np.asarray(value, dtype=np.float64).reshape(-1)
+            except (TypeError, ValueError):
+                raise ValueError(f"{where} must be stops of 5 numbers (position, R, G, B, A)") from None
+            if flat.size % 5:
+                raise ValueError(f"{where} must be stops of 5 numbers (position, R, G, B, A), got {flat.size} numbers")
+            return [float(x) for x in flat]
+        return {"image": image, "ramp": ramp, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
                 "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
                 "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
-                "gradient": _choice(GRADIENTS, _core.Gradient)}
+                "gradient": _choice(GRADIENTS, _core.Gradient),
+                "ramp_interpolation": _choice(RAMP_INTERPOLATIONS, _core.RampInterpolation)}
 
 
 @dataclass

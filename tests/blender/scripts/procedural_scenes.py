@@ -134,11 +134,15 @@ def checker_on_shapes_scene(resolution=(96, 72)):
 GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
 
 
-def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72)):
+RAMP = ((0.15, (0.9, 0.2, 0.1, 1.0)), (0.5, (0.1, 0.8, 0.2, 1.0)), (0.8, (0.2, 0.3, 1.0, 1.0)))
+
+
+def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None):
     """A plane facing the camera, its Emission's Color a Gradient Texture of type `gradient`
     at the plane's Object coordinates through a Mapping node: the ramps from x = 0 to 1
     across the plane (moved and scaled so that both clamped ends show), the spheres and
-    the radial one about its centre."""
+    the radial one about its centre. ramp: a Color Ramp of the RAMP stops with that
+    interpolation between the gradient and the shader."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
     plane = bpy.context.object
@@ -152,7 +156,18 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72)):
     mapping.inputs["Scale"].default_value = (0.3, 0.3, 0.3) if centred else (0.16, 0.12, 0.16)
     links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
     links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
-    links.new(texture.outputs["Color"], nodes["Emission"].inputs["Color"])
+    if ramp is None:
+        links.new(texture.outputs["Color"], nodes["Emission"].inputs["Color"])
+    else:
+        node = nodes.new("ShaderNodeValToRGB")
+        elements = node.color_ramp.elements
+        elements[0].position, elements[0].color = RAMP[0]
+        elements[1].position, elements[1].color = RAMP[2]
+        middle = elements.new(RAMP[1][0])
+        middle.color = RAMP[1][1]
+        node.color_ramp.interpolation = ramp
+        links.new(texture.outputs["Fac"], node.inputs["Fac"])
+        links.new(node.outputs["Color"], nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()

@@ -1,7 +1,8 @@
 """Texture(kind="checker") is Blender's Checker Texture: color1 and color2 in
 cubes of side 1 / scale, chosen per pixel as Cycles chooses (checked here
 against numpy's evaluation of that rule); Texture(kind="gradient") its
-Gradient Texture, each type's grey ramp as Cycles computes it; at the UV map's (u, v, 0), at the
+Gradient Texture, each type's grey ramp as Cycles computes it; Texture.ramp
+a Color Ramp after any texture, read from a 256-entry table as Cycles reads it; at the UV map's (u, v, 0), at the
 Generated coordinates (Scene(generated=...)) or at the Object coordinates
 (Scene(object_coords=...)), mapped by vector_transform (a Mapping node); an
 image can take those coordinates too. What has no such coordinates
@@ -133,6 +134,66 @@ def test_a_gradient_is_the_grey_ramp_cycles_computes(kind):
     expected = _cycles_gradient(kind, np.stack([1.2 * x, 1.2 * y, np.full_like(x, 0.3)], axis=-1))
     assert expected.std() > 0.1
     np.testing.assert_allclose(image, np.repeat(expected[..., None], 3, axis=-1), atol=2e-5)
+
+
+STOPS = ((0.15, 0.9, 0.2, 0.1, 1.0), (0.5, 0.1, 0.8, 0.2, 1.0), (0.8, 0.2, 0.3, 1.0, 1.0))
+
+
+def _ramp_at(f, interpolation):
+    """The ramp of STOPS at f (numpy, float64), as Blender's colour band gives it."""
+    pos = np.array([s[0] for s in STOPS])
+    rgb = np.array([s[1:4] for s in STOPS])
+    k = np.clip(np.searchsorted(pos, f, side="right"), 1, len(pos) - 1)
+    a, b = pos[k - 1], pos[k]
+    s = np.clip((f - a) / (b - a), 0, 1)
+    if interpolation == "ease":
+        s = s * s * (3 - 2 * s)
+    if interpolation == "constant":
+        s = np.where(f >= b, 1.0, 0.0)
+    out = rgb[k - 1] * (1 - s)[..., None] + rgb[k] * s[..., None]
+    return np.where((f <= pos[0])[..., None], rgb[0], np.where((f >= pos[-1])[..., None], rgb[-1], out))
+
+
+def _cycles_ramp(f, interpolation):
+    """Cycles' lookup: 256 entries over [0, 1], f clamped, read between them (Constant: the one below)."""
+    x = np.clip(f, 0, 1) * 255
+    i = np.floor(x)
+    below = _ramp_at(i / 255, interpolation)
+    if interpolation == "constant":
+        return below
+    return below + (_ramp_at(np.minimum(i + 1, 255) / 255, interpolation) - below) * (x - i)[..., None]
+
+
+@pytest.mark.parametrize("interpolation", ["linear", "ease", "constant"])
+def test_a_ramp_colours_a_gradient_as_cycles_reads_its_table(interpolation):
+    local = np.column_stack([0.6 * VERTS[:, 0] + 0.45, VERTS[:, 1], np.zeros(4)]).astype(np.float32)
+    texture = gw.Texture(kind="gradient", coordinates="object", ramp=STOPS, ramp_interpolation=interpolation)
+    image = _render(texture, object_coords=local[TRIS])
+    x, _ = _pixel_points()
+    expected = _cycles_ramp(np.clip(0.6 * x + 0.45, 0, 1), interpolation)
+    assert expected.std() > 0.1
+    np.testing.assert_allclose(image, expected, atol=2e-5)
+
+
+def test_a_ramp_takes_a_colour_texture_by_its_luminance():
+    # an image of one colour: the ramp's input is its luminance
+    colour = np.array([0.2, 0.7, 0.4], np.float32)
+    picture = gw.Image(np.broadcast_to(colour, (2, 2, 3)).copy(), colorspace="linear")
+    uvs = np.array([[[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]], np.float32)
+    image = _render(gw.Texture(picture, ramp=STOPS), uvs=uvs, generated=None)
+    lum = 0.2126 * 0.2 + 0.7152 * 0.7 + 0.0722 * 0.4
+    np.testing.assert_allclose(image, np.broadcast_to(_cycles_ramp(np.array(lum), "linear"), image.shape), atol=1e-5)
+
+
+@pytest.mark.parametrize("ramp, message", [
+    (STOPS[::-1], "lies before the one before it"),
+    ((0.1, 0.2, 0.3), "stops of 5 numbers"),
+    ((0.0, 1, 1, 1, 1) * 33, "at most 32 stops"),
+    (((0.0, float("nan"), 0, 0, 1),), "non-finite"),
+])
+def test_a_bad_ramp_is_refused_naming_it(ramp, message):
+    with pytest.raises(ValueError, match=message):
+        _scene(textures=[gw.Texture(kind="checker", coordinates="generated", ramp=ramp)])
 
 
 def test_an_image_at_generated_coordinates_is_read_at_their_x_and_y():

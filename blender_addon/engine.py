@@ -178,7 +178,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         from gridwalk import memory
 
         from .export import count_geometry, resolution
-        from .export.textures import scene_texture_bytes, uses_normal_maps
+        from .export.textures import corner_point_arrays, scene_texture_bytes, uses_normal_maps
         scene = depsgraph.scene
         counts = count_geometry(depsgraph)
         width, height = resolution(scene.render)
@@ -186,7 +186,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"], counts["cylinders"],
                                    width=width, height=height, settings=settings, normals=counts["normals"],
                                    texture_bytes=texture_bytes, uvs=texture_bytes > 0,
-                                   tangents=texture_bytes > 0 and uses_normal_maps(depsgraph))
+                                   tangents=texture_bytes > 0 and uses_normal_maps(depsgraph),
+                                   corner_points=corner_point_arrays(depsgraph))
         limit, source = memory_limit(scene.gridwalk, memory)
         print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
               f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")

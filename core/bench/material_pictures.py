@@ -67,6 +67,10 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"resolution": [128, 96]}', "transparent=false"]),
     ("bump", "Bump node: height stripes over a Normal Map leaning 30 degrees",
      ['scene={"tilt": 30.0, "resolution": [128, 64]}', "transparent=false"]),
+    ("procedural_checker", "Checker Texture at Generated coordinates through a Mapping node, into a lit Principled BSDF",
+     ['scene={"variant": "principled", "resolution": [128, 96]}', "transparent=false"]),
+    ("procedural_gradient", "Gradient Texture (Radial) through a Color Ramp of three stops",
+     ['scene={"gradient": "RADIAL", "ramp": "LINEAR", "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -26,7 +26,7 @@ def main(argv):
     import blender_addon
     import scenes
     from blender_addon.export import ExportError, export_scene
-    from blender_addon.export.textures import scene_texture_bytes
+    from blender_addon.export.textures import corner_point_arrays, scene_texture_bytes
 
     name, out_dir, *options = argv
     kwargs = dict(option.split("=", 1) for option in options)
@@ -55,6 +55,7 @@ def main(argv):
         result["images"] = [_image_record(im) for im in scene_kwargs.get("images", [])]
         result["textures"] = [dataclasses.asdict(t) for t in scene_kwargs.get("textures", [])]
         result["texture_bytes"] = scene_texture_bytes(depsgraph)
+        result["corner_point_arrays"] = corner_point_arrays(depsgraph)
     with open(os.path.join(out_dir, "export.json"), "w") as f:
         json.dump(result, f, indent=1)
 

@@ -175,6 +175,21 @@ def test_a_ramp_colours_a_gradient_as_cycles_reads_its_table(interpolation):
     np.testing.assert_allclose(image, expected, atol=2e-5)
 
 
+def test_stops_at_one_position_make_a_hard_edge_in_their_order():
+    # green then blue at 0.5: below it the ramp runs into green, above it out of blue
+    stops = ((0.0, 1, 0, 0, 1), (0.5, 0, 1, 0, 1), (0.5, 0, 0, 1, 1), (1.0, 1, 1, 1, 1))
+    local = np.column_stack([0.5 + 0.5 * VERTS[:, 0], VERTS[:, 1], np.zeros(4)]).astype(np.float32)
+    image = _render(gw.Texture(kind="gradient", coordinates="object", ramp=stops), object_coords=local[TRIS])
+    left, right = image[N // 2, N // 2 - 1], image[N // 2, N // 2]     # x just below and above 0.5
+    assert left[1] > 0.9 and left[2] < 0.05 and right[2] > 0.9 and right[1] < 0.05   # (the table blurs by a bin)
+
+
+def test_no_ramp_is_none_or_empty():
+    plain = _render(gw.Texture(kind="gradient", coordinates="generated"))
+    for empty in (None, ()):
+        np.testing.assert_array_equal(_render(gw.Texture(kind="gradient", coordinates="generated", ramp=empty)), plain)
+
+
 def test_a_ramp_takes_a_colour_texture_by_its_luminance():
     # an image of one colour: the ramp's input is its luminance
     colour = np.array([0.2, 0.7, 0.4], np.float32)
@@ -188,7 +203,7 @@ def test_a_ramp_takes_a_colour_texture_by_its_luminance():
 @pytest.mark.parametrize("ramp, message", [
     (STOPS[::-1], "lies before the one before it"),
     ((0.1, 0.2, 0.3), "stops of 5 numbers"),
-    ((0.0, 1, 1, 1, 1) * 33, "at most 32 stops"),
+    ((0.0, 1, 1, 1, 1) * 257, "at most 256 stops"),
     (((0.0, float("nan"), 0, 0, 1),), "non-finite"),
 ])
 def test_a_bad_ramp_is_refused_naming_it(ramp, message):
@@ -249,6 +264,7 @@ def test_unknown_kinds_and_coordinates_are_refused():
 def test_the_generated_coordinates_count_in_the_memory_estimate():
     plain = memory.estimate(1000)
     assert memory.estimate(1000, corner_points=2).total - plain.total == 1000 * 2 * 72
-    scene = _scene()
     without = gw.Scene(VERTS, TRIS, materials=[gw.Material()])
-    assert scene._native.memory_bytes - without._native.memory_bytes == 2 * 9 * 4
+    assert _scene()._native.memory_bytes - without._native.memory_bytes == 2 * 9 * 4
+    both = _scene(object_coords=GENERATED[TRIS])
+    assert both._native.memory_bytes - without._native.memory_bytes == 2 * 2 * 9 * 4

@@ -68,10 +68,9 @@ from gridwalk.model import Material
 
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
+from .color_ramp import ramp_stops
 from .uv_mapping import VECTOR_IDENTITY, texture_fields
 from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs
-
-RAMP_INTERPOLATIONS = {"LINEAR": "linear", "EASE": "ease", "CONSTANT": "constant"}   # Color Ramp -> Texture
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -169,22 +168,17 @@ class Links:
 
     def _ramp(self, socket, node, out, field) -> bool:
         """A Color Ramp's Color output whose Fac a texture gives (through the value
-        nodes): that texture with the ramp (Texture.ramp). RGB mode, Linear, Ease and
-        Constant interpolation; others (and the Alpha output) are named in a warning."""
+        nodes): that texture with the ramp (Texture.ramp, color_ramp.py); its Alpha
+        output, and a Fac that no texture gives, are named in a warning."""
         image, output, adjust = image_through_nodes(node.inputs["Fac"])
         if image is None or out.name != "Color":
             why = "its Alpha output" if image is not None else f"Fac: {adjust or 'no texture'}"
             self.textured.append(f"{socket.name} ({node.bl_idname}, {why})")
             return False
-        ramp = node.color_ramp
-        interpolation = RAMP_INTERPOLATIONS.get(ramp.interpolation)
-        if interpolation is None:
-            self.textured.append(f"interpolation {ramp.interpolation.title()} of {node.name!r} (read as Linear)")
-        if ramp.color_mode != "RGB":
-            self.textured.append(f"colour mode {ramp.color_mode} of {node.name!r} (read as RGB)")
-        stops = tuple(sorted((float(e.position), *(float(c) for c in e.color)) for e in ramp.elements))
+        stops, interpolation, notes = ramp_stops(node.color_ramp, node.name)
+        self.textured += notes
         index = self._texture(image, output, adjust)
-        self.fields[field] = self.textures.with_ramp(index, stops, interpolation or "linear")
+        self.fields[field] = self.textures.with_ramp(index, stops, interpolation)
         return True
 
     def _texture(self, node, output, adjust=None) -> int:

@@ -146,8 +146,12 @@ Vec3 ramp_at(const Texture& t, float f) {
     auto color = [&](size_t k) { return Vec3(r[5 * k + 1], r[5 * k + 2], r[5 * k + 3]); };
     if (!(f > r[0])) return color(0);
     if (f >= r[5 * (n - 1)]) return color(n - 1);
-    size_t k = 1;
-    while (r[5 * k] <= f) ++k;                             // stops k - 1 and k enclose f
+    size_t lo = 0, hi = n - 1;                             // r[5 lo] <= f < r[5 hi]
+    while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        (r[5 * mid] <= f ? lo : hi) = mid;
+    }
+    const size_t k = hi;                                   // stops k - 1 and k enclose f
     if (t.ramp_interpolation == RampInterpolation::Constant) return color(k - 1);
     const float a = r[5 * (k - 1)], b = r[5 * k];
     float s = (f - a) / (b - a);                           // (b > a: a <= f < b)

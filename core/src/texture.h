@@ -50,7 +50,9 @@ private:
     std::vector<float> floats_;
 };
 
-constexpr size_t kMaxRampStops = 32;   // Blender's Color Ramp holds at most 32
+// Blender's Color Ramp holds at most 32 stops; the exporter may give Cycles'
+// table of 256 entries instead (blender_addon/export/color_ramp.py).
+constexpr size_t kMaxRampStops = 256;
 
 // The texture record, bound to Python field by field as gridwalk._core.Texture.
 struct Texture {
@@ -74,7 +76,7 @@ struct Texture {
     Gradient gradient = Gradient::Linear;
     // A colour ramp the value goes through last (Blender's Color Ramp node,
     // RGB mode): 5 floats per stop, position then RGBA, positions in
-    // increasing order; empty: none. The ramp's input is the value after the
+    // increasing order, at most kMaxRampStops; empty: none. The ramp's input is the value after the
     // adjustments below, grey as it is, else its luminance.
     std::vector<float> ramp;
     RampInterpolation ramp_interpolation = RampInterpolation::Linear;

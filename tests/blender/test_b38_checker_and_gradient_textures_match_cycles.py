@@ -10,7 +10,9 @@ without Generated coordinates (a 'Render as sphere' object, hair) export
 without an error, each with a warning.
 Blender's Gradient Texture, each of its seven types at a plane's Object
 coordinates through a Mapping node, renders as in Cycles too, and so does a
-Color Ramp of three stops after it (Linear, Ease and Constant).
+Color Ramp of three stops after it (Linear, Ease and Constant; with two stops
+at one position; in B-Spline and HSV over stops a script left out of order,
+which goes out as Cycles' own table).
 Scenes: procedural_scenes.procedural_checker_scene, checker_on_shapes_scene,
 procedural_gradient_scene."""
 import numpy as np
@@ -106,7 +108,7 @@ def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export
         assert "not read on point clouds and hair" in warnings
 
 
-RAMPS = ("LINEAR", "EASE", "CONSTANT")
+RAMPS = ("LINEAR", "EASE", "CONSTANT", "SHARED", "ODD")    # procedural_scenes.procedural_gradient_scene's ramps
 
 
 @pytest.fixture(scope="module")
@@ -128,8 +130,8 @@ def test_the_gradient_ramps_as_in_cycles(gradients, gradient):
 
 @pytest.mark.parametrize("ramp", RAMPS)
 def test_a_color_ramp_colours_the_gradient_as_in_cycles(gradients, ramp):
-    ours, cycles = _like_cycles(gradients, f"ramp {ramp}", 0.08, 0.998, 0.003)
+    ours, cycles = _like_cycles(gradients, f"ramp {ramp}", 0.03, 0.995, 0.003)   # (SHARED: a hard edge)
     # (Constant's steps are anti-aliased by different samples in each engine)
     assert np.percentile(np.abs(ours - cycles)[3:-3, 3:-3], 90) < 0.002
-    other = gradients[("GRIDWALK", "ramp " + ("LINEAR" if ramp != "LINEAR" else "EASE"))]
+    other = gradients[("GRIDWALK", "ramp " + ("EASE" if ramp == "LINEAR" else "LINEAR"))]
     assert np.abs(ours - other).max() > 0.02                     # each interpolation shows

@@ -204,8 +204,8 @@ class Texture(Record):
     | easing | diagonal | spherical | quadratic_sphere | radial; no image).
     ramp: a colour ramp the value goes through last (Blender's Color Ramp
     node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
-    increasing position, at most 32 (a flat sequence of 5n numbers is taken
-    too); its input is the value after channel, gain, bias and clamp, grey as
+    increasing position, at most 256 (a flat sequence of 5n numbers is taken
+    too; None: no ramp); its input is the value after channel, gain, bias and clamp, grey as
     it is, else its luminance; ramp_interpolation: linear | ease | constant.
     image: a gridwalk.Image, or an index into Scene(images=...); an Image used
     by several textures is stored once. coordinates: uv (the hit's (u, v, 0)
@@ -263,6 +263,8 @@ class Texture(Record):
                                  f"got {type(value).__name__}")
             return _scalar(value, int, where)
         def ramp(value, where):
+            if value is None:
+                return []
             try:
                 flat = np.asarray(value, dtype=np.float64).reshape(-1)
             except (TypeError, ValueError):

@@ -142,7 +142,9 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
     at the plane's Object coordinates through a Mapping node: the ramps from x = 0 to 1
     across the plane (moved and scaled so that both clamped ends show), the spheres and
     the radial one about its centre. ramp: a Color Ramp of the RAMP stops with that
-    interpolation between the gradient and the shader."""
+    interpolation between the gradient and the shader; "SHARED": Linear, a fourth stop
+    (blue) at the green one's position, a hard edge; "ODD": B-Spline in HSV mode, the
+    first stop moved past the others by a script (Blender keeps the stops in that order)."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
     plane = bpy.context.object
@@ -165,7 +167,13 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
         elements[1].position, elements[1].color = RAMP[2]
         middle = elements.new(RAMP[1][0])
         middle.color = RAMP[1][1]
-        node.color_ramp.interpolation = ramp
+        node.color_ramp.interpolation = {"SHARED": "LINEAR", "ODD": "B_SPLINE"}.get(ramp, ramp)
+        if ramp == "SHARED":
+            edge = elements.new(RAMP[1][0])
+            edge.color = (0.05, 0.1, 0.9, 1.0)
+        if ramp == "ODD":
+            node.color_ramp.color_mode = "HSV"
+            elements[0].position = 0.9
         links.new(texture.outputs["Fac"], node.inputs["Fac"])
         links.new(node.outputs["Color"], nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)

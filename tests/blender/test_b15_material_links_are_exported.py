@@ -82,7 +82,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "clamp": False, "kind": "image", "coordinates": "uv",
                                                "vector_transform": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
                                                                     0.0, 0.0, 1.0, 0.0],
-                                               "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0}
+                                               "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0,
+                                               "gradient": "linear", "ramp": [], "ramp_interpolation": "linear"}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

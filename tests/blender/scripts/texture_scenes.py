@@ -119,7 +119,7 @@ CHAINS = {
                              {"data_type": "RGBA", "blend_type": "MIX", "clamp_factor": False}, "A_Color")]),
     "float_clamp": ("Alpha", [("Result", "ShaderNodeMix", [("Factor_Float", 0.5), ("B_Float", 3.0)],
                                {"data_type": "FLOAT", "clamp_result": True}, "A_Float")]),
-    "unread": ("Color", [("Color", "ShaderNodeValToRGB", [], {}, "Fac")]),
+    "unread": ("Color", [("Color", "ShaderNodeGamma", [("Gamma", 2.2)], {}, "Color")]),   # (not a map the export folds)
     "linked_fac": ("Color", [("Color", "ShaderNodeInvert", [], {}, "Color")]),    # (its Fac: the image's alpha)
 }
 

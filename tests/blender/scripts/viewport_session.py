@@ -40,6 +40,15 @@ def build(bpy, scenes):
     mod.levels = 1
     red = scenes.principled_material("Red", (0.8, 0.1, 0.1))
     a.data.materials.append(red)
+    # half the shared mesh's faces: a Checker at Generated coordinates into a Principled BSDF's
+    # Base Color, which the instances' moves in the core carry along
+    checkered = scenes.principled_material("Checkered", (0.8, 0.8, 0.8))
+    nodes = checkered.node_tree.nodes
+    checkered.node_tree.links.new(nodes.new("ShaderNodeTexChecker").outputs["Color"],
+                                  nodes["Principled BSDF"].inputs["Base Color"])
+    a.data.materials.append(checkered)
+    for poly in a.data.polygons[:3]:
+        poly.material_index = 1
     scenes.add_light("Key", "POINT", (0, -6, 6), energy=800.0)
     bpy.context.scene.world = bpy.data.worlds.new("World")
     bpy.context.scene.gridwalk.viewport_samples = 1

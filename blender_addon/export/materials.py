@@ -69,7 +69,8 @@ from gridwalk.model import Material
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
 from .color_ramp import ramp_stops
-from .uv_mapping import VECTOR_IDENTITY, texture_fields
+from .textures import plain_image
+from .uv_mapping import texture_fields
 from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs
 
 # Custom property of a material holding gridwalk.Material fields; when present
@@ -113,8 +114,7 @@ class Links:
             before = set(self.points), self.uv_layer
             taken = self._take(socket, node, out, field, colour)
             texture = self.textures.textures[self.fields[field]] if taken else None
-            if texture is not None and (texture.kind != "image" or texture.coordinates != "uv"
-                                        or tuple(texture.vector_transform) != VECTOR_IDENTITY or texture.ramp):
+            if texture is not None and not plain_image(texture):
                 del self.fields[field]
                 self.points, self.uv_layer = before     # (nothing reads what it would have read)
                 self.textured.append(f"{socket.name} ({node.bl_idname}: normal and bump maps read images "
@@ -195,10 +195,10 @@ class Links:
         self.textured += problems
         if layer is None:
             self.points.add(fields["coordinates"])
-            return fields
-        if self.uv_layer and layer and layer != self.uv_layer:
-            self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
-        self.uv_layer = self.uv_layer or layer
+        else:
+            if self.uv_layer and layer and layer != self.uv_layer:
+                self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
+            self.uv_layer = self.uv_layer or layer
         return fields
 
 

@@ -27,6 +27,7 @@ import numpy as np
 from gridwalk import Image, Texture
 
 from .node_links import _source, input_value
+from .uv_mapping import VECTOR_IDENTITY
 
 
 MAGENTA = (1.0, 0.0, 1.0)
@@ -177,6 +178,13 @@ def uses_normal_maps(depsgraph) -> bool:
     keeps a tangent per triangle corner): for the memory estimate."""
     return any(node.type == "NORMAL_MAP" for id_ in depsgraph.ids if type(id_).__name__ == "Material"
                and getattr(id_, "node_tree", None) is not None for node in id_.node_tree.nodes)
+
+
+def plain_image(texture) -> bool:
+    """Whether a gridwalk.Texture is an image read at the UV map, unmapped in 3-space and
+    without a ramp: what the core's normal and bump maps take (texture.h's plain_image)."""
+    return (texture.kind == "image" and texture.coordinates == "uv" and not texture.ramp
+            and tuple(texture.vector_transform) == VECTOR_IDENTITY)
 
 
 def corner_point_arrays(depsgraph) -> int:

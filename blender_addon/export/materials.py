@@ -182,7 +182,7 @@ class Links:
         return True
 
     def _texture(self, node, output, adjust=None) -> int:
-        """The texture index of an Image, Checker or Gradient Texture node's output."""
+        """The texture index of an Image, Checker, Gradient or Noise Texture node's output."""
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)

@@ -196,11 +196,29 @@ def corner_point_arrays(depsgraph) -> int:
         if type(id_).__name__ != "Material" or getattr(id_, "node_tree", None) is None:
             continue
         for node in id_.node_tree.nodes:
-            if node.type in ("TEX_CHECKER", "TEX_GRADIENT"):
+            if node.type in PROCEDURAL_NODES:
                 reads.add("Generated")
             elif node.type == "TEX_COORD":
                 reads |= {name for name in ("Generated", "Object") if node.outputs[name].is_linked}
     return len(reads)
+
+
+PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE")   # the pattern nodes gridwalk.Texture models
+
+
+def noise_fields(node, values: dict) -> dict:
+    """gridwalk.Texture fields of a Noise Texture node whose inputs have the values
+    `values` (by socket name). Blender before 4.0 has no Lacunarity (2), Normalize (on)
+    or type (fBM), and clamps Roughness to [0, 1]; 4.0 has no type."""
+    roughness = float(values["Roughness"])
+    if "Lacunarity" not in values:
+        roughness = min(max(roughness, 0.0), 1.0)
+    return dict(kind="noise", noise_type=getattr(node, "noise_type", "FBM").lower(),
+                noise_dimensions=int(node.noise_dimensions[0]), w=float(values.get("W", 0.0)),
+                scale=float(values["Scale"]), detail=float(values["Detail"]), roughness=roughness,
+                lacunarity=float(values.get("Lacunarity", 2.0)), distortion=float(values["Distortion"]),
+                noise_offset=float(values.get("Offset", 0.0)), noise_gain=float(values.get("Gain", 1.0)),
+                normalize=bool(getattr(node, "normalize", True)))
 
 
 def _signature(img):
@@ -274,21 +292,24 @@ class TextureTable:
 
     def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
                    problems: list | None = None) -> int:
-        """Index of the texture a Checker or Gradient Texture node's `output` gives (a
-        Checker's Fac: white and black; a Gradient's Color and Fac are the same grey),
-        as texture() takes coords and adjust. Linked inputs other than the Vector
-        take their own values, noted in `problems`."""
+        """Index of the texture a Checker, Gradient or Noise Texture node's `output` gives
+        (a Checker's Fac: white and black; a Gradient's Color and Fac are the same grey;
+        a Noise's Fac its value, its Color three noises), as texture() takes coords and
+        adjust. Linked inputs other than the Vector take their own values, noted in `problems`."""
         values = {}
         for socket in node.inputs:
             if socket.name == "Vector":
                 continue
             source = _source(socket)[0]     # (None for constants: an RGB or Value node, a muted link)
-            if source is not None and problems is not None:
+            if source is not None and problems is not None and getattr(socket, "enabled", True):
                 problems.append(f"{socket.name} of {node.name!r} ({source.bl_idname}: its own value is used)")
             values[socket.name] = input_value(socket)
         if node.type == "TEX_GRADIENT":
             return self._add(dict(kind="gradient", gradient=node.gradient_type.lower(), **(coords or {}),
                                   **(adjust or {})))
+        if node.type == "TEX_NOISE":
+            return self._add(dict(noise_fields(node, values), use_alpha=output in ("Fac", "Factor"),
+                                  **(coords or {}), **(adjust or {})))
         if output in ("Fac", "Factor"):          # (5.0 names the output Factor)
             color1, color2 = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
         else:

@@ -185,11 +185,11 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT")   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE")   # the nodes gridwalk.Texture models
 
 
 def image_through_nodes(socket):
-    """(Image, Checker or Gradient Texture node, its output's name, Texture fields) for an input
+    """(Image, Checker, Gradient or Noise Texture node, its output's name, Texture fields) for an input
     fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
     steps = []
     try:
@@ -200,7 +200,8 @@ def image_through_nodes(socket):
             node, out = _source(chain)
         if node is None:
             raise Unread(f"{steps[-1][0].name!r} fed by no image" if steps else "no node")
-        value = Value(out.name == "Alpha")
+        # (one number: an image's Alpha, a Noise Texture's Fac, which the core gives as its alpha)
+        value = Value(out.name == "Alpha" or (node.type == "TEX_NOISE" and out.name in ("Fac", "Factor")))
         for step in reversed(steps):
             _apply(value, *step)
         return node, out.name, value.fields()

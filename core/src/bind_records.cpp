@@ -8,6 +8,7 @@
 
 #include "bind_casters.h"
 #include "bindings.h"
+#include "noise.h"
 #include "camera.h"
 #include "lights.h"
 #include "material.h"
@@ -62,6 +63,16 @@ void bind_records(nb::module_& m) {
         .def_rw("color2", &Texture::color2)
         .def_rw("scale", &Texture::scale)
         .def_rw("gradient", &Texture::gradient)
+        .def_rw("noise_type", &Texture::noise_type)
+        .def_rw("noise_dimensions", &Texture::noise_dimensions)
+        .def_rw("w", &Texture::w)
+        .def_rw("detail", &Texture::detail)
+        .def_rw("roughness", &Texture::roughness)
+        .def_rw("lacunarity", &Texture::lacunarity)
+        .def_rw("distortion", &Texture::distortion)
+        .def_rw("noise_offset", &Texture::noise_offset)
+        .def_rw("noise_gain", &Texture::noise_gain)
+        .def_rw("normalize", &Texture::normalize)
         .def_rw("ramp", &Texture::ramp)
         .def_rw("ramp_interpolation", &Texture::ramp_interpolation)
         .def_rw("interpolation", &Texture::interpolation)
@@ -75,6 +86,10 @@ void bind_records(nb::module_& m) {
         .def_rw("bias", &Texture::bias)
         .def_rw("clamp", &Texture::clamp)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
+    m.def("signed_noise", [](const std::vector<float>& x) {
+        if (x.empty() || x.size() > 4) throw std::invalid_argument("signed_noise takes 1 to 4 coordinates");
+        return signed_noise(int(x.size()), x.data());
+    });
 
     nb::class_<World>(m, "World")
         .def(nb::init<>())

@@ -94,6 +94,7 @@ void bind_settings(nb::module_& m) {
     bind_enum<TextureKind>(m);
     bind_enum<TextureCoords>(m);
     bind_enum<Gradient>(m);
+    bind_enum<NoiseType>(m);
     bind_enum<RampInterpolation>(m);
     m.def("light_kinds", &enum_items<LightKind>);
     m.def("projections", &enum_items<Projection>);
@@ -102,6 +103,7 @@ void bind_settings(nb::module_& m) {
     m.def("texture_kinds", &enum_items<TextureKind>);
     m.def("texture_coords", &enum_items<TextureCoords>);
     m.def("gradients", &enum_items<Gradient>);
+    m.def("noise_types", &enum_items<NoiseType>);
     m.def("ramp_interpolations", &enum_items<RampInterpolation>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");

@@ -92,8 +92,17 @@ GW_ENUM(Extension, GW_EXTENSIONS)
 #define GW_TEXTURE_KINDS(X)                                                                              \
     X(Image, "image", "Image", "An image, looked up at the texture coordinates")                           \
     X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale") \
-    X(Gradient, "gradient", "Gradient", "Blender's Gradient Texture: a grey ramp of the point, shaped by gradient")
+    X(Gradient, "gradient", "Gradient", "Blender's Gradient Texture: a grey ramp of the point, shaped by gradient") \
+    X(Noise, "noise", "Noise", "Blender's Noise Texture: Perlin noise of the point, summed over octaves (noise_type)")
 GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
+
+#define GW_NOISE_TYPES(X)                                                                                   \
+    X(Fbm, "fbm", "fBM", "Fractal Brownian motion: the octaves added, each roughness times the last")       \
+    X(Multifractal, "multifractal", "Multifractal", "The octaves multiplied")                               \
+    X(HybridMultifractal, "hybrid_multifractal", "Hybrid Multifractal", "Added, each weighted by the ones before (offset, gain)") \
+    X(RidgedMultifractal, "ridged_multifractal", "Ridged Multifractal", "Ridges where the noise crosses 0 (offset, gain)") \
+    X(HeteroTerrain, "hetero_terrain", "Hetero Terrain", "Added, each weighted by the value so far (offset)")
+GW_ENUM(NoiseType, GW_NOISE_TYPES)
 
 #define GW_GRADIENTS(X)                                                                                   \
     X(Linear, "linear", "Linear", "x")                                                                      \

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "noise.h"
 #include "scene.h"
 #include "tangents.h"
 
@@ -153,6 +154,7 @@ Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) co
     if (vector_mapped(t)) p = map_vector(t, p);
     if (t.kind == TextureKind::Checker) return checker_color(t, p);
     if (t.kind == TextureKind::Gradient) return gradient_color(t, p);
+    if (t.kind == TextureKind::Noise) return noise_color(t, p);
     float x = p.x, y = p.y;
     if (uv_mapped(t)) map_uv(t, x, y);
     return sample_image(*images_[size_t(t.image)], t, x, y);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <stdexcept>
+#include <utility>
 
 namespace gw {
 namespace {
@@ -130,6 +131,15 @@ void validate_texture(const Texture& t, const std::string& where) {
         if (!(t.ramp[i] >= t.ramp[i - 5]))
             throw std::invalid_argument(where + ".ramp stop " + std::to_string(i / 5) +
                                         " lies before the one before it: give the stops in increasing position");
+    if (!enum_valid(t.noise_type)) throw std::invalid_argument(where + ".noise_type is not a noise type");
+    if (t.noise_dimensions < 1 || t.noise_dimensions > 4)
+        throw std::invalid_argument(where + ".noise_dimensions = " + std::to_string(t.noise_dimensions) +
+                                    " is not 1, 2, 3 or 4");
+    const std::pair<const char*, float> noise_values[] = {{"w", t.w}, {"detail", t.detail},
+        {"roughness", t.roughness}, {"lacunarity", t.lacunarity}, {"distortion", t.distortion},
+        {"noise_offset", t.noise_offset}, {"noise_gain", t.noise_gain}};
+    for (const auto& [name, x] : noise_values)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + "." + name + " is not finite");
     if (t.kind != TextureKind::Image && t.image != -1)
         throw std::invalid_argument(where + ".image = " + std::to_string(t.image) + ": a " + enum_id(t.kind) +
                                     " texture has no image (-1)");

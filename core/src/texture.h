@@ -74,6 +74,19 @@ struct Texture {
     // Gradient: the shape of the ramp (Blender's Gradient Texture's type); its
     // value, clamped to [0, 1], is the grey colour.
     Gradient gradient = Gradient::Linear;
+    // Noise (noise.h): Perlin noise of the point times scale, in
+    // noise_dimensions (1: w; 2: x, y; 3: the point; 4: the point and w, w
+    // times scale too), moved by `distortion` times noise first, summed over
+    // 1 + detail octaves (a fraction blends the last in), each `lacunarity`
+    // times finer and `roughness` times as strong, as noise_type says
+    // (noise_offset and noise_gain: the multifractals' Offset and Gain); fBM with
+    // `normalize` maps the sum into [0, 1]. The value is the alpha (Blender's
+    // Fac output: use_alpha) and the colour's red; green and blue are the
+    // noise at two other places (its Color output). Blender's defaults.
+    NoiseType noise_type = NoiseType::Fbm;
+    int32_t noise_dimensions = 3;
+    float w = 0, detail = 2, roughness = 0.5f, lacunarity = 2, distortion = 0, noise_offset = 0, noise_gain = 1;
+    bool normalize = true;
     // A colour ramp the value goes through last (Blender's Color Ramp node,
     // RGB mode): 5 floats per stop, position then RGBA, positions in
     // increasing order, at most kMaxRampStops; empty: none. The ramp's input is the value after the

@@ -83,7 +83,10 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "vector_transform": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
                                                                     0.0, 0.0, 1.0, 0.0],
                                                "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0,
-                                               "gradient": "linear", "ramp": [], "ramp_interpolation": "linear"}
+                                               "gradient": "linear", "ramp": [], "ramp_interpolation": "linear",
+                                               "noise_type": "fbm", "noise_dimensions": 3, "w": 0.0, "detail": 2.0,
+                                               "roughness": 0.5, "lacunarity": 2.0, "distortion": 0.0,
+                                               "noise_offset": 0.0, "noise_gain": 1.0, "normalize": True}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

@@ -25,6 +25,7 @@ TEXTURE_KINDS = tuple(kind for kind, _, _ in _core.texture_kinds())
 TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
 GRADIENTS = tuple(kind for kind, _, _ in _core.gradients())
 RAMP_INTERPOLATIONS = tuple(kind for kind, _, _ in _core.ramp_interpolations())
+NOISE_TYPES = tuple(kind for kind, _, _ in _core.noise_types())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -201,7 +202,17 @@ class Texture(Record):
     kind: image | checker (Blender's Checker Texture: color1 and color2, RGB,
     in alternating cubes of side 1 / scale, as Cycles lays them; no image) |
     gradient (Blender's Gradient Texture, grey: gradient = linear | quadratic
-    | easing | diagonal | spherical | quadratic_sphere | radial; no image).
+    | easing | diagonal | spherical | quadratic_sphere | radial; no image) |
+    noise (Blender's Noise Texture as Cycles evaluates it; no image):
+    Perlin noise of the point x scale in noise_dimensions 1 (w x scale), 2
+    (x, y), 3 (the point) or 4 (the point and w x scale), first moved by
+    distortion x noise, summed over 1 + detail octaves (detail in [0, 15]; a
+    fraction blends the last octave in), each lacunarity times finer and
+    roughness times as strong, as noise_type = fbm | multifractal |
+    hybrid_multifractal | ridged_multifractal | hetero_terrain says
+    (noise_offset, noise_gain: the multifractals' Offset and Gain); fbm with
+    normalize maps the sum into about [0, 1]. Its colour is Blender's Color
+    output; use_alpha gives its Fac (the value, as grey).
     ramp: a colour ramp the value goes through last (Blender's Color Ramp
     node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
     increasing position, at most 256 (a flat sequence of 5n numbers is taken
@@ -240,6 +251,16 @@ class Texture(Record):
     color2: tuple = tuple(_f32(x) for x in _TEX.color2)
     scale: float = _f32(_TEX.scale)
     gradient: str = GRADIENTS[0]
+    noise_type: str = NOISE_TYPES[0]
+    noise_dimensions: int = _TEX.noise_dimensions
+    w: float = _f32(_TEX.w)
+    detail: float = _f32(_TEX.detail)
+    roughness: float = _f32(_TEX.roughness)
+    lacunarity: float = _f32(_TEX.lacunarity)
+    distortion: float = _f32(_TEX.distortion)
+    noise_offset: float = _f32(_TEX.noise_offset)
+    noise_gain: float = _f32(_TEX.noise_gain)
+    normalize: bool = _TEX.normalize
     ramp: tuple = ()
     ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]
@@ -276,6 +297,7 @@ class Texture(Record):
                 "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
                 "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
                 "gradient": _choice(GRADIENTS, _core.Gradient),
+                "noise_type": _choice(NOISE_TYPES, _core.NoiseType),
                 "ramp_interpolation": _choice(RAMP_INTERPOLATIONS, _core.RampInterpolation)}
 
 

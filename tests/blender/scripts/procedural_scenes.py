@@ -137,6 +137,14 @@ GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATI
 RAMP = ((0.15, (0.9, 0.2, 0.1, 1.0)), (0.5, (0.1, 0.8, 0.2, 1.0)), (0.8, (0.2, 0.3, 1.0, 1.0)))
 
 
+def emissive_plane(name, resolution):
+    """(plane, its material): a new scene with a 7 x 7 plane facing the camera and a material
+    `name` of one Emission shader (Strength 1), for the caller to feed and append."""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
+    return bpy.context.object, shader_material(name, "ShaderNodeEmission", [("Strength", 1.0)])
+
+
 def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None):
     """A plane facing the camera, its Emission's Color a Gradient Texture of type `gradient`
     at the plane's Object coordinates through a Mapping node: the ramps from x = 0 to 1
@@ -145,10 +153,7 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
     interpolation between the gradient and the shader; "SHARED": Linear, a fourth stop
     (blue) at the green one's position, a hard edge; "ODD": B-Spline in HSV mode, the
     first stop moved past the others by a script (Blender keeps the stops in that order)."""
-    reset(resolution=tuple(resolution))
-    bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
-    plane = bpy.context.object
-    mat = shader_material("Graded", "ShaderNodeEmission", [("Strength", 1.0)])
+    plane, mat = emissive_plane("Graded", resolution)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     texture = nodes.new("ShaderNodeTexGradient")
     texture.gradient_type = gradient

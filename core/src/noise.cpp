@@ -1,0 +1,261 @@
+// Blender's Noise Texture. See noise.h.
+#include "noise.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace gw {
+namespace {
+
+constexpr int kMaxDims = 4;
+
+inline uint32_t rotl(uint32_t x, int k) { return (x << k) | (x >> (32 - k)); }
+
+// lookup3's hash of n words (n = 1-4), seeded as Cycles seeds it for n:
+// its last mixing step, after the full one for a fourth word.
+uint32_t hash_words(int n, const uint32_t* k) {
+    uint32_t a = 0xdeadbeefu + (uint32_t(n) << 2) + 13u, b = a, c = a;
+    a += k[0];
+    if (n > 1) b += k[1];
+    if (n > 2) c += k[2];
+    if (n == 4) {
+        a -= c; a ^= rotl(c, 4);  c += b;
+        b -= a; b ^= rotl(a, 6);  a += c;
+        c -= b; c ^= rotl(b, 8);  b += a;
+        a -= c; a ^= rotl(c, 16); c += b;
+        b -= a; b ^= rotl(a, 19); a += c;
+        c -= b; c ^= rotl(b, 4);  b += a;
+        a += k[3];
+    }
+    c ^= b; c -= rotl(b, 14);
+    a ^= c; a -= rotl(c, 11);
+    b ^= a; b -= rotl(a, 25);
+    c ^= b; c -= rotl(b, 16);
+    a ^= c; a -= rotl(c, 4);
+    b ^= a; b -= rotl(a, 14);
+    c ^= b; c -= rotl(b, 24);
+    return c;
+}
+
+uint32_t bits_of(float x) {
+    uint32_t u;
+    std::memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+// The hash of n floats' bits as a float in [0, 1] (Cycles' hash_float*_to_float).
+float hash_floats(int n, const float* x) {
+    uint32_t k[kMaxDims];
+    for (int i = 0; i < n; ++i) k[i] = bits_of(x[i]);
+    return float(hash_words(n, k)) * (1.0f / 4294967296.0f);
+}
+
+// The offset, each component in [100, 200], that Cycles adds to an n-dimensional
+// point to read the noise somewhere else for `seed` (its random_float*_offset).
+void random_offset(int n, float seed, float* out) {
+    if (n == 1) {
+        out[0] = 100.0f + hash_floats(1, &seed) * 100.0f;
+        return;
+    }
+    for (int i = 0; i < n; ++i) {
+        const float key[2] = {seed, float(i)};
+        out[i] = 100.0f + hash_floats(2, key) * 100.0f;
+    }
+}
+
+inline float flip(float x, uint32_t bit) { return bit ? -x : x; }
+
+// The lattice gradient picked by hash h, dotted with the offset f from its corner.
+float gradient_dot(int n, uint32_t h, const float* f) {
+    switch (n) {
+    case 1: {
+        const uint32_t g = h & 15;
+        return flip(float(1 + (g & 7)), g & 8) * f[0];
+    }
+    case 2: {
+        const uint32_t g = h & 7;
+        const float u = g < 4 ? f[0] : f[1], v = 2.0f * (g < 4 ? f[1] : f[0]);
+        return flip(u, g & 1) + flip(v, g & 2);
+    }
+    case 3: {
+        const uint32_t g = h & 15;
+        const float u = g < 8 ? f[0] : f[1];
+        const float v = g < 4 ? f[1] : (g == 12 || g == 14) ? f[0] : f[2];
+        return flip(u, g & 1) + flip(v, g & 2);
+    }
+    default: {
+        const uint32_t g = h & 31;
+        const float u = g < 24 ? f[0] : f[1], v = g < 16 ? f[1] : f[2], s = g < 8 ? f[2] : f[3];
+        return flip(u, g & 1) + flip(v, g & 2) + flip(s, g & 4);
+    }
+    }
+}
+
+inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+
+// Perlin's lattice noise at x (n dimensions, |x| < 100000): the corners'
+// gradients blended with faded weights, x first (corner bit 0), then y, z, w.
+float perlin(int n, const float* x) {
+    int32_t cell[kMaxDims];
+    float frac[kMaxDims], weight[kMaxDims];
+    for (int i = 0; i < n; ++i) {
+        const float fl = std::floor(x[i]);
+        cell[i] = int32_t(fl);
+        frac[i] = x[i] - fl;
+        weight[i] = fade(frac[i]);
+    }
+    float corner[1 << kMaxDims];
+    const int corners = 1 << n;
+    for (int c = 0; c < corners; ++c) {
+        uint32_t key[kMaxDims];
+        float f[kMaxDims];
+        for (int i = 0; i < n; ++i) {
+            const int bit = (c >> i) & 1;
+            key[i] = uint32_t(cell[i]) + uint32_t(bit);
+            f[i] = bit ? frac[i] - 1.0f : frac[i];
+        }
+        corner[c] = gradient_dot(n, hash_words(n, key), f);
+    }
+    for (int i = 0, m = corners; i < n; ++i, m /= 2)
+        for (int c = 0; c < m / 2; ++c)
+            corner[c] = corner[2 * c] + weight[i] * (corner[2 * c + 1] - corner[2 * c]);
+    return corner[0];
+}
+
+// Cycles' per-dimension factors that bring each noise into about [-1, 1].
+constexpr float kNoiseScale[kMaxDims + 1] = {0, 0.2500f, 0.6616f, 0.9820f, 0.8344f};
+
+// The octaves' sum for the texture's fractal type at p (n dimensions).
+float fractal(const Texture& t, int n, const float* p0, float detail, float roughness) {
+    float p[kMaxDims];
+    for (int i = 0; i < n; ++i) p[i] = p0[i];
+    auto scaled = [&](float s) {
+        float q[kMaxDims];
+        for (int i = 0; i < n; ++i) q[i] = s * p[i];
+        return signed_noise(n, q);
+    };
+    auto finer = [&] {
+        for (int i = 0; i < n; ++i) p[i] *= t.lacunarity;
+    };
+    const int octaves = int(detail);
+    const float rest = detail - std::floor(detail);
+    const float offset = t.noise_offset, gain = t.noise_gain;
+    switch (t.noise_type) {
+    case NoiseType::Fbm: {
+        float scale = 1.0f, amp = 1.0f, max_amp = 0.0f, sum = 0.0f;
+        for (int i = 0; i <= octaves; ++i) {
+            sum += scaled(scale) * amp;
+            max_amp += amp;
+            amp *= roughness;
+            scale *= t.lacunarity;
+        }
+        const float whole = t.normalize ? 0.5f * sum / max_amp + 0.5f : sum;
+        if (rest == 0.0f) return whole;
+        const float more = sum + scaled(scale) * amp;
+        const float blended = t.normalize ? 0.5f * more / (max_amp + amp) + 0.5f : more;
+        return whole + rest * (blended - whole);
+    }
+    case NoiseType::Multifractal: {
+        float value = 1.0f, power = 1.0f;
+        for (int i = 0; i <= octaves; ++i) {
+            value *= power * scaled(1.0f) + 1.0f;
+            power *= roughness;
+            finer();
+        }
+        if (rest != 0.0f) value *= rest * power * scaled(1.0f) + 1.0f;
+        return value;
+    }
+    case NoiseType::HeteroTerrain: {
+        float power = roughness;
+        float value = offset + scaled(1.0f);
+        finer();
+        for (int i = 1; i <= octaves; ++i) {
+            value += (scaled(1.0f) + offset) * power * value;
+            power *= roughness;
+            finer();
+        }
+        if (rest != 0.0f) value += rest * ((scaled(1.0f) + offset) * power * value);
+        return value;
+    }
+    case NoiseType::HybridMultifractal: {
+        float power = 1.0f, value = 0.0f, weight = 1.0f;
+        for (int i = 0; weight > 0.001f && i <= octaves; ++i) {
+            weight = std::min(weight, 1.0f);
+            const float signal = (scaled(1.0f) + offset) * power;
+            power *= roughness;
+            value += weight * signal;
+            weight *= gain * signal;
+            finer();
+        }
+        if (rest != 0.0f && weight > 0.001f) value += rest * std::min(weight, 1.0f) * ((scaled(1.0f) + offset) * power);
+        return value;
+    }
+    case NoiseType::RidgedMultifractal: {
+        float power = roughness;
+        float signal = offset - std::abs(scaled(1.0f));
+        signal *= signal;
+        float value = signal;
+        for (int i = 1; i <= octaves; ++i) {
+            finer();
+            const float weight = std::min(std::max(signal * gain, 0.0f), 1.0f);
+            signal = offset - std::abs(scaled(1.0f));
+            signal *= signal;
+            signal *= weight;
+            value += signal * power;
+            power *= roughness;
+        }
+        return value;
+    }
+    }
+    return 0.0f;
+}
+
+}  // namespace
+
+float signed_noise(int n, const float* x) {
+    float p[kMaxDims];
+    for (int i = 0; i < n; ++i) {
+        const float wrapped = std::fmod(x[i], 100000.0f);
+        p[i] = std::isfinite(wrapped) ? wrapped : 0.0f;
+    }
+    const float r = perlin(n, p);
+    return std::isfinite(r) ? kNoiseScale[n] * r : 0.0f;
+}
+
+Rgba noise_color(const Texture& t, const Vec3& point) {
+    const int n = t.noise_dimensions;
+    float p[kMaxDims];
+    const Vec3 q = point * t.scale;
+    const float w = t.w * t.scale;
+    if (n == 1) {
+        p[0] = w;
+    } else {
+        for (int i = 0; i < std::min(n, 3); ++i) p[i] = q[i];
+        if (n == 4) p[3] = w;
+    }
+    const float detail = std::min(std::max(t.detail, 0.0f), 15.0f);
+    const float roughness = std::max(t.roughness, 0.0f);
+    if (t.distortion != 0.0f) {
+        float moved[kMaxDims];
+        for (int k = 0; k < n; ++k) {
+            float off[kMaxDims], at[kMaxDims];
+            random_offset(n, float(k), off);
+            for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
+            moved[k] = signed_noise(n, at) * t.distortion;
+        }
+        for (int i = 0; i < n; ++i) p[i] += moved[i];
+    }
+    const float value = fractal(t, n, p, detail, roughness);
+    if (t.use_alpha) return Rgba{Vec3(value, value, value), value};
+    float channel[2];
+    for (int k = 0; k < 2; ++k) {
+        float off[kMaxDims], at[kMaxDims];
+        random_offset(n, float(n + k), off);
+        for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
+        channel[k] = fractal(t, n, at, detail, roughness);
+    }
+    return Rgba{Vec3(value, channel[0], channel[1]), value};
+}
+
+}  // namespace gw

@@ -1,0 +1,23 @@
+// Blender's Noise Texture, as Cycles evaluates it: Perlin noise in 1 to 4
+// dimensions whose lattice gradients come from Bob Jenkins' lookup3 hash of
+// the cell's integer corner, scaled per dimension into about [-1, 1], summed
+// over octaves by one of Blender's five fractal types, with its Distortion
+// and its Color output (the noise at two further places, offset by hashed
+// amounts). The constants are Cycles' own, so that the patterns line up with
+// a Cycles render of the same node (tests/blender/test_b39).
+#pragma once
+#include "texture.h"
+
+namespace gw {
+
+// The Noise texture t at the (mapped) point p: rgb the Color output, a the
+// Fac output (the colour's red). (The green and blue are computed only
+// where t takes the Color output, not use_alpha.)
+Rgba noise_color(const Texture& t, const Vec3& p);
+
+// Cycles' signed Perlin noise in n dimensions (1-4) at x[0 .. n): its
+// lattice noise scaled into about [-1, 1], the coordinates wrapped every
+// 100000 as Cycles wraps them, 0 where it is not finite. (For the tests.)
+float signed_noise(int n, const float* x);
+
+}  // namespace gw

@@ -71,6 +71,8 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"variant": "principled", "resolution": [128, 96]}', "transparent=false"]),
     ("procedural_gradient", "Gradient Texture (Radial) through a Color Ramp of three stops",
      ['scene={"gradient": "RADIAL", "ramp": "LINEAR", "resolution": [128, 96]}', "transparent=false"]),
+    ("procedural_noise", "Noise Texture (3D fBM, Detail 6), its Fac through a Color Ramp",
+     ['scene={"variant": "ramp", "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -7,7 +7,7 @@ Generated coordinates (Scene(generated=...)) or at the Object coordinates
 (Scene(object_coords=...)), mapped by vector_transform (a Mapping node); an
 image can take those coordinates too. What has no such coordinates
 (spheres, cylinders, a scene without the array) or
-cannot take a pattern (normal and bump maps, the environment) is refused with
+cannot take a pattern (normal maps, the environment) is refused with
 the field named. (Blender's side: tests/blender/test_b38.)"""
 from dataclasses import replace
 
@@ -244,7 +244,6 @@ def _scene(**kw):
      "vector_transform has a non-finite value"),
     ({"textures": [gw.Texture(kind="checker", scale=float("nan"))]}, "scale is not finite"),
     ({"materials": [gw.Material(normal_texture=0)]}, r"normal_texture = 0 names a procedural texture"),
-    ({"materials": [gw.Material(bump_texture=0)]}, r"bump_texture = 0 names a procedural texture"),
     ({"world": gw.World(environment=0)}, "environment is an image"),
 ])
 def test_what_cannot_take_the_texture_is_refused_naming_it(kw, message):

@@ -106,18 +106,18 @@ class Links:
 
     def take(self, socket, field, colour: bool = True) -> bool:
         """Turn a linked input into `field` (a texture index); True if it did. Normal
-        and bump maps take images at the UV map only (their slopes are the image's)."""
+        maps take images at the UV map only (their colours are a normal in its frame)."""
         node, out = _source(socket)
         if node is None:
             return False
-        if field in ("normal_texture", "bump_texture"):
+        if field == "normal_texture":
             before = set(self.points), self.uv_layer
             taken = self._take(socket, node, out, field, colour)
             texture = self.textures.textures[self.fields[field]] if taken else None
             if texture is not None and not plain_image(texture):
                 del self.fields[field]
                 self.points, self.uv_layer = before     # (nothing reads what it would have read)
-                self.textured.append(f"{socket.name} ({node.bl_idname}: normal and bump maps read images "
+                self.textured.append(f"{socket.name} ({node.bl_idname}: normal maps read images "
                                      "at the UV map only)")
                 return False
             return taken

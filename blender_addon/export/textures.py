@@ -182,7 +182,7 @@ def uses_normal_maps(depsgraph) -> bool:
 
 def plain_image(texture) -> bool:
     """Whether a gridwalk.Texture is an image read at the UV map, unmapped in 3-space and
-    without a ramp: what the core's normal and bump maps take (texture.h's plain_image)."""
+    without a ramp: what the core's normal maps and environments take (texture.h's plain_image)."""
     return (texture.kind == "image" and texture.coordinates == "uv" and not texture.ramp
             and tuple(texture.vector_transform) == VECTOR_IDENTITY)
 

@@ -254,6 +254,19 @@ private:
     }
     // A procedural texture, or an image at other coordinates or mapped in 3D (see Texture).
     Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v) const;
+    // Such a texture at the point p of its coordinates, after vector_transform.
+    Rgba pattern_at(const Texture& t, const Vec3& p) const;
+    // The texture point (before vector_transform) of each corner of triangle prim
+    // for t's coordinates; false where the scene has no such array.
+    bool corner_points(const Texture& t, size_t prim, Vec3 c[3]) const;
+    // The bump map's slopes on triangle prim at the hit: the height's change per
+    // unit of the triangle's parameters (hu, hv) along which the surface moves by
+    // T and B. An image at the UV map: per unit of u and v, from its texels; any
+    // other texture: per unit of the barycentrics of corners 1 and 2, from central
+    // differences of the pattern. False where there are none (no UVs, UVs or
+    // corners of no area).
+    bool image_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const;
+    bool pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const;
     // The hit's point in the per-corner array of those coordinates (Generated or Object).
     Vec3 hit_point(const Hit& hit, TextureCoords coords) const;
     void hit_uv(const Hit& hit, float& u, float& v) const;

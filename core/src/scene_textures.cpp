@@ -68,12 +68,12 @@ void Scene::check_textures() {
         check_index(m.normal_texture, where + "normal_texture");
         check_index(m.emission_texture, where + "emission_texture");
         check_index(m.bump_texture, where + "bump_texture");
-        // Normal and bump maps take an image's slopes in its own (u, v).
-        for (const auto& [k, name] : {std::pair{m.normal_texture, "normal_texture"}, std::pair{m.bump_texture, "bump_texture"}})
-            if (k >= 0 && !plain_image(textures_[size_t(k)]))
-                bad(where + name + " = " + std::to_string(k) +
-                    " names a procedural texture or one at other coordinates than the UV map: "
-                    "normal and bump maps take an image at the UV map");
+        // A normal map is an image's colours in the frame of its own (u, v).
+        // (A bump map takes any texture's slopes: Scene::bumped.)
+        if (m.normal_texture >= 0 && !plain_image(textures_[size_t(m.normal_texture)]))
+            bad(where + "normal_texture = " + std::to_string(m.normal_texture) +
+                " names a procedural texture or one at other coordinates than the UV map: "
+                "a normal map takes an image at the UV map");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
@@ -152,6 +152,10 @@ Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords) const {
 Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) const {
     Vec3 p = t.coordinates == TextureCoords::UV ? Vec3(u, v, 0) : hit_point(hit, t.coordinates);
     if (vector_mapped(t)) p = map_vector(t, p);
+    return pattern_at(t, p);
+}
+
+Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     if (t.kind == TextureKind::Checker) return checker_color(t, p);
     if (t.kind == TextureKind::Gradient) return gradient_color(t, p);
     if (t.kind == TextureKind::Noise) return noise_color(t, p);
@@ -283,27 +287,71 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
     return reflecting_above(sp.ng * side, wo, mapped * side) * side;
 }
 
-Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
-    if (m.bump_texture < 0 || uvs_.empty()) return n;
+bool Scene::corner_points(const Texture& t, size_t prim, Vec3 c[3]) const {
+    if (t.coordinates == TextureCoords::UV) {
+        if (uvs_.empty()) return false;
+        for (int k = 0; k < 3; ++k) c[k] = Vec3(uvs_[6 * prim + 2 * k], uvs_[6 * prim + 2 * k + 1], 0);
+        return true;
+    }
+    const PooledVector<float>& values = t.coordinates == TextureCoords::Generated ? generated_ : object_coords_;
+    if (values.empty()) return false;   // (check_generated refuses such a scene)
+    for (int k = 0; k < 3; ++k) c[k] = Vec3(values[9 * prim + 3 * k], values[9 * prim + 3 * k + 1], values[9 * prim + 3 * k + 2]);
+    return true;
+}
+
+bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const {
+    const size_t prim = size_t(hit.prim);
+    Vec3 c[3];
+    if (!corner_points(t, prim, c)) return false;
+    const Vec3* p = &tri_verts_[3 * prim];
+    T = p[1] - p[0];
+    B = p[2] - p[0];
+    // The point and the directions in which it moves with the barycentrics of
+    // corners 1 and 2 (after the Mapping's linear part); each slope a central
+    // difference over a step of 1/1000 of the pattern's cells (1 / scale), or
+    // more where the point is so far out that such a step would lose its digits.
+    const float b0 = 1.0f - hit.u - hit.v;
+    Vec3 q = c[0] * b0 + c[1] * hit.u + c[2] * hit.v, a1 = c[1] - c[0], a2 = c[2] - c[0];
+    if (vector_mapped(t)) {
+        q = map_vector(t, q);
+        const Vec3 origin = map_vector(t, Vec3(0, 0, 0));
+        a1 = map_vector(t, a1) - origin;
+        a2 = map_vector(t, a2) - origin;
+    }
+    const float cell = t.kind == TextureKind::Checker || t.kind == TextureKind::Noise ? 1.0f / std::max(std::abs(t.scale), 1e-6f)
+                       : t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
+                                                      : 1.0f;
+    const float far = std::max(std::abs(q.x), std::max(std::abs(q.y), std::abs(q.z)));
+    const float delta = std::max(1e-3f * cell, 1e-5f * far);
+    auto slope = [&](const Vec3& a, float& out) {
+        const float len = length(a);
+        if (!(len > 0) || !std::isfinite(len)) return false;
+        const float s = delta / len;
+        const float up = scalar_of(t, pattern_at(t, q + a * s)), down = scalar_of(t, pattern_at(t, q - a * s));
+        out = (up - down) / (2 * s);
+        return std::isfinite(out);
+    };
+    return slope(a1, hu) && slope(a2, hv);
+}
+
+bool Scene::image_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const {
+    if (uvs_.empty()) return false;
     const size_t prim = size_t(hit.prim);
     const Vec3* p = &tri_verts_[3 * prim];
-    const float* t = &uvs_[6 * prim];
-    // dp/du and dp/dv of the triangle, and the gradients of u and v along it
-    // (the dual basis in its plane: Mikkelsen's surface gradient)
+    const float* uv = &uvs_[6 * prim];
+    // dp/du and dp/dv of the triangle
     const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
-    const float du1 = t[2] - t[0], dv1 = t[3] - t[1], du2 = t[4] - t[0], dv2 = t[5] - t[1];
+    const float du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
     const float det = du1 * dv2 - du2 * dv1;
-    if (!(det != 0)) return n;                           // UVs of no area
-    const Vec3 T = (e1 * dv2 - e2 * dv1) * (1.0f / det), B = (e2 * du1 - e1 * du2) * (1.0f / det);
-    const Vec3 ng = normalize(cross(e1, e2));
-    const float D = dot(ng, cross(T, B));
-    if (!(std::abs(D) > 0) || !std::isfinite(D)) return n;
+    if (!(det != 0)) return false;                       // UVs of no area
+    T = (e1 * dv2 - e2 * dv1) * (1.0f / det);
+    B = (e2 * du1 - e1 * du2) * (1.0f / det);
     // The height's slopes in the image's own coordinates (after uv_transform,
     // brought into the first tile where the image repeats, so that large UVs
     // keep their digits): central differences over a quarter of a texel of
     // its bilinear interpolation (Closest too: its steps have no slope to
     // take), then back to u and v through the transform's linear part.
-    Texture tex = textures_[size_t(m.bump_texture)];
+    Texture tex = t;
     const Image& img = *images_[size_t(tex.image)];
     tex.interpolation = Interpolation::Linear;
     float u, v;
@@ -320,7 +368,23 @@ Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
     const float hx = (height(x + sx, y) - height(x - sx, y)) / (2 * sx);
     const float hy = (height(x, y + sy) - height(x, y - sy)) / (2 * sy);
     const auto& a = tex.uv_transform;
-    const float hu = hx * a[0] + hy * a[3], hv = hx * a[1] + hy * a[4];
+    hu = hx * a[0] + hy * a[3];
+    hv = hx * a[1] + hy * a[4];
+    return true;
+}
+
+Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
+    if (m.bump_texture < 0) return n;
+    const Texture& tex = textures_[size_t(m.bump_texture)];
+    Vec3 T, B;
+    float hu, hv;
+    if (!(plain_image(tex) ? image_slopes(tex, hit, T, B, hu, hv) : pattern_slopes(tex, hit, T, B, hu, hv))) return n;
+    // The gradients of the two parameters along the triangle (the dual basis
+    // of T and B in its plane: Mikkelsen's surface gradient) weighted by the slopes.
+    const Vec3* p = &tri_verts_[3 * size_t(hit.prim)];
+    const Vec3 ng = normalize(cross(p[1] - p[0], p[2] - p[0]));
+    const float D = dot(ng, cross(T, B));
+    if (!(std::abs(D) > 0) || !std::isfinite(D)) return n;
     Vec3 grad = (cross(B, ng) * hu + cross(ng, T) * hv) * (1.0f / D);
     // Its part along n removed along the geometric normal, as Cycles' Bump node
     // takes the surface's differentials against the shading normal: the vector

@@ -132,8 +132,8 @@ inline bool vector_mapped(const Texture& t) {
 }
 
 // Whether the texture is an image looked up at the UV map's (u, v) as it
-// was before procedural textures and other coordinates: what a normal map,
-// a bump map and the world's environment take.
+// was before procedural textures and other coordinates: what a normal map
+// and the world's environment take (a bump map of one takes its texels' slopes).
 inline bool plain_image(const Texture& t) {
     return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t) && t.ramp.empty();
 }

@@ -98,10 +98,10 @@ def test_object_coordinates_of_another_object_are_named_in_a_warning(export):
 def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):
     out = export("checker_on_shapes")
     assert "error" not in out.info, out.info.get("error")
-    assert len(out.sphere_radii) == 1                     # Bumpy stays a sphere (its checker is not read) ...
-    assert len(out.generated) == len(out.triangles) > 0   # ... Ball went out as its mesh, with Generated coordinates
+    assert len(out.sphere_radii) == 0                     # Ball and Bumpy (its bump's checker) went out as their
+    assert len(out.generated) == len(out.triangles) > 0   # meshes, with Generated coordinates
     warnings = " ".join(out.warnings)
-    assert "rendered as their meshes: 'Ball'" in warnings
+    assert "rendered as their meshes: 'Ball', 'Bumpy'" in warnings
     if out.expected["hair"]:
         textures = [out.materials[i]["color_texture"] for i in np.unique(out.cylinder_materials)]
         assert textures == [-1]                           # the strands' copy of the material has no checker

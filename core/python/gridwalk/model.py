@@ -134,7 +134,9 @@ class Material(Record):
     map (Blender's Bump node): the normal (after any normal map) becomes
     normalize(n - bump_distance x the height's gradient along the surface,
     its part along n removed along the geometric normal), blended with n by
-    bump_strength; a negative distance bumps inwards. A
+    bump_strength; a negative distance bumps inwards (any texture: an image at
+    the UV map by its texels' slopes, a procedural one or one at other
+    coordinates by central differences of its pattern). A
     texture feeding a scalar gives its alpha channel when its use_alpha is set, else its
     luminance. vertex_color: the colour is the triangle's corner colours
     (Scene(colors=...)) interpolated; with a color_texture, the texture's
@@ -225,7 +227,7 @@ class Texture(Record):
     Scene(object_coords=...)); the last two on triangles only. vector_transform: 12 numbers, a
     row-major 3 x 4 affine map applied to that point (Blender's Mapping node;
     the identity by default); an image then takes the point's (x, y) as its
-    (u, v), mapped on by uv_transform. Normal and bump maps and the world's
+    (u, v), mapped on by uv_transform. Normal maps and the world's
     environment take images at the UV map only. interpolation: linear | closest. extension: repeat | extend
     | clip (transparent black outside) | mirror (every other tile flipped). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's

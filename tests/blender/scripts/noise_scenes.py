@@ -1,4 +1,6 @@
 """A Noise Texture on a plane (render_scene.py and export_dump.py build it by name)."""
+import math
+
 import bpy
 
 from procedural_scenes import emissive_plane
@@ -58,6 +60,36 @@ def procedural_noise_scene(variant="color", resolution=(96, 72)):
         source = ramp.outputs["Color"]
     links.new(source, nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
+    plain_world("World", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {}
+
+
+def noise_bump_scene(height="NOISE", resolution=(96, 72)):
+    """A white diffuse plane facing the camera whose Normal is a Bump node (Distance 0.4) fed by
+    a texture's Fac at Object coordinates (through a Mapping node scaling them by 0.25): `height`
+    NOISE (3D fBM, Scale 5, Detail 1) or GRADIENT (linear: one even slope); lit by a sun from the
+    upper left, 40 degrees off the plane's normal, in a black world."""
+    from scenes import add_light
+    plane, mat = emissive_plane("Bumped", resolution)
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.remove(nodes["Emission"])
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
+    texture = nodes.new("ShaderNodeTexNoise" if height == "NOISE" else "ShaderNodeTexGradient")
+    if height == "NOISE":
+        texture.inputs["Detail"].default_value = 1.0
+    mapping = nodes.new("ShaderNodeMapping")
+    mapping.inputs["Scale"].default_value = (0.25, 0.25, 0.25)
+    links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
+    links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    bump = nodes.new("ShaderNodeBump")
+    bump.inputs["Distance"].default_value = 0.4
+    links.new(texture.outputs[0], bump.inputs["Height"])
+    links.new(bump.outputs["Normal"], diffuse.inputs["Normal"])
+    plane.data.materials.append(mat)
+    add_light("Sun", "SUN", rotation=(math.radians(90 - 40), 0.0, math.radians(-30)), energy=3.0)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}

@@ -106,8 +106,7 @@ def checker_on_shapes_scene(resolution=(96, 72)):
     """hair_scene's strands (where the Python API makes hair curves) and a UV sphere flagged
     'Render as sphere', both with checker_material: shapes without Generated coordinates;
     and a second flagged sphere, Bumpy, whose Principled BSDF's Normal is a Bump node whose
-    Height a Checker gives (which Gridwalk does not read: it stays a sphere). Returns
-    whether the hair exists."""
+    Height a Checker gives (which reads Generated coordinates too). Returns whether the hair exists."""
     from scenes import hair_scene, uv_sphere_object
     made = hair_scene(resolution=resolution)["segments"] is not None
     mat = checker_material()

@@ -5,6 +5,7 @@ the UV map bends it by its texels' slopes. Checked against the slope worked out 
 linear Gradient), against numpy's differences of Cycles' noise (test76's evaluation) pixel by
 pixel, and for the Bump node's Distance and Strength. Blender's side: tests/blender/test_b39."""
 import numpy as np
+import pytest
 
 import gridwalk as gw
 from test76_noise_texture_is_perlin_noise_as_cycles_computes_it import fractal
@@ -78,3 +79,9 @@ def test_a_checker_bump_is_flat_inside_its_squares():
     # (a step has no slope: only a pixel centre within the difference's step of an edge could
     # show one, and none lies there)
     np.testing.assert_allclose(image, flat, rtol=1e-5)
+
+
+def test_a_bump_at_object_coordinates_without_them_is_refused():
+    with pytest.raises(ValueError, match=r"texture at object coordinates.*Scene\(object_coords=...\)"):
+        gw.Scene(VERTS, TRIS, textures=[gw.Texture(kind="noise", coordinates="object")],
+                 materials=[gw.Material(bump_texture=0)])

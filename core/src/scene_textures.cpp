@@ -117,7 +117,7 @@ void Scene::check_generated() const {
         for (size_t i = 0; i < materials_.size(); ++i) {
             const Material& m = materials_[i];
             uses[i] = reads(m.color_texture) || reads(m.roughness_texture) || reads(m.metallic_texture) ||
-                      reads(m.alpha_texture) || reads(m.emission_texture);
+                      reads(m.alpha_texture) || reads(m.emission_texture) || reads(m.bump_texture);
         }
         const std::string kind = enum_id(coords);
         auto what = [&](int32_t mat) {

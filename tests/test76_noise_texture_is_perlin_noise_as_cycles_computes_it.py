@@ -73,17 +73,21 @@ def _grad(h, f):
     return sign(u, g & U32(1)) + sign(v, g & U32(2)) + sign(s, g & U32(4))
 
 
-def snoise(p):
-    """Cycles' signed noise at p (list of float32 arrays, 1-4 of them)."""
+def snoise(p, wrap=True):
+    """Cycles' signed noise at p (list of float32 arrays, 1-4 of them); wrap: Blender 4.0 and
+    later wrap the coordinates every 100000 and move them by 1/2 from a million on."""
     n = len(p)
-    p = [np.fmod(np.float32(x), np.float32(100000)) for x in p]
+    if wrap:
+        p = [np.fmod(np.float32(x), np.float32(100000)) + np.float32(0.5) * (np.abs(x) >= 1e6) for x in p]
     cell = [np.floor(x) for x in p]
     frac = [(x - c).astype(np.float32) for x, c in zip(p, cell)]
     fade = [t * t * t * (t * (t * np.float32(6) - np.float32(15)) + np.float32(10)) for t in frac]
     corners = []
     for c in range(1 << n):
         bits = [(c >> i) & 1 for i in range(n)]
-        keys = [(cell[i].astype(np.int64) + bits[i]).astype(np.int64).astype(U32) for i in range(n)]
+        # (a cell beyond int range is INT_MIN, as x86 converts it: Blender 3.4 does not wrap)
+        index = [np.where(np.abs(c) < 2.0 ** 31, c, -2.0 ** 31).astype(np.int64) for c in cell]
+        keys = [(index[i] + bits[i]).astype(U32) for i in range(n)]
         corners.append(_grad(_hash(keys), [frac[i] - np.float32(bits[i]) for i in range(n)]))
     for i in range(n):
         corners = [a + fade[i] * (b - a) for a, b in zip(corners[0::2], corners[1::2])]
@@ -92,6 +96,7 @@ def snoise(p):
 
 def fractal(p, kind, detail, roughness, lacunarity, offset=0.0, gain=1.0, normalize=True):
     f32 = np.float32
+    detail = min(max(detail, 0.0), 15.0)
     roughness, lacunarity, offset, gain = f32(roughness), f32(lacunarity), f32(offset), f32(gain)
     octaves, rest = int(detail), f32(detail - np.floor(detail))
     finer = lambda q: [x * lacunarity for x in q]
@@ -177,10 +182,26 @@ def test_signed_noise_is_cycles_perlin_noise_in_each_dimension(n):
     assert np.all(ours[:10] == 0) and ours.std() > 0.1 and np.abs(ours).max() <= 1.1
 
 
-def test_far_and_non_finite_coordinates_wrap_or_give_zero():
+def test_far_coordinates_wrap_as_in_blender_4_and_stay_as_they_are_in_3_4():
     assert _core.signed_noise([123456.5, 3.2, 1.1]) == _core.signed_noise([23456.5, 3.2, 1.1]) != 0
+    # from a million on, moved by half a cell after the wrap (which would leave them on lattice points)
+    assert _core.signed_noise([3000000.0, 3.2]) == _core.signed_noise([0.5, 3.2]) != 0
+    rng = np.random.default_rng(9)
+    far = rng.uniform(-3e6, 3e6, (200, 3)).astype(np.float32)
+    for wrap in (True, False):
+        ours = np.array([_core.signed_noise(list(map(float, q)), wrap) for q in far], np.float32)
+        np.testing.assert_allclose(ours, snoise([far[:, i] for i in range(3)], wrap), rtol=0, atol=2e-6)
+    assert _core.signed_noise([123456.5, 3.2, 1.1], False) != _core.signed_noise([123456.5, 3.2, 1.1], True)
+    assert _core.signed_noise([3e9, 0.25, 0.5], False) == pytest.approx(float(snoise([np.float32([3e9]), np.float32([0.25]), np.float32([0.5])], False)[0]), abs=2e-6)
+
+
+def test_non_finite_coordinates_and_overflowing_octaves_give_zero():
     assert _core.signed_noise([float("nan"), 0.5, 0.5]) == _core.signed_noise([0.0, 0.5, 0.5])
     assert _core.signed_noise([float("inf")] * 4) == 0.0
+    for kind in ("fbm", "multifractal", "hetero_terrain"):   # Roughness 1000 over 15 octaves overflows
+        image = _render(gw.Texture(kind="noise", coordinates="generated", noise_type=kind, detail=15.0,
+                                   roughness=1000.0))
+        assert np.isfinite(image).all() and (image == 0).mean() > 0.3, kind
 
 
 @pytest.mark.parametrize("detail", [0.0, 2.0, 3.7])
@@ -193,6 +214,30 @@ def test_the_default_noise_colour_is_three_fbm_noises_at_cycles_offsets(detail):
     np.testing.assert_allclose(image, np.stack([red, green, blue], axis=-1), rtol=0, atol=2e-5)
     assert all(image[..., k].std() > 0.02 for k in range(3))
     assert np.abs(image[..., 0] - image[..., 1]).mean() > 0.02          # the channels differ
+
+
+@pytest.mark.parametrize("n", [1, 2, 4])
+def test_the_colour_in_other_dimensions_takes_their_own_offsets(n):
+    texture = gw.Texture(kind="noise", coordinates="generated", noise_dimensions=n, w=0.8, scale=2.0)
+    x, y, z = _pixel_points(2.0)
+    w = np.full(x.shape, np.float32(0.8) * np.float32(2.0), np.float32)
+    p = {1: [w], 2: [x, y], 4: [x, y, z, w]}[n]
+    channels = [fractal([a + b for a, b in zip(p, offsets(n, float(seed)))] if seed else p, "fbm", 2.0, 0.5, 2.0)
+                for seed in (0, n, n + 1)]
+    # (points 100-200 out, where float32 keeps fewer digits of the fraction)
+    np.testing.assert_allclose(_render(texture), np.stack(channels, axis=-1), rtol=0, atol=6e-5)
+
+
+def test_normalize_off_detail_past_15_and_roughness_past_1_are_taken_as_cycles_takes_them():
+    p = _pixel_points(2.0)
+    for fields, want in [
+            (dict(normalize=False), fractal(p, "fbm", 2.0, 0.5, 2.0, normalize=False)),   # in [-1, 1]
+            (dict(detail=20.0, roughness=0.7), fractal(p, "fbm", 15.0, 0.7, 2.0)),      # 15 octaves at most
+            (dict(detail=3.0, roughness=1.6), fractal(p, "fbm", 3.0, 1.6, 2.0))]:       # not clamped to 1
+        texture = gw.Texture(kind="noise", coordinates="generated", scale=2.0, use_alpha=True, **fields)
+        # (an image holds no negative light: below 0 the emission is 0)
+        np.testing.assert_allclose(_render(texture)[..., 0], np.maximum(want, 0), rtol=0, atol=6e-5)
+    assert (fractal(p, "fbm", 2.0, 0.5, 2.0, normalize=False) < 0).mean() > 0.2
 
 
 @pytest.mark.parametrize("kind,offset,gain", [("multifractal", 0.0, 1.0), ("ridged_multifractal", 1.0, 2.0),

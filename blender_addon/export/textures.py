@@ -208,17 +208,19 @@ PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE")   # the pattern 
 
 def noise_fields(node, values: dict) -> dict:
     """gridwalk.Texture fields of a Noise Texture node whose inputs have the values
-    `values` (by socket name). Blender before 4.0 has no Lacunarity (2), Normalize (on)
-    or type (fBM), and clamps Roughness to [0, 1]; 4.0 has no type."""
+    `values` (by socket name). Blender before 4.0 has no Lacunarity (2) or Normalize (on)
+    and does not wrap the coordinates; before 4.1 it has no type (fBM) and clamps
+    Roughness to [0, 1]."""
+    import bpy
     roughness = float(values["Roughness"])
-    if "Lacunarity" not in values:
+    if not hasattr(node, "noise_type"):
         roughness = min(max(roughness, 0.0), 1.0)
     return dict(kind="noise", noise_type=getattr(node, "noise_type", "FBM").lower(),
                 noise_dimensions=int(node.noise_dimensions[0]), w=float(values.get("W", 0.0)),
                 scale=float(values["Scale"]), detail=float(values["Detail"]), roughness=roughness,
                 lacunarity=float(values.get("Lacunarity", 2.0)), distortion=float(values["Distortion"]),
                 noise_offset=float(values.get("Offset", 0.0)), noise_gain=float(values.get("Gain", 1.0)),
-                normalize=bool(getattr(node, "normalize", True)))
+                normalize=bool(getattr(node, "normalize", True)), noise_wrap=bpy.app.version >= (4, 0, 0))
 
 
 def _signature(img):

@@ -73,6 +73,7 @@ void bind_records(nb::module_& m) {
         .def_rw("noise_offset", &Texture::noise_offset)
         .def_rw("noise_gain", &Texture::noise_gain)
         .def_rw("normalize", &Texture::normalize)
+        .def_rw("noise_wrap", &Texture::noise_wrap)
         .def_rw("ramp", &Texture::ramp)
         .def_rw("ramp_interpolation", &Texture::ramp_interpolation)
         .def_rw("interpolation", &Texture::interpolation)
@@ -86,10 +87,10 @@ void bind_records(nb::module_& m) {
         .def_rw("bias", &Texture::bias)
         .def_rw("clamp", &Texture::clamp)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
-    m.def("signed_noise", [](const std::vector<float>& x) {
+    m.def("signed_noise", [](const std::vector<float>& x, bool wrap) {
         if (x.empty() || x.size() > 4) throw std::invalid_argument("signed_noise takes 1 to 4 coordinates");
-        return signed_noise(int(x.size()), x.data());
-    });
+        return signed_noise(int(x.size()), x.data(), wrap);
+    }, nb::arg("x"), nb::arg("wrap") = true);
 
     nb::class_<World>(m, "World")
         .def(nb::init<>())

@@ -1,6 +1,8 @@
 // Blender's Noise Texture. See noise.h.
 #include "noise.h"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -101,7 +103,8 @@ float perlin(int n, const float* x) {
     float frac[kMaxDims], weight[kMaxDims];
     for (int i = 0; i < n; ++i) {
         const float fl = std::floor(x[i]);
-        cell[i] = int32_t(fl);
+        // (beyond int range, as x86's conversion gives it: Blender 3.4 does not wrap)
+        cell[i] = std::abs(fl) < 2147483648.0f ? int32_t(fl) : INT32_MIN;
         frac[i] = x[i] - fl;
         weight[i] = fade(frac[i]);
     }
@@ -133,7 +136,7 @@ float fractal(const Texture& t, int n, const float* p0, float detail, float roug
     auto scaled = [&](float s) {
         float q[kMaxDims];
         for (int i = 0; i < n; ++i) q[i] = s * p[i];
-        return signed_noise(n, q);
+        return signed_noise(n, q, t.noise_wrap);
     };
     auto finer = [&] {
         for (int i = 0; i < n; ++i) p[i] *= t.lacunarity;
@@ -213,10 +216,12 @@ float fractal(const Texture& t, int n, const float* p0, float detail, float roug
 
 }  // namespace
 
-float signed_noise(int n, const float* x) {
+float signed_noise(int n, const float* x, bool wrap) {
     float p[kMaxDims];
     for (int i = 0; i < n; ++i) {
-        const float wrapped = std::fmod(x[i], 100000.0f);
+        // (a coordinate of a million or more moves by half a cell after the wrap, which
+        // would otherwise leave it on a lattice point, where the noise is 0)
+        const float wrapped = wrap ? std::fmod(x[i], 100000.0f) + (std::abs(x[i]) >= 1000000.0f ? 0.5f : 0.0f) : x[i];
         p[i] = std::isfinite(wrapped) ? wrapped : 0.0f;
     }
     const float r = perlin(n, p);
@@ -242,18 +247,21 @@ Rgba noise_color(const Texture& t, const Vec3& point) {
             float off[kMaxDims], at[kMaxDims];
             random_offset(n, float(k), off);
             for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
-            moved[k] = signed_noise(n, at) * t.distortion;
+            moved[k] = signed_noise(n, at, t.noise_wrap) * t.distortion;
         }
         for (int i = 0; i < n; ++i) p[i] += moved[i];
     }
-    const float value = fractal(t, n, p, detail, roughness);
+    // (Settings Blender accepts, such as Roughness 1000 over 15 octaves, overflow:
+    // Cycles shows such a value as 0.)
+    auto finite = [](float x) { return std::isfinite(x) ? x : 0.0f; };
+    const float value = finite(fractal(t, n, p, detail, roughness));
     if (t.use_alpha) return Rgba{Vec3(value, value, value), value};
     float channel[2];
     for (int k = 0; k < 2; ++k) {
         float off[kMaxDims], at[kMaxDims];
         random_offset(n, float(n + k), off);
         for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
-        channel[k] = fractal(t, n, at, detail, roughness);
+        channel[k] = finite(fractal(t, n, at, detail, roughness));
     }
     return Rgba{Vec3(value, channel[0], channel[1]), value};
 }

@@ -16,8 +16,10 @@ namespace gw {
 Rgba noise_color(const Texture& t, const Vec3& p);
 
 // Cycles' signed Perlin noise in n dimensions (1-4) at x[0 .. n): its
-// lattice noise scaled into about [-1, 1], the coordinates wrapped every
-// 100000 as Cycles wraps them, 0 where it is not finite. (For the tests.)
-float signed_noise(int n, const float* x);
+// lattice noise scaled into about [-1, 1], 0 where it is not finite. With
+// `wrap` (Blender 4.0 and later) the coordinates are wrapped every 100000 as
+// Cycles wraps them, and moved by 1/2 from a million on; Blender 3.4 takes
+// them as they are. (Also for the tests.)
+float signed_noise(int n, const float* x, bool wrap);
 
 }  // namespace gw

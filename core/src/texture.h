@@ -83,10 +83,12 @@ struct Texture {
     // `normalize` maps the sum into [0, 1]. The value is the alpha (Blender's
     // Fac output: use_alpha) and the colour's red; green and blue are the
     // noise at two other places (its Color output). Blender's defaults.
+    // noise_wrap: the coordinates wrap every 100000 (Blender 4.0 and later; 3.4
+    // takes them as they are: noise.h's signed_noise).
     NoiseType noise_type = NoiseType::Fbm;
     int32_t noise_dimensions = 3;
     float w = 0, detail = 2, roughness = 0.5f, lacunarity = 2, distortion = 0, noise_offset = 0, noise_gain = 1;
-    bool normalize = true;
+    bool normalize = true, noise_wrap = true;
     // A colour ramp the value goes through last (Blender's Color Ramp node,
     // RGB mode): 5 floats per stop, position then RGBA, positions in
     // increasing order, at most kMaxRampStops; empty: none. The ramp's input is the value after the

@@ -86,7 +86,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "gradient": "linear", "ramp": [], "ramp_interpolation": "linear",
                                                "noise_type": "fbm", "noise_dimensions": 3, "w": 0.0, "detail": 2.0,
                                                "roughness": 0.5, "lacunarity": 2.0, "distortion": 0.0,
-                                               "noise_offset": 0.0, "noise_gain": 1.0, "normalize": True}
+                                               "noise_offset": 0.0, "noise_gain": 1.0, "normalize": True,
+                                               "noise_wrap": True}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

@@ -2,7 +2,8 @@
 as Blender adds it (3D fBM at Generated coordinates, its Color output), its Fac output with a
 fraction of an octave, roughness and distortion, 2D, 4D and 1D noise, its Fac through a Color
 Ramp, and (Blender 4.1 and later) the multifractal, ridged, hybrid and hetero-terrain types;
-and a Bump node fed by a Noise or a Gradient Texture (a procedural height).
+a point over a million out (wrapped by 4.0 and later, not by 3.4); and a Bump node fed by a
+Noise or a Gradient Texture (a procedural height).
 Before, a Noise Texture was a warning and its input's default colour.
 Scenes: noise_scenes.procedural_noise_scene, noise_bump_scene."""
 import numpy as np
@@ -11,7 +12,7 @@ import pytest
 from runner import luminance_by_engine
 
 VARIANTS = ("color", "fac", "2d", "4d", "1d", "ramp",                # noise_scenes.NOISE_VARIANTS
-            "multifractal", "ridged", "hybrid", "hetero")
+            "multifractal", "ridged", "hybrid", "hetero", "far")
 TYPED = ("multifractal", "ridged", "hybrid", "hetero")              # noise types: Blender 4.1 and later
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 

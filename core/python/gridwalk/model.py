@@ -213,8 +213,10 @@ class Texture(Record):
     roughness times as strong, as noise_type = fbm | multifractal |
     hybrid_multifractal | ridged_multifractal | hetero_terrain says
     (noise_offset, noise_gain: the multifractals' Offset and Gain); fbm with
-    normalize maps the sum into about [0, 1]. Its colour is Blender's Color
-    output; use_alpha gives its Fac (the value, as grey).
+    normalize maps the sum into about [0, 1]; noise_wrap: the coordinates wrap
+    every 100000 and move by 1/2 from a million on (Blender 4.0 and later;
+    3.4 takes them as they are). Its colour is Blender's Color output;
+    use_alpha gives its Fac (the value, as grey); a value that overflows is 0.
     ramp: a colour ramp the value goes through last (Blender's Color Ramp
     node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
     increasing position, at most 256 (a flat sequence of 5n numbers is taken
@@ -263,6 +265,7 @@ class Texture(Record):
     noise_offset: float = _f32(_TEX.noise_offset)
     noise_gain: float = _f32(_TEX.noise_gain)
     normalize: bool = _TEX.normalize
+    noise_wrap: bool = _TEX.noise_wrap
     ramp: tuple = ()
     ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]

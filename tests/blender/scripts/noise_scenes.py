@@ -17,7 +17,9 @@ from scenes import plain_world
 #   ramp       Fac through a Color Ramp (black to orange), Scale 3, Detail 6
 #   multifractal, ridged, hybrid, hetero   the other noise types (Blender 4.1 and later), Fac,
 #              with their Offset and Gain, Lacunarity 2.2, at Object coordinates
-NOISE_VARIANTS = ("color", "fac", "2d", "4d", "1d", "ramp", "multifractal", "ridged", "hybrid", "hetero")
+#   far        Color, the Mapping moving the point 250000 out along x: times Scale 5 past a million
+#              (Blender 4.0 and later wrap such coordinates; 3.4 keeps their few digits)
+NOISE_VARIANTS = ("color", "fac", "2d", "4d", "1d", "ramp", "multifractal", "ridged", "hybrid", "hetero", "far")
 TYPES = {"multifractal": ("MULTIFRACTAL", 0.0, 1.0), "ridged": ("RIDGED_MULTIFRACTAL", 1.0, 2.0),
          "hybrid": ("HYBRID_MULTIFRACTAL", 0.7, 1.2), "hetero": ("HETERO_TERRAIN", 0.5, 1.0)}
 
@@ -31,6 +33,8 @@ def procedural_noise_scene(variant="color", resolution=(96, 72)):
     if variant != "color":
         mapping = nodes.new("ShaderNodeMapping")
         mapping.inputs["Scale"].default_value = (0.25, 0.25, 0.25)   # (features of several pixels)
+        if variant == "far":
+            mapping.inputs["Location"].default_value = (250000.0, 0.0, 0.0)
         links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
         links.new(mapping.outputs["Vector"], noise.inputs["Vector"])
     if variant == "fac":

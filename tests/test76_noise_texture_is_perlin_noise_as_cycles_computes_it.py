@@ -218,7 +218,7 @@ def test_the_default_noise_colour_is_three_fbm_noises_at_cycles_offsets(detail):
 
 @pytest.mark.parametrize("n", [1, 2, 4])
 def test_the_colour_in_other_dimensions_takes_their_own_offsets(n):
-    texture = gw.Texture(kind="noise", coordinates="generated", noise_dimensions=n, w=0.8, scale=2.0)
+    texture = gw.Texture(kind="noise", coordinates="generated", dimensions=n, w=0.8, scale=2.0)
     x, y, z = _pixel_points(2.0)
     w = np.full(x.shape, np.float32(0.8) * np.float32(2.0), np.float32)
     p = {1: [w], 2: [x, y], 4: [x, y, z, w]}[n]
@@ -254,7 +254,7 @@ def test_each_noise_type_sums_its_octaves_as_cycles_does(kind, offset, gain):
 
 @pytest.mark.parametrize("n", [1, 2, 4])
 def test_distortion_moves_the_point_by_noise_in_2d_1d_and_4d(n):
-    texture = gw.Texture(kind="noise", coordinates="generated", noise_dimensions=n, w=0.8, scale=1.5,
+    texture = gw.Texture(kind="noise", coordinates="generated", dimensions=n, w=0.8, scale=1.5,
                          distortion=1.3, use_alpha=True)
     x, y, _ = _pixel_points(1.5)
     w = np.full(x.shape, np.float32(0.8) * np.float32(1.5), np.float32)
@@ -264,13 +264,13 @@ def test_distortion_moves_the_point_by_noise_in_2d_1d_and_4d(n):
     want = fractal(p, "fbm", 2.0, 0.5, 2.0)
     image = _render(texture)
     np.testing.assert_allclose(image, np.repeat(want[..., None], 3, axis=-1), rtol=0, atol=2e-5)
-    undistorted = _render(gw.Texture(kind="noise", coordinates="generated", noise_dimensions=n, w=0.8, scale=1.5,
+    undistorted = _render(gw.Texture(kind="noise", coordinates="generated", dimensions=n, w=0.8, scale=1.5,
                                      use_alpha=True))
     assert np.abs(image - undistorted).max() > 0.05
 
 
 def test_bad_noise_settings_are_refused_naming_the_field():
-    for fields, match in [(dict(noise_dimensions=5), "noise_dimensions = 5"), (dict(detail=float("nan")), "detail"),
+    for fields, match in [(dict(dimensions=5), "dimensions = 5"), (dict(detail=float("nan")), "detail"),
                           (dict(noise_type="perlin"), "noise_type"), (dict(lacunarity=float("inf")), "lacunarity")]:
         with pytest.raises(ValueError, match=match):
             _render(gw.Texture(kind="noise", coordinates="generated", **fields))

@@ -216,7 +216,7 @@ def noise_fields(node, values: dict) -> dict:
     if not hasattr(node, "noise_type"):
         roughness = min(max(roughness, 0.0), 1.0)
     return dict(kind="noise", noise_type=getattr(node, "noise_type", "FBM").lower(),
-                noise_dimensions=int(node.noise_dimensions[0]), w=float(values.get("W", 0.0)),
+                dimensions=int(node.noise_dimensions[0]), w=float(values.get("W", 0.0)),
                 scale=float(values["Scale"]), detail=float(values["Detail"]), roughness=roughness,
                 lacunarity=float(values.get("Lacunarity", 2.0)), distortion=float(values["Distortion"]),
                 noise_offset=float(values.get("Offset", 0.0)), noise_gain=float(values.get("Gain", 1.0)),

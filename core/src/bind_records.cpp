@@ -64,7 +64,7 @@ void bind_records(nb::module_& m) {
         .def_rw("scale", &Texture::scale)
         .def_rw("gradient", &Texture::gradient)
         .def_rw("noise_type", &Texture::noise_type)
-        .def_rw("noise_dimensions", &Texture::noise_dimensions)
+        .def_rw("dimensions", &Texture::dimensions)
         .def_rw("w", &Texture::w)
         .def_rw("detail", &Texture::detail)
         .def_rw("roughness", &Texture::roughness)

@@ -5,53 +5,13 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+
+#include "lookup3.h"
 
 namespace gw {
 namespace {
 
 constexpr int kMaxDims = 4;
-
-inline uint32_t rotl(uint32_t x, int k) { return (x << k) | (x >> (32 - k)); }
-
-// lookup3's hash of n words (n = 1-4), seeded as Cycles seeds it for n:
-// its last mixing step, after the full one for a fourth word.
-uint32_t hash_words(int n, const uint32_t* k) {
-    uint32_t a = 0xdeadbeefu + (uint32_t(n) << 2) + 13u, b = a, c = a;
-    a += k[0];
-    if (n > 1) b += k[1];
-    if (n > 2) c += k[2];
-    if (n == 4) {
-        a -= c; a ^= rotl(c, 4);  c += b;
-        b -= a; b ^= rotl(a, 6);  a += c;
-        c -= b; c ^= rotl(b, 8);  b += a;
-        a -= c; a ^= rotl(c, 16); c += b;
-        b -= a; b ^= rotl(a, 19); a += c;
-        c -= b; c ^= rotl(b, 4);  b += a;
-        a += k[3];
-    }
-    c ^= b; c -= rotl(b, 14);
-    a ^= c; a -= rotl(c, 11);
-    b ^= a; b -= rotl(a, 25);
-    c ^= b; c -= rotl(b, 16);
-    a ^= c; a -= rotl(c, 4);
-    b ^= a; b -= rotl(a, 14);
-    c ^= b; c -= rotl(b, 24);
-    return c;
-}
-
-uint32_t bits_of(float x) {
-    uint32_t u;
-    std::memcpy(&u, &x, sizeof u);
-    return u;
-}
-
-// The hash of n floats' bits as a float in [0, 1] (Cycles' hash_float*_to_float).
-float hash_floats(int n, const float* x) {
-    uint32_t k[kMaxDims];
-    for (int i = 0; i < n; ++i) k[i] = bits_of(x[i]);
-    return float(hash_words(n, k)) * (1.0f / 4294967296.0f);
-}
 
 // The offset, each component in [100, 200], that Cycles adds to an n-dimensional
 // point to read the noise somewhere else for `seed` (its random_float*_offset).
@@ -229,7 +189,7 @@ float signed_noise(int n, const float* x, bool wrap) {
 }
 
 Rgba noise_color(const Texture& t, const Vec3& point) {
-    const int n = t.noise_dimensions;
+    const int n = t.dimensions;
     float p[kMaxDims];
     const Vec3 q = point * t.scale;
     const float w = t.w * t.scale;

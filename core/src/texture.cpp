@@ -132,8 +132,8 @@ void validate_texture(const Texture& t, const std::string& where) {
             throw std::invalid_argument(where + ".ramp stop " + std::to_string(i / 5) +
                                         " lies before the one before it: give the stops in increasing position");
     if (!enum_valid(t.noise_type)) throw std::invalid_argument(where + ".noise_type is not a noise type");
-    if (t.noise_dimensions < 1 || t.noise_dimensions > 4)
-        throw std::invalid_argument(where + ".noise_dimensions = " + std::to_string(t.noise_dimensions) +
+    if (t.dimensions < 1 || t.dimensions > 4)
+        throw std::invalid_argument(where + ".dimensions = " + std::to_string(t.dimensions) +
                                     " is not 1, 2, 3 or 4");
     const std::pair<const char*, float> noise_values[] = {{"w", t.w}, {"detail", t.detail},
         {"roughness", t.roughness}, {"lacunarity", t.lacunarity}, {"distortion", t.distortion},

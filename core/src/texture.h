@@ -75,7 +75,7 @@ struct Texture {
     // value, clamped to [0, 1], is the grey colour.
     Gradient gradient = Gradient::Linear;
     // Noise (noise.h): Perlin noise of the point times scale, in
-    // noise_dimensions (1: w; 2: x, y; 3: the point; 4: the point and w, w
+    // dimensions (1: w; 2: x, y; 3: the point; 4: the point and w, w
     // times scale too), moved by `distortion` times noise first, summed over
     // 1 + detail octaves (a fraction blends the last in), each `lacunarity`
     // times finer and `roughness` times as strong, as noise_type says
@@ -86,7 +86,7 @@ struct Texture {
     // noise_wrap: the coordinates wrap every 100000 (Blender 4.0 and later; 3.4
     // takes them as they are: noise.h's signed_noise).
     NoiseType noise_type = NoiseType::Fbm;
-    int32_t noise_dimensions = 3;
+    int32_t dimensions = 3;
     float w = 0, detail = 2, roughness = 0.5f, lacunarity = 2, distortion = 0, noise_offset = 0, noise_gain = 1;
     bool normalize = true, noise_wrap = true;
     // A colour ramp the value goes through last (Blender's Color Ramp node,

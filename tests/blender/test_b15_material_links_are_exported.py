@@ -84,7 +84,7 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                                     0.0, 0.0, 1.0, 0.0],
                                                "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0,
                                                "gradient": "linear", "ramp": [], "ramp_interpolation": "linear",
-                                               "noise_type": "fbm", "noise_dimensions": 3, "w": 0.0, "detail": 2.0,
+                                               "noise_type": "fbm", "dimensions": 3, "w": 0.0, "detail": 2.0,
                                                "roughness": 0.5, "lacunarity": 2.0, "distortion": 0.0,
                                                "noise_offset": 0.0, "noise_gain": 1.0, "normalize": True,
                                                "noise_wrap": True}

@@ -206,7 +206,7 @@ class Texture(Record):
     gradient (Blender's Gradient Texture, grey: gradient = linear | quadratic
     | easing | diagonal | spherical | quadratic_sphere | radial; no image) |
     noise (Blender's Noise Texture as Cycles evaluates it; no image):
-    Perlin noise of the point x scale in noise_dimensions 1 (w x scale), 2
+    Perlin noise of the point x scale in dimensions 1 (w x scale), 2
     (x, y), 3 (the point) or 4 (the point and w x scale), first moved by
     distortion x noise, summed over 1 + detail octaves (detail in [0, 15]; a
     fraction blends the last octave in), each lacunarity times finer and
@@ -256,7 +256,7 @@ class Texture(Record):
     scale: float = _f32(_TEX.scale)
     gradient: str = GRADIENTS[0]
     noise_type: str = NOISE_TYPES[0]
-    noise_dimensions: int = _TEX.noise_dimensions
+    dimensions: int = _TEX.dimensions
     w: float = _f32(_TEX.w)
     detail: float = _f32(_TEX.detail)
     roughness: float = _f32(_TEX.roughness)

@@ -155,8 +155,10 @@ def offsets(n, seed):
             for k in keys]
 
 
-def _render(texture):
-    s = gw.Scene(VERTS, TRIS, generated=GENERATED[TRIS], textures=[texture],
+def _render(texture, generated=GENERATED):
+    """The texture as emission on a square seen straight on, one pixel per sample (the Generated
+    coordinates at its corners: `generated`)."""
+    s = gw.Scene(VERTS, TRIS, generated=generated[TRIS], textures=[texture],
                  camera=gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic",
                                   ortho_height=2.0, width=N, height=N),
                  materials=[gw.Material(kd=0, emission=1.0, color_texture=0)])

@@ -71,7 +71,7 @@ from .node_links import _socket, _source, input_value
 from .color_ramp import ramp_stops
 from .textures import plain_image
 from .uv_mapping import texture_fields
-from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs
+from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs, unread_texture
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -125,6 +125,10 @@ class Links:
 
     def _take(self, socket, node, out, field, colour) -> bool:
         if node.type in TEXTURE_NODES and self.textures is not None:
+            why = unread_texture(node, out.name)
+            if why:
+                self.textured.append(f"{socket.name} ({node.bl_idname}: {why})")
+                return False
             self.fields[field] = self._texture(node, out.name)
             return True
         if node.type == "VALTORGB" and self.textures is not None:
@@ -182,7 +186,7 @@ class Links:
         return True
 
     def _texture(self, node, output, adjust=None) -> int:
-        """The texture index of an Image, Checker, Gradient or Noise Texture node's output."""
+        """The texture index of an Image, Checker, Gradient, Noise or Voronoi Texture node's output."""
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)

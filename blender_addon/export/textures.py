@@ -203,7 +203,7 @@ def corner_point_arrays(depsgraph) -> int:
     return len(reads)
 
 
-PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE")   # the pattern nodes gridwalk.Texture models
+PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI")   # the patterns gridwalk.Texture models
 
 
 def noise_fields(node, values: dict) -> dict:
@@ -221,6 +221,20 @@ def noise_fields(node, values: dict) -> dict:
                 lacunarity=float(values.get("Lacunarity", 2.0)), distortion=float(values["Distortion"]),
                 noise_offset=float(values.get("Offset", 0.0)), noise_gain=float(values.get("Gain", 1.0)),
                 normalize=bool(getattr(node, "normalize", True)), noise_wrap=bpy.app.version >= (4, 0, 0))
+
+
+def voronoi_fields(node, values: dict) -> dict:
+    """gridwalk.Texture fields of a Voronoi Texture node (F1, F2 or Smooth F1; values: its
+    inputs' by socket name). Blender before 4.0 has no Detail (0: one octave), Roughness,
+    Lacunarity or Normalize (off); 5.0 hashes the cells anew (voronoi_pcg)."""
+    import bpy
+    return dict(kind="voronoi", voronoi_feature=node.feature.lower(), voronoi_metric=node.distance.lower(),
+                dimensions=int(node.voronoi_dimensions[0]), w=float(values.get("W", 0.0)),
+                scale=float(values["Scale"]), detail=float(values.get("Detail", 0.0)),
+                roughness=float(values.get("Roughness", 0.5)), lacunarity=float(values.get("Lacunarity", 2.0)),
+                exponent=float(values.get("Exponent", 0.5)), randomness=float(values.get("Randomness", 1.0)),
+                smoothness=float(values.get("Smoothness", 1.0)), normalize=bool(getattr(node, "normalize", False)),
+                voronoi_pcg=bpy.app.version >= (5, 0, 0))
 
 
 def _signature(img):
@@ -294,9 +308,10 @@ class TextureTable:
 
     def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
                    problems: list | None = None) -> int:
-        """Index of the texture a Checker, Gradient or Noise Texture node's `output` gives
-        (a Checker's Fac: white and black; a Gradient's Color and Fac are the same grey;
-        a Noise's Fac its value, its Color three noises), as texture() takes coords and
+        """Index of the texture a Checker, Gradient, Noise or Voronoi Texture node's `output`
+        gives (a Checker's Fac: white and black; a Gradient's Color and Fac are the same grey;
+        a Noise's Fac its value, its Color three noises; a Voronoi's Distance, Color, Position
+        or W, value_nodes.unread_texture naming what it cannot give), as texture() takes coords and
         adjust. Linked inputs other than the Vector take their own values, noted in `problems`."""
         values = {}
         for socket in node.inputs:
@@ -311,6 +326,9 @@ class TextureTable:
                                   **(adjust or {})))
         if node.type == "TEX_NOISE":
             return self._add(dict(noise_fields(node, values), use_alpha=output in ("Fac", "Factor"),
+                                  **(coords or {}), **(adjust or {})))
+        if node.type == "TEX_VORONOI":
+            return self._add(dict(voronoi_fields(node, values), voronoi_output=output.lower(),
                                   **(coords or {}), **(adjust or {})))
         if output in ("Fac", "Factor"):          # (5.0 names the output Factor)
             color1, color2 = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)

@@ -185,7 +185,15 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE")   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI")   # the nodes gridwalk.Texture models
+
+
+def unread_texture(node, output: str) -> str | None:
+    """Why gridwalk.Texture cannot give this texture node's `output`, or None: the
+    Voronoi Texture's Distance to Edge and N-Sphere Radius features (and its Radius output)."""
+    if node.type == "TEX_VORONOI" and (node.feature in ("DISTANCE_TO_EDGE", "N_SPHERE_RADIUS") or output == "Radius"):
+        return f"{node.name!r}: Voronoi {node.feature.replace('_', ' ').title()} is not read"
+    return None
 
 
 def image_through_nodes(socket):
@@ -200,8 +208,12 @@ def image_through_nodes(socket):
             node, out = _source(chain)
         if node is None:
             raise Unread(f"{steps[-1][0].name!r} fed by no image" if steps else "no node")
-        # (one number: an image's Alpha, a Noise Texture's Fac, which the core gives as its alpha)
-        value = Value(out.name == "Alpha" or (node.type == "TEX_NOISE" and out.name in ("Fac", "Factor")))
+        why = unread_texture(node, out.name)
+        if why:
+            raise Unread(why)
+        # (one number: an image's Alpha, a Noise Texture's Fac, a Voronoi Texture's Distance or W)
+        value = Value(out.name == "Alpha" or (node.type == "TEX_NOISE" and out.name in ("Fac", "Factor"))
+                      or (node.type == "TEX_VORONOI" and out.name in ("Distance", "W")))
         for step in reversed(steps):
             _apply(value, *step)
         return node, out.name, value.fields()

@@ -95,6 +95,9 @@ void bind_settings(nb::module_& m) {
     bind_enum<TextureCoords>(m);
     bind_enum<Gradient>(m);
     bind_enum<NoiseType>(m);
+    bind_enum<VoronoiFeature>(m);
+    bind_enum<VoronoiMetric>(m);
+    bind_enum<VoronoiOutput>(m);
     bind_enum<RampInterpolation>(m);
     m.def("light_kinds", &enum_items<LightKind>);
     m.def("projections", &enum_items<Projection>);
@@ -104,6 +107,9 @@ void bind_settings(nb::module_& m) {
     m.def("texture_coords", &enum_items<TextureCoords>);
     m.def("gradients", &enum_items<Gradient>);
     m.def("noise_types", &enum_items<NoiseType>);
+    m.def("voronoi_features", &enum_items<VoronoiFeature>);
+    m.def("voronoi_metrics", &enum_items<VoronoiMetric>);
+    m.def("voronoi_outputs", &enum_items<VoronoiOutput>);
     m.def("ramp_interpolations", &enum_items<RampInterpolation>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");

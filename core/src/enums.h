@@ -93,8 +93,29 @@ GW_ENUM(Extension, GW_EXTENSIONS)
     X(Image, "image", "Image", "An image, looked up at the texture coordinates")                           \
     X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale") \
     X(Gradient, "gradient", "Gradient", "Blender's Gradient Texture: a grey ramp of the point, shaped by gradient") \
-    X(Noise, "noise", "Noise", "Blender's Noise Texture: Perlin noise of the point, summed over octaves (noise_type)")
+    X(Noise, "noise", "Noise", "Blender's Noise Texture: Perlin noise of the point, summed over octaves (noise_type)") \
+    X(Voronoi, "voronoi", "Voronoi", "Blender's Voronoi Texture: the nearest of points scattered one per cell (voronoi_feature)")
 GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
+
+#define GW_VORONOI_FEATURES(X)                                                                            \
+    X(F1, "f1", "F1", "The nearest point")                                                                  \
+    X(F2, "f2", "F2", "The second nearest point")                                                           \
+    X(SmoothF1, "smooth_f1", "Smooth F1", "The nearest point, blended with the others by smoothness")
+GW_ENUM(VoronoiFeature, GW_VORONOI_FEATURES)
+
+#define GW_VORONOI_METRICS(X)                                                                             \
+    X(Euclidean, "euclidean", "Euclidean", "The straight distance")                                        \
+    X(Manhattan, "manhattan", "Manhattan", "The sum of the distances along the axes")                     \
+    X(Chebychev, "chebychev", "Chebychev", "The largest of the distances along the axes")                 \
+    X(Minkowski, "minkowski", "Minkowski", "(sum of |d|^exponent)^(1 / exponent)")
+GW_ENUM(VoronoiMetric, GW_VORONOI_METRICS)
+
+#define GW_VORONOI_OUTPUTS(X)                                                                             \
+    X(Distance, "distance", "Distance", "The distance to the point, as grey")                              \
+    X(Color, "color", "Color", "The point's cell's random colour")                                         \
+    X(Position, "position", "Position", "The point's position (x, y, z)")                                  \
+    X(W, "w", "W", "The point's fourth coordinate, as grey")
+GW_ENUM(VoronoiOutput, GW_VORONOI_OUTPUTS)
 
 #define GW_NOISE_TYPES(X)                                                                                   \
     X(Fbm, "fbm", "fBM", "Fractal Brownian motion: the octaves added, each roughness times the last")       \

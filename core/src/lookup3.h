@@ -1,6 +1,8 @@
-// Bob Jenkins' lookup3 hash of up to four 32-bit words, seeded as Cycles
-// seeds it for each count (its util/hash.h): what picks the Noise Texture's
-// lattice gradients and the Voronoi Texture's points and colours.
+// The hashes Cycles' procedural textures use (its util/hash.h): Bob Jenkins'
+// lookup3 of up to four 32-bit words, seeded for each count (the Noise
+// Texture's lattice gradients; the Voronoi Texture's points and colours before
+// Blender 5.0), and the PCG hashes of 2 to 4 integers in Cycles' signed form
+// (Jarzynski & Olano 2020; the Voronoi Texture's from Blender 5.0).
 #pragma once
 #include <cstdint>
 #include <cstring>
@@ -46,6 +48,33 @@ inline float hash_floats(int n, const float* x) {
     uint32_t k[4];
     for (int i = 0; i < n; ++i) k[i] = bits_of(x[i]);
     return float(hash_words(n, k)) * (1.0f / 4294967296.0f);
+}
+
+// Cycles' signed PCG hash of n (2-4) integers, each result in [0, 2^31), as a
+// float in [0, 1] (its hash_int*_to_float*). (Unsigned arithmetic for the
+// wrap-around; the shift is arithmetic, as on Cycles' signed integers.)
+inline void hash_pcg(int n, const int32_t* key, float* out) {
+    uint32_t v[4] = {0, 0, 0, 0};
+    for (int i = 0; i < n; ++i) v[i] = uint32_t(key[i]) * 1664525u + 1013904223u;
+    auto mix = [&] {
+        if (n == 2) {
+            v[0] += v[1] * 1664525u;
+            v[1] += v[0] * 1664525u;
+        } else if (n == 3) {
+            v[0] += v[1] * v[2];
+            v[1] += v[2] * v[0];
+            v[2] += v[0] * v[1];
+        } else {
+            v[0] += v[1] * v[3];
+            v[1] += v[2] * v[0];
+            v[2] += v[0] * v[1];
+            v[3] += v[1] * v[2];
+        }
+    };
+    mix();
+    for (int i = 0; i < n; ++i) v[i] ^= uint32_t(int32_t(v[i]) >> 16);
+    mix();
+    for (int i = 0; i < n; ++i) out[i] = float(v[i] & 0x7FFFFFFFu) * (1.0f / 2147483648.0f);
 }
 
 }  // namespace gw

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "noise.h"
+#include "voronoi.h"
 #include "scene.h"
 #include "tangents.h"
 
@@ -159,6 +160,7 @@ Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     if (t.kind == TextureKind::Checker) return checker_color(t, p);
     if (t.kind == TextureKind::Gradient) return gradient_color(t, p);
     if (t.kind == TextureKind::Noise) return noise_color(t, p);
+    if (t.kind == TextureKind::Voronoi) return voronoi_color(t, p);
     float x = p.x, y = p.y;
     if (uv_mapped(t)) map_uv(t, x, y);
     return sample_image(*images_[size_t(t.image)], t, x, y);
@@ -318,7 +320,8 @@ bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, f
         a1 = map_vector(t, a1) - origin;
         a2 = map_vector(t, a2) - origin;
     }
-    const float cell = t.kind == TextureKind::Checker || t.kind == TextureKind::Noise ? 1.0f / std::max(std::abs(t.scale), 1e-6f)
+    const float cell = t.kind == TextureKind::Checker || t.kind == TextureKind::Noise || t.kind == TextureKind::Voronoi
+                           ? 1.0f / std::max(std::abs(t.scale), 1e-6f)
                        : t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
                                                       : 1.0f;
     const float far = std::max(std::abs(q.x), std::max(std::abs(q.y), std::abs(q.z)));

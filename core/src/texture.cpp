@@ -132,12 +132,16 @@ void validate_texture(const Texture& t, const std::string& where) {
             throw std::invalid_argument(where + ".ramp stop " + std::to_string(i / 5) +
                                         " lies before the one before it: give the stops in increasing position");
     if (!enum_valid(t.noise_type)) throw std::invalid_argument(where + ".noise_type is not a noise type");
+    if (!enum_valid(t.voronoi_feature)) throw std::invalid_argument(where + ".voronoi_feature is not a Voronoi feature");
+    if (!enum_valid(t.voronoi_metric)) throw std::invalid_argument(where + ".voronoi_metric is not a distance metric");
+    if (!enum_valid(t.voronoi_output)) throw std::invalid_argument(where + ".voronoi_output is not a Voronoi output");
     if (t.dimensions < 1 || t.dimensions > 4)
         throw std::invalid_argument(where + ".dimensions = " + std::to_string(t.dimensions) +
                                     " is not 1, 2, 3 or 4");
     const std::pair<const char*, float> noise_values[] = {{"w", t.w}, {"detail", t.detail},
         {"roughness", t.roughness}, {"lacunarity", t.lacunarity}, {"distortion", t.distortion},
-        {"noise_offset", t.noise_offset}, {"noise_gain", t.noise_gain}};
+        {"noise_offset", t.noise_offset}, {"noise_gain", t.noise_gain}, {"exponent", t.exponent},
+        {"randomness", t.randomness}, {"smoothness", t.smoothness}};
     for (const auto& [name, x] : noise_values)
         if (!std::isfinite(x)) throw std::invalid_argument(where + "." + name + " is not finite");
     if (t.kind != TextureKind::Image && t.image != -1)

@@ -89,6 +89,20 @@ struct Texture {
     int32_t dimensions = 3;
     float w = 0, detail = 2, roughness = 0.5f, lacunarity = 2, distortion = 0, noise_offset = 0, noise_gain = 1;
     bool normalize = true, noise_wrap = true;
+    // Voronoi (voronoi.h): one point per unit cell of the point x scale (in
+    // `dimensions`, w as for noise), moved within its cell by `randomness`;
+    // voronoi_feature picks the nearest (F1), the second nearest (F2) or a
+    // blend of all by `smoothness` (Smooth F1), by voronoi_metric (Minkowski's
+    // `exponent`); summed over 1 + detail octaves as the noise is (detail,
+    // roughness, lacunarity; `normalize` divides by the largest distance);
+    // voronoi_output: the Distance, Color, Position or W output. voronoi_pcg:
+    // the points and colours are hashed as Blender 5.0 hashes them (PCG of the
+    // integer cell), else as before (lookup3 of its corner's float bits).
+    VoronoiFeature voronoi_feature = VoronoiFeature::F1;
+    VoronoiMetric voronoi_metric = VoronoiMetric::Euclidean;
+    VoronoiOutput voronoi_output = VoronoiOutput::Distance;
+    float exponent = 0.5f, randomness = 1, smoothness = 1;
+    bool voronoi_pcg = true;
     // A colour ramp the value goes through last (Blender's Color Ramp node,
     // RGB mode): 5 floats per stop, position then RGBA, positions in
     // increasing order, at most kMaxRampStops; empty: none. The ramp's input is the value after the

@@ -87,7 +87,10 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "noise_type": "fbm", "dimensions": 3, "w": 0.0, "detail": 2.0,
                                                "roughness": 0.5, "lacunarity": 2.0, "distortion": 0.0,
                                                "noise_offset": 0.0, "noise_gain": 1.0, "normalize": True,
-                                               "noise_wrap": True}
+                                               "noise_wrap": True, "voronoi_feature": "f1",
+                                               "voronoi_metric": "euclidean", "voronoi_output": "distance",
+                                               "exponent": 0.5, "randomness": 1.0, "smoothness": 1.0,
+                                               "voronoi_pcg": True}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

@@ -26,6 +26,9 @@ TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
 GRADIENTS = tuple(kind for kind, _, _ in _core.gradients())
 RAMP_INTERPOLATIONS = tuple(kind for kind, _, _ in _core.ramp_interpolations())
 NOISE_TYPES = tuple(kind for kind, _, _ in _core.noise_types())
+VORONOI_FEATURES = tuple(kind for kind, _, _ in _core.voronoi_features())
+VORONOI_METRICS = tuple(kind for kind, _, _ in _core.voronoi_metrics())
+VORONOI_OUTPUTS = tuple(kind for kind, _, _ in _core.voronoi_outputs())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -217,6 +220,19 @@ class Texture(Record):
     every 100000 and move by 1/2 from a million on (Blender 4.0 and later;
     3.4 takes them as they are). Its colour is Blender's Color output;
     use_alpha gives its Fac (the value, as grey); a value that overflows is 0.
+    | voronoi (Blender's Voronoi Texture as Cycles evaluates it; no image): one
+    point per unit cell of the point x scale (in `dimensions`, w as for
+    noise) moved off the cell's corner by randomness (0-1); voronoi_feature =
+    f1 (the nearest point) | f2 (the second nearest) | smooth_f1 (all blended
+    by smoothness), by voronoi_metric = euclidean | manhattan | chebychev |
+    minkowski (with exponent); summed over 1 + detail octaves (roughness,
+    lacunarity; normalize divides by the largest distance); voronoi_output =
+    distance | color | position | w picks what the colour is (distance and w
+    as grey); voronoi_pcg: cells hashed as Blender 5.0 hashes them (PCG of
+    their integer coordinates; 1D keeps lookup3), else as Blender 4.5 and
+    before (lookup3 of their corners' float bits). (detail, roughness,
+    lacunarity and normalize default to the Noise node's values; Blender's
+    Voronoi node has detail 0 and normalize off.)
     ramp: a colour ramp the value goes through last (Blender's Color Ramp
     node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
     increasing position, at most 256 (a flat sequence of 5n numbers is taken
@@ -266,6 +282,13 @@ class Texture(Record):
     noise_gain: float = _f32(_TEX.noise_gain)
     normalize: bool = _TEX.normalize
     noise_wrap: bool = _TEX.noise_wrap
+    voronoi_feature: str = VORONOI_FEATURES[0]
+    voronoi_metric: str = VORONOI_METRICS[0]
+    voronoi_output: str = VORONOI_OUTPUTS[0]
+    exponent: float = _f32(_TEX.exponent)
+    randomness: float = _f32(_TEX.randomness)
+    smoothness: float = _f32(_TEX.smoothness)
+    voronoi_pcg: bool = _TEX.voronoi_pcg
     ramp: tuple = ()
     ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]
@@ -303,6 +326,9 @@ class Texture(Record):
                 "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
                 "gradient": _choice(GRADIENTS, _core.Gradient),
                 "noise_type": _choice(NOISE_TYPES, _core.NoiseType),
+                "voronoi_feature": _choice(VORONOI_FEATURES, _core.VoronoiFeature),
+                "voronoi_metric": _choice(VORONOI_METRICS, _core.VoronoiMetric),
+                "voronoi_output": _choice(VORONOI_OUTPUTS, _core.VoronoiOutput),
                 "ramp_interpolation": _choice(RAMP_INTERPOLATIONS, _core.RampInterpolation)}
 
 

@@ -593,7 +593,7 @@ def _file_image(name, path):
 def bad_materials_scene(resolution=(48, 36)):
     """Six planes, each with one problem: a missing image file, a 0 x 0 image,
     a 16k x 16k image, a textured mesh without UVs, a node Gridwalk does
-    not understand (a Voronoi Texture on Base Color), and an image sequence."""
+    not understand (a Wave Texture on Base Color), and an image sequence."""
     reset(resolution=tuple(resolution))
     missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
     # (in Blender's session folder, which scripting.leave removes at exit)
@@ -604,14 +604,14 @@ def bad_materials_scene(resolution=(48, 36)):
     huge = bpy.data.images.new("HugeImage", 16384, 16384)
     frames = bpy.data.images.new("Frames", 4, 4)
     frames.source, frames.filepath = "SEQUENCE", "/nonexistent/gridwalk_frame_0001.png"
-    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Voronoi": None,
+    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Wave": None,
              "Sequence": frames}
     for i, (name, image) in enumerate(cases.items()):
         plane = _plane(name, 1.5, location=(-4 + 2 * i, 0, 0), rotation=(math.pi / 2, 0, 0))
         mat = principled_material(name, (0.5, 0.5, 0.5))
-        if name == "Voronoi":
-            cells = mat.node_tree.nodes.new("ShaderNodeTexVoronoi")
-            mat.node_tree.links.new(cells.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+        if name == "Wave":
+            wave = mat.node_tree.nodes.new("ShaderNodeTexWave")
+            mat.node_tree.links.new(wave.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
         else:
             _image_node(mat, image)
         if name == "NoUVs":

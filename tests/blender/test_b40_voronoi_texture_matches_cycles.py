@@ -1,0 +1,48 @@
+"""Blender's Voronoi Texture renders as in Cycles, in bpy 4.5, bpy 5.0 and Debian's 3.4: the node
+as Blender adds it (3D F1, Euclidean, its Distance at Generated coordinates), its Color and
+Position outputs, F2 with the Manhattan metric, Smooth F1, Minkowski with less randomness, 2D,
+4D and 1D cells, and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
+cells anew (PCG), as the export tells the core. Its Distance to Edge
+and N-Sphere Radius features are named in a warning. Before, a Voronoi Texture was a warning
+and its input's default colour. Scene: voronoi_scenes.voronoi_scene."""
+import numpy as np
+import pytest
+
+from runner import luminance_by_engine
+
+VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d",  # VORONOI_VARIANTS
+            "fractal")
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"voronoi_{module_blender}")
+    variants = [v for v in VARIANTS if v != "fractal" or module_blender != "blender34"]
+    return luminance_by_engine(module_blender, out, "voronoi", ENGINES, {v: {"variant": v} for v in variants})
+
+
+@pytest.mark.parametrize("variant", [v for v in VARIANTS if v != "1d"])
+def test_the_cells_are_where_cycles_puts_them(renders, module_blender, variant):
+    if ("GRIDWALK", variant) not in renders:
+        pytest.skip(f"{module_blender} has no octaves for its Voronoi Texture (Blender 4.0 added them)")
+    ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
+    assert cycles.std() > 0.05                                        # cells, not a flat colour
+    # (the cells' edges, where Color and F2 jump, are anti-aliased by different samples)
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.995
+    assert np.abs(ours - cycles).mean() < 0.06 * cycles.std()
+    assert abs(float(ours.mean() - cycles.mean())) < 0.01 * max(1.0, float(cycles.mean()))
+
+
+def test_one_dimensional_cells_give_one_colour_as_in_cycles(renders):
+    ours, cycles = (renders[(engine, "1d")][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
+    assert ours.std() < 1e-3 and abs(float(ours.mean() - cycles.mean())) < 2e-3
+
+
+def test_what_the_texture_cannot_give_is_named(export):
+    out = export("voronoi", variant="edge")
+    assert "error" not in out.info, out.info.get("error")
+    assert all(m["color_texture"] == -1 for m in out.materials) and not out.textures
+    assert "Voronoi Distance To Edge is not read" in " ".join(out.warnings)
+    read = export("voronoi", variant="color")
+    assert [t["kind"] for t in read.textures] == ["voronoi"] and read.textures[0]["voronoi_output"] == "color"

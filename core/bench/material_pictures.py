@@ -73,6 +73,10 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"gradient": "RADIAL", "ramp": "LINEAR", "resolution": [128, 96]}', "transparent=false"]),
     ("procedural_noise", "Noise Texture (3D fBM, Detail 6), its Fac through a Color Ramp",
      ['scene={"variant": "ramp", "resolution": [128, 96]}', "transparent=false"]),
+    ("noise_bump", "Bump node fed by a Noise Texture, a sun from the upper left",
+     ['scene={"height": "NOISE", "resolution": [128, 96]}', "transparent=false"]),
+    ("voronoi", "Voronoi Texture (3D F1): its Color output",
+     ['scene={"variant": "color", "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -740,10 +740,10 @@ def unread_settings_scene(override=False):
     _plane("TintedPlane", 1.0, (4.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(tinted)
     rough = shader_material("RoughDiffuse", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0)), ("Roughness", 0.6)])
     _plane("RoughPlane", 1.0, (6.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(rough)
-    bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Noise -> Bump -> Normal
+    bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Wave -> Bump -> Normal (a Wave is not read)
     nodes, node_links = bumpy.node_tree.nodes, bumpy.node_tree.links
     bump = nodes.new("ShaderNodeBump")
-    node_links.new(nodes.new("ShaderNodeTexNoise").outputs[0], bump.inputs["Height"])
+    node_links.new(nodes.new("ShaderNodeTexWave").outputs[0], bump.inputs["Height"])
     node_links.new(bump.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
     _plane("Bumped", 1.0, (6.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(bumpy)
     displaced = shader_material("Displaced", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0))])

@@ -66,7 +66,7 @@ def test_a_scalar_input_takes_the_luminance_of_a_tinted_colour():
     assert np.abs(alpha - _linear_texels()[..., 0] * gain[0] - bias[0]).max() > 0.05    # not the red channel
 
 
-@pytest.mark.parametrize("field, value, message", [("channel", 4, "channel = 4"), ("channel", -2, "channel = -2"),
+@pytest.mark.parametrize("field, value, message", [("channel", 5, "channel = 5"), ("channel", -2, "channel = -2"),
                                                    ("gain", (1, float("nan"), 1), "gain has a non-finite"),
                                                    ("bias", (0, 0, float("inf")), "bias has a non-finite")])
 def test_bad_values_are_refused_naming_the_field(field, value, message):

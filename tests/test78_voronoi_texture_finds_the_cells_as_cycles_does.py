@@ -81,7 +81,8 @@ def _distance(a, b, metric, exponent):
         return sum(d)
     if metric == "chebychev":
         return np.maximum.reduce(d)
-    return sum(np.power(x, f32(exponent)) for x in d) ** f32(1 / exponent)
+    with np.errstate(divide="ignore", over="ignore"):   # (exponent 0: every distance is infinite)
+        return sum(np.power(x, f32(exponent)) for x in d) ** (f32(1) / f32(exponent))
 
 
 def voronoi(coord, feature="f1", metric="euclidean", exponent=0.5, randomness=1.0, pcg=True):
@@ -93,7 +94,7 @@ def voronoi(coord, feature="f1", metric="euclidean", exponent=0.5, randomness=1.
     offsets = [o[::-1] for o in itertools.product(range(-reach, reach + 1), repeat=n)]   # x fastest
     best = [np.full(coord[0].shape, np.inf, np.float32) for _ in range(2)]
     point = [[np.zeros_like(coord[0]) for _ in range(n)] for _ in range(2)]
-    at = [[np.zeros_like(coord[0]) for _ in range(n)] for _ in range(2)]
+    at = [[k.copy() for k in cell] for _ in range(2)]          # (this cell until a point is nearer)
     for offset in offsets:
         where = [k + f32(o) for k, o in zip(cell, offset)]
         p = [f32(o) + j * f32(randomness) for o, j in zip(offset, _jitter(where, pcg))]
@@ -181,3 +182,25 @@ def test_bad_voronoi_settings_are_refused_naming_the_field():
                           (dict(randomness=float("nan")), "randomness"), (dict(dimensions=0), "dimensions = 0")]:
         with pytest.raises(ValueError, match=match):
             _render(gw.Texture(kind="voronoi", coordinates="generated", **fields))
+
+
+@pytest.mark.parametrize("pcg", [False, True])
+def test_where_no_distance_is_finite_each_cell_keeps_its_own_colour(pcg):
+    # Minkowski with exponent 0: every distance is infinite, no point is nearer than none, and
+    # the colour is the cell's own (Cycles' offsets start at 0), not one colour everywhere
+    fields = dict(kind="voronoi", coordinates="generated", scale=3.0, detail=0.0, normalize=False, voronoi_pcg=pcg,
+                  voronoi_metric="minkowski", exponent=0.0, voronoi_output="color")
+    _, color, _ = voronoi(_points(3.0), metric="minkowski", exponent=0.0, pcg=pcg)
+    image = _render(gw.Texture(**fields))
+    np.testing.assert_allclose(image, np.stack(color, -1), atol=2e-5)
+    assert len(np.unique(image[..., 0])) > 4
+
+
+def test_a_position_read_as_a_number_is_its_average():
+    fields = dict(kind="voronoi", coordinates="generated", scale=3.0, detail=0.0, normalize=False,
+                  voronoi_output="position")
+    _, _, position = voronoi(_points(3.0))
+    xyz = np.stack(position, -1) / f32(3.0)
+    # (the average of x, y, z; below 0 the emission is 0)
+    np.testing.assert_allclose(_render(gw.Texture(channel=4, **fields))[..., 0],
+                               np.maximum(xyz.mean(axis=-1), 0), atol=2e-5)

@@ -71,7 +71,7 @@ from .node_links import _socket, _source, input_value
 from .color_ramp import ramp_stops
 from .textures import plain_image
 from .uv_mapping import texture_fields
-from .value_nodes import TEXTURE_NODES, image_through_nodes, mix_inputs, unread_texture
+from .value_nodes import TEXTURE_NODES, image_through_nodes, is_vector, mix_inputs, unread_texture
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -129,7 +129,9 @@ class Links:
             if why:
                 self.textured.append(f"{socket.name} ({node.bl_idname}: {why})")
                 return False
-            self.fields[field] = self._texture(node, out.name)
+            # (a vector straight into a number: its average, as Cycles converts it)
+            average = {"channel": 4} if is_vector(node, out.name) and socket.type == "VALUE" else None
+            self.fields[field] = self._texture(node, out.name, average)
             return True
         if node.type == "VALTORGB" and self.textures is not None:
             return self._ramp(socket, node, out, field)

@@ -26,6 +26,24 @@ def _through(node, out):
 CONSTANT_NODES = ("RGB", "VALUE")   # nodes whose output is a value set on it
 
 
+class _Computed:
+    """A value a node computes from constant inputs, held as a socket holds its own."""
+
+    def __init__(self, value):
+        self.default_value = value
+
+
+def _constant_ramp(node, out):
+    """A Color Ramp whose Fac nothing the export reads feeds (unlinked, a Value or RGB
+    node, another such ramp): its output's value there, as Blender evaluates the ramp;
+    else None."""
+    fac = node.inputs["Fac"]
+    if _follow(fac)[0] is not None:
+        return None
+    rgba = tuple(float(c) for c in node.color_ramp.evaluate(input_value(fac)))
+    return _Computed(rgba if out.name == "Color" else rgba[3])
+
+
 def _follow(socket):
     """(node, output socket, value) for the input `socket`: the node and output
     linked into it, through reroutes and muted nodes as Blender passes them;
@@ -33,7 +51,8 @@ def _follow(socket):
       - the input itself when it is unlinked, when its link or what reaches
         it is muted, or when a muted node passes nothing to that output;
       - the output of an RGB or Value node linked to it (not a shader or
-        vector input: a constant texture coordinate is not read);
+        vector input: a constant texture coordinate is not read), or of a
+        Color Ramp whose Fac is such a constant (its colour there);
       - None (the value 0, as Cycles reads it) when the chain ends at an
         unlinked input of a reroute or muted node, not that input's value."""
     first, seen = socket, set()
@@ -45,6 +64,10 @@ def _follow(socket):
         node, out = link.from_node, link.from_socket
         if node.type in CONSTANT_NODES and not node.mute and first.type not in ("SHADER", "VECTOR"):
             return None, None, out
+        if node.type == "VALTORGB" and not node.mute and first.type not in ("SHADER", "VECTOR"):
+            computed = _constant_ramp(node, out)
+            if computed is not None:
+                return None, None, computed
         if node.type != "REROUTE" and not node.mute:
             return node, out, None
         fed, socket = socket, _through(node, out)

@@ -33,8 +33,9 @@ SEPARATE = {"SEPARATE_COLOR": ("Red", "Green", "Blue"), "SEPRGB": ("R", "G", "B"
 class Value:
     """The value so far: the image's colour (or alpha: `single`), channel, gain, bias, clamp."""
 
-    def __init__(self, alpha: bool):
+    def __init__(self, alpha: bool, vector: bool = False):
         self.single = alpha                # one number (alpha, a channel, a luminance) broadcast to RGB
+        self.vector = vector               # a vector (a Voronoi's Position): a number is its average
         self.channel = -1
         self.gain, self.bias = np.ones(3), np.zeros(3)
         self.clamp = False
@@ -45,7 +46,7 @@ class Value:
         self.gain, self.bias = self.gain * gain, self.bias * gain + bias
 
     def to_float(self, what):
-        """A colour entering a float input: its luminance."""
+        """A colour entering a float input: its luminance (a vector: its average, as Cycles converts it)."""
         if self.single:
             if self.clamp and np.ptp(self.gain) + np.ptp(self.bias) > 0:
                 raise Unread(f"{what} of a clamped colour")
@@ -53,7 +54,7 @@ class Value:
             return
         if self.clamp or np.ptp(self.gain) > 0 or np.ptp(self.bias) > 0:
             raise Unread(f"{what} of a tinted colour")
-        self.channel, self.single = 3, True
+        self.channel, self.single = 4 if self.vector else 3, True
 
     def pick(self, k):
         if not self.single:
@@ -188,6 +189,11 @@ def _mix(blend, slot, f, k, what):
 TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI")   # the nodes gridwalk.Texture models
 
 
+def is_vector(node, output: str) -> bool:
+    """Whether the texture node's output is a vector (Cycles reads it as a number by its average)."""
+    return node.type == "TEX_VORONOI" and output == "Position"
+
+
 def unread_texture(node, output: str) -> str | None:
     """Why gridwalk.Texture cannot give this texture node's `output`, or None: the
     Voronoi Texture's Distance to Edge and N-Sphere Radius features (and its Radius output)."""
@@ -197,7 +203,7 @@ def unread_texture(node, output: str) -> str | None:
 
 
 def image_through_nodes(socket):
-    """(Image, Checker, Gradient or Noise Texture node, its output's name, Texture fields) for an input
+    """(Image, Checker, Gradient, Noise or Voronoi Texture node, its output's name, Texture fields) for an input
     fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
     steps = []
     try:
@@ -213,9 +219,11 @@ def image_through_nodes(socket):
             raise Unread(why)
         # (one number: an image's Alpha, a Noise Texture's Fac, a Voronoi Texture's Distance or W)
         value = Value(out.name == "Alpha" or (node.type == "TEX_NOISE" and out.name in ("Fac", "Factor"))
-                      or (node.type == "TEX_VORONOI" and out.name in ("Distance", "W")))
+                      or (node.type == "TEX_VORONOI" and out.name in ("Distance", "W")), vector=is_vector(node, out.name))
         for step in reversed(steps):
             _apply(value, *step)
+        if value.vector and not value.single and socket.type == "VALUE":   # (a vector into a number)
+            value.to_float("a vector")
         return node, out.name, value.fields()
     except Unread as problem:
         return None, None, "" if problem.quiet and not steps else str(problem)

@@ -310,8 +310,9 @@ bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, f
     B = p[2] - p[0];
     // The point and the directions in which it moves with the barycentrics of
     // corners 1 and 2 (after the Mapping's linear part); each slope a central
-    // difference over a step of 1/1000 of the pattern's cells (1 / scale), or
-    // more where the point is so far out that such a step would lose its digits.
+    // difference over a step of 1/1000 of the pattern's finest cells (1 / scale,
+    // over lacunarity^detail for a fractal), or more where the point is so far
+    // out that such a step would lose its digits.
     const float b0 = 1.0f - hit.u - hit.v;
     Vec3 q = c[0] * b0 + c[1] * hit.u + c[2] * hit.v, a1 = c[1] - c[0], a2 = c[2] - c[0];
     if (vector_mapped(t)) {
@@ -324,8 +325,12 @@ bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, f
                            ? 1.0f / std::max(std::abs(t.scale), 1e-6f)
                        : t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
                                                       : 1.0f;
+    // (a fractal's finest octave is lacunarity^detail times finer)
+    const float finest = t.kind == TextureKind::Noise || t.kind == TextureKind::Voronoi
+                             ? std::pow(std::max(t.lacunarity, 1.0f), std::ceil(std::min(std::max(t.detail, 0.0f), 15.0f)))
+                             : 1.0f;
     const float far = std::max(std::abs(q.x), std::max(std::abs(q.y), std::abs(q.z)));
-    const float delta = std::max(1e-3f * cell, 1e-5f * far);
+    const float delta = std::max(1e-3f * cell / finest, 1e-5f * far);
     auto slope = [&](const Vec3& a, float& out) {
         const float len = length(a);
         if (!(len > 0) || !std::isfinite(len)) return false;

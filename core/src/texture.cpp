@@ -101,9 +101,9 @@ void validate_texture(const Texture& t, const std::string& where) {
     if (!enum_valid(t.extension)) throw std::invalid_argument(where + ".extension is not an extension");
     for (float x : t.uv_transform)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".uv_transform has a non-finite value");
-    if (t.channel < -1 || t.channel > 3)
+    if (t.channel < -1 || t.channel > 4)
         throw std::invalid_argument(where + ".channel = " + std::to_string(t.channel) +
-                                    " is not -1 (the colour), 0-2 (red, green, blue) or 3 (the luminance)");
+                                    " is not -1 (the colour), 0-2 (red, green, blue), 3 (the luminance) or 4 (the average)");
     for (float x : t.gain)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".gain has a non-finite value");
     for (float x : t.bias)

@@ -126,7 +126,9 @@ struct Texture {
     // What the value goes through before the material reads it (Blender's
     // Separate Color, Math, Mix and Invert nodes between the image and the
     // shader's input): `channel` -1 the colour, 0-2 its red, green or blue
-    // channel as grey, 3 its luminance as grey (use_alpha: the alpha, as
+    // channel as grey, 3 its luminance as grey, 4 the average of its three
+    // (a vector, such as a Voronoi's Position, read as a number, as Cycles
+    // converts it) as grey (use_alpha: the alpha, as
     // grey); then colour x gain + bias, channel by channel; then clamped to
     // [0, 1] where `clamp` is set. The defaults change nothing, to the bit.
     int32_t channel = -1;
@@ -203,7 +205,8 @@ inline Vec3 adjusted(const Texture& t, const Rgba& c, Vec3 v) {
         const float grey = t.channel == 0   ? c.rgb.x
                            : t.channel == 1 ? c.rgb.y
                            : t.channel == 2 ? c.rgb.z
-                                            : luminance(c.rgb);
+                           : t.channel == 3 ? luminance(c.rgb)
+                                            : (c.rgb.x + c.rgb.y + c.rgb.z) * (1.0f / 3.0f);
         v = Vec3(grey, grey, grey);
     }
     v = Vec3(v.x * t.gain[0] + t.bias[0], v.y * t.gain[1] + t.bias[1], v.z * t.gain[2] + t.bias[2]);

@@ -159,15 +159,23 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
             float correction = smoothness * h * (1.0f - h);
             o.distance = mix(o.distance, d, h) - correction;
             correction /= 1.0f + 3.0f * smoothness;
-            color_of(t, n, at, color);
-            for (int c = 0; c < 3; ++c) o.color[c] = mix(o.color[c], color[c], h) - correction;
+            if (t.voronoi_output == VoronoiOutput::Color) {   // (125 colour hashes only where they are read)
+                color_of(t, n, at, color);
+                for (int c = 0; c < 3; ++c) o.color[c] = mix(o.color[c], color[c], h) - correction;
+            }
             for (int i = 0; i < n; ++i) position[i] = mix(position[i], p[i], h) - correction;
         });
         for (int i = 0; i < n; ++i) found[i] = cell[i] + position[i];
     } else {
         const bool second = t.voronoi_feature == VoronoiFeature::F2;
         float d1 = FLT_MAX, d2 = FLT_MAX, p1[kMaxDims] = {0, 0, 0, 0}, p2[kMaxDims] = {0, 0, 0, 0};
+        // (both start at this cell, as Cycles' offsets start at 0: where no distance is finite,
+        // Minkowski with exponent 0, the colour is this cell's)
         Cell c1{}, c2{};
+        for (int i = 0; i < n; ++i) {
+            c1.at[i] = c2.at[i] = cell[i];
+            c1.index[i] = c2.index[i] = index[i];
+        }
         each_neighbour(n, 1, [&](const float* offset) {
             float p[kMaxDims];
             Cell at{};

@@ -109,6 +109,7 @@ def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export
 
 
 RAMPS = ("LINEAR", "EASE", "CONSTANT", "SHARED", "ODD")    # procedural_scenes.procedural_gradient_scene's ramps
+RAMP_COLORS = ((0.9, 0.2, 0.1), (0.1, 0.8, 0.2))           # its first two stops (procedural_scenes.RAMP)
 
 
 @pytest.fixture(scope="module")
@@ -135,3 +136,17 @@ def test_a_color_ramp_colours_the_gradient_as_in_cycles(gradients, ramp):
     assert np.percentile(np.abs(ours - cycles)[3:-3, 3:-3], 90) < 0.002
     other = gradients[("GRIDWALK", "ramp " + ("EASE" if ramp == "LINEAR" else "LINEAR"))]
     assert np.abs(ours - other).max() > 0.02                     # each interpolation shows
+
+
+def test_a_color_ramp_of_a_constant_fac_gives_its_colour_there(export, any_blender, tmp_path_factory):
+    # (before, the input's own value, with a warning: Cycles shows the ramp's colour)
+    out = export("procedural_gradient", ramp="FIXED")
+    assert "error" not in out.info and not any("Color Ramp" in w or "ValToRGB" in w for w in out.warnings), out.warnings
+    assert out.textures == [] and all(m["color_texture"] == -1 for m in out.materials)
+    # Linear between (0.15, red) and (0.5, green) at 0.3: 3/7 of the way
+    want = np.array(RAMP_COLORS[0]) + (np.array(RAMP_COLORS[1]) - np.array(RAMP_COLORS[0])) * (0.15 / 0.35)
+    np.testing.assert_allclose(out.materials[int(out.triangle_materials[0])]["color"], want[:3], atol=1e-5)
+    renders = luminance_by_engine(any_blender, tmp_path_factory.mktemp("fixed"), "procedural_gradient", ENGINES,
+                                  {"fixed": {"ramp": "FIXED"}})
+    ours, cycles = renders[("GRIDWALK", "fixed")][4:-4, 4:-4], renders[("CYCLES", "fixed")][4:-4, 4:-4]
+    assert cycles.mean() > 0.1 and abs(float(ours.mean() - cycles.mean())) < 0.01 * float(cycles.mean())

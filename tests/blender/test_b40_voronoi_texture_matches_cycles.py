@@ -1,7 +1,8 @@
 """Blender's Voronoi Texture renders as in Cycles, in bpy 4.5, bpy 5.0 and Debian's 3.4: the node
 as Blender adds it (3D F1, Euclidean, its Distance at Generated coordinates), its Color and
 Position outputs, F2 with the Manhattan metric, Smooth F1, Minkowski with less randomness, 2D,
-4D and 1D cells, and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
+4D and 1D cells, its Position into a Color Ramp (a vector read as a number: the average of
+its coordinates), and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
 cells anew (PCG), as the export tells the core. Its Distance to Edge
 and N-Sphere Radius features are named in a warning. Before, a Voronoi Texture was a warning
 and its input's default colour. Scene: voronoi_scenes.voronoi_scene."""
@@ -11,7 +12,7 @@ import pytest
 from runner import luminance_by_engine
 
 VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d",  # VORONOI_VARIANTS
-            "fractal")
+            "fractal", "position_ramp")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 
 

@@ -260,7 +260,8 @@ class Texture(Record):
     channel, gain, bias, clamp: what the value goes through before a material
     reads it (Blender's Separate Color, Math, Mix and Invert nodes): channel -1
     the colour, 0, 1, 2 its red, green or blue as grey, 3 its luminance as
-    grey (use_alpha: the alpha as grey); then value x gain + bias (3 numbers
+    grey, 4 the average of the three as grey (a vector read as a number, as
+    Cycles converts it) (use_alpha: the alpha as grey); then value x gain + bias (3 numbers
     each, channel by channel); then clamped to [0, 1] if clamp. The defaults
     change nothing; an environment takes none of them."""
     image: object = None

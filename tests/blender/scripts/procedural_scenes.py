@@ -151,7 +151,8 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
     the radial one about its centre. ramp: a Color Ramp of the RAMP stops with that
     interpolation between the gradient and the shader; "SHARED": Linear, a fourth stop
     (blue) at the green one's position, a hard edge; "ODD": B-Spline in HSV mode, the
-    first stop moved past the others by a script (Blender keeps the stops in that order)."""
+    first stop moved past the others by a script (Blender keeps the stops in that order);
+    "FIXED": Linear, its Fac a Value node (0.3) instead of the gradient (one colour)."""
     plane, mat = emissive_plane("Graded", resolution)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     texture = nodes.new("ShaderNodeTexGradient")
@@ -171,14 +172,19 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
         elements[1].position, elements[1].color = RAMP[2]
         middle = elements.new(RAMP[1][0])
         middle.color = RAMP[1][1]
-        node.color_ramp.interpolation = {"SHARED": "LINEAR", "ODD": "B_SPLINE"}.get(ramp, ramp)
+        node.color_ramp.interpolation = {"SHARED": "LINEAR", "ODD": "B_SPLINE", "FIXED": "LINEAR"}.get(ramp, ramp)
         if ramp == "SHARED":
             edge = elements.new(RAMP[1][0])
             edge.color = (0.05, 0.1, 0.9, 1.0)
         if ramp == "ODD":
             node.color_ramp.color_mode = "HSV"
             elements[0].position = 0.9
-        links.new(texture.outputs["Fac"], node.inputs["Fac"])
+        if ramp == "FIXED":
+            value = nodes.new("ShaderNodeValue")
+            value.outputs[0].default_value = 0.3
+            links.new(value.outputs[0], node.inputs["Fac"])
+        else:
+            links.new(texture.outputs["Fac"], node.inputs["Fac"])
         links.new(node.outputs["Color"], nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))

@@ -15,7 +15,9 @@ from scenes import plain_world
 #   1d         1D, W 1.37: one colour over the plane
 #   fractal    (Blender 4.0 and later) Detail 2.5, Roughness 0.6, Lacunarity 2.2, Normalize, Distance
 #   edge       Distance to Edge (not read by Gridwalk: a warning), Distance
-VORONOI_VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d", "fractal")
+#   position_ramp  its Position into a Color Ramp's Fac (a vector read as a number: its average)
+VORONOI_VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d", "fractal",
+                    "position_ramp")
 OUTPUTS = {"color": "Color", "position": "Position", "smooth": "Color", "2d": "Color", "4d": "Color", "1d": "Color"}
 
 
@@ -27,7 +29,7 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
     if variant != "distance":
         mapping = nodes.new("ShaderNodeMapping")
         mapping.inputs["Scale"].default_value = (0.25, 0.25, 0.25)
-        if variant == "position":    # (moved to positive coordinates: no negative light)
+        if variant in ("position", "position_ramp"):    # (moved to positive coordinates: no negative light)
             mapping.inputs["Location"].default_value = (1.0, 1.0, 1.0)
         links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
         links.new(mapping.outputs["Vector"], cells.inputs["Vector"])
@@ -50,7 +52,13 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
         cells.inputs["Detail"].default_value, cells.inputs["Roughness"].default_value = 2.5, 0.6
         cells.inputs["Lacunarity"].default_value = 2.2
         cells.normalize = True
-    links.new(cells.outputs[OUTPUTS.get(variant, "Distance")], nodes["Emission"].inputs["Color"])
+    if variant == "position_ramp":
+        ramp = nodes.new("ShaderNodeValToRGB")
+        ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.6, 1.4 / 1.5
+        links.new(cells.outputs["Position"], ramp.inputs["Fac"])
+        links.new(ramp.outputs["Color"], nodes["Emission"].inputs["Color"])
+    else:
+        links.new(cells.outputs[OUTPUTS.get(variant, "Distance")], nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))
     return {}

@@ -14,16 +14,25 @@ namespace {
 constexpr int kMaxDims = 4;
 
 // The offset, each component in [100, 200], that Cycles adds to an n-dimensional
-// point to read the noise somewhere else for `seed` (its random_float*_offset).
-void random_offset(int n, float seed, float* out) {
-    if (n == 1) {
-        out[0] = 100.0f + hash_floats(1, &seed) * 100.0f;
-        return;
-    }
-    for (int i = 0; i < n; ++i) {
-        const float key[2] = {seed, float(i)};
-        out[i] = 100.0f + hash_floats(2, key) * 100.0f;
-    }
+// point to read the noise somewhere else for seed 0 .. n + 1 (its
+// random_float*_offset: n seeds for the distortion, two for the colour).
+// Constants, hashed once.
+const float* random_offset(int n, int seed) {
+    struct Table {
+        float at[kMaxDims + 1][kMaxDims + 2][kMaxDims];
+        Table() {
+            for (int dims = 1; dims <= kMaxDims; ++dims)
+                for (int k = 0; k < dims + 2; ++k) {
+                    const float s = float(k);
+                    for (int i = 0; i < dims; ++i) {
+                        const float key[2] = {s, float(i)};
+                        at[dims][k][i] = 100.0f + (dims == 1 ? hash_floats(1, &s) : hash_floats(2, key)) * 100.0f;
+                    }
+                }
+        }
+    };
+    static const Table table;
+    return table.at[n][seed];
 }
 
 inline float flip(float x, uint32_t bit) { return bit ? -x : x; }
@@ -191,21 +200,14 @@ float signed_noise(int n, const float* x, bool wrap) {
 Rgba noise_color(const Texture& t, const Vec3& point) {
     const int n = t.dimensions;
     float p[kMaxDims];
-    const Vec3 q = point * t.scale;
-    const float w = t.w * t.scale;
-    if (n == 1) {
-        p[0] = w;
-    } else {
-        for (int i = 0; i < std::min(n, 3); ++i) p[i] = q[i];
-        if (n == 4) p[3] = w;
-    }
+    pattern_coords(t, point, p);
     const float detail = std::min(std::max(t.detail, 0.0f), 15.0f);
     const float roughness = std::max(t.roughness, 0.0f);
     if (t.distortion != 0.0f) {
         float moved[kMaxDims];
         for (int k = 0; k < n; ++k) {
-            float off[kMaxDims], at[kMaxDims];
-            random_offset(n, float(k), off);
+            const float* off = random_offset(n, k);
+            float at[kMaxDims];
             for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
             moved[k] = signed_noise(n, at, t.noise_wrap) * t.distortion;
         }
@@ -218,8 +220,8 @@ Rgba noise_color(const Texture& t, const Vec3& point) {
     if (t.use_alpha) return Rgba{Vec3(value, value, value), value};
     float channel[2];
     for (int k = 0; k < 2; ++k) {
-        float off[kMaxDims], at[kMaxDims];
-        random_offset(n, float(n + k), off);
+        const float* off = random_offset(n, n + k);
+        float at[kMaxDims];
         for (int i = 0; i < n; ++i) at[i] = p[i] + off[i];
         channel[k] = finite(fractal(t, n, at, detail, roughness));
     }

@@ -6,6 +6,7 @@
 // (Blender's Image Texture node: Color and Alpha outputs). Row 0 of the pixel
 // array is the TOP of the image; v = 0 is its bottom edge (UV convention).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -165,6 +166,20 @@ inline Vec3 map_vector(const Texture& t, const Vec3& p) {
     const auto& m = t.vector_transform;
     return Vec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
                 m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+// The coordinates a Noise or Voronoi texture reads at the (mapped) point p, in
+// t.dimensions (1: w; 2: x, y; 3: the point; 4: the point and w), all times
+// t.scale, as Cycles' nodes scale their vector and W: out holds 4.
+inline void pattern_coords(const Texture& t, const Vec3& p, float* out) {
+    const Vec3 q = p * t.scale;
+    const float w = t.w * t.scale;
+    if (t.dimensions == 1) {
+        out[0] = w;
+        return;
+    }
+    for (int i = 0; i < std::min(t.dimensions, 3); ++i) out[i] = q[i];
+    if (t.dimensions == 4) out[3] = w;
 }
 
 // Blender's Checker Texture at the (mapped) vector p: color1 or color2, as

@@ -28,7 +28,7 @@ float hash_with(int n, const float* c, float extra) {
 }
 
 // The point's place in cell c, each coordinate in [0, 1] (Cycles' hash_floatN_to_floatN).
-void point_in(int n, const float* c, float* out) {
+void lookup3_point(int n, const float* c, float* out) {
     out[0] = hash_floats(n, c);
     if (n == 2) out[1] = hash_with(2, c, 1.0f);
     if (n == 3) {
@@ -45,13 +45,13 @@ void point_in(int n, const float* c, float* out) {
 }
 
 // The cell's colour (Cycles' hash_floatN_to_float3).
-void color_of(int n, const float* c, float* out) {
+void lookup3_color(int n, const float* c, float* out) {
     out[0] = hash_floats(n, c);
     if (n < 3) {
         out[1] = hash_with(n, c, 1.0f);
         out[2] = hash_with(n, c, 2.0f);
     } else if (n == 3) {
-        point_in(3, c, out);
+        lookup3_point(3, c, out);
     } else {
         const float a[4] = {c[2], c[0], c[3], c[1]}, b[4] = {c[3], c[2], c[1], c[0]};
         out[1] = hash_floats(4, a);
@@ -113,7 +113,7 @@ struct Cell {
 // corner's float bits.
 void point_of(const Texture& t, int n, const Cell& c, float* out) {
     if (t.voronoi_pcg && n > 1) hash_pcg(n, c.index, out);
-    else point_in(n, c.at, out);
+    else lookup3_point(n, c.at, out);
 }
 
 void color_of(const Texture& t, int n, const Cell& c, float* out) {
@@ -123,7 +123,7 @@ void color_of(const Texture& t, int n, const Cell& c, float* out) {
         hash_pcg(n == 2 ? 3 : n, n == 2 ? flat : c.index, h);
         std::copy(h, h + 3, out);
     } else {
-        color_of(n, c.at, out);
+        lookup3_color(n, c.at, out);
     }
 }
 
@@ -215,14 +215,7 @@ Rgba voronoi_color(const Texture& t, const Vec3& point) {
     const float randomness = std::min(std::max(t.randomness, 0.0f), 1.0f);
     const float smoothness = std::min(std::max(t.smoothness / 2.0f, 0.0f), 0.5f);
     float coord[kMaxDims];
-    const Vec3 q = point * scale;
-    const float w = t.w * scale;
-    if (n == 1) {
-        coord[0] = w;
-    } else {
-        for (int i = 0; i < std::min(n, 3); ++i) coord[i] = q[i];
-        if (n == 4) coord[3] = w;
-    }
+    pattern_coords(t, point, coord);
     // The octaves, as Cycles 4.0 and later sum them (fBM's sum, the positions blended).
     Octave out;
     float amplitude = 1.0f, max_amplitude = 0.0f, octave_scale = 1.0f;

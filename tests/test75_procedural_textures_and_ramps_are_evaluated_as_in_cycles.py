@@ -253,7 +253,7 @@ def test_what_cannot_take_the_texture_is_refused_naming_it(kw, message):
 
 def test_unknown_kinds_and_coordinates_are_refused():
     with pytest.raises(ValueError, match="kind must be one of"):
-        _scene(textures=[gw.Texture(kind="wave")])
+        _scene(textures=[gw.Texture(kind="gabor")])
     with pytest.raises(ValueError, match="coordinates must be one of"):
         _scene(textures=[gw.Texture(kind="checker", coordinates="normal")])
     with pytest.raises(ValueError, match="gradient must be one of"):

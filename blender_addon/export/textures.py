@@ -203,7 +203,8 @@ def corner_point_arrays(depsgraph) -> int:
     return len(reads)
 
 
-PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI")   # the patterns gridwalk.Texture models
+PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI", "TEX_WAVE", "TEX_MAGIC",
+                    "TEX_WHITE_NOISE", "TEX_BRICK")   # the patterns gridwalk.Texture models
 
 
 def noise_fields(node, values: dict) -> dict:
@@ -235,6 +236,35 @@ def voronoi_fields(node, values: dict) -> dict:
                 exponent=float(values.get("Exponent", 0.5)), randomness=float(values.get("Randomness", 1.0)),
                 smoothness=float(values.get("Smoothness", 1.0)), normalize=bool(getattr(node, "normalize", False)),
                 voronoi_pcg=bpy.app.version >= (5, 0, 0))
+
+
+def wave_fields(node, values: dict) -> dict:
+    """gridwalk.Texture fields of a Wave Texture node (values: its inputs' by socket name)."""
+    import bpy
+    bands = node.wave_type == "BANDS"
+    return dict(kind="wave", wave_type=node.wave_type.lower(),
+                wave_direction=(node.bands_direction if bands else node.rings_direction).lower(),
+                wave_profile={"SIN": "sine", "SAW": "saw", "TRI": "triangle"}[node.wave_profile],
+                scale=float(values["Scale"]), distortion=float(values["Distortion"]), detail=float(values["Detail"]),
+                detail_scale=float(values["Detail Scale"]), roughness=float(values["Detail Roughness"]),
+                phase=float(values["Phase Offset"]), noise_wrap=bpy.app.version >= (4, 0, 0))
+
+
+def magic_fields(node, values: dict) -> dict:
+    """gridwalk.Texture fields of a Magic Texture node."""
+    return dict(kind="magic", depth=int(node.turbulence_depth), scale=float(values["Scale"]),
+                distortion=float(values["Distortion"]))
+
+
+def brick_fields(node, values: dict) -> dict:
+    """gridwalk.Texture fields of a Brick Texture node (its Fac: the mortar's share, as grey)."""
+    colour = lambda name: tuple(float(c) for c in values[name][:3])
+    return dict(kind="brick", color1=colour("Color1"), color2=colour("Color2"), mortar=colour("Mortar"),
+                scale=float(values["Scale"]), mortar_size=float(values["Mortar Size"]),
+                mortar_smooth=float(values["Mortar Smooth"]), brick_bias=float(values["Bias"]),
+                brick_width=float(values["Brick Width"]), row_height=float(values["Row Height"]),
+                offset_amount=float(node.offset), offset_frequency=int(node.offset_frequency),
+                squash_amount=float(node.squash), squash_frequency=int(node.squash_frequency))
 
 
 def _signature(img):
@@ -308,10 +338,11 @@ class TextureTable:
 
     def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
                    problems: list | None = None) -> int:
-        """Index of the texture a Checker, Gradient, Noise or Voronoi Texture node's `output`
+        """Index of the texture a procedural texture node's `output` (PROCEDURAL_NODES)
         gives (a Checker's Fac: white and black; a Gradient's Color and Fac are the same grey;
         a Noise's Fac its value, its Color three noises; a Voronoi's Distance, Color, Position
-        or W, value_nodes.unread_texture naming what it cannot give), as texture() takes coords and
+        or W, value_nodes.unread_texture naming what it cannot give; a Wave's, Magic's or Brick's
+        Fac and a White Noise's Value as use_alpha), as texture() takes coords and
         adjust. Linked inputs other than the Vector take their own values, noted in `problems`."""
         values = {}
         for socket in node.inputs:
@@ -329,6 +360,13 @@ class TextureTable:
                                   **(coords or {}), **(adjust or {})))
         if node.type == "TEX_VORONOI":
             return self._add(dict(voronoi_fields(node, values), voronoi_output=output.lower(),
+                                  **(coords or {}), **(adjust or {})))
+        fields = {"TEX_WAVE": wave_fields, "TEX_MAGIC": magic_fields, "TEX_BRICK": brick_fields}
+        if node.type in fields:
+            return self._add(dict(fields[node.type](node, values), use_alpha=output in ("Fac", "Factor"), **(coords or {}), **(adjust or {})))
+        if node.type == "TEX_WHITE_NOISE":
+            return self._add(dict(kind="white_noise", dimensions=int(node.noise_dimensions[0]),
+                                  w=float(values.get("W", 0.0)), use_alpha=output == "Value",
                                   **(coords or {}), **(adjust or {})))
         if output in ("Fac", "Factor"):          # (5.0 names the output Factor)
             color1, color2 = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)

@@ -64,7 +64,11 @@ def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
     rotation = euler_xyz(*constant_vector(node.inputs["Rotation"], problems, where))
     scale = constant_vector(node.inputs["Scale"], problems, where)
     location = np.zeros(3) if kind == "VECTOR" else constant_vector(node.inputs["Location"], problems, where)
-    if kind == "TEXTURE":
+    if not np.any(scale):
+        # (Cycles folds a Mapping of Scale (0, 0, 0) into the zero vector, its Location
+        # left out too: ConstantFolder::fold_mapping)
+        out[:3] = 0.0
+    elif kind == "TEXTURE":
         inverse = np.divide(1.0, scale, out=np.zeros(3), where=scale != 0)
         out[:3, :3] = inverse[:, None] * rotation.T
         out[:3, 3] = -out[:3, :3] @ location

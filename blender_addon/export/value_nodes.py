@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .node_links import _source, input_value
+from .textures import PROCEDURAL_NODES
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
@@ -186,7 +187,12 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE", "TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI")   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE",) + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
+# The outputs that are one number (the texture's alpha, Texture.use_alpha), by node type;
+# 5.0 names a Fac output Factor.
+SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W"),
+                  "TEX_WAVE": ("Fac", "Factor"), "TEX_MAGIC": ("Fac", "Factor"), "TEX_BRICK": ("Fac", "Factor"),
+                  "TEX_WHITE_NOISE": ("Value",)}
 
 
 def is_vector(node, output: str) -> bool:
@@ -217,9 +223,7 @@ def image_through_nodes(socket):
         why = unread_texture(node, out.name)
         if why:
             raise Unread(why)
-        # (one number: an image's Alpha, a Noise Texture's Fac, a Voronoi Texture's Distance or W)
-        value = Value(out.name == "Alpha" or (node.type == "TEX_NOISE" and out.name in ("Fac", "Factor"))
-                      or (node.type == "TEX_VORONOI" and out.name in ("Distance", "W")), vector=is_vector(node, out.name))
+        value = Value(out.name in SINGLE_OUTPUTS.get(node.type, ()), vector=is_vector(node, out.name))
         for step in reversed(steps):
             _apply(value, *step)
         if value.vector and not value.single and socket.type == "VALUE":   # (a vector into a number)

@@ -98,6 +98,9 @@ void bind_settings(nb::module_& m) {
     bind_enum<VoronoiFeature>(m);
     bind_enum<VoronoiMetric>(m);
     bind_enum<VoronoiOutput>(m);
+    bind_enum<WaveType>(m);
+    bind_enum<WaveDirection>(m);
+    bind_enum<WaveProfile>(m);
     bind_enum<RampInterpolation>(m);
     m.def("light_kinds", &enum_items<LightKind>);
     m.def("projections", &enum_items<Projection>);
@@ -110,6 +113,9 @@ void bind_settings(nb::module_& m) {
     m.def("voronoi_features", &enum_items<VoronoiFeature>);
     m.def("voronoi_metrics", &enum_items<VoronoiMetric>);
     m.def("voronoi_outputs", &enum_items<VoronoiOutput>);
+    m.def("wave_types", &enum_items<WaveType>);
+    m.def("wave_directions", &enum_items<WaveDirection>);
+    m.def("wave_profiles", &enum_items<WaveProfile>);
     m.def("ramp_interpolations", &enum_items<RampInterpolation>);
 
     nb::class_<RenderSettings> cls(m, "RenderSettings");

@@ -94,8 +94,31 @@ GW_ENUM(Extension, GW_EXTENSIONS)
     X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale") \
     X(Gradient, "gradient", "Gradient", "Blender's Gradient Texture: a grey ramp of the point, shaped by gradient") \
     X(Noise, "noise", "Noise", "Blender's Noise Texture: Perlin noise of the point, summed over octaves (noise_type)") \
-    X(Voronoi, "voronoi", "Voronoi", "Blender's Voronoi Texture: the nearest of points scattered one per cell (voronoi_feature)")
+    X(Voronoi, "voronoi", "Voronoi", "Blender's Voronoi Texture: the nearest of points scattered one per cell (voronoi_feature)") \
+    X(Wave, "wave", "Wave", "Blender's Wave Texture: bands or rings (wave_type), distorted by noise")        \
+    X(Magic, "magic", "Magic", "Blender's Magic Texture: nested sines and cosines of the point (depth)")     \
+    X(WhiteNoise, "white_noise", "White Noise", "Blender's White Noise Texture: a hashed value per point")   \
+    X(Brick, "brick", "Brick", "Blender's Brick Texture: rows of bricks of two tinted colours in mortar")
 GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
+
+#define GW_WAVE_TYPES(X)                                                                                   \
+    X(Bands, "bands", "Bands", "Parallel bands across wave_direction (x, y, z or diagonal)")              \
+    X(Rings, "rings", "Rings", "Rings about the axis wave_direction names (x, y, z), or spheres (spherical)")
+GW_ENUM(WaveType, GW_WAVE_TYPES)
+
+#define GW_WAVE_DIRECTIONS(X)                                                                              \
+    X(AxisX, "x", "X", "Bands across x; rings about the x axis")                                               \
+    X(AxisY, "y", "Y", "Bands across y; rings about the y axis")                                               \
+    X(AxisZ, "z", "Z", "Bands across z; rings about the z axis")                                               \
+    X(Diagonal, "diagonal", "Diagonal", "Bands across x + y + z (bands only)")                             \
+    X(Spherical, "spherical", "Spherical", "Spheres about the origin (rings only)")
+GW_ENUM(WaveDirection, GW_WAVE_DIRECTIONS)
+
+#define GW_WAVE_PROFILES(X)                                                                                \
+    X(Sine, "sine", "Sine", "A smooth wave from 0 to 1 and back")                                          \
+    X(Saw, "saw", "Saw", "Rising from 0 to 1, then dropping")                                              \
+    X(Triangle, "triangle", "Triangle", "Rising from 0 to 1 and falling again, in straight lines")
+GW_ENUM(WaveProfile, GW_WAVE_PROFILES)
 
 #define GW_VORONOI_FEATURES(X)                                                                            \
     X(F1, "f1", "F1", "The nearest point")                                                                  \

@@ -197,6 +197,15 @@ float signed_noise(int n, const float* x, bool wrap) {
     return std::isfinite(r) ? kNoiseScale[n] * r : 0.0f;
 }
 
+float fbm_noise(int n, const float* x, float detail, float roughness, bool wrap) {
+    Texture fbm;
+    fbm.noise_type = NoiseType::Fbm;
+    fbm.lacunarity = 2.0f;
+    fbm.normalize = true;
+    fbm.noise_wrap = wrap;
+    return fractal(fbm, n, x, detail, roughness);
+}
+
 Rgba noise_color(const Texture& t, const Vec3& point) {
     const int n = t.dimensions;
     float p[kMaxDims];

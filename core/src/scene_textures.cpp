@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "noise.h"
+#include "procedural.h"
 #include "voronoi.h"
 #include "scene.h"
 #include "tangents.h"
@@ -161,6 +162,10 @@ Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     if (t.kind == TextureKind::Gradient) return gradient_color(t, p);
     if (t.kind == TextureKind::Noise) return noise_color(t, p);
     if (t.kind == TextureKind::Voronoi) return voronoi_color(t, p);
+    if (t.kind == TextureKind::Wave) return wave_color(t, p);
+    if (t.kind == TextureKind::Magic) return magic_color(t, p);
+    if (t.kind == TextureKind::WhiteNoise) return white_noise_color(t, p);
+    if (t.kind == TextureKind::Brick) return brick_color(t, p);
     float x = p.x, y = p.y;
     if (uv_mapped(t)) map_uv(t, x, y);
     return sample_image(*images_[size_t(t.image)], t, x, y);
@@ -321,10 +326,11 @@ bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, f
         a1 = map_vector(t, a1) - origin;
         a2 = map_vector(t, a2) - origin;
     }
-    const float cell = t.kind == TextureKind::Checker || t.kind == TextureKind::Noise || t.kind == TextureKind::Voronoi
-                           ? 1.0f / std::max(std::abs(t.scale), 1e-6f)
-                       : t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
-                                                      : 1.0f;
+    // (a White Noise is unscaled: its slopes are as rough as the step is small)
+    const float cell = t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
+                       : t.kind == TextureKind::Gradient || t.kind == TextureKind::WhiteNoise
+                           ? 1.0f
+                           : 1.0f / std::max(std::abs(t.scale), 1e-6f);
     // (a fractal's finest octave is lacunarity^detail times finer)
     const float finest = t.kind == TextureKind::Noise || t.kind == TextureKind::Voronoi
                              ? std::pow(std::max(t.lacunarity, 1.0f), std::ceil(std::min(std::max(t.detail, 0.0f), 15.0f)))

@@ -135,13 +135,29 @@ void validate_texture(const Texture& t, const std::string& where) {
     if (!enum_valid(t.voronoi_feature)) throw std::invalid_argument(where + ".voronoi_feature is not a Voronoi feature");
     if (!enum_valid(t.voronoi_metric)) throw std::invalid_argument(where + ".voronoi_metric is not a distance metric");
     if (!enum_valid(t.voronoi_output)) throw std::invalid_argument(where + ".voronoi_output is not a Voronoi output");
+    if (!enum_valid(t.wave_type)) throw std::invalid_argument(where + ".wave_type is not a wave type");
+    if (!enum_valid(t.wave_direction)) throw std::invalid_argument(where + ".wave_direction is not a wave direction");
+    if (!enum_valid(t.wave_profile)) throw std::invalid_argument(where + ".wave_profile is not a wave profile");
+    if ((t.wave_type == WaveType::Bands && t.wave_direction == WaveDirection::Spherical) ||
+        (t.wave_type == WaveType::Rings && t.wave_direction == WaveDirection::Diagonal))
+        throw std::invalid_argument(where + ".wave_direction = " + enum_id(t.wave_direction) + " does not go with " +
+                                    enum_id(t.wave_type) + ": bands go along x, y, z or diagonal, rings about x, "
+                                    "y, z or spherical");
+    if (t.depth < 0 || t.depth > 10)
+        throw std::invalid_argument(where + ".depth = " + std::to_string(t.depth) + " is not in [0, 10]");
+    if (!(t.brick_width > 0) || !(t.row_height > 0) || !std::isfinite(t.brick_width) || !std::isfinite(t.row_height))
+        throw std::invalid_argument(where + ": brick_width and row_height must be positive and finite");
+    for (float c : {t.mortar[0], t.mortar[1], t.mortar[2]})
+        if (!std::isfinite(c)) throw std::invalid_argument(where + ".mortar is not finite");
     if (t.dimensions < 1 || t.dimensions > 4)
         throw std::invalid_argument(where + ".dimensions = " + std::to_string(t.dimensions) +
                                     " is not 1, 2, 3 or 4");
     const std::pair<const char*, float> noise_values[] = {{"w", t.w}, {"detail", t.detail},
         {"roughness", t.roughness}, {"lacunarity", t.lacunarity}, {"distortion", t.distortion},
         {"noise_offset", t.noise_offset}, {"noise_gain", t.noise_gain}, {"exponent", t.exponent},
-        {"randomness", t.randomness}, {"smoothness", t.smoothness}};
+        {"randomness", t.randomness}, {"smoothness", t.smoothness}, {"detail_scale", t.detail_scale},
+        {"phase", t.phase}, {"mortar_size", t.mortar_size}, {"mortar_smooth", t.mortar_smooth}, {"brick_bias", t.brick_bias},
+        {"offset_amount", t.offset_amount}, {"squash_amount", t.squash_amount}};
     for (const auto& [name, x] : noise_values)
         if (!std::isfinite(x)) throw std::invalid_argument(where + "." + name + " is not finite");
     if (t.kind != TextureKind::Image && t.image != -1)

@@ -104,6 +104,31 @@ struct Texture {
     VoronoiOutput voronoi_output = VoronoiOutput::Distance;
     float exponent = 0.5f, randomness = 1, smoothness = 1;
     bool voronoi_pcg = true;
+    // Wave (procedural.h): bands or rings (wave_type) across or about
+    // wave_direction, 20 per unit of the point x scale, shifted by `phase` and
+    // by `distortion` x fBM noise of the point x detail_scale (detail and
+    // roughness as the Noise's, lacunarity 2, normalized), through
+    // wave_profile; the value is the colour, as grey, and the alpha.
+    WaveType wave_type = WaveType::Bands;
+    WaveDirection wave_direction = WaveDirection::AxisX;
+    WaveProfile wave_profile = WaveProfile::Sine;
+    float detail_scale = 1, phase = 0;
+    // Magic (procedural.h): sines and cosines of the point (modulo 2 pi, as
+    // Blender 3.4 and later take it) x scale, nested `depth` times (0-10),
+    // each scaled by `distortion`; the alpha is the colour's average
+    // (Blender's Fac).
+    int32_t depth = 2;
+    // Brick (procedural.h): in the (x, y) plane of the point x scale, rows
+    // of row_height, bricks of brick_width, every offset_frequency-th row
+    // shifted by offset_amount of a brick and every squash_frequency-th
+    // row's bricks squash_amount as wide (neither where either frequency is
+    // 0); each brick's colour is color1 tinted towards color2 by a hashed
+    // amount plus brick_bias, inside a `mortar` colour mortar_size wide, blended
+    // over mortar_smooth; the alpha is the mortar's share (Blender's Fac).
+    std::array<float, 3> mortar = {0, 0, 0};
+    float mortar_size = 0.02f, mortar_smooth = 0.1f, brick_bias = 0, brick_width = 0.5f, row_height = 0.25f,
+          offset_amount = 0.5f, squash_amount = 1;
+    int32_t offset_frequency = 2, squash_frequency = 2;
     // A colour ramp the value goes through last (Blender's Color Ramp node,
     // RGB mode): 5 floats per stop, position then RGBA, positions in
     // increasing order, at most kMaxRampStops; empty: none. The ramp's input is the value after the

@@ -100,7 +100,7 @@ def test_settings_the_export_cannot_read_are_named_and_a_nan_uv_does_not_stop_it
                      r"modelled \(rendered as if unset\)", said), said
     assert "RoughDiffuse: Roughness 0.6 not modelled (rendered as if unset)" in said
     # bump, normal maps and displacement were ignored without a word (a Bump of a Noise is read: test_b39;
-    # of a Wave, which the core does not model, it is not)
+    # of a Sky Texture, which the core does not read in a material, it is not)
     assert ("Bumpy: Normal (ShaderNodeBump) not read: the surface is shaded with the mesh's own normals" in said), said
     assert "Displaced: Displacement (ShaderNodeDisplacement) not read" in said
     # a tangent-space normal map is read (test_b18); other spaces are named

@@ -259,7 +259,7 @@ def test_bad_textures_warn_and_the_image_finishes(renders):
     assert "Image 'HugeImage' renders magenta: 16384 x 16384 pixels need an estimated" in out
     assert "no UV map" in out and "'NoUVs'" in out
     assert "Image 'Frames' renders magenta: image sequences are not supported (use a single image)" in out
-    assert "Wave: inputs Base Color (ShaderNodeTexWave) use their default values" in out
+    assert "Sky: inputs Base Color (ShaderNodeTexSky) use their default values" in out
     magenta = (rgba[..., 0] > 0.1) & (np.abs(rgba[..., 2] - rgba[..., 0]) < 0.01) & (rgba[..., 1] < 0.3 * rgba[..., 0])
     assert magenta.mean() > 0.05, "missing images must render magenta"
 

@@ -90,7 +90,12 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "noise_wrap": True, "voronoi_feature": "f1",
                                                "voronoi_metric": "euclidean", "voronoi_output": "distance",
                                                "exponent": 0.5, "randomness": 1.0, "smoothness": 1.0,
-                                               "voronoi_pcg": True}
+                                               "voronoi_pcg": True, "wave_type": "bands", "wave_direction": "x",
+                                               "wave_profile": "sine", "detail_scale": 1.0, "phase": 0.0,
+                                               "depth": 2, "mortar": [0.0, 0.0, 0.0],
+                                               "mortar_size": 0.02, "mortar_smooth": 0.1, "brick_bias": 0.0,
+                                               "brick_width": 0.5, "row_height": 0.25, "offset_amount": 0.5,
+                                               "offset_frequency": 2, "squash_amount": 1.0, "squash_frequency": 2}
     assert name(node["roughness_texture"]) == "RoughHDR"
     assert not textures[node["roughness_texture"]]["premultiply"]   # float images are held associated already
     assert name(render["metallic_texture"]) == "MetalMap"

@@ -29,6 +29,9 @@ NOISE_TYPES = tuple(kind for kind, _, _ in _core.noise_types())
 VORONOI_FEATURES = tuple(kind for kind, _, _ in _core.voronoi_features())
 VORONOI_METRICS = tuple(kind for kind, _, _ in _core.voronoi_metrics())
 VORONOI_OUTPUTS = tuple(kind for kind, _, _ in _core.voronoi_outputs())
+WAVE_TYPES = tuple(kind for kind, _, _ in _core.wave_types())
+WAVE_DIRECTIONS = tuple(kind for kind, _, _ in _core.wave_directions())
+WAVE_PROFILES = tuple(kind for kind, _, _ in _core.wave_profiles())
 
 _MAT, _LIGHT, _CAM = _core.Material(), _core.Light(), _core.Camera()
 _TEX, _WORLD = _core.Texture(), _core.World()
@@ -233,6 +236,23 @@ class Texture(Record):
     before (lookup3 of their corners' float bits). (detail, roughness,
     lacunarity and normalize default to the Noise node's values; Blender's
     Voronoi node has detail 0 and normalize off.)
+    | wave (Blender's Wave Texture; no image): wave_type = bands (along
+    wave_direction = x | y | z | diagonal) | rings (about wave_direction = x |
+    y | z, or spherical), 20 per unit of the point x scale, moved by phase and
+    by distortion x fBM noise of the point x detail_scale (detail, roughness;
+    noise_wrap as for noise), through wave_profile = sine | saw | triangle;
+    grey, alpha the same (its Fac). | magic (Blender's Magic Texture):
+    sines and cosines of the point (modulo 2 pi) x scale nested depth (0-10)
+    times, each times distortion; alpha the colour's average (its Fac). | white_noise
+    (Blender's White Noise Texture): hashes of the bits of the point's
+    coordinates in `dimensions` (w as the fourth; no scale); use_alpha gives
+    its Value. | brick (Blender's Brick Texture), in the (x, y) plane of the
+    point x scale: rows row_height high of bricks brick_width wide, every
+    offset_frequency-th row shifted by offset_amount of a brick and every
+    squash_frequency-th row's bricks squash_amount as wide (neither if either
+    frequency is 0); each brick color1 tinted towards color2 by a hashed
+    amount + brick_bias, in mortar (a colour) mortar_size wide, its edge
+    blended over mortar_smooth; use_alpha gives the mortar's share (its Fac).
     ramp: a colour ramp the value goes through last (Blender's Color Ramp
     node in RGB mode): stops of 5 numbers, (position, R, G, B, A), in
     increasing position, at most 256 (a flat sequence of 5n numbers is taken
@@ -290,6 +310,22 @@ class Texture(Record):
     randomness: float = _f32(_TEX.randomness)
     smoothness: float = _f32(_TEX.smoothness)
     voronoi_pcg: bool = _TEX.voronoi_pcg
+    wave_type: str = WAVE_TYPES[0]
+    wave_direction: str = WAVE_DIRECTIONS[0]
+    wave_profile: str = WAVE_PROFILES[0]
+    detail_scale: float = _f32(_TEX.detail_scale)
+    phase: float = _f32(_TEX.phase)
+    depth: int = _TEX.depth
+    mortar: tuple = tuple(_f32(x) for x in _TEX.mortar)
+    mortar_size: float = _f32(_TEX.mortar_size)
+    mortar_smooth: float = _f32(_TEX.mortar_smooth)
+    brick_bias: float = _f32(_TEX.brick_bias)
+    brick_width: float = _f32(_TEX.brick_width)
+    row_height: float = _f32(_TEX.row_height)
+    offset_amount: float = _f32(_TEX.offset_amount)
+    offset_frequency: int = _TEX.offset_frequency
+    squash_amount: float = _f32(_TEX.squash_amount)
+    squash_frequency: int = _TEX.squash_frequency
     ramp: tuple = ()
     ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]
@@ -330,6 +366,9 @@ class Texture(Record):
                 "voronoi_feature": _choice(VORONOI_FEATURES, _core.VoronoiFeature),
                 "voronoi_metric": _choice(VORONOI_METRICS, _core.VoronoiMetric),
                 "voronoi_output": _choice(VORONOI_OUTPUTS, _core.VoronoiOutput),
+                "wave_type": _choice(WAVE_TYPES, _core.WaveType),
+                "wave_direction": _choice(WAVE_DIRECTIONS, _core.WaveDirection),
+                "wave_profile": _choice(WAVE_PROFILES, _core.WaveProfile),
                 "ramp_interpolation": _choice(RAMP_INTERPOLATIONS, _core.RampInterpolation)}
 
 

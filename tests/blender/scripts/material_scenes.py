@@ -593,7 +593,7 @@ def _file_image(name, path):
 def bad_materials_scene(resolution=(48, 36)):
     """Six planes, each with one problem: a missing image file, a 0 x 0 image,
     a 16k x 16k image, a textured mesh without UVs, a node Gridwalk does
-    not understand (a Wave Texture on Base Color), and an image sequence."""
+    not understand (a Sky Texture on Base Color), and an image sequence."""
     reset(resolution=tuple(resolution))
     missing = _file_image("MissingImage", "/nonexistent/gridwalk_missing_texture.png")
     # (in Blender's session folder, which scripting.leave removes at exit)
@@ -604,14 +604,14 @@ def bad_materials_scene(resolution=(48, 36)):
     huge = bpy.data.images.new("HugeImage", 16384, 16384)
     frames = bpy.data.images.new("Frames", 4, 4)
     frames.source, frames.filepath = "SEQUENCE", "/nonexistent/gridwalk_frame_0001.png"
-    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Wave": None,
+    cases = {"MissingFile": missing, "ZeroSize": zero, "Huge": huge, "NoUVs": small, "Sky": None,
              "Sequence": frames}
     for i, (name, image) in enumerate(cases.items()):
         plane = _plane(name, 1.5, location=(-4 + 2 * i, 0, 0), rotation=(math.pi / 2, 0, 0))
         mat = principled_material(name, (0.5, 0.5, 0.5))
-        if name == "Wave":
-            wave = mat.node_tree.nodes.new("ShaderNodeTexWave")
-            mat.node_tree.links.new(wave.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+        if name == "Sky":
+            sky = mat.node_tree.nodes.new("ShaderNodeTexSky")
+            mat.node_tree.links.new(sky.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
         else:
             _image_node(mat, image)
         if name == "NoUVs":
@@ -740,10 +740,10 @@ def unread_settings_scene(override=False):
     _plane("TintedPlane", 1.0, (4.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(tinted)
     rough = shader_material("RoughDiffuse", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0)), ("Roughness", 0.6)])
     _plane("RoughPlane", 1.0, (6.0, 2.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(rough)
-    bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Wave -> Bump -> Normal (a Wave is not read)
+    bumpy = principled_material("Bumpy", (0.5, 0.5, 0.5))            # Sky -> Bump -> Normal (a Sky Texture is not read)
     nodes, node_links = bumpy.node_tree.nodes, bumpy.node_tree.links
     bump = nodes.new("ShaderNodeBump")
-    node_links.new(nodes.new("ShaderNodeTexWave").outputs[0], bump.inputs["Height"])
+    node_links.new(nodes.new("ShaderNodeTexSky").outputs[0], bump.inputs["Height"])
     node_links.new(bump.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
     _plane("Bumped", 1.0, (6.0, 0.0, 0.0), (math.pi / 2, 0, 0)).data.materials.append(bumpy)
     displaced = shader_material("Displaced", "ShaderNodeBsdfDiffuse", [("Color", (0.5, 0.5, 0.5, 1.0))])

@@ -1,0 +1,46 @@
+"""Blender's Wave, Magic, White Noise and Brick Textures render as in Cycles, in bpy 4.5, bpy 5.0
+and Debian's 3.4: each node as Blender adds it; Wave rings with distortion and Wave diagonal
+bands; Magic far out (Blender 4.1 and later take its point modulo 2 pi, as the export tells the
+core); a White Noise's hashed colour and 4D value at one point (and at the zero vector that
+Cycles makes of a Mapping of Scale 0, its Location left out); bricks with every setting moved,
+and their mortar (Fac). Before, each was a warning and its input's default colour.
+Scene: pattern_scenes.pattern_scene."""
+import numpy as np
+import pytest
+
+from runner import luminance_by_engine
+
+VARIANTS = ("wave", "wave_rings", "wave_diagonal", "magic", "magic_far", "brick", "brick_custom",  # PATTERN_VARIANTS
+            "brick_fac")
+POINTS = ("white_noise", "white_noise_4d", "white_noise_zero")
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"patterns_{module_blender}")
+    return luminance_by_engine(module_blender, out, "pattern", ENGINES, {v: {"variant": v} for v in VARIANTS + POINTS})
+
+
+def blurred(image):
+    """A 3 x 3 box average: the bricks' and rings' sharp edges are anti-aliased by different
+    samples and pixel filters (Cycles' 1.5-pixel Blackman-Harris blurs them a little more
+    than our 4 jittered samples in a box), a difference within a pixel that this takes out."""
+    p = np.pad(image, 1, mode="edge")
+    return sum(p[i:i + image.shape[0], j:j + image.shape[1]] for i in range(3) for j in range(3)) / 9
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_pattern_is_where_cycles_puts_it(renders, variant):
+    ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
+    assert cycles.std() > 0.03                                       # a pattern, not a flat colour
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.97
+    assert np.corrcoef(blurred(ours).reshape(-1), blurred(cycles).reshape(-1))[0, 1] > 0.99
+    assert abs(float(ours.mean() - cycles.mean())) < 0.01 * max(1.0, float(cycles.mean()))
+
+
+@pytest.mark.parametrize("variant", POINTS)
+def test_white_noise_at_one_point_is_cycles_hash(renders, variant):
+    ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
+    assert ours.std() < 1e-4 and cycles.std() < 1e-4
+    assert abs(float(ours.mean() - cycles.mean())) < 1e-3

@@ -188,7 +188,7 @@ class Links:
         return True
 
     def _texture(self, node, output, adjust=None) -> int:
-        """The texture index of an Image, Checker, Gradient, Noise or Voronoi Texture node's output."""
+        """The texture index of an image or procedural texture node (value_nodes.TEXTURE_NODES)'s output."""
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)

@@ -1,4 +1,4 @@
-"""The texture coordinates an Image, Checker, Gradient, Noise or Voronoi Texture node reads: its Vector input.
+"""The texture coordinates an image or procedural texture node reads: its Vector input.
 
 An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
 that vector is the mesh's active render UV map, (u, v, 0) (a procedural

@@ -209,7 +209,7 @@ def unread_texture(node, output: str) -> str | None:
 
 
 def image_through_nodes(socket):
-    """(Image, Checker, Gradient, Noise or Voronoi Texture node, its output's name, Texture fields) for an input
+    """(image or procedural texture node (TEXTURE_NODES), its output's name, Texture fields) for an input
     fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
     steps = []
     try:

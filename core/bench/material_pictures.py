@@ -77,6 +77,12 @@ SCENES = (   # (scene, label, options for both engines)
      ['scene={"height": "NOISE", "resolution": [128, 96]}', "transparent=false"]),
     ("voronoi", "Voronoi Texture (3D F1): its Color output",
      ['scene={"variant": "color", "resolution": [128, 96]}', "transparent=false"]),
+    ("pattern", "Brick Texture with every setting moved (offset, squash, mortar, bias)",
+     ['scene={"variant": "brick_custom", "resolution": [128, 96]}', "transparent=false"]),
+    ("pattern", "Wave Texture (rings, saw profile, Distortion 6): its Fac",
+     ['scene={"variant": "wave_rings", "resolution": [128, 96]}', "transparent=false"]),
+    ("pattern", "Magic Texture (depth 2, as Blender adds it)",
+     ['scene={"variant": "magic", "resolution": [128, 96]}', "transparent=false"]),
 )
 SIZE = '[128, 96]'
 

@@ -50,6 +50,30 @@ inline float hash_floats(int n, const float* x) {
     return float(hash_words(n, k)) * (1.0f / 4294967296.0f);
 }
 
+// The hash of n floats with one more word appended (n = 1-3).
+inline float hash_floats_with(int n, const float* x, float extra) {
+    float k[4];
+    for (int i = 0; i < n; ++i) k[i] = x[i];
+    k[n] = extra;
+    return hash_floats(n + 1, k);
+}
+
+// Three hashes of n floats (n = 1-4) as a colour, as Cycles' hash_float*_to_float3
+// forms them: the hash of the floats, then with 1 and 2 appended or, for four,
+// of the floats reordered (z, x, w, y) and (w, z, y, x). (The Voronoi Texture's
+// cell colours before Blender 5.0; the White Noise Texture's colour.)
+inline void hash_floats_to_color(int n, const float* x, float* out) {
+    out[0] = hash_floats(n, x);
+    if (n < 4) {
+        out[1] = hash_floats_with(n, x, 1.0f);
+        out[2] = hash_floats_with(n, x, 2.0f);
+    } else {
+        const float a[4] = {x[2], x[0], x[3], x[1]}, b[4] = {x[3], x[2], x[1], x[0]};
+        out[1] = hash_floats(4, a);
+        out[2] = hash_floats(4, b);
+    }
+}
+
 // Cycles' signed PCG hash of n (2-4) integers, each result in [0, 2^31), as a
 // float in [0, 1] (its hash_int*_to_float*). (Unsigned arithmetic for the
 // wrap-around; the shift is arithmetic, as on Cycles' signed integers.)

@@ -19,21 +19,13 @@ struct Octave {
     float position[kMaxDims] = {0, 0, 0, 0};   // x, y, z, w as Cycles lays them (1D: w)
 };
 
-// The hash of a cell's n coordinates with one more word appended.
-float hash_with(int n, const float* c, float extra) {
-    float k[kMaxDims + 1];
-    for (int i = 0; i < n; ++i) k[i] = c[i];
-    k[n] = extra;
-    return hash_floats(n + 1, k);
-}
-
 // The point's place in cell c, each coordinate in [0, 1] (Cycles' hash_floatN_to_floatN).
 void lookup3_point(int n, const float* c, float* out) {
     out[0] = hash_floats(n, c);
-    if (n == 2) out[1] = hash_with(2, c, 1.0f);
+    if (n == 2) out[1] = hash_floats_with(2, c, 1.0f);
     if (n == 3) {
-        out[1] = hash_with(3, c, 1.0f);
-        out[2] = hash_with(3, c, 2.0f);
+        out[1] = hash_floats_with(3, c, 1.0f);
+        out[2] = hash_floats_with(3, c, 2.0f);
     }
     if (n == 4) {
         for (int r = 1; r < 4; ++r) {   // the coordinates turned by r places: (w, x, y, z), (z, w, x, y), (y, z, w, x)
@@ -41,21 +33,6 @@ void lookup3_point(int n, const float* c, float* out) {
             for (int i = 0; i < 4; ++i) k[i] = c[(i + 4 - r) % 4];
             out[r] = hash_floats(4, k);
         }
-    }
-}
-
-// The cell's colour (Cycles' hash_floatN_to_float3).
-void lookup3_color(int n, const float* c, float* out) {
-    out[0] = hash_floats(n, c);
-    if (n < 3) {
-        out[1] = hash_with(n, c, 1.0f);
-        out[2] = hash_with(n, c, 2.0f);
-    } else if (n == 3) {
-        lookup3_point(3, c, out);
-    } else {
-        const float a[4] = {c[2], c[0], c[3], c[1]}, b[4] = {c[3], c[2], c[1], c[0]};
-        out[1] = hash_floats(4, a);
-        out[2] = hash_floats(4, b);
     }
 }
 
@@ -123,7 +100,7 @@ void color_of(const Texture& t, int n, const Cell& c, float* out) {
         hash_pcg(n == 2 ? 3 : n, n == 2 ? flat : c.index, h);
         std::copy(h, h + 3, out);
     } else {
-        lookup3_color(n, c.at, out);
+        hash_floats_to_color(n, c.at, out);   // (the cell's colour)
     }
 }
 

@@ -109,6 +109,72 @@ def voronoi(coord, feature="f1", metric="euclidean", exponent=0.5, randomness=1.
     return best[k], _color(at[k], pcg), [pp + kk for pp, kk in zip(point[k], cell)]
 
 
+def _offsets(n):
+    return [o[::-1] for o in itertools.product(range(-1, 2), repeat=n)]   # x fastest
+
+
+def _points_around(coord, randomness, pcg, shift=None):
+    """[(offset, point relative to the cell)] of the cells around coord's (offsets moved by shift)."""
+    cell = [np.floor(c) for c in coord]
+    out = []
+    for offset in _offsets(len(coord)):
+        o = [f32(k) + (s if shift is not None else f32(0)) for k, s in zip(offset, shift or [0] * len(coord))]
+        where = [k + x for k, x in zip(cell, o)]
+        out.append((offset, [x + j * f32(randomness) for x, j in zip(o, _jitter(where, pcg))]))
+    return cell, [c - k for c, k in zip(coord, cell)], out
+
+
+def edge_distance(coord, randomness=1.0, pcg=True):
+    """Cycles' Distance to Edge at coord: the nearest point by squared distance, then the least
+    distance to the bisectors between it and the other points (1D: the two midpoints)."""
+    n = len(coord)
+    _, local, around = _points_around(coord, randomness, pcg)
+    if n == 1:
+        p = [pt[0] for _, pt in around]
+        return np.minimum(np.abs((p[1] + p[0]) / f32(2) - local[0]), np.abs((p[1] + p[2]) / f32(2) - local[0]))
+    vectors = [[x - l for x, l in zip(pt, local)] for _, pt in around]
+    least, closest = np.full(coord[0].shape, np.inf, np.float32), [np.zeros_like(coord[0]) for _ in range(n)]
+    for v in vectors:
+        d = sum(x * x for x in v)
+        take = d < least
+        least = np.where(take, d, least)
+        closest = [np.where(take, x, c) for x, c in zip(v, closest)]
+    least = np.full(coord[0].shape, np.inf, np.float32)
+    for v in vectors:
+        across = [x - c for x, c in zip(v, closest)]
+        len2 = sum(x * x for x in across)
+        length = np.sqrt(np.maximum(len2, f32(1e-30)))
+        d = sum((c + x) / f32(2) * (a / length) for c, x, a in zip(closest, v, across))
+        least = np.where(len2 > f32(0.0001), np.minimum(least, d), least)
+    return least
+
+
+def sphere_radius(coord, randomness=1.0, pcg=True):
+    """Cycles' N-Sphere Radius: half the distance from the nearest point to its own nearest."""
+    n = len(coord)
+    dist = lambda a, b: np.abs(a[0] - b[0]) if n == 1 else np.sqrt(sum((x - y) ** 2 for x, y in zip(a, b)))
+    _, local, around = _points_around(coord, randomness, pcg)
+    least = np.full(coord[0].shape, np.inf, np.float32)
+    closest = [np.zeros_like(coord[0]) for _ in range(n)]
+    closest_offset = [np.zeros_like(coord[0]) for _ in range(n)]
+    for offset, pt in around:
+        d = dist(pt, local)
+        take = d < least
+        least = np.where(take, d, least)
+        closest = [np.where(take, x, c) for x, c in zip(pt, closest)]
+        closest_offset = [np.where(take, f32(o), c) for o, c in zip(offset, closest_offset)]
+    _, _, around = _points_around(coord, randomness, pcg, shift=closest_offset)
+    least, best = np.full(coord[0].shape, np.inf, np.float32), [np.zeros_like(coord[0]) for _ in range(n)]
+    for offset, pt in around:
+        if not any(offset):
+            continue
+        d = dist(closest, pt)
+        take = d < least
+        least = np.where(take, d, least)
+        best = [np.where(take, x, b) for x, b in zip(pt, best)]
+    return dist(best, closest) / f32(2)
+
+
 def _render(texture):
     return render_square(texture, GENERATED)
 
@@ -177,7 +243,7 @@ def test_octaves_sum_as_cycles_sums_them():
 
 
 def test_bad_voronoi_settings_are_refused_naming_the_field():
-    for fields, match in [(dict(voronoi_feature="distance_to_edge"), "voronoi_feature"),
+    for fields, match in [(dict(voronoi_feature="distance_to_corner"), "voronoi_feature"),
                           (dict(voronoi_metric="hamming"), "voronoi_metric"),
                           (dict(randomness=float("nan")), "randomness"), (dict(dimensions=0), "dimensions = 0")]:
         with pytest.raises(ValueError, match=match):
@@ -204,3 +270,41 @@ def test_a_position_read_as_a_number_is_its_average():
     # (the average of x, y, z; below 0 the emission is 0)
     np.testing.assert_allclose(_render(gw.Texture(channel=4, **fields))[..., 0],
                                np.maximum(xyz.mean(axis=-1), 0), atol=2e-5)
+
+
+@pytest.mark.parametrize("pcg", [False, True])
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_distance_to_edge_and_n_sphere_radius_in_each_dimension_and_hash(n, pcg):
+    fields = dict(kind="voronoi", coordinates="generated", dimensions=n, w=0.7, scale=3.0, detail=0.0,
+                  normalize=False, voronoi_pcg=pcg, randomness=0.8)
+    p = _points(3.0, 0.7, n)
+    edge = _render(gw.Texture(voronoi_feature="distance_to_edge", **fields))[..., 0]
+    np.testing.assert_allclose(edge, edge_distance(p, 0.8, pcg), atol=3e-5)
+    radius = _render(gw.Texture(voronoi_feature="n_sphere_radius", voronoi_output="radius", **fields))[..., 0]
+    want = sphere_radius(p, 0.8, pcg)
+    # (a cell's radius is one value: pixels on a cell border may fall on either side)
+    assert np.mean(np.abs(radius - want) < 3e-5) > 0.97
+    if n > 1:
+        assert edge.std() > 0.03 and len(np.unique(want.round(5))) > 3
+    # their other outputs are 0, as Cycles writes them
+    assert not _render(gw.Texture(voronoi_feature="n_sphere_radius", voronoi_output="distance", **fields)).any()
+    assert not _render(gw.Texture(voronoi_feature="distance_to_edge", voronoi_output="color", **fields)).any()
+
+
+def test_distance_to_edge_over_octaves_takes_the_least_as_cycles_does():
+    fields = dict(kind="voronoi", coordinates="generated", scale=2.0, detail=1.5, roughness=0.6, lacunarity=2.2,
+                  normalize=True, voronoi_feature="distance_to_edge")
+    p = _points(2.0)
+    largest = f32(1.0)                                            # (0.5 + 0.5 x randomness 1)
+    amp, top, dist, scale = f32(1), largest, np.full(p[0].shape, f32(8)), f32(1)
+    mix = lambda a, b, t: a + t * (b - a)
+    for i in range(3):
+        d = edge_distance([x * scale for x in p])
+        if i <= 1.5:
+            top = mix(top, largest / scale, amp)
+            dist = mix(dist, np.minimum(dist, d / scale), amp)
+            scale, amp = scale * f32(2.2), amp * f32(0.6)
+        else:
+            top = mix(top, mix(top, largest / scale, amp), f32(0.5))
+            dist = mix(dist, np.minimum(dist, mix(dist, np.minimum(dist, d / scale), amp)), f32(0.5))
+    np.testing.assert_allclose(_render(gw.Texture(**fields))[..., 0], dist / top, atol=5e-5)

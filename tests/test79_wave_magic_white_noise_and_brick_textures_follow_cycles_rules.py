@@ -225,9 +225,20 @@ def test_bricks_rows_tints_and_mortar_are_cycles_bricks(fields):
     np.testing.assert_allclose(colours, want, rtol=0, atol=2e-6)
 
 
-@pytest.mark.parametrize("fields, message", [(dict(brick_width=0.0), "brick_width"), (dict(row_height=-1.0), "row_height"),
+@pytest.mark.parametrize("fields, message", [(dict(brick_width=float("nan")), "brick_width"),
+                                             (dict(row_height=float("inf")), "row_height"),
                                              (dict(kind="magic", depth=11), "depth"),
                                              (dict(mortar=(0, float("nan"), 0)), "mortar")])
 def test_bad_settings_are_refused_naming_the_field(fields, message):
     with pytest.raises(ValueError, match=message):
         value_at(dict(dict(kind="brick"), **fields), POINTS[0])
+
+
+def test_bricks_of_no_width_or_height_are_mortar_as_in_cycles():
+    """(Blender's sockets take a Brick Width or Row Height of 0 and below from a script or a
+    link; Cycles divides by it into an out-of-range brick number, and its mortar fills the
+    plane. Gridwalk renders the same, and does not trap on that number's remainder.)"""
+    for fields in (dict(brick_width=0.0), dict(row_height=0.0, squash_frequency=-1, offset_frequency=-1),
+                   dict(brick_width=-0.4, mortar=(0.2, 0.4, 0.6))):
+        colours, alphas = rendered(dict(kind="brick", **fields), POINTS[:8])
+        assert np.all(alphas == 1) and np.all(colours == np.array(fields.get("mortar", (0, 0, 0)), np.float32))

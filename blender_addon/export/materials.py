@@ -71,7 +71,7 @@ from .node_links import _socket, _source, input_value
 from .color_ramp import ramp_stops
 from .textures import plain_image
 from .uv_mapping import texture_fields
-from .value_nodes import TEXTURE_NODES, image_through_nodes, is_vector, mix_inputs, unread_texture
+from .value_nodes import TEXTURE_NODES, image_through_nodes, is_vector, mix_inputs
 
 # Custom property of a material holding gridwalk.Material fields; when present
 # it is exported as is (NFF's Phong highlight has no Principled equivalent).
@@ -125,10 +125,6 @@ class Links:
 
     def _take(self, socket, node, out, field, colour) -> bool:
         if node.type in TEXTURE_NODES and self.textures is not None:
-            why = unread_texture(node, out.name)
-            if why:
-                self.textured.append(f"{socket.name} ({node.bl_idname}: {why})")
-                return False
             # (a vector straight into a number: its average, as Cycles converts it)
             average = {"channel": 4} if is_vector(node, out.name) and socket.type == "VALUE" else None
             self.fields[field] = self._texture(node, out.name, average)
@@ -196,11 +192,12 @@ class Links:
 
     def _coords(self, node, default, image) -> dict:
         """The node's coordinate fields (uv_mapping.texture_fields); notes the UV
-        layer it reads, or the Generated or Object coordinates."""
+        layer it reads, or the Generated or Object coordinates (neither for a constant point)."""
         layer, fields, problems = texture_fields(node, default, image)
         self.textured += problems
         if layer is None:
-            self.points.add(fields["coordinates"])
+            if fields.get("coordinates", "uv") != "uv":
+                self.points.add(fields["coordinates"])
         else:
             if self.uv_layer and layer and layer != self.uv_layer:
                 self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")

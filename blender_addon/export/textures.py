@@ -225,7 +225,7 @@ def noise_fields(node, values: dict) -> dict:
 
 
 def voronoi_fields(node, values: dict) -> dict:
-    """gridwalk.Texture fields of a Voronoi Texture node (F1, F2 or Smooth F1; values: its
+    """gridwalk.Texture fields of a Voronoi Texture node (any feature; values: its
     inputs' by socket name). Blender before 4.0 has no Detail (0: one octave), Roughness,
     Lacunarity or Normalize (off); 5.0 hashes the cells anew (voronoi_pcg)."""
     import bpy
@@ -239,15 +239,21 @@ def voronoi_fields(node, values: dict) -> dict:
 
 
 def wave_fields(node, values: dict) -> dict:
-    """gridwalk.Texture fields of a Wave Texture node (values: its inputs' by socket name)."""
+    """gridwalk.Texture fields of a Wave Texture node (values: its inputs' by socket name).
+    Blender 3.4 clamps its Detail to [0, 15] and Detail Roughness to [0, 1] (4.0 and later
+    take them as they are) and does not wrap the noise's coordinates."""
     import bpy
     bands = node.wave_type == "BANDS"
+    old = bpy.app.version < (4, 0, 0)
+    detail, roughness = float(values["Detail"]), float(values["Detail Roughness"])
+    if old:
+        detail, roughness = min(max(detail, 0.0), 15.0), min(max(roughness, 0.0), 1.0)
     return dict(kind="wave", wave_type=node.wave_type.lower(),
                 wave_direction=(node.bands_direction if bands else node.rings_direction).lower(),
                 wave_profile={"SIN": "sine", "SAW": "saw", "TRI": "triangle"}[node.wave_profile],
-                scale=float(values["Scale"]), distortion=float(values["Distortion"]), detail=float(values["Detail"]),
-                detail_scale=float(values["Detail Scale"]), roughness=float(values["Detail Roughness"]),
-                phase=float(values["Phase Offset"]), noise_wrap=bpy.app.version >= (4, 0, 0))
+                scale=float(values["Scale"]), distortion=float(values["Distortion"]), detail=detail,
+                detail_scale=float(values["Detail Scale"]), roughness=roughness,
+                phase=float(values["Phase Offset"]), noise_wrap=not old)
 
 
 def magic_fields(node, values: dict) -> dict:
@@ -341,7 +347,7 @@ class TextureTable:
         """Index of the texture a procedural texture node's `output` (PROCEDURAL_NODES)
         gives (a Checker's Fac: white and black; a Gradient's Color and Fac are the same grey;
         a Noise's Fac its value, its Color three noises; a Voronoi's Distance, Color, Position
-        or W, value_nodes.unread_texture naming what it cannot give; a Wave's, Magic's or Brick's
+        or W (and Radius, for its N-Sphere Radius feature); a Wave's, Magic's or Brick's
         Fac and a White Noise's Value as use_alpha), as texture() takes coords and
         adjust. Linked inputs other than the Vector take their own values, noted in `problems`."""
         values = {}

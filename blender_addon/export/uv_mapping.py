@@ -54,8 +54,10 @@ def constant_vector(socket, problems, where):
     return np.asarray(socket.default_value[:3], np.float64)
 
 
-def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
-    """(4 x 4 affine matrix of 3-space, problems) of one Mapping node."""
+def mapping_affine(node, folds_zero: bool = True) -> tuple[np.ndarray, list[str]]:
+    """(4 x 4 affine matrix of 3-space, problems) of one Mapping node. folds_zero: a Scale of
+    (0, 0, 0) gives the zero vector, Location and all, as Cycles folds such a Mapping
+    (ConstantFolder::fold_mapping) unless all its inputs are constants, which it evaluates."""
     kind = getattr(node, "vector_type", "POINT")
     out, problems = np.eye(4), []
     if kind not in ("POINT", "TEXTURE", "VECTOR"):
@@ -64,9 +66,7 @@ def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
     rotation = euler_xyz(*constant_vector(node.inputs["Rotation"], problems, where))
     scale = constant_vector(node.inputs["Scale"], problems, where)
     location = np.zeros(3) if kind == "VECTOR" else constant_vector(node.inputs["Location"], problems, where)
-    if not np.any(scale):
-        # (Cycles folds a Mapping of Scale (0, 0, 0) into the zero vector, its Location
-        # left out too: ConstantFolder::fold_mapping)
+    if folds_zero and not np.any(scale):
         out[:3] = 0.0
     elif kind == "TEXTURE":
         inverse = np.divide(1.0, scale, out=np.zeros(3), where=scale != 0)
@@ -78,26 +78,34 @@ def mapping_affine(node) -> tuple[np.ndarray, list[str]]:
     return out, problems
 
 
+# Texture nodes whose unlinked Vector is the zero vector in Cycles (the others take Generated
+# coordinates, or an image the UV map).
+ZERO_VECTOR_NODES = ("TEX_WHITE_NOISE",)
+
+
 def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list[str]]:
-    """(coordinates "uv" | "generated" | "object", UV layer ("" the active render one), the
-    Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture
-    node's Vector input; unlinked, the `default` coordinates."""
+    """(coordinates "uv" | "generated" | "object" | "constant", UV layer ("" the active render
+    one), the Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture node's
+    Vector input; unlinked, the `default` coordinates (the zero vector for ZERO_VECTOR_NODES).
+    "constant": the map's translation is the point everywhere (an unlinked Vector at the
+    chain's end, its value)."""
     vector = node.inputs.get("Vector")
-    affine, problems, layer, coordinates = np.eye(4), [], "", default
-    socket, seen = vector, set()
+    problems, layer, coordinates = [], "", default
+    mappings, socket, seen = [], vector, set()
     while socket is not None:
         src, out = _source(socket)
         if src is None:
-            if socket is not vector:       # a Mapping's unlinked Vector: its value, a constant
-                constant = np.zeros((4, 4))
-                constant[:3, 3], constant[3, 3] = np.asarray(input_value(socket)[:3], np.float64), 1.0
-                affine = affine @ constant
+            if socket is not vector or node.type in ZERO_VECTOR_NODES:   # (a constant: a Mapping's unlinked Vector)
+                coordinates = "constant"
+                end = np.zeros((4, 4))
+                end[:3, 3] = np.asarray(input_value(socket)[:3], np.float64) if socket is not vector else 0.0
+                end[3, 3] = 1.0
+                mappings.append(end)
             break
         if src.type == "MAPPING" and src.as_pointer() not in seen:
             seen.add(src.as_pointer())
-            step, notes = mapping_affine(src)
-            affine, socket = affine @ step, src.inputs["Vector"]
-            problems += notes
+            mappings.append(src)
+            socket = src.inputs["Vector"]
             continue
         if src.type in UV_SOURCES and UV_SOURCES[src.type] in (None, out.name):
             layer, coordinates = (src.uv_map if src.type == "UVMAP" else ""), "uv"
@@ -108,8 +116,16 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
             problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}"
                             f"{' of another object' if out.name == 'Object' else ''}: only UV maps, Generated and "
                             f"Object coordinates, through Mapping nodes, are read; {_NAMES[default]} is used)")
-            affine = np.eye(4)
+            mappings = []
         break
+    # (Cycles evaluates Mappings of constants as they are, and folds a Scale of 0 to zero elsewhere)
+    affine = np.eye(4)
+    for step in mappings:
+        if isinstance(step, np.ndarray):
+            affine = affine @ step
+        else:
+            matrix, notes = mapping_affine(step, folds_zero=coordinates != "constant")
+            affine, problems = affine @ matrix, problems + notes
     if not all(abs(x) <= FLOAT_MAX for x in affine[:3].reshape(-1)):          # (NaN fails too)
         problems.append(f"Vector of {node.name!r} (its Mapping is beyond float range: {_NAMES[default]} is used)")
         affine, coordinates, layer = np.eye(4), default, ""
@@ -120,11 +136,16 @@ _NAMES = {"uv": "the UV map", "generated": "Generated"}
 
 
 def texture_fields(node, default: str = "uv", image: bool = True) -> tuple[str | None, dict, list[str]]:
-    """(UV layer the texture reads, or None where it reads Generated or Object coordinates;
+    """(UV layer the texture reads, or None where it reads Generated or Object coordinates
+    or one constant point (its coordinates "uv", unread, under a map of no linear part);
     its gridwalk.Texture coordinate fields; problems) of an Image (image) or
     procedural texture node: an image on the UV map takes a 2 x 3 uv_transform,
     anything else the coordinates and a 3 x 4 vector_transform."""
     coordinates, layer, affine, problems = vector_source(node, default)
+    if coordinates == "constant":
+        # (one point everywhere: no coordinates are read, the map's translation is the point)
+        affine[:3, :3] = 0.0
+        coordinates, layer = "uv", None
     if image and coordinates == "uv":
         # (u, v, 0, 1) -> (x, y): rows x and y, columns u, v and the translation
         return layer, {"uv_transform": tuple(float(affine[r, c]) for r in (0, 1) for c in (0, 1, 3))}, problems

@@ -190,7 +190,7 @@ def _mix(blend, slot, f, k, what):
 TEXTURE_NODES = ("TEX_IMAGE",) + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
 # The outputs that are one number (the texture's alpha, Texture.use_alpha), by node type;
 # 5.0 names a Fac output Factor.
-SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W"),
+SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W", "Radius"),
                   "TEX_WAVE": ("Fac", "Factor"), "TEX_MAGIC": ("Fac", "Factor"), "TEX_BRICK": ("Fac", "Factor"),
                   "TEX_WHITE_NOISE": ("Value",)}
 
@@ -198,14 +198,6 @@ SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_
 def is_vector(node, output: str) -> bool:
     """Whether the texture node's output is a vector (Cycles reads it as a number by its average)."""
     return node.type == "TEX_VORONOI" and output == "Position"
-
-
-def unread_texture(node, output: str) -> str | None:
-    """Why gridwalk.Texture cannot give this texture node's `output`, or None: the
-    Voronoi Texture's Distance to Edge and N-Sphere Radius features (and its Radius output)."""
-    if node.type == "TEX_VORONOI" and (node.feature in ("DISTANCE_TO_EDGE", "N_SPHERE_RADIUS") or output == "Radius"):
-        return f"{node.name!r}: Voronoi {node.feature.replace('_', ' ').title()} is not read"
-    return None
 
 
 def image_through_nodes(socket):
@@ -220,9 +212,6 @@ def image_through_nodes(socket):
             node, out = _source(chain)
         if node is None:
             raise Unread(f"{steps[-1][0].name!r} fed by no image" if steps else "no node")
-        why = unread_texture(node, out.name)
-        if why:
-            raise Unread(why)
         value = Value(out.name in SINGLE_OUTPUTS.get(node.type, ()), vector=is_vector(node, out.name))
         for step in reversed(steps):
             _apply(value, *step)

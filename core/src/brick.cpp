@@ -1,5 +1,6 @@
 // Blender's Brick Texture (procedural.h).
 #include <cmath>
+#include <climits>
 #include <cstdint>
 
 #include "procedural.h"
@@ -16,11 +17,12 @@ float brick_noise(uint32_t n) {
     return 0.5f * (float(nn) / 1073741824.0f);
 }
 
-// floor() as an int, saturated (a point far out, or NaN, stays in range).
+// floor() as an int, as Cycles gets it on x86: INT_MIN where the floor is out of
+// int range or NaN (a Brick Width or Row Height of 0 or below, which Blender's
+// sockets accept, divides into such values).
 int floor_int(float x) {
-    if (!(x > -2e9f)) return -2000000000;
-    if (!(x < 2e9f)) return 2000000000;
-    return int(std::floor(x));
+    const float f = std::floor(x);
+    return std::abs(f) < 2147483648.0f ? int(f) : INT_MIN;
 }
 
 }  // namespace
@@ -31,8 +33,9 @@ Rgba brick_color(const Texture& t, const Vec3& point) {
     const int row = floor_int(p.y / t.row_height);
     if (t.offset_frequency != 0 && t.squash_frequency != 0) {
         // (C's remainder: rows below 0 count as Cycles counts them)
-        width *= (row % t.squash_frequency) != 0 ? 1.0f : t.squash_amount;
-        offset = (row % t.offset_frequency) != 0 ? 0.0f : width * t.offset_amount;
+        // (in 64 bits: INT_MIN % -1 would trap)
+        width *= (int64_t(row) % t.squash_frequency) != 0 ? 1.0f : t.squash_amount;
+        offset = (int64_t(row) % t.offset_frequency) != 0 ? 0.0f : width * t.offset_amount;
     }
     const int brick = floor_int((p.x + offset) / width);
     const float x = (p.x + offset) - width * float(brick), y = p.y - t.row_height * float(row);

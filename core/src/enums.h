@@ -123,7 +123,9 @@ GW_ENUM(WaveProfile, GW_WAVE_PROFILES)
 #define GW_VORONOI_FEATURES(X)                                                                            \
     X(F1, "f1", "F1", "The nearest point")                                                                  \
     X(F2, "f2", "F2", "The second nearest point")                                                           \
-    X(SmoothF1, "smooth_f1", "Smooth F1", "The nearest point, blended with the others by smoothness")
+    X(SmoothF1, "smooth_f1", "Smooth F1", "The nearest point, blended with the others by smoothness")     \
+    X(DistanceToEdge, "distance_to_edge", "Distance to Edge", "The distance to the nearest cell border")  \
+    X(NSphereRadius, "n_sphere_radius", "N-Sphere Radius", "Half the distance from the nearest point to its nearest")
 GW_ENUM(VoronoiFeature, GW_VORONOI_FEATURES)
 
 #define GW_VORONOI_METRICS(X)                                                                             \
@@ -137,7 +139,8 @@ GW_ENUM(VoronoiMetric, GW_VORONOI_METRICS)
     X(Distance, "distance", "Distance", "The distance to the point, as grey")                              \
     X(Color, "color", "Color", "The point's cell's random colour")                                         \
     X(Position, "position", "Position", "The point's position (x, y, z)")                                  \
-    X(W, "w", "W", "The point's fourth coordinate, as grey")
+    X(W, "w", "W", "The point's fourth coordinate, as grey")                                               \
+    X(Radius, "radius", "Radius", "The n-sphere radius (feature n_sphere_radius), as grey")
 GW_ENUM(VoronoiOutput, GW_VORONOI_OUTPUTS)
 
 #define GW_NOISE_TYPES(X)                                                                                   \

@@ -1,4 +1,5 @@
 // Blender's Magic Texture (procedural.h).
+#include <cfloat>
 #include <cmath>
 
 #include "procedural.h"
@@ -14,7 +15,8 @@ Rgba magic_color(const Texture& t, const Vec3& point) {
     float x = std::sin((p.x + p.y + p.z) * 5.0f * scale);
     float y = std::cos((-p.x + p.y - p.z) * 5.0f * scale);
     float z = -std::cos((-p.x - p.y + p.z) * 5.0f * scale);
-    const float d = t.distortion;
+    // (a subnormal distortion counts as 0: dividing by it below would overflow)
+    const float d = std::abs(t.distortion) < FLT_MIN ? 0.0f : t.distortion;
     const int depth = t.depth;
     if (depth > 0) {
         x *= d;

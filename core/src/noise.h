@@ -23,8 +23,8 @@ Rgba noise_color(const Texture& t, const Vec3& p);
 float signed_noise(int n, const float* x, bool wrap);
 
 // Cycles' fBM of n-dimensional noise at x[0 .. n), normalized into about
-// [0, 1]: 1 + detail octaves (detail in [0, 15]), each twice as fine and
-// `roughness` times as strong (the Wave Texture's distortion).
+// [0, 1]: 1 + detail octaves (as given: none below 0, and NaN), each twice as
+// fine and `roughness` times as strong (the Wave Texture's distortion).
 float fbm_noise(int n, const float* x, float detail, float roughness, bool wrap);
 
 }  // namespace gw

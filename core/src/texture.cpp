@@ -145,8 +145,8 @@ void validate_texture(const Texture& t, const std::string& where) {
                                     "y, z or spherical");
     if (t.depth < 0 || t.depth > 10)
         throw std::invalid_argument(where + ".depth = " + std::to_string(t.depth) + " is not in [0, 10]");
-    if (!(t.brick_width > 0) || !(t.row_height > 0) || !std::isfinite(t.brick_width) || !std::isfinite(t.row_height))
-        throw std::invalid_argument(where + ": brick_width and row_height must be positive and finite");
+    if (!std::isfinite(t.brick_width) || !std::isfinite(t.row_height))
+        throw std::invalid_argument(where + ": brick_width and row_height must be finite");
     for (float c : {t.mortar[0], t.mortar[1], t.mortar[2]})
         if (!std::isfinite(c)) throw std::invalid_argument(where + ".mortar is not finite");
     if (t.dimensions < 1 || t.dimensions > 4)

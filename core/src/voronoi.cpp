@@ -104,17 +104,22 @@ void color_of(const Texture& t, int n, const Cell& c, float* out) {
     }
 }
 
-// One octave of the feature at coord.
-Octave octave_at(const Texture& t, int n, const float* coord, float randomness, float smoothness) {
-    float cell[kMaxDims], local[kMaxDims];
+// The cell coord lies in and the points of the cells around it.
+struct Around {
+    const Texture& t;
+    int n;
+    float randomness;
+    float cell[kMaxDims], local[kMaxDims];   // the cell's corner; coord relative to it
     int32_t index[kMaxDims];
-    for (int i = 0; i < n; ++i) {
-        cell[i] = std::floor(coord[i]);
-        local[i] = coord[i] - cell[i];
-        index[i] = std::abs(cell[i]) < 2147483648.0f ? int32_t(cell[i]) : INT32_MIN;   // (as x86 converts)
+    Around(const Texture& tex, int dims, const float* coord, float random) : t(tex), n(dims), randomness(random) {
+        for (int i = 0; i < n; ++i) {
+            cell[i] = std::floor(coord[i]);
+            local[i] = coord[i] - cell[i];
+            index[i] = std::abs(cell[i]) < 2147483648.0f ? int32_t(cell[i]) : INT32_MIN;   // (as x86 converts)
+        }
     }
     // The point of the cell at `offset` from this one, relative to this cell.
-    auto point = [&](const float* offset, float* out, Cell& at) {
+    void point(const float* offset, float* out, Cell& at) const {
         float jitter[kMaxDims];
         for (int i = 0; i < n; ++i) {
             at.at[i] = cell[i] + offset[i];
@@ -122,7 +127,105 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
         }
         point_of(t, n, at, jitter);
         for (int i = 0; i < n; ++i) out[i] = offset[i] + jitter[i] * randomness;
+    }
+};
+
+float dot(int n, const float* a, const float* b) {
+    float s = a[0] * b[0];
+    for (int i = 1; i < n; ++i) s += a[i] * b[i];
+    return s;
+}
+
+// The distance from coord to the nearest border between cells (Distance to Edge): the
+// nearest point by squared distance, then the least distance to the bisectors between
+// it and each other point (1D: the midpoints with the two neighbours).
+float edge_distance(const Texture& t, int n, const float* coord, float randomness) {
+    const Around a(t, n, coord, randomness);
+    Cell at{};
+    if (n == 1) {
+        float p[3];
+        for (int k = 0; k < 3; ++k) {
+            const float offset = float(k - 1);
+            a.point(&offset, &p[k], at);
+        }
+        return std::min(std::abs((p[1] + p[0]) / 2.0f - a.local[0]), std::abs((p[1] + p[2]) / 2.0f - a.local[0]));
+    }
+    float closest[kMaxDims] = {0, 0, 0, 0}, least = FLT_MAX;
+    auto to_point = [&](const float* offset, float* v) {
+        a.point(offset, v, at);
+        for (int i = 0; i < n; ++i) v[i] -= a.local[i];
     };
+    each_neighbour(n, 1, [&](const float* offset) {
+        float v[kMaxDims];
+        to_point(offset, v);
+        const float d = dot(n, v, v);
+        if (d < least) {
+            least = d;
+            std::copy(v, v + n, closest);
+        }
+    });
+    least = FLT_MAX;
+    each_neighbour(n, 1, [&](const float* offset) {
+        float v[kMaxDims], across[kMaxDims], middle[kMaxDims];
+        to_point(offset, v);
+        for (int i = 0; i < n; ++i) across[i] = v[i] - closest[i];
+        const float len2 = dot(n, across, across);
+        if (len2 > 0.0001f) {
+            const float len = std::sqrt(len2);
+            for (int i = 0; i < n; ++i) {
+                middle[i] = (closest[i] + v[i]) / 2.0f;
+                across[i] /= len;
+            }
+            least = std::min(least, dot(n, middle, across));
+        }
+    });
+    return least;
+}
+
+// Half the distance from the nearest point to its own nearest (N-Sphere Radius), by
+// the straight distance whatever the metric.
+float sphere_radius(const Texture& t, int n, const float* coord, float randomness) {
+    const Around a(t, n, coord, randomness);
+    auto distance = [&](const float* p, const float* q) {
+        if (n == 1) return std::abs(p[0] - q[0]);
+        float d[kMaxDims];
+        for (int i = 0; i < n; ++i) d[i] = p[i] - q[i];
+        return std::sqrt(dot(n, d, d));
+    };
+    float closest[kMaxDims] = {0, 0, 0, 0}, closest_offset[kMaxDims] = {0, 0, 0, 0}, least = FLT_MAX;
+    Cell at{};
+    each_neighbour(n, 1, [&](const float* offset) {
+        float p[kMaxDims];
+        a.point(offset, p, at);
+        const float d = distance(p, a.local);
+        if (d < least) {
+            least = d;
+            std::copy(p, p + n, closest);
+            std::copy(offset, offset + n, closest_offset);
+        }
+    });
+    least = FLT_MAX;
+    float next[kMaxDims] = {0, 0, 0, 0};
+    each_neighbour(n, 1, [&](const float* offset) {
+        if (std::all_of(offset, offset + n, [](float x) { return x == 0.0f; })) return;
+        float moved[kMaxDims], p[kMaxDims];
+        for (int i = 0; i < n; ++i) moved[i] = offset[i] + closest_offset[i];
+        a.point(moved, p, at);
+        const float d = distance(closest, p);
+        if (d < least) {
+            least = d;
+            std::copy(p, p + n, next);
+        }
+    });
+    return distance(next, closest) / 2.0f;
+}
+
+// One octave of the feature at coord.
+Octave octave_at(const Texture& t, int n, const float* coord, float randomness, float smoothness) {
+    const Around a(t, n, coord, randomness);
+    const float* cell = a.cell;
+    const float* local = a.local;
+    auto point = [&](const float* offset, float* out, Cell& at) { a.point(offset, out, at); };
     Octave o;
     float found[kMaxDims] = {0, 0, 0, 0};
     if (t.voronoi_feature == VoronoiFeature::SmoothF1 && smoothness != 0.0f) {
@@ -151,7 +254,7 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
         Cell c1{}, c2{};
         for (int i = 0; i < n; ++i) {
             c1.at[i] = c2.at[i] = cell[i];
-            c1.index[i] = c2.index[i] = index[i];
+            c1.index[i] = c2.index[i] = a.index[i];
         }
         each_neighbour(n, 1, [&](const float* offset) {
             float p[kMaxDims];
@@ -182,6 +285,38 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
     return o;
 }
 
+// Distance to Edge over 1 + detail octaves, as Cycles 4.0 and later take them (each
+// octave's distance, divided by its scale, lowers the least so far by its amplitude;
+// normalized by the largest distance so blended).
+float edge_octaves(const Texture& t, int n, const float* coord, float detail, float roughness, float randomness) {
+    const float largest = 0.5f + 0.5f * randomness;
+    float amplitude = 1.0f, max_amplitude = largest, octave_scale = 1.0f, distance = 8.0f;
+    const bool single = detail == 0.0f || roughness == 0.0f;
+    for (int i = 0; i <= int(std::ceil(detail)); ++i) {
+        float at[kMaxDims];
+        for (int a = 0; a < n; ++a) at[a] = coord[a] * octave_scale;
+        const float d = edge_distance(t, n, at, randomness);
+        if (single) {
+            distance = d;
+            break;
+        }
+        if (float(i) <= detail) {
+            max_amplitude = mix(max_amplitude, largest / octave_scale, amplitude);
+            distance = mix(distance, std::min(distance, d / octave_scale), amplitude);
+            octave_scale *= t.lacunarity;
+            amplitude *= roughness;
+        } else {
+            const float rest = detail - std::floor(detail);
+            if (rest != 0.0f) {
+                max_amplitude = mix(max_amplitude, mix(max_amplitude, largest / octave_scale, amplitude), rest);
+                const float lowered = mix(distance, std::min(distance, d / octave_scale), amplitude);
+                distance = mix(distance, std::min(distance, lowered), rest);
+            }
+        }
+    }
+    return t.normalize ? distance / max_amplitude : distance;
+}
+
 }  // namespace
 
 Rgba voronoi_color(const Texture& t, const Vec3& point) {
@@ -193,6 +328,17 @@ Rgba voronoi_color(const Texture& t, const Vec3& point) {
     const float smoothness = std::min(std::max(t.smoothness / 2.0f, 0.0f), 0.5f);
     float coord[kMaxDims];
     pattern_coords(t, point, coord);
+    auto grey = [](float v) {
+        const float x = std::isfinite(v) ? v : 0.0f;
+        return Rgba{Vec3(x, x, x), 1};
+    };
+    // (these two features give only their own output; Cycles sets the others to 0)
+    if (t.voronoi_feature == VoronoiFeature::NSphereRadius)
+        return grey(t.voronoi_output == VoronoiOutput::Radius ? sphere_radius(t, n, coord, randomness) : 0.0f);
+    if (t.voronoi_feature == VoronoiFeature::DistanceToEdge)
+        return grey(t.voronoi_output == VoronoiOutput::Distance ? edge_octaves(t, n, coord, detail, roughness, randomness)
+                                                               : 0.0f);
+    if (t.voronoi_output == VoronoiOutput::Radius) return grey(0.0f);
     // The octaves, as Cycles 4.0 and later sum them (fBM's sum, the positions blended).
     Octave out;
     float amplitude = 1.0f, max_amplitude = 0.0f, octave_scale = 1.0f;
@@ -238,15 +384,12 @@ Rgba voronoi_color(const Texture& t, const Vec3& point) {
         for (float& c : out.color) c /= max_amplitude;
     }
     for (float& p : out.position) p = scale != 0.0f ? p / scale : 0.0f;
-    auto grey = [](float v) {
-        const float x = std::isfinite(v) ? v : 0.0f;
-        return Rgba{Vec3(x, x, x), 1};
-    };
     switch (t.voronoi_output) {
     case VoronoiOutput::Distance: return grey(out.distance);
     case VoronoiOutput::Color: return Rgba{Vec3(out.color[0], out.color[1], out.color[2]), 1};
     case VoronoiOutput::Position: return Rgba{Vec3(out.position[0], out.position[1], out.position[2]), 1};
     case VoronoiOutput::W: return grey(out.position[3]);
+    case VoronoiOutput::Radius: break;
     }
     return grey(0);
 }

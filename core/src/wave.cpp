@@ -26,8 +26,11 @@ Rgba wave_color(const Texture& t, const Vec3& point) {
     if (t.distortion != 0.0f) {
         const Vec3 q = p * t.detail_scale;
         const float at[3] = {q.x, q.y, q.z};
-        const float detail = std::min(std::max(t.detail, 0.0f), 15.0f);
-        n += t.distortion * (fbm_noise(3, at, detail, std::max(t.roughness, 0.0f), t.noise_wrap) * 2.0f - 1.0f);
+        // (Cycles 4.0 and later take Detail and Roughness as they come, a negative Detail giving
+        // no octave and so NaN; 3.4 clamps them to [0, 15] and [0, 1], which the export does.
+        // Past 64 octaves, which only a link or a script can ask for, more are not summed.)
+        const float detail = std::min(t.detail, 64.0f);
+        n += t.distortion * (fbm_noise(3, at, detail, t.roughness, t.noise_wrap) * 2.0f - 1.0f);
     }
     constexpr float kTwoPi = 6.2831853071795864f;
     float f;

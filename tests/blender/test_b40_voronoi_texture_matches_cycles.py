@@ -3,23 +3,24 @@ as Blender adds it (3D F1, Euclidean, its Distance at Generated coordinates), it
 Position outputs, F2 with the Manhattan metric, Smooth F1, Minkowski with less randomness, 2D,
 4D and 1D cells, its Position into a Color Ramp (a vector read as a number: the average of
 its coordinates), and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
-cells anew (PCG), as the export tells the core. Its Distance to Edge
-and N-Sphere Radius features are named in a warning. Before, a Voronoi Texture was a warning
-and its input's default colour. Scene: voronoi_scenes.voronoi_scene."""
+cells anew (PCG), as the export tells the core. Its Distance to Edge (also over octaves, 4.0
+and later) and N-Sphere Radius features. Before, a Voronoi Texture was a warning and its
+input's default colour (and, until a later change, those two features were). Scene: voronoi_scenes.voronoi_scene."""
 import numpy as np
 import pytest
 
 from runner import luminance_by_engine
 
 VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d",  # VORONOI_VARIANTS
-            "fractal", "position_ramp")
+            "fractal", "position_ramp", "edge", "edge_fractal", "radius")
+OCTAVES = ("fractal", "edge_fractal")                                # Blender 4.0 and later
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 
 
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"voronoi_{module_blender}")
-    variants = [v for v in VARIANTS if v != "fractal" or module_blender != "blender34"]
+    variants = [v for v in VARIANTS if v not in OCTAVES or module_blender != "blender34"]
     return luminance_by_engine(module_blender, out, "voronoi", ENGINES, {v: {"variant": v} for v in variants})
 
 
@@ -40,10 +41,10 @@ def test_one_dimensional_cells_give_one_colour_as_in_cycles(renders):
     assert ours.std() < 1e-3 and abs(float(ours.mean() - cycles.mean())) < 2e-3
 
 
-def test_what_the_texture_cannot_give_is_named(export):
-    out = export("voronoi", variant="edge")
-    assert "error" not in out.info, out.info.get("error")
-    assert all(m["color_texture"] == -1 for m in out.materials) and not out.textures
-    assert "Voronoi Distance To Edge is not read" in " ".join(out.warnings)
-    read = export("voronoi", variant="color")
-    assert [t["kind"] for t in read.textures] == ["voronoi"] and read.textures[0]["voronoi_output"] == "color"
+def test_every_feature_is_read(export):
+    for variant, feature, output in (("edge", "distance_to_edge", "distance"), ("radius", "n_sphere_radius", "radius")):
+        out = export("voronoi", variant=variant)
+        assert "error" not in out.info, out.info.get("error")
+        assert not out.warnings, out.warnings
+        (texture,) = out.textures
+        assert (texture["kind"], texture["voronoi_feature"], texture["voronoi_output"]) == ("voronoi", feature, output)

@@ -1,8 +1,8 @@
 """Blender's Wave, Magic, White Noise and Brick Textures render as in Cycles, in bpy 4.5, bpy 5.0
 and Debian's 3.4: each node as Blender adds it; Wave rings with distortion and Wave diagonal
-bands; Magic far out (Blender 4.1 and later take its point modulo 2 pi, as the export tells the
-core); a White Noise's hashed colour and 4D value at one point (and at the zero vector that
-Cycles makes of a Mapping of Scale 0, its Location left out); bricks with every setting moved,
+bands; Magic far out (Cycles takes its point modulo 2 pi); a White Noise's hashed colour and 4D
+value at one point, at the zero vector that Cycles makes of a Mapping of Scale 0 (its Location
+left out) and of an unlinked Vector, and at the Location of a Mapping of constants; bricks with every setting moved,
 and their mortar (Fac). Before, each was a warning and its input's default colour.
 Scene: pattern_scenes.pattern_scene."""
 import numpy as np
@@ -12,7 +12,8 @@ from runner import luminance_by_engine
 
 VARIANTS = ("wave", "wave_rings", "wave_diagonal", "magic", "magic_far", "brick", "brick_custom",  # PATTERN_VARIANTS
             "brick_fac")
-POINTS = ("white_noise", "white_noise_4d", "white_noise_zero")
+POINTS = ("white_noise", "white_noise_4d", "white_noise_zero", "white_noise_unlinked", "white_noise_constant",
+          "brick_zero")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 
 
@@ -40,7 +41,8 @@ def test_the_pattern_is_where_cycles_puts_it(renders, variant):
 
 
 @pytest.mark.parametrize("variant", POINTS)
-def test_white_noise_at_one_point_is_cycles_hash(renders, variant):
+def test_one_colour_settings_give_cycles_colour(renders, variant):
+    """A White Noise at one point (its hash), and bricks of negative width (all mortar)."""
     ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
     assert ours.std() < 1e-4 and cycles.std() < 1e-4
     assert abs(float(ours.mean() - cycles.mean())) < 1e-3

@@ -227,11 +227,13 @@ class Texture(Record):
     point per unit cell of the point x scale (in `dimensions`, w as for
     noise) moved off the cell's corner by randomness (0-1); voronoi_feature =
     f1 (the nearest point) | f2 (the second nearest) | smooth_f1 (all blended
-    by smoothness), by voronoi_metric = euclidean | manhattan | chebychev |
+    by smoothness) | distance_to_edge (the distance to the nearest cell
+    border, its Distance output) | n_sphere_radius (half the distance from
+    the nearest point to its own nearest, its Radius output), by voronoi_metric = euclidean | manhattan | chebychev |
     minkowski (with exponent); summed over 1 + detail octaves (roughness,
     lacunarity; normalize divides by the largest distance); voronoi_output =
-    distance | color | position | w picks what the colour is (distance and w
-    as grey); voronoi_pcg: cells hashed as Blender 5.0 hashes them (PCG of
+    distance | color | position | w | radius picks what the colour is (distance, w
+    and radius as grey; an output the feature does not give is 0); voronoi_pcg: cells hashed as Blender 5.0 hashes them (PCG of
     their integer coordinates; 1D keeps lookup3), else as Blender 4.5 and
     before (lookup3 of their corners' float bits). (detail, roughness,
     lacunarity and normalize default to the Noise node's values; Blender's

@@ -10,18 +10,23 @@ from scenes import plain_world
 #   wave_rings    rings about Z, saw profile, Distortion 6 (Detail 3.5, Detail Scale 1.5), Phase 0.7, Fac
 #   wave_diagonal diagonal bands, triangle profile, Scale 2, Color, at Object coordinates
 #   magic         the Magic node as Blender adds it (depth 2, Scale 5, Distortion 1), Color
-#   magic_far     depth 4, Scale 1.13, Distortion 1.6, Object coordinates moved 9 out (past 2 pi:
-#                 Blender 4.1 and later take the point modulo 2 pi), Fac
+#   magic_far     depth 4, Scale 1.13, Distortion 1.6, Object coordinates moved 9 out (past 2 pi,
+#                 where Cycles takes the point modulo 2 pi), Fac
 #   white_noise   3D, its Vector a Mapping of Scale 1e-30 moved to (0.3, 1.7, -2.2): one point, one
 #                 hashed colour
 #   white_noise_4d  4D (W 0.37), the same point, its Value
 #   white_noise_zero  the Mapping's Scale 0: Cycles folds it into the zero vector, Location and all
+#   white_noise_unlinked  its Vector unlinked: the zero vector in Cycles (not Generated coordinates)
+#   white_noise_constant  a Mapping of Scale 0 whose own Vector is unlinked: all its inputs are
+#                 constants, which Cycles evaluates (the point is its Location)
 #   brick         the Brick node as Blender adds it, Color
 #   brick_custom  every setting moved (colours, mortar size and smoothness, bias, width, height,
 #                 offset 0.3 every 3rd row, squash 0.6 every 2nd), Color, at Object coordinates
 #   brick_fac     the custom bricks' Fac (the mortar)
+#   brick_zero    Brick Width -0.4 (a script's value: the socket takes it): mortar (0.2, 0.4, 0.6) everywhere
 PATTERN_VARIANTS = ("wave", "wave_rings", "wave_diagonal", "magic", "magic_far", "white_noise", "white_noise_4d",
-                    "white_noise_zero", "brick", "brick_custom", "brick_fac")
+                    "white_noise_zero", "white_noise_unlinked", "white_noise_constant", "brick", "brick_custom",
+                    "brick_fac", "brick_zero")
 NODES = {"wave": "ShaderNodeTexWave", "magic": "ShaderNodeTexMagic", "white": "ShaderNodeTexWhiteNoise",
          "brick": "ShaderNodeTexBrick"}
 POINT = (0.3, 1.7, -2.2)
@@ -60,7 +65,12 @@ def pattern_scene(variant="wave", resolution=(96, 72)):
         texture.inputs["Scale"].default_value, texture.inputs["Distortion"].default_value = 1.13, 1.6
         _mapped(nodes, links, texture, (0.4, 0.4, 0.4), (9.0, 9.0, 9.0))
         out = _factor(texture)
-    elif variant.startswith("white_noise"):
+    elif variant == "white_noise_constant":
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.inputs["Vector"].default_value = (0.5, 0.5, 0.5)
+        mapping.inputs["Scale"].default_value, mapping.inputs["Location"].default_value = (0.0, 0.0, 0.0), POINT
+        links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    elif variant.startswith("white_noise") and variant != "white_noise_unlinked":
         tiny = 0.0 if variant == "white_noise_zero" else 1e-30      # (1e-30 x 3.5 + 0.3 rounds to 0.3)
         _mapped(nodes, links, texture, (tiny, tiny, tiny), POINT)
         if variant == "white_noise_4d":
@@ -78,6 +88,9 @@ def pattern_scene(variant="wave", resolution=(96, 72)):
         _mapped(nodes, links, texture, (0.3, 0.3, 0.3))
         if variant == "brick_fac":
             out = _factor(texture)
+    elif variant == "brick_zero":
+        texture.inputs["Brick Width"].default_value = -0.4
+        texture.inputs["Mortar"].default_value = (0.2, 0.4, 0.6, 1.0)
     links.new(out, nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))

@@ -14,11 +14,14 @@ from scenes import plain_world
 #   2d, 4d     2D; 4D with W 0.37: Color
 #   1d         1D, W 1.37: one colour over the plane
 #   fractal    (Blender 4.0 and later) Detail 2.5, Roughness 0.6, Lacunarity 2.2, Normalize, Distance
-#   edge       Distance to Edge (not read by Gridwalk: a warning), Distance
+#   edge       Distance to Edge (Randomness 0.8), Distance
+#   edge_fractal  (Blender 4.0 and later) Distance to Edge over Detail 1.5, Roughness 0.6, Normalize
+#   radius     N-Sphere Radius, its Radius output
 #   position_ramp  its Position into a Color Ramp's Fac (a vector read as a number: its average)
 VORONOI_VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d", "fractal",
-                    "position_ramp")
-OUTPUTS = {"color": "Color", "position": "Position", "smooth": "Color", "2d": "Color", "4d": "Color", "1d": "Color"}
+                    "position_ramp", "edge", "edge_fractal", "radius")
+OUTPUTS = {"color": "Color", "position": "Position", "smooth": "Color", "2d": "Color", "4d": "Color", "1d": "Color",
+           "radius": "Radius"}
 
 
 def voronoi_scene(variant="distance", resolution=(96, 72)):
@@ -46,8 +49,14 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
         cells.voronoi_dimensions = variant.upper()
         if variant != "2d":                                              # (a 2D node hides its W)
             cells.inputs["W"].default_value = 1.37 if variant == "1d" else 0.37
-    elif variant == "edge":
+    elif variant in ("edge", "edge_fractal"):
         cells.feature = "DISTANCE_TO_EDGE"
+        cells.inputs["Randomness"].default_value = 0.8
+        if variant == "edge_fractal":
+            cells.inputs["Detail"].default_value, cells.inputs["Roughness"].default_value = 1.5, 0.6
+            cells.normalize = True
+    elif variant == "radius":
+        cells.feature = "N_SPHERE_RADIUS"
     elif variant == "fractal":
         cells.inputs["Detail"].default_value, cells.inputs["Roughness"].default_value = 2.5, 0.6
         cells.inputs["Lacunarity"].default_value = 2.2

@@ -204,7 +204,7 @@ def corner_point_arrays(depsgraph) -> int:
 
 
 PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI", "TEX_WAVE", "TEX_MAGIC",
-                    "TEX_WHITE_NOISE", "TEX_BRICK")   # the patterns gridwalk.Texture models
+                    "TEX_WHITE_NOISE", "TEX_BRICK", "TEX_MUSGRAVE")   # the patterns gridwalk.Texture models
 
 
 def noise_fields(node, values: dict) -> dict:
@@ -236,6 +236,28 @@ def voronoi_fields(node, values: dict) -> dict:
                 exponent=float(values.get("Exponent", 0.5)), randomness=float(values.get("Randomness", 1.0)),
                 smoothness=float(values.get("Smoothness", 1.0)), normalize=bool(getattr(node, "normalize", False)),
                 voronoi_pcg=bpy.app.version >= (5, 0, 0))
+
+
+def musgrave_fields(node, values: dict) -> tuple[dict, float, float]:
+    """(gridwalk.Texture fields, gain, bias) of a Musgrave Texture node (Blender 3.x; 4.1 made it
+    a Noise Texture): its noise as the Noise Texture of 4.1 computes it after Blender's own
+    conversion of the node (versioning_400.cc), unnormalized, Roughness = Lacunarity^-Dimension,
+    Detail one less (at most 14); a Detail d below 1 keeps no more than the first octave, and
+    fBM, Multifractal and Hybrid then take the value times d (Multifractal plus 1 - d): the
+    gain and bias to apply."""
+    import bpy
+    kind = node.musgrave_type.lower()
+    detail, lacunarity = float(values["Detail"]), max(float(values["Lacunarity"]), 1e-5)
+    gain, bias = 1.0, 0.0
+    if detail >= 1.0:
+        detail = min(detail - 1.0, 14.0)
+    elif kind not in ("ridged_multifractal", "hetero_terrain"):
+        gain, bias, detail = detail, (1.0 - detail if kind == "multifractal" else 0.0), 0.0
+    roughness = lacunarity ** -max(float(values["Dimension"]), 1e-5)
+    return (dict(kind="noise", noise_type=kind, dimensions=int(node.musgrave_dimensions[0]), w=float(values["W"]),
+                 scale=float(values["Scale"]), detail=detail, roughness=roughness, lacunarity=lacunarity,
+                 distortion=0.0, noise_offset=float(values["Offset"]), noise_gain=float(values["Gain"]),
+                 normalize=False, noise_wrap=bpy.app.version >= (4, 0, 0)), gain, bias)
 
 
 def wave_fields(node, values: dict) -> dict:
@@ -370,6 +392,15 @@ class TextureTable:
         fields = {"TEX_WAVE": wave_fields, "TEX_MAGIC": magic_fields, "TEX_BRICK": brick_fields}
         if node.type in fields:
             return self._add(dict(fields[node.type](node, values), use_alpha=output in ("Fac", "Factor"), **(coords or {}), **(adjust or {})))
+        if node.type == "TEX_MUSGRAVE":
+            fields, gain, bias = musgrave_fields(node, values)
+            adjusted = dict(adjust or {})
+            if (gain, bias) != (1.0, 0.0):
+                # (its value x gain + bias first, then the adjustments after it: one map)
+                g, b = adjusted.get("gain", (1.0, 1.0, 1.0)), adjusted.get("bias", (0.0, 0.0, 0.0))
+                adjusted["gain"] = tuple(x * gain for x in g)
+                adjusted["bias"] = tuple(x * bias + y for x, y in zip(g, b))
+            return self._add(dict(fields, use_alpha=True, **(coords or {}), **adjusted))
         if node.type == "TEX_WHITE_NOISE":
             return self._add(dict(kind="white_noise", dimensions=int(node.noise_dimensions[0]),
                                   w=float(values.get("W", 0.0)), use_alpha=output == "Value",

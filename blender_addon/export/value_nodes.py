@@ -192,7 +192,7 @@ TEXTURE_NODES = ("TEX_IMAGE",) + PROCEDURAL_NODES   # the nodes gridwalk.Texture
 # 5.0 names a Fac output Factor.
 SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W", "Radius"),
                   "TEX_WAVE": ("Fac", "Factor"), "TEX_MAGIC": ("Fac", "Factor"), "TEX_BRICK": ("Fac", "Factor"),
-                  "TEX_WHITE_NOISE": ("Value",)}
+                  "TEX_WHITE_NOISE": ("Value",), "TEX_MUSGRAVE": ("Fac",)}
 
 
 def is_vector(node, output: str) -> bool:

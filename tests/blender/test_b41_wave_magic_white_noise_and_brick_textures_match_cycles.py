@@ -3,7 +3,9 @@ and Debian's 3.4: each node as Blender adds it; Wave rings with distortion and W
 bands; Magic far out (Cycles takes its point modulo 2 pi); a White Noise's hashed colour and 4D
 value at one point, at the zero vector that Cycles makes of a Mapping of Scale 0 (its Location
 left out) and of an unlinked Vector, and at the Location of a Mapping of constants; bricks with every setting moved,
-and their mortar (Fac). Before, each was a warning and its input's default colour.
+and their mortar (Fac); Blender 3.4's Musgrave Texture of each type (as a Noise Texture, as
+Blender 4.1 converts it), a Detail below 1 too. Before, each was a warning and its input's
+default colour.
 Scene: pattern_scenes.pattern_scene."""
 import numpy as np
 import pytest
@@ -17,10 +19,15 @@ POINTS = ("white_noise", "white_noise_4d", "white_noise_zero", "white_noise_unli
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 
 
+MUSGRAVE = ("musgrave_fbm", "musgrave_fbm_low", "musgrave_multifractal", "musgrave_ridged", "musgrave_hybrid",
+            "musgrave_hetero")                                       # MUSGRAVE_VARIANTS: Blender 3.4 only here
+
+
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"patterns_{module_blender}")
-    return luminance_by_engine(module_blender, out, "pattern", ENGINES, {v: {"variant": v} for v in VARIANTS + POINTS})
+    variants = VARIANTS + POINTS + (MUSGRAVE if module_blender == "blender34" else ())
+    return luminance_by_engine(module_blender, out, "pattern", ENGINES, {v: {"variant": v} for v in variants})
 
 
 def blurred(image):
@@ -31,8 +38,10 @@ def blurred(image):
     return sum(p[i:i + image.shape[0], j:j + image.shape[1]] for i in range(3) for j in range(3)) / 9
 
 
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_the_pattern_is_where_cycles_puts_it(renders, variant):
+@pytest.mark.parametrize("variant", VARIANTS + MUSGRAVE)
+def test_the_pattern_is_where_cycles_puts_it(renders, module_blender, variant):
+    if ("CYCLES", variant) not in renders:
+        pytest.skip(f"{module_blender} has no Musgrave Texture (Blender 4.1 made it part of the Noise Texture)")
     ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
     assert cycles.std() > 0.03                                       # a pattern, not a flat colour
     assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.97

@@ -24,11 +24,19 @@ from scenes import plain_world
 #                 offset 0.3 every 3rd row, squash 0.6 every 2nd), Color, at Object coordinates
 #   brick_fac     the custom bricks' Fac (the mortar)
 #   brick_zero    Brick Width -0.4 (a script's value: the socket takes it): mortar (0.2, 0.4, 0.6) everywhere
+#   musgrave_<type>  (Blender 3.x and 4.0 only: 4.1 made it a Noise Texture) the Musgrave Texture of that
+#                 type (fbm, multifractal, ridged, hybrid, hetero), Detail 3.5 (0.6 for "fbm_low"),
+#                 Dimension 1.2, Lacunarity 2.3, Offset 0.8 and Gain 1.3 for the types that take them,
+#                 at Object coordinates, its Fac through a Multiply Add node (x 0.35 + 0.5: no negative light)
 PATTERN_VARIANTS = ("wave", "wave_rings", "wave_diagonal", "magic", "magic_far", "white_noise", "white_noise_4d",
                     "white_noise_zero", "white_noise_unlinked", "white_noise_constant", "brick", "brick_custom",
                     "brick_fac", "brick_zero")
+MUSGRAVE_VARIANTS = ("musgrave_fbm", "musgrave_fbm_low", "musgrave_multifractal", "musgrave_ridged",
+                     "musgrave_hybrid", "musgrave_hetero")
+MUSGRAVE_TYPES = {"fbm": "FBM", "multifractal": "MULTIFRACTAL", "ridged": "RIDGED_MULTIFRACTAL",
+                  "hybrid": "HYBRID_MULTIFRACTAL", "hetero": "HETERO_TERRAIN"}
 NODES = {"wave": "ShaderNodeTexWave", "magic": "ShaderNodeTexMagic", "white": "ShaderNodeTexWhiteNoise",
-         "brick": "ShaderNodeTexBrick"}
+         "brick": "ShaderNodeTexBrick", "musgrave": "ShaderNodeTexMusgrave"}
 POINT = (0.3, 1.7, -2.2)
 
 
@@ -50,7 +58,7 @@ def pattern_scene(variant="wave", resolution=(96, 72)):
     plane, mat = emissive_plane("Patterned", resolution)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     texture = nodes.new(NODES[variant.split("_")[0]])
-    out = texture.outputs["Color"]
+    out = texture.outputs[0]
     if variant == "wave_rings":
         texture.wave_type, texture.rings_direction, texture.wave_profile = "RINGS", "Z", "SAW"
         for name, value in (("Distortion", 6.0), ("Detail", 3.5), ("Detail Scale", 1.5), ("Phase Offset", 0.7)):
@@ -88,6 +96,17 @@ def pattern_scene(variant="wave", resolution=(96, 72)):
         _mapped(nodes, links, texture, (0.3, 0.3, 0.3))
         if variant == "brick_fac":
             out = _factor(texture)
+    elif variant.startswith("musgrave"):
+        texture.musgrave_type = MUSGRAVE_TYPES[variant.split("_")[1]]
+        for name, value in (("Detail", 0.6 if variant.endswith("low") else 3.5), ("Dimension", 1.2),
+                            ("Lacunarity", 2.3), ("Offset", 0.8), ("Gain", 1.3)):
+            texture.inputs[name].default_value = value
+        _mapped(nodes, links, texture, (0.3, 0.3, 0.3))
+        squeeze = nodes.new("ShaderNodeMath")
+        squeeze.operation = "MULTIPLY_ADD"
+        squeeze.inputs[1].default_value, squeeze.inputs[2].default_value = 0.35, 0.5
+        links.new(texture.outputs["Fac"], squeeze.inputs[0])
+        out = squeeze.outputs[0]
     elif variant == "brick_zero":
         texture.inputs["Brick Width"].default_value = -0.4
         texture.inputs["Mortar"].default_value = (0.2, 0.4, 0.6, 1.0)

@@ -247,7 +247,9 @@ def musgrave_fields(node, values: dict) -> tuple[dict, float, float]:
     gain and bias to apply."""
     import bpy
     kind = node.musgrave_type.lower()
-    detail, lacunarity = float(values["Detail"]), max(float(values["Lacunarity"]), 1e-5)
+    # (Cycles clamps the Detail to [0, 15] first: a negative one gives the first octave times 0)
+    detail = min(max(float(values["Detail"]), 0.0), 15.0)
+    lacunarity = max(float(values["Lacunarity"]), 1e-5)
     gain, bias = 1.0, 0.0
     if detail >= 1.0:
         detail = min(detail - 1.0, 14.0)

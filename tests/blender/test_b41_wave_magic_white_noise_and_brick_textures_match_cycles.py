@@ -26,7 +26,7 @@ MUSGRAVE = ("musgrave_fbm", "musgrave_fbm_low", "musgrave_multifractal", "musgra
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"patterns_{module_blender}")
-    variants = VARIANTS + POINTS + (MUSGRAVE if module_blender == "blender34" else ())
+    variants = VARIANTS + POINTS + (MUSGRAVE + ("musgrave_hybrid_negative",) if module_blender == "blender34" else ())
     return luminance_by_engine(module_blender, out, "pattern", ENGINES, {v: {"variant": v} for v in variants})
 
 
@@ -55,3 +55,12 @@ def test_one_colour_settings_give_cycles_colour(renders, variant):
     ours, cycles = (renders[(engine, variant)][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
     assert ours.std() < 1e-4 and cycles.std() < 1e-4
     assert abs(float(ours.mean() - cycles.mean())) < 1e-3
+
+
+def test_a_negative_musgrave_detail_is_clamped_to_0_as_in_cycles(renders, module_blender):
+    """(Blender 3.4's socket takes -0.5 from a script: Cycles clamps it to 0, and Hybrid's one
+    octave times 0 is 0, flat; taken as it came, it was a pattern)"""
+    if ("CYCLES", "musgrave_hybrid_negative") not in renders:
+        pytest.skip(f"{module_blender} has no Musgrave Texture (Blender 4.1 made it part of the Noise Texture)")
+    ours, cycles = (renders[(engine, "musgrave_hybrid_negative")][4:-4, 4:-4] for engine in ("GRIDWALK", "CYCLES"))
+    assert cycles.std() < 1e-4 and ours.std() < 1e-4 and abs(float(ours.mean() - cycles.mean())) < 1e-3

@@ -25,14 +25,15 @@ from scenes import plain_world
 #   brick_fac     the custom bricks' Fac (the mortar)
 #   brick_zero    Brick Width -0.4 (a script's value: the socket takes it): mortar (0.2, 0.4, 0.6) everywhere
 #   musgrave_<type>  (Blender 3.x and 4.0 only: 4.1 made it a Noise Texture) the Musgrave Texture of that
-#                 type (fbm, multifractal, ridged, hybrid, hetero), Detail 3.5 (0.6 for "fbm_low"),
+#                 type (fbm, multifractal, ridged, hybrid, hetero), Detail 3.5 (0.6 for "fbm_low", -0.5 for
+#                 "hybrid_negative": Cycles clamps it to 0, one octave times 0, flat),
 #                 Dimension 1.2, Lacunarity 2.3, Offset 0.8 and Gain 1.3 for the types that take them,
 #                 at Object coordinates, its Fac through a Multiply Add node (x 0.35 + 0.5: no negative light)
 PATTERN_VARIANTS = ("wave", "wave_rings", "wave_diagonal", "magic", "magic_far", "white_noise", "white_noise_4d",
                     "white_noise_zero", "white_noise_unlinked", "white_noise_constant", "brick", "brick_custom",
                     "brick_fac", "brick_zero")
 MUSGRAVE_VARIANTS = ("musgrave_fbm", "musgrave_fbm_low", "musgrave_multifractal", "musgrave_ridged",
-                     "musgrave_hybrid", "musgrave_hetero")
+                     "musgrave_hybrid", "musgrave_hetero", "musgrave_hybrid_negative")
 MUSGRAVE_TYPES = {"fbm": "FBM", "multifractal": "MULTIFRACTAL", "ridged": "RIDGED_MULTIFRACTAL",
                   "hybrid": "HYBRID_MULTIFRACTAL", "hetero": "HETERO_TERRAIN"}
 NODES = {"wave": "ShaderNodeTexWave", "magic": "ShaderNodeTexMagic", "white": "ShaderNodeTexWhiteNoise",
@@ -98,7 +99,8 @@ def pattern_scene(variant="wave", resolution=(96, 72)):
             out = _factor(texture)
     elif variant.startswith("musgrave"):
         texture.musgrave_type = MUSGRAVE_TYPES[variant.split("_")[1]]
-        for name, value in (("Detail", 0.6 if variant.endswith("low") else 3.5), ("Dimension", 1.2),
+        detail = {"low": 0.6, "negative": -0.5}.get(variant.split("_")[-1], 3.5)
+        for name, value in (("Detail", detail), ("Dimension", 1.2),
                             ("Lacunarity", 2.3), ("Offset", 0.8), ("Gain", 1.3)):
             texture.inputs[name].default_value = value
         _mapped(nodes, links, texture, (0.3, 0.3, 0.3))

@@ -207,12 +207,18 @@ PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI", "
                     "TEX_WHITE_NOISE", "TEX_BRICK", "TEX_MUSGRAVE")   # the patterns gridwalk.Texture models
 
 
+def noise_wraps() -> bool:
+    """Whether this Blender's Perlin noise wraps far coordinates (Texture.noise_wrap: 4.0 and later),
+    for the Noise, Wave and Musgrave Textures."""
+    import bpy
+    return bpy.app.version >= (4, 0, 0)
+
+
 def noise_fields(node, values: dict) -> dict:
     """gridwalk.Texture fields of a Noise Texture node whose inputs have the values
     `values` (by socket name). Blender before 4.0 has no Lacunarity (2) or Normalize (on)
     and does not wrap the coordinates; before 4.1 it has no type (fBM) and clamps
     Roughness to [0, 1]."""
-    import bpy
     roughness = float(values["Roughness"])
     if not hasattr(node, "noise_type"):
         roughness = min(max(roughness, 0.0), 1.0)
@@ -221,7 +227,7 @@ def noise_fields(node, values: dict) -> dict:
                 scale=float(values["Scale"]), detail=float(values["Detail"]), roughness=roughness,
                 lacunarity=float(values.get("Lacunarity", 2.0)), distortion=float(values["Distortion"]),
                 noise_offset=float(values.get("Offset", 0.0)), noise_gain=float(values.get("Gain", 1.0)),
-                normalize=bool(getattr(node, "normalize", True)), noise_wrap=bpy.app.version >= (4, 0, 0))
+                normalize=bool(getattr(node, "normalize", True)), noise_wrap=noise_wraps())
 
 
 def voronoi_fields(node, values: dict) -> dict:
@@ -245,7 +251,6 @@ def musgrave_fields(node, values: dict) -> tuple[dict, float, float]:
     Detail one less (at most 14); a Detail d below 1 keeps no more than the first octave, and
     fBM, Multifractal and Hybrid then take the value times d (Multifractal plus 1 - d): the
     gain and bias to apply."""
-    import bpy
     kind = node.musgrave_type.lower()
     # (Cycles clamps the Detail to [0, 15] first: a negative one gives the first octave times 0)
     detail = min(max(float(values["Detail"]), 0.0), 15.0)
@@ -259,16 +264,15 @@ def musgrave_fields(node, values: dict) -> tuple[dict, float, float]:
     return (dict(kind="noise", noise_type=kind, dimensions=int(node.musgrave_dimensions[0]), w=float(values["W"]),
                  scale=float(values["Scale"]), detail=detail, roughness=roughness, lacunarity=lacunarity,
                  distortion=0.0, noise_offset=float(values["Offset"]), noise_gain=float(values["Gain"]),
-                 normalize=False, noise_wrap=bpy.app.version >= (4, 0, 0)), gain, bias)
+                 normalize=False, noise_wrap=noise_wraps()), gain, bias)
 
 
 def wave_fields(node, values: dict) -> dict:
     """gridwalk.Texture fields of a Wave Texture node (values: its inputs' by socket name).
     Blender 3.4 clamps its Detail to [0, 15] and Detail Roughness to [0, 1] (4.0 and later
     take them as they are) and does not wrap the noise's coordinates."""
-    import bpy
     bands = node.wave_type == "BANDS"
-    old = bpy.app.version < (4, 0, 0)
+    old = not noise_wraps()
     detail, roughness = float(values["Detail"]), float(values["Detail Roughness"])
     if old:
         detail, roughness = min(max(detail, 0.0), 15.0), min(max(roughness, 0.0), 1.0)

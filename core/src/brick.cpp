@@ -1,6 +1,5 @@
 // Blender's Brick Texture (procedural.h).
 #include <cmath>
-#include <climits>
 #include <cstdint>
 
 #include "procedural.h"
@@ -17,13 +16,9 @@ float brick_noise(uint32_t n) {
     return 0.5f * (float(nn) / 1073741824.0f);
 }
 
-// floor() as an int, as Cycles gets it on x86: INT_MIN where the floor is out of
-// int range or NaN (a Brick Width or Row Height of 0 or below, which Blender's
-// sockets accept, divides into such values).
-int floor_int(float x) {
-    const float f = std::floor(x);
-    return std::abs(f) < 2147483648.0f ? int(f) : INT_MIN;
-}
+// floor() as an int, as Cycles gets it on x86 (a Brick Width or Row Height of 0
+// or below, which Blender's sockets accept, divides into values out of int range).
+int floor_int(float x) { return x86_int(std::floor(x)); }
 
 }  // namespace
 

@@ -11,6 +11,10 @@ namespace gw {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 
+// A float as the int x86's conversion (cvttss2si) makes it, as Cycles' textures get
+// it: truncated towards 0, or INT32_MIN where it is out of int range or NaN.
+inline int32_t x86_int(float f) { return std::abs(f) < 2147483648.0f ? int32_t(f) : INT32_MIN; }
+
 template <class T>
 struct V3 {
     T x = 0, y = 0, z = 0;

@@ -2,7 +2,6 @@
 #include "noise.h"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 
@@ -73,7 +72,7 @@ float perlin(int n, const float* x) {
     for (int i = 0; i < n; ++i) {
         const float fl = std::floor(x[i]);
         // (beyond int range, as x86's conversion gives it: Blender 3.4 does not wrap)
-        cell[i] = std::abs(fl) < 2147483648.0f ? int32_t(fl) : INT32_MIN;
+        cell[i] = x86_int(fl);
         frac[i] = x[i] - fl;
         weight[i] = fade(frac[i]);
     }

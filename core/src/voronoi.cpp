@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cfloat>
-#include <climits>
 #include <cmath>
 
 #include "lookup3.h"
@@ -115,7 +114,7 @@ struct Around {
         for (int i = 0; i < n; ++i) {
             cell[i] = std::floor(coord[i]);
             local[i] = coord[i] - cell[i];
-            index[i] = std::abs(cell[i]) < 2147483648.0f ? int32_t(cell[i]) : INT32_MIN;   // (as x86 converts)
+            index[i] = x86_int(cell[i]);
         }
     }
     // The point of the cell at `offset` from this one, relative to this cell.
@@ -225,7 +224,6 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
     const Around a(t, n, coord, randomness);
     const float* cell = a.cell;
     const float* local = a.local;
-    auto point = [&](const float* offset, float* out, Cell& at) { a.point(offset, out, at); };
     Octave o;
     float found[kMaxDims] = {0, 0, 0, 0};
     if (t.voronoi_feature == VoronoiFeature::SmoothF1 && smoothness != 0.0f) {
@@ -233,7 +231,7 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
         each_neighbour(n, 2, [&](const float* offset) {
             float p[kMaxDims], color[3];
             Cell at;
-            point(offset, p, at);
+            a.point(offset, p, at);
             const float d = metric_distance(t, n, p, local);
             h = h == -1.0f ? 1.0f : smooth01(0.5f + 0.5f * (o.distance - d) / smoothness);
             float correction = smoothness * h * (1.0f - h);
@@ -259,7 +257,7 @@ Octave octave_at(const Texture& t, int n, const float* coord, float randomness, 
         each_neighbour(n, 1, [&](const float* offset) {
             float p[kMaxDims];
             Cell at{};
-            point(offset, p, at);
+            a.point(offset, p, at);
             const float d = metric_distance(t, n, p, local);
             if (d < d1) {
                 d2 = d1;

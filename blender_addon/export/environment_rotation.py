@@ -37,9 +37,11 @@ def _generated(socket) -> bool:
 
 
 def environment_rotation(env) -> tuple[tuple, str | None]:
-    """(row-major R as 9 floats, a problem to warn about or None) for an Environment Texture node."""
-    socket = env.inputs["Vector"]
-    if _generated(socket):
+    """(row-major R as 9 floats, a problem to warn about or None) for an Environment or Sky
+    Texture node. (A Sky Texture with its sun's disc has no Vector input: Blender makes the
+    socket unavailable, and Cycles reads no link to it.)"""
+    socket = next((s for s in env.inputs if s.identifier == "Vector"), None)
+    if socket is None or not getattr(socket, "enabled", True) or _generated(socket):
         return IDENTITY, None
     mapping, _ = _source(socket)
     ignored = "the environment is not rotated"

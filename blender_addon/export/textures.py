@@ -345,6 +345,20 @@ class TextureTable:
             self.images.append(image)
         return self._image_index[key]
 
+    def generated(self, key, make, name: str) -> int:
+        """Index of the texture of an image the export computes (a Sky Texture's): make()
+        gives its float (H, W, 3) linear pixels, called only when `key` is not cached."""
+        if key not in self._image_index:
+            if key not in self.cache:
+                pixels = make()
+                image = Image(pixels, "linear", name=name)
+                image.mean_rgb = image.mean_rgb_associated = _mean_rgb(pixels, False)
+                self.cache[key] = (image, None)
+            self._used.add(key)
+            self._image_index[key] = len(self.images)
+            self.images.append(self.cache[key][0])
+        return self._add(dict(image=self._image_index[key], interpolation="linear", extension="repeat"))
+
     def texture(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None) -> int:
         """Index of the texture an Image or Environment Texture node's `output` gives,
         at the coordinates `coords` says (Texture's uv_transform, or coordinates and

@@ -9,7 +9,8 @@ Color x Strength is
     sees whole (Cycles' answer for an unoccluded surface; there is no
     occlusion, so creases are as bright as roofs).
 A Color linked from an Environment Texture (equirectangular, HDR/EXR or 8-bit)
-makes the environment what missing rays see (times Strength), and its
+or a Sky Texture (export/sky.py: the image gridwalk.sky bakes of the sky Cycles
+renders) makes the environment what missing rays see (times Strength), and its
 irradiance on each surface's normal the ambient term (World.environment_light:
 a table of the image's cosine integral over normals, so a sky over dark ground
 lights tops and leaves undersides dark, as in Cycles; blocked by the scene
@@ -33,6 +34,7 @@ import dataclasses
 from gridwalk import World
 
 from .environment_rotation import environment_rotation
+from .sky import sky_texture
 from .node_links import _source, input_value
 
 
@@ -115,13 +117,19 @@ def _convert_world(world, textures, warnings: list) -> tuple:
         return viewport, World(ambient=viewport)
     strength = input_value(strength_in)
     source, _ = _source(color_in)
-    if source is not None and source.type == "TEX_ENVIRONMENT" and textures is not None:
-        if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
-            warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
+    if source is not None and source.type in ("TEX_ENVIRONMENT", "TEX_SKY") and textures is not None:
+        if source.type == "TEX_SKY":
+            index, problem = sky_texture(source, textures)
+            if index is None:
+                warnings.append(f"World {world.name!r}: {problem}, using the world viewport colour")
+                return viewport, World(ambient=viewport)
+        else:
+            if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
+                warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
+            index = textures.texture(source)
         rotation, problem = environment_rotation(source)
         if problem:
             warnings.append(f"World {world.name!r}: {problem}")
-        index = textures.texture(source)
         mean = textures.mean_color(index)
         return (tuple(c * strength for c in mean),
                 World(environment=index, environment_strength=strength, environment_light=True,

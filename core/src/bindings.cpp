@@ -386,4 +386,5 @@ NB_MODULE(_core, m) {
         }, nb::rv_policy::reference_internal);
 
     bind_viewport(m);   // uses Scene, RenderSettings and CameraDesc, bound above
+    bind_sky(m);
 }

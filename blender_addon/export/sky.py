@@ -1,0 +1,38 @@
+"""A world's Sky Texture node -> the environment image gridwalk.sky bakes, as Cycles renders it.
+
+Read: Blender 3.x-4.x's Nishita type, 5.0's Single and Multiple Scattering
+types, with every setting (Sun Disc, Sun Size, Sun Intensity, Sun Elevation,
+Sun Rotation, Altitude, Air, Dust or Aerosol, Ozone), evaluated with the rules
+of the Blender that runs the export (gridwalk.sky). The image is 2048 x 1024
+(0.18 degrees a texel: the default sun spans three texels, its light exact);
+each distinct setting is baked once and kept in the viewport's image cache.
+Not read: the Preetham and Hosek / Wilkie types (Blender's older analytic
+skies), which fall back to the world's viewport colour with a warning.
+"""
+from __future__ import annotations
+
+from gridwalk.sky import sky_image
+
+MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple"}
+WIDTH = 2048
+
+
+def _settings(node) -> dict:
+    dust = node.aerosol_density if hasattr(node, "aerosol_density") else node.dust_density
+    return dict(sun_elevation=float(node.sun_elevation), sun_rotation=float(node.sun_rotation),
+                sun_disc=bool(node.sun_disc), sun_size=float(node.sun_size), sun_intensity=float(node.sun_intensity),
+                altitude=float(node.altitude), air_density=float(node.air_density), dust_density=float(dust),
+                ozone_density=float(node.ozone_density))
+
+
+def sky_texture(node, textures) -> tuple[int | None, str | None]:
+    """(index of the sky's texture in `textures`, None), or (None, why it is not read)."""
+    import bpy
+    model = MODELS.get(node.sky_type)
+    if model is None:
+        return None, f"the Sky Texture's {node.sky_type.replace('_', ' ').title()} type is not supported"
+    version = tuple(bpy.app.version[:2])
+    settings = _settings(node)
+    key = ("sky", model, version, WIDTH, tuple(sorted(settings.items())))
+    return textures.generated(key, lambda: sky_image(model, blender_version=version, width=WIDTH, **settings),
+                              f"Sky Texture {node.name!r}"), None

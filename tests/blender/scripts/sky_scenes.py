@@ -1,0 +1,69 @@
+"""A world lit by a Sky Texture (test_b42): a grey sphere and a white cube on a grey floor
+(Diffuse BSDFs),
+seen from above the horizon, with the sun low enough to cast long shadows.
+
+sky_scene(variant): "default" is the node as Blender adds it (Nishita in 3.x-4.x, Multiple
+Scattering in 5.0); "single" is 5.0's Single Scattering (the default type elsewhere);
+"evening" turns the sun round and lowers it (rotation 140 degrees, elevation 6), with
+altitude, air, dust / aerosol and ozone changed and a Sun Intensity of 0.5; "mapped" turns
+the sky 90 degrees about Z with a Mapping node (without the sun's disc: Blender then has no
+Vector input; "mapped_disc" keeps the disc, so the Mapping node is not read); "no_disc" hides the sun's disc;
+"preetham" is an unread type (the viewport colour, with a warning)."""
+import math
+
+import bpy
+
+from scenes import reset, shader_material
+
+SKY_VARIANTS = ("default", "single", "evening", "mapped", "mapped_disc", "no_disc", "preetham")
+
+
+def _sky_world(variant):
+    world = bpy.data.worlds.new("Sky")
+    bpy.context.scene.world = world
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.color = (0.2, 0.3, 0.4)
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    sky = nodes.new("ShaderNodeTexSky")
+    new = bpy.app.version >= (5, 0, 0)
+    if variant == "single":
+        sky.sky_type = "SINGLE_SCATTERING" if new else "NISHITA"
+    elif variant == "preetham":
+        sky.sky_type = "PREETHAM"
+    elif variant in ("no_disc", "mapped"):
+        sky.sun_disc = False
+    elif variant == "evening":
+        sky.sun_rotation, sky.sun_elevation = math.radians(140), math.radians(6)
+        sky.altitude, sky.air_density, sky.ozone_density, sky.sun_intensity = 2000.0, 1.6, 3.0, 0.5
+        setattr(sky, "aerosol_density" if new else "dust_density", 2.5)
+    if variant.startswith("mapped"):
+        coords, mapping = nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(90))
+        links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+        links.new(mapping.outputs["Vector"], next(s for s in sky.inputs if s.identifier == "Vector"))
+    links.new(sky.outputs["Color"], nodes["Background"].inputs["Color"])
+    return sky
+
+
+def _diffuse(name, grey):
+    """Lambert in every Blender (3.x's Principled BSDF has Disney's diffuse, which Gridwalk does not model)."""
+    return shader_material(name, "ShaderNodeBsdfDiffuse", [("Color", (grey, grey, grey, 1.0))])
+
+
+def sky_scene(resolution=(96, 64), variant="default"):
+    scene = reset(resolution=tuple(resolution))
+    scene.cycles.max_bounces = 0        # (direct light only in Cycles too: Gridwalk has no diffuse interreflection)
+    scene.camera.location = (0.0, -9.0, 2.6)
+    scene.camera.rotation_euler = (math.radians(80), 0.0, 0.0)
+    bpy.ops.mesh.primitive_plane_add(size=40.0)
+    bpy.context.object.data.materials.append(_diffuse("Floor", 0.5))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(-1.3, 0.0, 1.0), segments=48, ring_count=24)
+    ball = bpy.context.object
+    ball.data.polygons.foreach_set("use_smooth", [True] * len(ball.data.polygons))
+    ball.data.materials.append(_diffuse("Ball", 0.6))
+    bpy.ops.mesh.primitive_cube_add(size=1.4, location=(1.5, 0.8, 0.7))
+    bpy.context.object.data.materials.append(_diffuse("Cube", 0.8))
+    _sky_world(variant)
+    bpy.context.view_layer.update()
+    return {}

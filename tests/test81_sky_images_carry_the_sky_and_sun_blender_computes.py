@@ -1,0 +1,128 @@
+"""gridwalk.sky_image bakes Blender's Sky Texture into an environment image.
+
+The core's float table (core/src/sky.cpp) agrees with a double-precision numpy transcription of
+Nishita's single scattering (sky_reference.py) along scattered directions and for changed
+densities and altitudes; the sun's disc carries the same light at any image width, lies where
+the node's elevation and rotation put it, and is left out without its disc; the sky is symmetric
+about the sun's plane; below the horizon the single-scattering sky fades to black by z = -0.4
+(Blender 3.x-4.x) where the multiple-scattering one keeps the light scattered before the ground;
+Blender 3.6 and later fold an elevation past 90 degrees back, 3.4 does not. Bad settings raise
+ValueError. Cycles' own renders of the same skies: tests/blender/test_b42."""
+import math
+
+import numpy as np
+import pytest
+
+import sky_reference as ref
+from gridwalk import _core
+from gridwalk.sky import XYZ_TO_REC709, sky_image
+
+RNG = np.random.default_rng(3)
+
+
+def _views(n, below=False):
+    v = RNG.normal(size=(n, 3))
+    v[:, 2] = np.abs(v[:, 2]) * (-1 if below else 1)
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+@pytest.mark.parametrize("elevation, altitude, densities", [
+    (0.26, 1.0, (1, 1, 1)), (1.2, 3000.0, (2.0, 0.5, 3.0)), (0.02, 40000.0, (1, 4, 0)), (-0.1, 1.0, (1, 1, 1))])
+def test_the_cores_single_scattering_matches_the_numpy_transcription(elevation, altitude, densities):
+    views = _views(300)
+    expected = ref.single_scattering(views, ref.direction(elevation, 0.0), altitude, densities)
+    got = _core.sky_table("single", views.astype(np.float32), elevation, altitude, *densities)
+    assert expected.max() > 0
+    assert np.abs(got - expected).max() < 2e-3 * np.abs(expected).max()
+    assert np.median(np.abs(got - expected) / np.maximum(np.abs(expected), 1e-12)) < 1e-4
+
+
+def test_the_cores_sun_matches_the_numpy_transcription():
+    for elevation in (0.0, 0.3, 1.4):
+        expected = ref.sun_radiance(elevation, 0.0095, 1.0, (1.0, 2.0, 1.0))
+        solid = 2 * math.pi * (1 - math.cos(0.0095 / 2))
+        got = np.array(_core.sky_sun("single", elevation, solid, 1.0, 1.0, 2.0, 1.0))
+        assert np.allclose(got, expected, rtol=2e-3)        # (float, as Cycles computes it)
+    low, high = (np.array(_core.sky_sun("single", e, 1e-4, 1.0, 1, 1, 1)) for e in (0.01, 1.0))
+    assert low[2] / low[0] < 0.5 * high[2] / high[0]            # through more air at the horizon: redder
+
+
+def _flux(image):
+    """The image's irradiance on every side at once: radiance x solid angle, summed."""
+    h, w = image.shape[:2]
+    el = (0.5 - (np.arange(h) + 0.5) / h) * np.pi
+    return (image * np.cos(el)[:, None, None]).sum((0, 1)) * (np.pi / h) * (2 * np.pi / w)
+
+
+@pytest.mark.parametrize("model, version", [("single", (4, 5)), ("single", (3, 4)), ("multiple", (5, 0)),
+                                            ("single", (5, 0))])
+def test_the_suns_light_is_the_same_at_any_width_and_in_its_place(model, version):
+    kw = dict(blender_version=version, sun_elevation=math.radians(35), sun_rotation=math.radians(50), altitude=100.0)
+    sun = {}
+    for width in (256, 1024):
+        on, off = (sky_image(model, width=width, sun_disc=disc, **kw) for disc in (True, False))
+        assert np.isfinite(on).all() and on.min() >= 0
+        sun[width] = _flux(on) - _flux(off)
+        if width == 1024:
+            r, c = np.unravel_index(np.argmax(on.sum(-1)), on.shape[:2])
+            el = (0.5 - (r + 0.5) / 512) * math.pi
+            azimuth = (0.5 - (c + 0.5) / 1024) * 2 * math.pi
+            # the node's rotation r turns the sun from +Y towards +X: azimuth 90 degrees - r
+            assert abs(el - math.radians(35)) < 0.006 and abs(azimuth - math.radians(40)) < 0.008
+    # the disc's light, analytically: the mean of its two edge radiances x limb darkening x solid angle
+    h = math.radians(0.545) / 2
+    bottom, top = (np.array(_core.sky_sun(model, math.radians(35) + s * h, 2 * math.pi * (1 - math.cos(h)),
+                                          0.1 if model == "multiple" else 100.0, 1, 1, 1)) for s in (-1, 1))
+    limb = 1 - 0.6 * (1 - 2 / 3)                  # (the mean of 1 - 0.6 (1 - sqrt(1 - r^2)) over the disc)
+    expected = np.maximum(XYZ_TO_REC709 @ ((bottom + top) / 2), 0) * limb * 2 * math.pi * (1 - math.cos(h))
+    assert np.allclose(sun[256], sun[1024], rtol=0.01)
+    replaced = version < (5, 0)                   # (before 5.0 the disc replaces the sky it covers)
+    assert np.allclose(sun[1024], expected, rtol=0.03 if replaced else 0.01, atol=0.002 * expected.max())
+
+
+def test_the_sky_is_symmetric_about_the_suns_plane():
+    image = sky_image("single", width=256, sun_rotation=math.radians(90), sun_disc=False)
+    # rotation 90 degrees: the sun towards +X, the image's centre; its halves mirror each other
+    assert np.allclose(image, image[:, ::-1], rtol=1e-3, atol=1e-6 * image.max())
+    low = image[48:64]                                  # (0-22 degrees up: the haze around the sun)
+    assert low[:, 64:192].mean() > 1.5 * np.concatenate([low[:, :64], low[:, 192:]], 1).mean()
+    turned = sky_image("single", width=256, sun_rotation=0.0, sun_disc=False)
+    assert np.abs(turned - image).max() > 0.1 * image.max()
+
+
+def test_below_the_horizon_single_scattering_fades_and_multiple_scattering_does_not():
+    old = sky_image("single", width=256, blender_version=(4, 5))
+    new_single = sky_image("single", width=256, blender_version=(5, 0))
+    multiple = sky_image("multiple", width=256, blender_version=(5, 0), altitude=100.0)
+    rows = 128
+    z = np.sin((0.5 - (np.arange(rows) + 0.5) / rows) * np.pi)
+    for image in (old, new_single):
+        assert image[z < -0.41].max() == 0                     # black past z = -0.4
+        assert image[(z < -0.05) & (z > -0.3)].min() > 0
+    assert multiple[z < -0.41].min() > 0
+    horizon = np.argmin(np.abs(z - 0.01))
+    assert old[horizon].mean() > 5 * old[np.argmin(np.abs(z + 0.3))].mean()
+
+
+def test_blender_3_6_and_later_fold_an_elevation_past_the_zenith():
+    past = dict(sun_elevation=math.radians(120), sun_rotation=0.0, width=256)
+    folded = dict(sun_elevation=math.radians(60), sun_rotation=math.radians(180), width=256)
+    assert np.allclose(sky_image(blender_version=(4, 5), **past), sky_image(blender_version=(4, 5), **folded))
+    assert not np.allclose(sky_image(blender_version=(3, 4), **past), sky_image(blender_version=(3, 4), **folded),
+                           rtol=0.05)
+
+
+@pytest.mark.parametrize("kwargs", [dict(model="hosek"), dict(sun_elevation=float("nan")),
+                                    dict(altitude=float("inf")), dict(width=7), dict(width=4)])
+def test_bad_settings_raise_value_error(kwargs):
+    with pytest.raises(ValueError):
+        sky_image(**kwargs)
+
+
+def test_extreme_settings_give_finite_non_negative_skies():
+    for kwargs in (dict(air_density=0, dust_density=0, ozone_density=0, sun_size=0.0),
+                   dict(air_density=1000, dust_density=1000, sun_size=math.pi / 2, sun_intensity=1e30),
+                   dict(altitude=1e9, sun_elevation=-math.pi / 2), dict(sun_elevation=1e6, sun_rotation=-1e6)):
+        for model, version in (("single", (3, 4)), ("single", (5, 0)), ("multiple", (5, 0))):
+            image = sky_image(model, blender_version=version, width=64, **kwargs)
+            assert np.isfinite(image).all() and image.min() >= 0, (kwargs, model)

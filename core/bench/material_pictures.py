@@ -87,14 +87,14 @@ SCENES = (   # (scene, label, options for both engines)
 SIZE = '[128, 96]'
 
 
-def render(scene, engine, options, out: Path) -> np.ndarray:
+def render(scene, engine, options, out: Path, blender: str = "bpy45") -> np.ndarray:
     folder = out / f"{scene}_{engine}_{len(list(out.iterdir()))}"
     folder.mkdir()
     opts = [o if o != "resolution" else f'scene={{"resolution": {SIZE}}}' for o in options]
     if scene in ("environment", "emission_mirror") and not any(o.startswith("scene=") for o in options):
         opts.append(f'scene={{"resolution": {SIZE}}}')
     opts += [f"settings={AA}"] if engine == "GRIDWALK" else ["samples=128"]
-    run_script("bpy45", "render_scene.py", scene, folder, engine, *opts, timeout=600)
+    run_script(blender, "render_scene.py", scene, folder, engine, *opts, timeout=600)
     return exr.rgba(exr.read_exr(folder / f"{engine.lower()}.exr"), "ViewLayer.Combined.")
 
 

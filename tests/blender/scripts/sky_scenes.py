@@ -51,9 +51,21 @@ def _diffuse(name, grey):
     return shader_material(name, "ShaderNodeBsdfDiffuse", [("Color", (grey, grey, grey, 1.0))])
 
 
-def sky_scene(resolution=(96, 64), variant="default"):
+def sky_scene(resolution=(96, 64), variant="default", panorama=False):
+    """panorama: the sky alone through an equirectangular panorama, looking along +X (every
+    direction, the sun's disc included)."""
     scene = reset(resolution=tuple(resolution))
     scene.cycles.max_bounces = 0        # (direct light only in Cycles too: Gridwalk has no diffuse interreflection)
+    _sky_world(variant)
+    if panorama:
+        data = scene.camera.data
+        data.type = "PANO"
+        pano = data if hasattr(data, "panorama_type") else data.cycles      # Blender 4.x / 3.x
+        pano.panorama_type = "EQUIRECTANGULAR"
+        scene.camera.location = (0.0, 0.0, 0.0)
+        scene.camera.rotation_euler = (math.radians(90), 0.0, math.radians(-90))
+        bpy.context.view_layer.update()
+        return {}
     scene.camera.location = (0.0, -9.0, 2.6)
     scene.camera.rotation_euler = (math.radians(80), 0.0, 0.0)
     bpy.ops.mesh.primitive_plane_add(size=40.0)
@@ -64,6 +76,5 @@ def sky_scene(resolution=(96, 64), variant="default"):
     ball.data.materials.append(_diffuse("Ball", 0.6))
     bpy.ops.mesh.primitive_cube_add(size=1.4, location=(1.5, 0.8, 0.7))
     bpy.context.object.data.materials.append(_diffuse("Cube", 0.8))
-    _sky_world(variant)
     bpy.context.view_layer.update()
     return {}

@@ -111,16 +111,8 @@ def ncc(a, b) -> float:
     return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
 
 
-def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--out", default=str(ROOT / "docs" / "images" / "materials.png"))
-    args = parser.parse_args()
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for scene, label, options in SCENES:
-            ours, cycles = (render(scene, e, options, Path(tmp)) for e in ("GRIDWALK", "CYCLES"))
-            rows.append((label, to_srgb(ours), to_srgb(cycles), ncc(ours, cycles)))
-            print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")
+def write_sheet(rows, out):
+    """One picture of (label, ours, cycles, ncc) rows, GRIDWALK left and Cycles right, doubled in size."""
     scale, pad, head = 2, 8, 18
     width = max(r[1].shape[1] for r in rows) * scale
     sheet = Image.new("RGB", (2 * width + 3 * pad, sum(r[1].shape[0] * scale + head + pad for r in rows) + pad),
@@ -133,7 +125,20 @@ def main():
             pic = Image.fromarray(img).resize((img.shape[1] * scale, img.shape[0] * scale), Image.NEAREST)
             sheet.paste(pic, (pad + i * (width + pad), y))
         y += ours.shape[0] * scale + pad
-    sheet.save(args.out)
+    sheet.save(out)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--out", default=str(ROOT / "docs" / "images" / "materials.png"))
+    args = parser.parse_args()
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene, label, options in SCENES:
+            ours, cycles = (render(scene, e, options, Path(tmp)) for e in ("GRIDWALK", "CYCLES"))
+            rows.append((label, to_srgb(ours), to_srgb(cycles), ncc(ours, cycles)))
+            print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")
+    write_sheet(rows, args.out)
     print("wrote", args.out)
 
 

@@ -14,9 +14,8 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from PIL import Image, ImageDraw
 
-from material_pictures import ROOT, ncc, render, to_srgb
+from material_pictures import ROOT, ncc, render, to_srgb, write_sheet
 
 ROWS = (   # (Blender, scene options, label)
     ("bpy45", {"variant": "default"}, "Blender 4.5: the Sky Texture as added (Nishita, sun 15 degrees up)"),
@@ -49,19 +48,7 @@ def main():
             rows.append((label, to_srgb(ours * exposure), to_srgb(cycles * exposure),
                          ncc(np.minimum(ours, top), np.minimum(cycles, top))))
             print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")
-    scale, pad, head = 2, 8, 18
-    width = max(r[1].shape[1] for r in rows) * scale
-    sheet = Image.new("RGB", (2 * width + 3 * pad, sum(r[1].shape[0] * scale + head + pad for r in rows) + pad),
-                      (255, 255, 255))
-    draw, y = ImageDraw.Draw(sheet), pad
-    for label, ours, cycles, score in rows:
-        draw.text((pad, y), f"{label}   (left GRIDWALK, right Cycles; NCC {score:.3f})", fill=(0, 0, 0))
-        y += head
-        for i, img in enumerate((ours, cycles)):
-            pic = Image.fromarray(img).resize((img.shape[1] * scale, img.shape[0] * scale), Image.NEAREST)
-            sheet.paste(pic, (pad + i * (width + pad), y))
-        y += ours.shape[0] * scale + pad
-    sheet.save(args.out)
+    write_sheet(rows, args.out)
     print("wrote", args.out)
 
 

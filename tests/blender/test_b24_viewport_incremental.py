@@ -4,7 +4,7 @@ scripts/viewport_session.py drives a viewport session with real depsgraph
 updates. Moving an object reads no mesh and transforms one instance, in the
 core (Scene.moved); editing
 a mesh shared by two objects reads it once; a modifier change reads that
-object only; a material, light, world or render-setting change restarts
+object only; a material, light, world (a Sky Texture's too) or render-setting change restarts
 without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
 Instances of one mesh are transformed together, in chunks (blender_addon/export/assemble.py),
 so deleting one of two linked duplicates transforms the other again (their chunk changed), and
@@ -29,6 +29,8 @@ EDITS = {   # edit: (meshes read, instances transformed)
     "change_material": (0, 0),
     "change_light": (0, 0),
     "change_world": (0, 0),
+    "sky_world": (0, 0),         # a Sky Texture linked into the world (its image baked in the session)
+    "change_sky": (0, 0),        # its sun raised: baked again, the image as a fresh export's
     "change_render_setting": (0, 0),
     "delete_object": (0, 1),     # Twin deleted: Plain, its chunk's other instance, is a chunk of its own
 }

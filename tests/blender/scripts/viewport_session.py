@@ -148,6 +148,17 @@ def main(out_dir):
         scene.world.color = (0.3, 0.1, 0.05)
     bpy.context.view_layer.update()
     check("change_world")
+    if tree is None:                                     # (a world without nodes: give it its nodes)
+        scene.world.use_nodes = True
+        tree = scene.world.node_tree
+    sky = tree.nodes.new("ShaderNodeTexSky")
+    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 0.05
+    bpy.context.view_layer.update()
+    check("sky_world")
+    sky.sun_elevation = 0.6
+    bpy.context.view_layer.update()
+    check("change_sky")
     scene.gridwalk.max_depth = 1
     bpy.context.view_layer.update()
     check("change_render_setting")

@@ -6,8 +6,9 @@ densities and altitudes; the sun's disc carries the same light at any image widt
 the node's elevation and rotation put it, and is left out without its disc; the sky is symmetric
 about the sun's plane; below the horizon the single-scattering sky fades to black by z = -0.4
 (Blender 3.x-4.x) where the multiple-scattering one keeps the light scattered before the ground;
-Blender 3.6 and later fold an elevation past 90 degrees back, 3.4 does not. Bad settings raise
-ValueError. Cycles' own renders of the same skies: tests/blender/test_b42."""
+Blender 3.6 and later fold an elevation past 90 degrees back, 3.4 does not. The Preetham sky
+takes its sun direction's length as Blender does (normalised; a zero vector is black), peaks at
+that direction, and stays finite with its sun below the horizon. Bad settings raise ValueError. Cycles' own renders of the same skies: tests/blender/test_b42."""
 import math
 
 import numpy as np
@@ -113,7 +114,9 @@ def test_blender_3_6_and_later_fold_an_elevation_past_the_zenith():
 
 
 @pytest.mark.parametrize("kwargs", [dict(model="hosek"), dict(sun_elevation=float("nan")),
-                                    dict(altitude=float("inf")), dict(width=7), dict(width=4)])
+                                    dict(altitude=float("inf")), dict(width=7), dict(width=4),
+                                    dict(model="preetham", sun_direction=(0, float("nan"), 1)),
+                                    dict(model="preetham", turbidity=float("inf"))])
 def test_bad_settings_raise_value_error(kwargs):
     with pytest.raises(ValueError):
         sky_image(**kwargs)
@@ -126,3 +129,17 @@ def test_extreme_settings_give_finite_non_negative_skies():
         for model, version in (("single", (3, 4)), ("single", (5, 0)), ("multiple", (5, 0))):
             image = sky_image(model, blender_version=version, width=64, **kwargs)
             assert np.isfinite(image).all() and image.min() >= 0, (kwargs, model)
+
+
+def test_the_preetham_sky_follows_its_sun_direction():
+    a = sky_image("preetham", sun_direction=(0.3, -0.6, 0.5), turbidity=3.0, width=256)
+    assert np.array_equal(a, sky_image("preetham", sun_direction=(0.6, -1.2, 1.0), turbidity=3.0, width=256))
+    r, c = np.unravel_index(np.argmax(a.sum(-1)), a.shape[:2])
+    d = np.array([0.3, -0.6, 0.5]) / np.linalg.norm([0.3, -0.6, 0.5])
+    el, az = (0.5 - (r + 0.5) / 128) * np.pi, (0.5 - (c + 0.5) / 256) * 2 * np.pi
+    assert abs(el - np.arcsin(d[2])) < 0.05 and abs(az - np.arctan2(d[1], d[0])) < 0.05
+    assert not np.allclose(a, sky_image("preetham", sun_direction=(0.3, -0.6, 0.5), turbidity=6.0, width=256),
+                           rtol=0.05)
+    assert sky_image("preetham", sun_direction=(0, 0, 0), width=64).max() == 0
+    below = sky_image("preetham", sun_direction=(0.3, 0.3, -0.2), turbidity=1.0, width=64)
+    assert np.isfinite(below).all() and below.min() >= 0 and below.max() <= 65504

@@ -3,21 +3,25 @@
 Read: Blender 3.x-4.x's Nishita type, 5.0's Single and Multiple Scattering
 types, with every setting (Sun Disc, Sun Size, Sun Intensity, Sun Elevation,
 Sun Rotation, Altitude, Air, Dust or Aerosol, Ozone), evaluated with the rules
-of the Blender that runs the export (gridwalk.sky). The image is 2048 x 1024
+of the Blender that runs the export (gridwalk.sky), and the Preetham type (Sun
+Direction, Turbidity). The image is 2048 x 1024
 (0.18 degrees a texel: the default sun spans three texels, its light exact);
 each distinct setting is baked once and kept in the viewport's image cache.
-Not read: the Preetham and Hosek / Wilkie types (Blender's older analytic
-skies), which fall back to the world's viewport colour with a warning.
+Not read: the Hosek / Wilkie type (an analytic sky fitted to tables of
+simulations), which falls back to the world's viewport colour with a warning.
 """
 from __future__ import annotations
 
 from gridwalk.sky import sky_image
 
-MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple"}
+MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple",
+          "PREETHAM": "preetham"}
 WIDTH = 2048
 
 
 def _settings(node) -> dict:
+    if node.sky_type == "PREETHAM":
+        return dict(sun_direction=tuple(float(v) for v in node.sun_direction), turbidity=float(node.turbidity))
     dust = node.aerosol_density if hasattr(node, "aerosol_density") else node.dust_density
     return dict(sun_elevation=float(node.sun_elevation), sun_rotation=float(node.sun_rotation),
                 sun_disc=bool(node.sun_disc), sun_size=float(node.sun_size), sun_intensity=float(node.sun_intensity),

@@ -2,7 +2,8 @@
 Debian's 3.4: the node as Blender adds it (Nishita in 3.x-4.x, Multiple Scattering in 5.0),
 5.0's Single Scattering, a low sun turned round with every atmosphere setting changed, no sun
 disc, a Mapping node turning the sky (read where Blender gives the node a Vector input: without
-the disc), and an unread type (Preetham: the viewport colour). Before, every Sky Texture was a
+the disc), the Preetham type (sun direction and turbidity), and an unread type (Hosek / Wilkie: the
+viewport colour). Before, every Sky Texture was a
 warning and the viewport colour. Cycles renders direct light only (max bounces 0), as Gridwalk
 does. Scenes: sky_scenes.sky_scene; the numbers behind the sky: test81."""
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 
 from runner import rgb_by_engine
 
-SCENE_VARIANTS = ("default", "single", "evening", "mapped", "mapped_disc", "no_disc", "preetham")
+SCENE_VARIANTS = ("default", "single", "evening", "mapped", "mapped_disc", "no_disc", "preetham", "hosek")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=32"}
 
 
@@ -58,7 +59,8 @@ def test_the_sky_seen_in_every_direction_is_cycles(panoramas, variant):
     assert np.allclose(ours[horizon].mean((0, 1)), cycles[horizon].mean((0, 1)), rtol=0.05)
 
 
-@pytest.mark.parametrize("variant", ["default", "single", "evening", "mapped", "mapped_disc", "no_disc"])
+@pytest.mark.parametrize("variant", ["default", "single", "evening", "mapped", "mapped_disc", "no_disc",
+                                     "preetham"])
 def test_the_sky_lights_the_scene_as_in_cycles(scenes, variant):
     ours, cycles = scenes[("GRIDWALK", variant)], scenes[("CYCLES", variant)]
     sky, ground = slice(0, 12), slice(28, 64)
@@ -72,12 +74,12 @@ def test_the_sky_lights_the_scene_as_in_cycles(scenes, variant):
 
 def test_settings_change_the_render(scenes):
     base = scenes[("GRIDWALK", "default")]
-    for variant in ("evening", "mapped", "no_disc"):
+    for variant in ("evening", "mapped", "no_disc", "preetham"):
         assert np.abs(scenes[("GRIDWALK", variant)] - base).mean() > 0.05 * base.mean(), variant
     # with its disc, Blender gives the node no Vector input: the Mapping node is not read (nor by Cycles)
     assert np.allclose(scenes[("GRIDWALK", "mapped_disc")], base, rtol=0.05, atol=0.02 * base.mean())
 
 
 def test_an_unread_sky_type_renders_the_viewport_colour(scenes):
-    sky = scenes[("GRIDWALK", "preetham")][0:12]
+    sky = scenes[("GRIDWALK", "hosek")][0:12]
     assert np.allclose(sky, (0.2, 0.3, 0.4), atol=1e-3)

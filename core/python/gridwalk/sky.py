@@ -6,7 +6,11 @@ Rec.709 radiance. The physics is the core's (core/src/sky.h):
 
 - "single": Nishita's single scattering, Blender 3.x-4.x's Nishita type and
   5.0's Single Scattering;
-- "multiple": Blender 5.0's Multiple Scattering (its default).
+- "multiple": Blender 5.0's Multiple Scattering (its default);
+- "preetham": Preetham, Shirley & Smits' analytic sky (1999), Blender's Preetham
+  type: Perez et al.'s sky-luminance formula for Y and the chromaticities x and y,
+  its coefficients linear in the turbidity, towards a sun_direction vector; it
+  has no sun disc, and below the horizon it repeats the horizon.
 
 Blender computes a table of the sky over elevations and azimuths from the sun,
 then looks each direction up in it; so does this module, with the table's
@@ -35,7 +39,7 @@ import numpy as np
 
 from . import _core
 
-MODELS = ("single", "multiple")
+MODELS = ("single", "multiple", "preetham")
 
 # CIE XYZ (D65) -> linear Rec.709, the matrix Cycles' xyz_to_rgb gets from
 # Blender's colour configurations; negative results are clamped to 0 as in Cycles.
@@ -43,6 +47,7 @@ XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
                           [-0.9692660, 1.8760108, 0.0415560],
                           [0.0556434, -0.2040259, 1.0572252]])
 
+PREETHAM_LIMIT = 65504.0     # (the largest half float: what a broken HDR's infinities are read as too)
 _TABLE_WIDTH = 512
 _EARTH_KM = 6371.0          # the Multiple Scattering model's Earth, and 5.0's horizon dip
 _SUN_SUPERSAMPLE = 16
@@ -201,6 +206,58 @@ class _Sky:
         return np.maximum(xyz @ XYZ_TO_REC709.T, 0.0)
 
 
+def _perez(coefficients, theta, gamma):
+    """Perez et al.'s sky distribution at zenith angle theta, angle gamma from the sun."""
+    a, b, c, d, e = coefficients
+    return (1 + a * np.exp(b / np.cos(theta))) * (1 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
+
+
+class _Preetham:
+    """Blender's Preetham sky: xyY from three Perez distributions, each scaled to its zenith value."""
+
+    def __init__(self, sun_direction, turbidity):
+        x, y, z = (float(v) for v in sun_direction)
+        length = math.sqrt(x * x + y * y + z * z)                  # (Blender hands Cycles the vector normalised)
+        self.black = not length > 0                                 # (a zero vector: Cycles renders black)
+        if length > 0:
+            x, y, z = x / length, y / length, z / length
+        self.sun_theta = math.acos(min(1.0, max(-1.0, z)))
+        self.sun_phi = math.atan2(x, y)
+        t, th = float(turbidity), self.sun_theta
+        chi = (4 / 9 - t / 120) * (math.pi - 2 * th)
+        zenith_y = ((4.0453 * t - 4.9710) * math.tan(chi) - 0.2155 * t + 2.4192) * 0.06
+        cubic = np.array([th ** 3, th ** 2, th, 1.0])
+        zenith_x = (np.array([0.00166, -0.00375, 0.00209, 0.0]) @ cubic * t * t
+                    + np.array([-0.02903, 0.06377, -0.03202, 0.00394]) @ cubic * t
+                    + np.array([0.11693, -0.21196, 0.06052, 0.25886]) @ cubic)
+        zenith_yc = (np.array([0.00275, -0.00610, 0.00317, 0.0]) @ cubic * t * t
+                     + np.array([-0.04214, 0.08970, -0.04153, 0.00516]) @ cubic * t
+                     + np.array([0.15346, -0.26756, 0.06670, 0.26688]) @ cubic)
+        self.coefficients = [
+            (0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771, -0.0670 * t + 0.3703),
+            (-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989, -0.0033 * t + 0.0452),
+            (-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537, -0.0109 * t + 0.0529)]
+        # (each distribution divided by its value at the zenith, where the formulas above hold)
+        self.zenith = [v / _perez(c, 0.0, th) for v, c in zip((zenith_y, zenith_x, zenith_yc), self.coefficients)]
+
+    def radiance(self, d: np.ndarray) -> np.ndarray:
+        """Linear Rec.709 radiance along unit directions d (..., 3), at most PREETHAM_LIMIT: a sun
+        below the horizon makes Perez's formula explode (Cycles then renders values of 1e30)."""
+        if self.black:
+            return np.zeros(d.shape)
+        theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
+        phi = np.arctan2(d[..., 0], d[..., 1])
+        cos_gamma = (np.sin(theta) * math.sin(self.sun_theta) * np.cos(self.sun_phi - phi)
+                     + np.cos(theta) * math.cos(self.sun_theta))
+        gamma = np.arccos(np.clip(cos_gamma, -1.0, 1.0))
+        theta = np.minimum(theta, math.pi / 2 - 0.001)              # (below the horizon: the horizon)
+        big_y, x, y = (z * _perez(c, theta, gamma) for z, c in zip(self.zenith, self.coefficients))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xyz = np.stack([np.where(y != 0, x / y * big_y, 0.0), big_y,
+                            np.where(y != 0, (1 - x - y) / y * big_y, 0.0)], axis=-1)
+        return np.clip(np.nan_to_num(xyz @ XYZ_TO_REC709.T, nan=0.0, posinf=0.0, neginf=0.0), 0.0, PREETHAM_LIMIT)
+
+
 def _texel_directions(rows, cols, width: int, sub: int = 1) -> np.ndarray:
     """Unit directions (n, sub * sub, 3) through a sub x sub grid of points in each texel
     (rows[i], cols[i]) of a width x width / 2 equirectangular image."""
@@ -212,25 +269,41 @@ def _texel_directions(rows, cols, width: int, sub: int = 1) -> np.ndarray:
     return _directions((0.5 - py / height) * math.pi, (0.5 - px / width) * 2 * math.pi)
 
 
+def _preetham_image(sky: _Preetham, width: int) -> np.ndarray:
+    height = width // 2
+    image = np.empty((height, width, 3), np.float32)
+    cols = np.arange(width)
+    for r0 in range(0, height, 64):                         # (bands of rows: bounded memory)
+        rows = np.arange(r0, min(r0 + 64, height))
+        r, c = (a.ravel() for a in np.meshgrid(rows, cols, indexing="ij"))
+        image[rows] = sky.radiance(_texel_directions(r, c, width)[:, 0]).reshape(len(rows), width, 3)
+    return image
+
+
 def sky_image(model: str = "single", *, blender_version=(4, 5), sun_elevation: float = math.radians(15.0),
               sun_rotation: float = 0.0, sun_disc: bool = True, sun_size: float = math.radians(0.545),
               sun_intensity: float = 1.0, altitude: float = 0.0, air_density: float = 1.0,
-              dust_density: float = 1.0, ozone_density: float = 1.0, width: int = 2048) -> np.ndarray:
+              dust_density: float = 1.0, ozone_density: float = 1.0, sun_direction=(0.0, 0.0, 1.0),
+              turbidity: float = 2.2, width: int = 2048) -> np.ndarray:
     """The sky as a float32 (width / 2, width, 3) equirectangular image (row 0 at the
     zenith; linear Rec.709). The arguments are the Sky Texture node's (radians, metres;
-    dust_density is 5.0's Aerosol Density); blender_version picks the Blender whose
+    dust_density is 5.0's Aerosol Density; sun_direction and turbidity are the Preetham
+    model's, the others the other models'); blender_version picks the Blender whose
     Cycles it matches."""
     if model not in MODELS:
         raise ValueError(f"sky model must be one of {list(MODELS)}, got {model!r}")
     values = dict(sun_elevation=sun_elevation, sun_rotation=sun_rotation, sun_size=sun_size,
                   sun_intensity=sun_intensity, altitude=altitude, air_density=air_density,
-                  dust_density=dust_density, ozone_density=ozone_density)
+                  dust_density=dust_density, ozone_density=ozone_density, turbidity=turbidity)
+    values.update({f"sun_direction[{i}]": v for i, v in enumerate(np.asarray(sun_direction, float).reshape(3))})
     bad = [k for k, v in values.items() if not math.isfinite(v)]
     if bad:
         raise ValueError(f"sky settings must be finite numbers: {', '.join(bad)}")
     width = int(width)
     if width < 8 or width % 2:
         raise ValueError(f"sky image width must be an even number of at least 8, got {width}")
+    if model == "preetham":
+        return _preetham_image(_Preetham(sun_direction, turbidity), width)
     sky = _Sky(model, blender_version, sun_elevation, sun_rotation, sun_disc, max(sun_size, 0.0),
                max(sun_intensity, 0.0), max(altitude, 0.0), max(air_density, 0.0), max(dust_density, 0.0),
                max(ozone_density, 0.0))

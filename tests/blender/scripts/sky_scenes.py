@@ -8,14 +8,15 @@ Scattering in 5.0); "single" is 5.0's Single Scattering (the default type elsewh
 altitude, air, dust / aerosol and ozone changed and a Sun Intensity of 0.5; "mapped" turns
 the sky 90 degrees about Z with a Mapping node (without the sun's disc: Blender then has no
 Vector input; "mapped_disc" keeps the disc, so the Mapping node is not read); "no_disc" hides the sun's disc;
-"preetham" is an unread type (the viewport colour, with a warning)."""
+"preetham" is the Preetham type with its sun low in the back left and a turbidity of 3; "hosek"
+is an unread type (Hosek / Wilkie: the viewport colour, with a warning)."""
 import math
 
 import bpy
 
 from scenes import reset, shader_material
 
-SKY_VARIANTS = ("default", "single", "evening", "mapped", "mapped_disc", "no_disc", "preetham")
+SKY_VARIANTS = ("default", "single", "evening", "mapped", "mapped_disc", "no_disc", "preetham", "hosek")
 
 
 def _sky_world(variant):
@@ -31,6 +32,9 @@ def _sky_world(variant):
         sky.sky_type = "SINGLE_SCATTERING" if new else "NISHITA"
     elif variant == "preetham":
         sky.sky_type = "PREETHAM"
+        sky.sun_direction, sky.turbidity = (-0.5, 0.6, 0.35), 3.0
+    elif variant == "hosek":
+        sky.sky_type = "HOSEK_WILKIE"
     elif variant in ("no_disc", "mapped"):
         sky.sun_disc = False
     elif variant == "evening":

@@ -35,7 +35,9 @@ def _renders(kind, tmp_path_factory, variants, **scene):
 
 @pytest.fixture(scope="module")
 def scenes(module_blender, tmp_path_factory):
-    return _renders(module_blender, tmp_path_factory, SCENE_VARIANTS)
+    # (before 5.0 "single" is the default type: not rendered twice)
+    variants = [v for v in SCENE_VARIANTS if v != "single" or module_blender == "bpy50"]
+    return _renders(module_blender, tmp_path_factory, variants)
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +63,9 @@ def test_the_sky_seen_in_every_direction_is_cycles(panoramas, variant):
 
 @pytest.mark.parametrize("variant", ["default", "single", "evening", "mapped", "mapped_disc", "no_disc",
                                      "preetham"])
-def test_the_sky_lights_the_scene_as_in_cycles(scenes, variant):
+def test_the_sky_lights_the_scene_as_in_cycles(scenes, variant, module_blender):
+    if ("GRIDWALK", variant) not in scenes:
+        pytest.skip(f"{module_blender}: the Nishita type is the default one, rendered as 'default'")
     ours, cycles = scenes[("GRIDWALK", variant)], scenes[("CYCLES", variant)]
     sky, ground = slice(0, 12), slice(28, 64)
     assert np.allclose(ours[sky].mean((0, 1)), cycles[sky].mean((0, 1)), rtol=0.01)

@@ -16,7 +16,7 @@ import pytest
 
 import sky_reference as ref
 from gridwalk import _core
-from gridwalk.sky import XYZ_TO_REC709, sky_image
+from gridwalk.sky import RADIANCE_LIMIT, XYZ_TO_REC709, _texel_solid_angles, sky_image
 
 RNG = np.random.default_rng(3)
 
@@ -142,4 +142,34 @@ def test_the_preetham_sky_follows_its_sun_direction():
                            rtol=0.05)
     assert sky_image("preetham", sun_direction=(0, 0, 0), width=64).max() == 0
     below = sky_image("preetham", sun_direction=(0.3, 0.3, -0.2), turbidity=1.0, width=64)
-    assert np.isfinite(below).all() and below.min() >= 0 and below.max() <= 65504
+    assert np.isfinite(below).all() and below.min() >= 0 and below.max() <= RADIANCE_LIMIT
+
+
+@pytest.mark.parametrize("kwargs", [dict(sun_size=0.0, sun_elevation=math.radians(60)),
+                                    dict(sun_size=0.0, sun_elevation=math.radians(90)),
+                                    dict(sun_size=math.radians(20), sun_elevation=math.radians(50)),
+                                    dict(blender_version=(3, 4), sun_elevation=math.radians(120)),
+                                    dict(blender_version=(3, 4), sun_size=0.3, sun_elevation=math.radians(120))])
+def test_any_sun_carries_its_light_at_any_width(kwargs):
+    """The smallest sun Blender makes (0.0005 rad), at 60 degrees and at the zenith (where a
+    texel is a thin wedge), a large one, and Blender 3.4's unfolded 120 degrees (the sun at 60,
+    turned round), small and large: the sun's light is the same at widths 256 and 1024, and not 0."""
+    flux = {}
+    for width in (256, 1024):
+        on, off = (sky_image(width=width, sun_disc=disc, **kwargs) for disc in (True, False))
+        solid = _texel_solid_angles(np.arange(width // 2), width)[:, None, None]
+        flux[width] = ((on - off) * solid).sum((0, 1))
+    assert flux[1024].min() > 10
+    assert np.allclose(flux[256], flux[1024], rtol=0.005)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: _core.sky_table("multiple", np.zeros((4, 3), np.float32) + [0, 0, 1], float("nan"), 0.1, 1, 1, 1),
+    lambda: _core.sky_table("multiple", np.full((4, 3), np.nan, np.float32), 0.3, 0.1, 1, 1, 1),
+    lambda: _core.sky_table("single", np.zeros((4, 3), np.float32) + [0, 0, 1], 0.3, float("inf"), 1, 1, 1),
+    lambda: _core.sky_table("single", np.zeros((4, 3), np.float32) + [0, 0, 1], 0.3, 1.0, -1, 1, 1),
+    lambda: _core.sky_sun("mulitple", 0.3, 1e-4, 1.0, 1, 1, 1),
+    lambda: _core.sky_sun("single", 0.3, 0.0, 1.0, 1, 1, 1)])
+def test_the_native_sky_refuses_bad_input_with_value_error(call):
+    with pytest.raises(ValueError):
+        call()

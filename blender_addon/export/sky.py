@@ -6,7 +6,8 @@ Sun Rotation, Altitude, Air, Dust or Aerosol, Ozone), evaluated with the rules
 of the Blender that runs the export (gridwalk.sky), and the Preetham type (Sun
 Direction, Turbidity). The image is 2048 x 1024
 (0.18 degrees a texel: the default sun spans three texels, its light exact);
-each distinct setting is baked once and kept in the viewport's image cache.
+each distinct setting is baked once (0.6-2.5 s) and kept in the viewport's image
+cache, and the last four settings in this module (an animation's frames bake once).
 Not read: the Hosek / Wilkie type (an analytic sky fitted to tables of
 simulations), which falls back to the world's viewport colour with a warning.
 """
@@ -29,6 +30,18 @@ def _settings(node) -> dict:
                 ozone_density=float(node.ozone_density))
 
 
+_RECENT: dict = {}     # key -> pixels of the last few bakes (a final render's export starts a new cache)
+_RECENT_SIZE = 4
+
+
+def _bake(key, model: str, version: tuple, settings: dict):
+    if key not in _RECENT:
+        while len(_RECENT) >= _RECENT_SIZE:
+            del _RECENT[next(iter(_RECENT))]
+        _RECENT[key] = sky_image(model, blender_version=version, width=WIDTH, **settings)
+    return _RECENT[key]
+
+
 def sky_texture(node, textures) -> tuple[int | None, str | None]:
     """(index of the sky's texture in `textures`, None), or (None, why it is not read)."""
     import bpy
@@ -38,5 +51,7 @@ def sky_texture(node, textures) -> tuple[int | None, str | None]:
     version = tuple(bpy.app.version[:2])
     settings = _settings(node)
     key = ("sky", model, version, WIDTH, tuple(sorted(settings.items())))
-    return textures.generated(key, lambda: sky_image(model, blender_version=version, width=WIDTH, **settings),
-                              f"Sky Texture {node.name!r}"), None
+    try:
+        return textures.generated(key, lambda: _bake(key, model, version, settings), f"Sky Texture {node.name!r}"), None
+    except ValueError as exc:                  # (NaN or infinite settings, set from a script)
+        return None, f"the Sky Texture {node.name!r} cannot be computed ({exc})"

@@ -134,11 +134,12 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
     return image, None
 
 
-def _mean_rgb(px, srgb: bool) -> tuple:
+def _mean_rgb(px, srgb: bool, step: int | None = None) -> tuple:
     """Average linear RGB of (h, w, c) float pixels in [0, 1] (sRGB-encoded when srgb),
-    weighted by cos(latitude) as an equirectangular environment spreads over the sphere."""
+    weighted by cos(latitude) as an equirectangular environment spreads over the sphere;
+    every `step`-th row and column (by default about 65,536 of them)."""
     rgb = px[..., :3] if px.shape[2] >= 3 else np.repeat(px[..., :1], 3, axis=2)
-    step = max(1, int(np.sqrt(rgb.shape[0] * rgb.shape[1] / 65536)))
+    step = step or max(1, int(np.sqrt(rgb.shape[0] * rgb.shape[1] / 65536)))
     rgb = np.asarray(rgb[::step, ::step], np.float64)
     if srgb:
         rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
@@ -352,7 +353,7 @@ class TextureTable:
             if key not in self.cache:
                 pixels = make()
                 image = Image(pixels, "linear", name=name)
-                image.mean_rgb = image.mean_rgb_associated = _mean_rgb(pixels, False)
+                image.mean_rgb = image.mean_rgb_associated = _mean_rgb(pixels, False, step=1)
                 self.cache[key] = (image, None)
             self._used.add(key)
             self._image_index[key] = len(self.images)

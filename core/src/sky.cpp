@@ -205,9 +205,10 @@ Bands transmittance(float c, float a, const SkyAtmosphere& at) {
 
 struct TransmittanceTable {
     std::vector<Bands> t = std::vector<Bands>(kTw * kTh);
+    static float saturate(float x) { return x > 0 ? (x < 1 ? x : 1.0f) : 0.0f; }   // (NaN -> 0)
     Bands at(float c, float a) const {
-        const float fx = (kTw - 1) * std::clamp(0.5f * c + 0.5f, 0.0f, 1.0f);
-        const float fy = (kTh - 1) * std::clamp(a, 0.0f, 1.0f);
+        const float fx = (kTw - 1) * saturate(0.5f * c + 0.5f);
+        const float fy = (kTh - 1) * saturate(a);
         const int x0 = std::min(int(fx), kTw - 2), y0 = std::min(int(fy), kTh - 2);
         const float sx = fx - x0, sy = fy - y0;
         Bands out;

@@ -26,10 +26,11 @@ layout and the lookup of the Blender version asked for (blender_version):
   sun round), 3.4 and 3.5 take it as it is.
 
 The sun's disc is darker at its limb (Cycles' 0.6 coefficient) and redder at its
-lower edge. Each texel holds the mean of its directions' radiance, the sun's
-texels averaged over 16 x 16 directions or more (16 across the disc, weighted
-by the solid angle each stands for), so the image carries the sun's light
-whatever its resolution.
+lower edge. Each texel holds the mean radiance over its solid angle: a disc
+under 8 texels across is 65,536 points of equal solid angle, each adding its
+share of the light to its texel (exact at any resolution, at the poles too); a
+larger disc's texels take their centre's radiance inside it and the mean of
+16 x 16 directions on its edge.
 """
 from __future__ import annotations
 
@@ -47,7 +48,9 @@ XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
                           [-0.9692660, 1.8760108, 0.0415560],
                           [0.0556434, -0.2040259, 1.0572252]])
 
-PREETHAM_LIMIT = 65504.0     # (the largest half float: what a broken HDR's infinities are read as too)
+# The brightest texel an image gets: a Sun Intensity of 1000 makes the sun about 2e9; a Preetham
+# sun below the horizon makes Perez's formula explode (Cycles renders 1e30 there).
+RADIANCE_LIMIT = 1e20
 _TABLE_WIDTH = 512
 _EARTH_KM = 6371.0          # the Multiple Scattering model's Earth, and 5.0's horizon dip
 _SUN_SUPERSAMPLE = 16
@@ -183,11 +186,15 @@ class _Sky:
         """The table's column coordinate of azimuths (0.5: facing the sun)."""
         return np.mod(0.5 + (self.sun_azimuth - azimuth) / (2 * math.pi), 1.0)
 
-    def radiance(self, d: np.ndarray) -> np.ndarray:
-        """Linear Rec.709 radiance (..., 3) along unit directions d (..., 3), the sun included."""
+    def sky_xyz(self, d: np.ndarray) -> np.ndarray:
+        """XYZ of the sky without the sun along unit directions d (..., 3)."""
         el = np.arcsin(np.clip(d[..., 2], -1.0, 1.0))
         u = self.table_u(np.arctan2(d[..., 1], d[..., 0]))
-        xyz = self.sky(el, lambda v: _bilinear(self.table, u, v))
+        return self.sky(el, lambda v: _bilinear(self.table, u, v))
+
+    def sun_xyz(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(XYZ of the sun's disc along unit directions d (..., 3), where it shows: a mask)."""
+        el = np.arcsin(np.clip(d[..., 2], -1.0, 1.0))
         h = self.diameter / 2
         gamma = 2 * np.arctan2(np.linalg.norm(d - self.sun, axis=-1), np.linalg.norm(d + self.sun, axis=-1))
         disc = (self.diameter >= 0) & (gamma < h)
@@ -196,14 +203,27 @@ class _Sky:
         if self.new:
             t = (el - e) / self.diameter + 0.5
             shown = disc & (el > -self.horizon_dip)
-        else:   # (the sun replaces the sky, above the horizon only)
+        else:   # (above the horizon only)
             t = (el - e) / self.diameter + 0.5 if e - h > 0 else el / (e + h) if e + h > 0 else np.zeros_like(el)
             shown = disc & (el >= 0) & (e + h > 0)
         sun = (self.bottom * (1 - t[..., None]) + self.top * t[..., None]) * limb[..., None]
+        return np.where(shown[..., None], sun, 0.0), shown
+
+    def radiance(self, d: np.ndarray) -> np.ndarray:
+        """Linear Rec.709 radiance (..., 3) along unit directions d (..., 3), the sun included
+        (before 5.0 it replaces the sky it covers, from 5.0 on it adds to it)."""
+        sun, shown = self.sun_xyz(d)
+        sky = self.sky_xyz(d)
         if not self.new:
-            xyz = np.where(shown[..., None], 0.0, xyz)
-        xyz = xyz + np.where(shown[..., None], sun, 0.0)
-        return np.maximum(xyz @ XYZ_TO_REC709.T, 0.0)
+            sky = np.where(shown[..., None], 0.0, sky)
+        return _to_rgb(sky + sun)
+
+
+def _to_rgb(xyz) -> np.ndarray:
+    """Linear Rec.709 of CIE XYZ, clamped to [0, RADIANCE_LIMIT] (Cycles clamps at 0)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        rgb = np.nan_to_num(xyz @ XYZ_TO_REC709.T, nan=0.0, posinf=RADIANCE_LIMIT, neginf=0.0)
+    return np.clip(rgb, 0.0, RADIANCE_LIMIT)
 
 
 def _perez(coefficients, theta, gamma):
@@ -241,8 +261,7 @@ class _Preetham:
         self.zenith = [v / _perez(c, 0.0, th) for v, c in zip((zenith_y, zenith_x, zenith_yc), self.coefficients)]
 
     def radiance(self, d: np.ndarray) -> np.ndarray:
-        """Linear Rec.709 radiance along unit directions d (..., 3), at most PREETHAM_LIMIT: a sun
-        below the horizon makes Perez's formula explode (Cycles then renders values of 1e30)."""
+        """Linear Rec.709 radiance along unit directions d (..., 3), at most RADIANCE_LIMIT."""
         if self.black:
             return np.zeros(d.shape)
         theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
@@ -255,7 +274,7 @@ class _Preetham:
         with np.errstate(divide="ignore", invalid="ignore"):
             xyz = np.stack([np.where(y != 0, x / y * big_y, 0.0), big_y,
                             np.where(y != 0, (1 - x - y) / y * big_y, 0.0)], axis=-1)
-        return np.clip(np.nan_to_num(xyz @ XYZ_TO_REC709.T, nan=0.0, posinf=0.0, neginf=0.0), 0.0, PREETHAM_LIMIT)
+        return _to_rgb(xyz)
 
 
 def _texel_directions(rows, cols, width: int, sub: int = 1) -> np.ndarray:
@@ -267,6 +286,73 @@ def _texel_directions(rows, cols, width: int, sub: int = 1) -> np.ndarray:
     px, py = (a.reshape(len(rows), sub * sub) for a in np.broadcast_arrays(px, py))
     height = width // 2
     return _directions((0.5 - py / height) * math.pi, (0.5 - px / width) * 2 * math.pi)
+
+
+def _texel_solid_angles(rows, width: int) -> np.ndarray:
+    """The solid angle of a texel in each of these rows of a width x width / 2 image."""
+    height = width // 2
+    top, bottom = (0.5 - np.asarray(rows) / height) * math.pi, (0.5 - (np.asarray(rows) + 1) / height) * math.pi
+    return (2 * math.pi / width) * (np.sin(top) - np.sin(bottom))
+
+
+def _splat_sun(image, sky: _Sky, width: int):
+    """A disc under 8 texels across: 65,536 points spread evenly over its solid angle (rings of
+    equal area), each carrying its share of the disc's light into the texel it falls in, so
+    the light is exact at any resolution and near the poles; before 5.0 the covered share of
+    the texel's sky is taken out."""
+    height = width // 2
+    rings = sectors = 256
+    h = sky.diameter / 2
+    cos_g = 1 - (1 - math.cos(h)) * (np.arange(rings) + 0.5) / rings
+    sin_g = np.sqrt(1 - cos_g ** 2)
+    phase = (np.arange(sectors)[None, :] + 0.5) * (2 * math.pi / sectors) + np.arange(rings)[:, None] * 2.399963
+    axis = sky.sun
+    t1 = np.cross(axis, [0.0, 0.0, 1.0] if abs(axis[2]) < 0.9 else [1.0, 0.0, 0.0])
+    t1 /= np.linalg.norm(t1)
+    t2 = np.cross(axis, t1)
+    d = ((sin_g[:, None] * np.cos(phase))[..., None] * t1 + (sin_g[:, None] * np.sin(phase))[..., None] * t2
+         + cos_g[:, None, None] * axis).reshape(-1, 3)
+    share = 2 * math.pi * (1 - math.cos(h)) / len(d)
+    sun, shown = sky.sun_xyz(d)
+    el = np.arcsin(np.clip(d[:, 2], -1.0, 1.0))
+    row = np.clip(np.floor((0.5 - el / math.pi) * height), 0, height - 1).astype(np.int64)
+    col = np.mod(np.floor((0.5 - np.arctan2(d[:, 1], d[:, 0]) / (2 * math.pi)) * width), width).astype(np.int64)
+    index = row * width + col
+    texels, inverse = np.unique(index, return_inverse=True)
+    energy = np.stack([np.bincount(inverse, sun[:, k] * share) for k in range(3)], axis=-1)
+    covered = np.bincount(inverse, shown * share)
+    r, c = texels // width, texels % width
+    solid = _texel_solid_angles(r, width)
+    xyz = sky.sky_xyz(_texel_directions(r, c, width)[:, 0])
+    if not sky.new:
+        xyz = xyz * np.clip(1 - covered / solid, 0.0, 1.0)[:, None]
+    image[r, c] = _to_rgb(xyz + energy / solid[:, None])
+
+
+def _edge_sun(image, sky: _Sky, width: int):
+    """A disc 8 texels across or more: texels wholly inside it take their centre's radiance,
+    texels on its edge the mean over 16 x 16 directions (weighted by solid angle)."""
+    height = width // 2
+    h = sky.sun_reach()
+    el = (0.5 - (np.arange(height) + 0.5) / height) * math.pi
+    sun_el = math.asin(max(-1.0, min(1.0, float(sky.sun[2]))))
+    band = np.flatnonzero(np.abs(el - sun_el) < h + 2 * math.pi / height)       # (the rows the disc reaches)
+    # (half a texel's diagonal, along its row's widest edge)
+    widest = np.cos(np.maximum(np.abs(el[band]) - 0.5 * math.pi / height, 0.0))
+    half = 0.5 * np.hypot(math.pi / height, 2 * math.pi / width * widest)
+    rows, cols = (a.ravel() for a in np.meshgrid(band, np.arange(width), indexing="ij"))
+    half = np.repeat(half, width)
+    angle = np.arccos(np.clip(_texel_directions(rows, cols, width)[:, 0] @ sky.sun, -1, 1))
+    inside, edge = angle + half < h, np.abs(angle - h) <= half
+    r, c = rows[inside], cols[inside]
+    for i in range(0, len(r), 65536):
+        image[r[i:i + 65536], c[i:i + 65536]] = sky.radiance(_texel_directions(r[i:i + 65536], c[i:i + 65536],
+                                                                               width)[:, 0])
+    r, c = rows[edge], cols[edge]
+    for i in range(0, len(r), 1024):
+        dirs = _texel_directions(r[i:i + 1024], c[i:i + 1024], width, _SUN_SUPERSAMPLE)
+        weight = np.sqrt(np.maximum(0.0, 1 - dirs[..., 2] ** 2))[..., None]     # (cos(elevation): solid angle)
+        image[r[i:i + 1024], c[i:i + 1024]] = (sky.radiance(dirs) * weight).sum(1) / weight.sum(1)
 
 
 def _preetham_image(sky: _Preetham, width: int) -> np.ndarray:
@@ -311,19 +397,7 @@ def sky_image(model: str = "single", *, blender_version=(4, 5), sun_elevation: f
     el = (0.5 - (np.arange(height) + 0.5) / height) * math.pi
     u = sky.table_u((0.5 - (np.arange(width) + 0.5) / width) * 2 * math.pi)
     xyz = sky.sky(el[:, None], lambda v: _grid_bilinear(sky.table, v[:, 0], u))
-    image = np.maximum(xyz @ XYZ_TO_REC709.T, 0.0).astype(np.float32)
-    reach = sky.sun_reach()
-    if reach > 0:
-        # texels within a texel's diagonal of the disc: the mean over many directions each
-        margin = reach + 2.3 * math.pi / height
-        band = np.flatnonzero(np.abs(el - sky.elevation) < margin)        # (the rows the disc can reach)
-        rows, cols = (a.ravel() for a in np.meshgrid(band, np.arange(width), indexing="ij"))
-        near = np.arccos(np.clip(_texel_directions(rows, cols, width)[:, 0] @ sky.sun, -1, 1)) < margin
-        r, c = rows[near], cols[near]
-        # (at least 16 x 16 points a texel, and 16 across the disc where the disc is smaller than a texel)
-        sub = int(min(64, max(_SUN_SUPERSAMPLE, math.ceil(_SUN_SUPERSAMPLE * (math.pi / height) / sky.diameter))))
-        for i in range(0, len(r), 1024):
-            dirs = _texel_directions(r[i:i + 1024], c[i:i + 1024], width, sub)
-            weight = np.sqrt(np.maximum(0.0, 1 - dirs[..., 2] ** 2))[..., None]     # (cos(elevation): solid angle)
-            image[r[i:i + 1024], c[i:i + 1024]] = (sky.radiance(dirs) * weight).sum(1) / weight.sum(1)
+    image = _to_rgb(xyz).astype(np.float32)
+    if sky.sun_reach() > 0:
+        (_splat_sun if sky.diameter < 8 * math.pi / height else _edge_sun)(image, sky, width)
     return image

@@ -13,6 +13,8 @@ simulations), which falls back to the world's viewport colour with a warning.
 """
 from __future__ import annotations
 
+import zlib
+
 from gridwalk.sky import sky_image
 
 MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple",
@@ -52,6 +54,8 @@ def sky_texture(node, textures) -> tuple[int | None, str | None]:
     settings = _settings(node)
     key = ("sky", model, version, WIDTH, tuple(sorted(settings.items())))
     try:
-        return textures.generated(key, lambda: _bake(key, model, version, settings), f"Sky Texture {node.name!r}"), None
+        # (the name tells the settings apart: the viewport's scene signature reads image names)
+        name = f"Sky Texture {node.name!r} {zlib.crc32(repr(key).encode()):08x}"
+        return textures.generated(key, lambda: _bake(key, model, version, settings), name), None
     except ValueError as exc:                  # (NaN or infinite settings, set from a script)
         return None, f"the Sky Texture {node.name!r} cannot be computed ({exc})"

@@ -358,7 +358,9 @@ class TextureTable:
             self._used.add(key)
             self._image_index[key] = len(self.images)
             self.images.append(self.cache[key][0])
-        return self._add(dict(image=self._image_index[key], interpolation="linear", extension="repeat"))
+        # (extend: a ray at the zenith reads the zenith's row, not a blend with the nadir's; the
+        # seam behind the image reads its edge column, the same sky)
+        return self._add(dict(image=self._image_index[key], interpolation="linear", extension="extend"))
 
     def texture(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None) -> int:
         """Index of the texture an Image or Environment Texture node's `output` gives,

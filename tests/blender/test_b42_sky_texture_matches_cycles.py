@@ -28,9 +28,11 @@ def _renders(kind, tmp_path_factory, variants, **scene):
             jobs.append(["sky", folder, engine, "transparent=false",
                          f"scene={json.dumps(dict(scene, variant=variant))}", option])
             keys.append((engine, variant))
-    render_batch(kind, jobs)
-    return {key: exr.rgba(exr.read_exr(out / f"{key[0]}_{key[1]}" / f"{key[0].lower()}.exr"),
-                          "ViewLayer.Combined.")[..., :3] for key in keys}
+    outputs = render_batch(kind, jobs)
+    images = {key: exr.rgba(exr.read_exr(out / f"{key[0]}_{key[1]}" / f"{key[0].lower()}.exr"),
+                            "ViewLayer.Combined.")[..., :3] for key in keys}
+    images["output"] = dict(zip(keys, outputs))
+    return images
 
 
 @pytest.fixture(scope="module")
@@ -87,6 +89,9 @@ def test_settings_change_the_render(scenes):
     assert np.allclose(scenes[("GRIDWALK", "mapped_disc")], base, rtol=0.05, atol=0.02 * base.mean())
 
 
-def test_an_unread_sky_type_renders_the_viewport_colour(scenes):
+def test_an_unread_sky_type_renders_the_viewport_colour_with_a_warning(scenes):
     sky = scenes[("GRIDWALK", "hosek")][0:12]
     assert np.allclose(sky, (0.2, 0.3, 0.4), atol=1e-3)
+    said = scenes["output"][("GRIDWALK", "hosek")]
+    assert "Gridwalk warning: World 'Sky': the Sky Texture's Hosek Wilkie type is not supported" in said
+    assert "Gridwalk warning: World" not in scenes["output"][("GRIDWALK", "default")]

@@ -26,7 +26,8 @@ layout and the lookup of the Blender version asked for (blender_version):
   sun round), 3.4 and 3.5 take it as it is.
 
 The sun's disc is darker at its limb (Cycles' 0.6 coefficient) and redder at its
-lower edge. Each texel holds the mean radiance over its solid angle: a disc
+lower edge. Each texel holds the radiance at its centre, the sun's texels the
+mean over their solid angle: a disc
 under 8 texels across is 65,536 points of equal solid angle, each adding its
 share of the light to its texel (exact at any resolution, at the poles too); a
 larger disc's texels take their centre's radiance inside it and the mean of
@@ -56,22 +57,29 @@ _EARTH_KM = 6371.0          # the Multiple Scattering model's Earth, and 5.0's h
 _SUN_SUPERSAMPLE = 16
 
 
-def _wrap(angle: float) -> float:
-    angle = math.fmod(angle, 2 * math.pi)
-    return angle + 2 * math.pi if angle < 0 else angle
+_F32_2PI, _F32_PI = np.float32(2 * math.pi), np.float32(math.pi)
+
+
+def _wrap(angle) -> np.float32:
+    """The angle mod 2 pi in [0, 2 pi), in float as Cycles takes it (far from 0 the float
+    modulus and a double one part by degrees)."""
+    angle = np.fmod(np.float32(angle), _F32_2PI)
+    return angle + _F32_2PI if angle < 0 else angle
 
 
 def _sun_angles(elevation: float, rotation: float, blender_version) -> tuple[float, float]:
     """(elevation, rotation) as Cycles uses them: 3.6 and later fold an elevation
     beyond +-90 degrees back (the sun turned half round); the rotation mod 2 pi."""
+    rotation = np.float32(rotation)
     if tuple(blender_version) >= (3, 6):
-        elevation = math.fmod(elevation, 2 * math.pi)
-        if abs(elevation) >= math.pi:
-            elevation -= math.copysign(2 * math.pi, elevation)
-        if elevation >= math.pi / 2 or elevation <= -math.pi / 2:
-            elevation = math.copysign(math.pi, elevation) - elevation
-            rotation += math.pi
-    return elevation, _wrap(rotation)
+        e = np.fmod(np.float32(elevation), _F32_2PI)
+        if abs(e) >= _F32_PI:
+            e = e - np.float32(math.copysign(2.0, e)) * _F32_PI
+        if e >= _F32_PI / 2 or e <= -_F32_PI / 2:
+            e = np.float32(math.copysign(_F32_PI, e)) - e
+            rotation = rotation + _F32_PI
+        elevation = e
+    return float(elevation), float(_wrap(rotation))
 
 
 def _directions(elevation, azimuth) -> np.ndarray:

@@ -11,3 +11,16 @@ import signal
 
 if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
+
+# The longest files start first. pytest-xdist (--dist=loadfile) hands whole files to its
+# workers in collection order, so a long file collected late (the sanitizer run, about 8
+# minutes of CI's 2 cores, sorts after the Blender tests and most others) was the last to
+# finish, minutes after the rest. Longest first is the usual rule for such a schedule.
+LONGEST_FIRST = ("tests/test40_fuzz_and_sanitizers.py", "tests/blender/test_b23_gui_viewport.py",
+                 "tests/test52_instruction_counts_run.py", "tests/test51_speed_vs_error_runs.py",
+                 "tests/test50_benchmark_runs.py")
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {path: i for i, path in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))

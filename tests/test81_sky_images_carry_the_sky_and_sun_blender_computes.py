@@ -173,3 +173,33 @@ def test_any_sun_carries_its_light_at_any_width(kwargs):
 def test_the_native_sky_refuses_bad_input_with_value_error(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_a_small_sun_gets_an_inset_that_shows_its_disc_and_matches_the_image_around_it():
+    from gridwalk.sky import sky_inset
+    kwargs = dict(sun_elevation=math.radians(25), sun_rotation=math.radians(-30), width=1024)
+    pixels, frame, extent = sky_inset("single", **kwargs)
+    n = pixels.shape[0]
+    f = np.array(frame).reshape(3, 3)
+    assert np.allclose(f @ f.T, np.eye(3), atol=1e-6)
+    el, az = math.radians(25), math.radians(90 + 30)         # (azimuth 90 degrees - rotation)
+    assert np.allclose(f[2], [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)], atol=1e-6)
+    # the disc 48 texels across in a square of its radius + 3 image texels
+    h = math.radians(0.545) / 2
+    assert extent == pytest.approx(math.tan(h + 3 * math.pi / 512))
+    lum = pixels @ [0.2126, 0.7152, 0.0722]
+    disc = lum > 100 * np.median(lum)
+    assert abs(disc.sum() - math.pi * 24 ** 2) < 0.05 * math.pi * 24 ** 2
+    assert lum[n // 2, n // 2] > 1.4 * lum[disc].min()                 # (the limb: darker)
+    # the inset's border is the sky the image shows there
+    image = sky_image("single", **kwargs)
+    border = np.concatenate([pixels[0], pixels[-1], pixels[:, 0], pixels[:, -1]])
+    t = (2 * (np.array([0.5, n - 0.5]) / n) - 1) * extent
+    corners = [f[2] + x * f[0] + y * f[1] for x in t for y in t]
+    for d in corners:
+        d = d / np.linalg.norm(d)
+        r = int((0.5 - math.asin(d[2]) / math.pi) * 512)
+        c = int((0.5 - math.atan2(d[1], d[0]) / (2 * math.pi)) * 1024) % 1024
+        assert np.allclose(image[r, c], border.mean(0), rtol=0.05)
+    for other in (dict(sun_disc=False), dict(sun_size=0.2), dict(model="preetham")):
+        assert sky_inset(**{**dict(model="single"), **kwargs, **other}) is None

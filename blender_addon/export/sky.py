@@ -8,6 +8,10 @@ Direction, Turbidity). The image is 2048 x 1024
 (0.18 degrees a texel: the default sun spans three texels, its light exact);
 each distinct setting is baked once (0.6-2.5 s) and kept in the viewport's image
 cache, and the last four settings in this module (an animation's frames bake once).
+A sun under 8 texels across also gets an inset (World.inset: gridwalk.sky.sky_inset),
+its disc 48 texels across, which rays that see the sky directly read: the disc
+is Cycles' crisp one, with its limb darkening, where the image alone blurs it
+into a square of three texels.
 Not read: the Hosek / Wilkie type (an analytic sky fitted to tables of
 simulations), which falls back to the world's viewport colour with a warning.
 """
@@ -15,7 +19,7 @@ from __future__ import annotations
 
 import zlib
 
-from gridwalk.sky import sky_image
+from gridwalk.sky import sky_image, sky_inset
 
 MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple",
           "PREETHAM": "preetham"}
@@ -32,7 +36,7 @@ def _settings(node) -> dict:
                 ozone_density=float(node.ozone_density))
 
 
-_RECENT: dict = {}     # key -> pixels of the last few bakes (a final render's export starts a new cache)
+_RECENT: dict = {}     # key -> (image, inset) of the last few bakes (a final render's export starts a new cache)
 _RECENT_SIZE = 4
 
 
@@ -40,12 +44,14 @@ def _bake(key, model: str, version: tuple, settings: dict):
     if key not in _RECENT:
         while len(_RECENT) >= _RECENT_SIZE:
             del _RECENT[next(iter(_RECENT))]
-        _RECENT[key] = sky_image(model, blender_version=version, width=WIDTH, **settings)
+        kwargs = dict(blender_version=version, width=WIDTH, **settings)
+        _RECENT[key] = (sky_image(model, **kwargs), sky_inset(model, **kwargs))
     return _RECENT[key]
 
 
-def sky_texture(node, textures) -> tuple[int | None, str | None]:
-    """(index of the sky's texture in `textures`, None), or (None, why it is not read)."""
+def sky_world(node, textures) -> tuple[dict | None, str | None]:
+    """(gridwalk.World fields of the sky: its environment texture in `textures`, and the
+    inset showing its sun in detail; None), or (None, why it is not read)."""
     import bpy
     model = MODELS.get(node.sky_type)
     if model is None:
@@ -53,9 +59,15 @@ def sky_texture(node, textures) -> tuple[int | None, str | None]:
     version = tuple(bpy.app.version[:2])
     settings = _settings(node)
     key = ("sky", model, version, WIDTH, tuple(sorted(settings.items())))
+    # (the names tell the settings apart: the viewport's scene signature reads image names)
+    name = f"Sky Texture {node.name!r} {zlib.crc32(repr(key).encode()):08x}"
     try:
-        # (the name tells the settings apart: the viewport's scene signature reads image names)
-        name = f"Sky Texture {node.name!r} {zlib.crc32(repr(key).encode()):08x}"
-        return textures.generated(key, lambda: _bake(key, model, version, settings), name), None
+        image, inset = _bake(key, model, version, settings)
     except ValueError as exc:                  # (NaN or infinite settings, set from a script)
         return None, f"the Sky Texture {node.name!r} cannot be computed ({exc})"
+    fields = dict(environment=textures.generated(key, lambda: image, name))
+    if inset is not None:
+        pixels, frame, extent = inset
+        fields.update(inset=textures.generated(key + ("inset",), lambda: pixels, name + " (sun)"),
+                      inset_frame=frame, inset_extent=extent)
+    return fields, None

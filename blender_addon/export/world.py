@@ -34,7 +34,7 @@ import dataclasses
 from gridwalk import World
 
 from .environment_rotation import environment_rotation
-from .sky import sky_texture
+from .sky import sky_world
 from .node_links import _source, input_value
 
 
@@ -119,21 +119,20 @@ def _convert_world(world, textures, warnings: list) -> tuple:
     source, _ = _source(color_in)
     if source is not None and source.type in ("TEX_ENVIRONMENT", "TEX_SKY") and textures is not None:
         if source.type == "TEX_SKY":
-            index, problem = sky_texture(source, textures)
-            if index is None:
+            fields, problem = sky_world(source, textures)
+            if fields is None:
                 warnings.append(f"World {world.name!r}: {problem}, using the world viewport colour")
                 return viewport, World(ambient=viewport)
         else:
             if getattr(source, "projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
                 warnings.append(f"World {world.name!r}: the {source.projection} projection is read as equirectangular")
-            index = textures.texture(source)
+            fields = dict(environment=textures.texture(source))
         rotation, problem = environment_rotation(source)
         if problem:
             warnings.append(f"World {world.name!r}: {problem}")
-        mean = textures.mean_color(index)
+        mean = textures.mean_color(fields["environment"])
         return (tuple(c * strength for c in mean),
-                World(environment=index, environment_strength=strength, environment_light=True,
-                      environment_rotation=rotation))
+                World(environment_strength=strength, environment_light=True, environment_rotation=rotation, **fields))
     if source is not None:
         name = source.bl_idname
         warnings.append(f"World {world.name!r}: a Color from {name} is not supported, using the world viewport colour")

@@ -123,6 +123,9 @@ void bind_records(nb::module_& m) {
         .def_rw("environment_light", &World::environment_light)
         .def_rw("environment_rotation", &World::environment_rotation)
         .def_rw("transparent", &World::transparent)
+        .def_rw("inset", &World::inset)
+        .def_rw("inset_frame", &World::inset_frame)
+        .def_rw("inset_extent", &World::inset_extent)
         .def("validate", &validate_world);
 
     nb::class_<Light>(m, "Light")

@@ -72,25 +72,37 @@ void validate_material(const Material& m, const std::string& where) {
         if (index < -1) refuse(where, field, "must be a texture index or -1 (none), got " + std::to_string(index));
 }
 
+// Whether a row-major 3 x 3 matrix's rows are orthonormal (to 1e-3).
+static bool orthonormal_rows(const std::array<float, 9>& R) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const double dot_ij = double(R[3 * i]) * R[3 * j] + double(R[3 * i + 1]) * R[3 * j + 1] +
+                                  double(R[3 * i + 2]) * R[3 * j + 2];
+            if (std::abs(dot_ij - (i == j ? 1.0 : 0.0)) > 1e-3) return false;
+        }
+    return true;
+}
+
 void validate_world(const World& w) {
     need_finite("World", "ambient", w.ambient);
     need_finite("World", "environment_strength", w.environment_strength);
     for (float x : w.environment_rotation)
         if (!std::isfinite(x)) refuse("World", "environment_rotation", "has a non-finite value");
     const auto& R = w.environment_rotation;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            const double dot_ij = double(R[3 * i]) * R[3 * j] + double(R[3 * i + 1]) * R[3 * j + 1] +
-                                  double(R[3 * i + 2]) * R[3 * j + 2];
-            if (std::abs(dot_ij - (i == j ? 1.0 : 0.0)) > 1e-3)
-                refuse("World", "environment_rotation", "must be a rotation (orthonormal rows, row-major 3 x 3)");
-        }
+    if (!orthonormal_rows(R))
+        refuse("World", "environment_rotation", "must be a rotation (orthonormal rows, row-major 3 x 3)");
     const double det = double(R[0]) * (double(R[4]) * R[8] - double(R[5]) * R[7]) -
                        double(R[1]) * (double(R[3]) * R[8] - double(R[5]) * R[6]) +
                        double(R[2]) * (double(R[3]) * R[7] - double(R[4]) * R[6]);
     if (det < 0) refuse("World", "environment_rotation", "must be a rotation, not a reflection (determinant -1)");
     if (w.environment < -1)
         refuse("World", "environment", "must be a texture index or -1 (none), got " + std::to_string(w.environment));
+    if (w.inset < -1) refuse("World", "inset", "must be a texture index or -1 (none), got " + std::to_string(w.inset));
+    if (!(w.inset_extent >= 0) || !std::isfinite(w.inset_extent))
+        refuse("World", "inset_extent", "must be a finite number >= 0");
+    for (float x : w.inset_frame)
+        if (!std::isfinite(x)) refuse("World", "inset_frame", "has a non-finite value");
+    if (!orthonormal_rows(w.inset_frame)) refuse("World", "inset_frame", "must have orthonormal rows (row-major 3 x 3)");
 }
 
 void prepare_light(Light& l, const std::string& where) {

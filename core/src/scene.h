@@ -140,10 +140,21 @@ public:
     Vec3 background() const { return background_; }
     const World& world() const { return world_; }
     // What a ray that misses everything sees: the environment texture, else the background.
+    // (World.inset, where set and d falls in its square, instead of the environment)
     Vec3 miss(const Vec3& d) const {
         if (world_.environment < 0) return background_;
+        const Vec3 e = to_environment(d);
         float u, v;
-        equirect_uv(to_environment(d), u, v);
+        if (world_.inset >= 0) {
+            const Vec3 l = rotate(world_.inset_frame, e);
+            if (l.z > 0 && std::abs(l.x) < world_.inset_extent * l.z && std::abs(l.y) < world_.inset_extent * l.z) {
+                u = 0.5f + 0.5f * l.x / (l.z * world_.inset_extent);
+                v = 0.5f + 0.5f * l.y / (l.z * world_.inset_extent);
+                const Texture& t = textures_[size_t(world_.inset)];
+                return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
+            }
+        }
+        equirect_uv(e, u, v);
         const Texture& t = textures_[size_t(world_.environment)];
         return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
     }

@@ -2,6 +2,7 @@
 // coordinates of a hit, and materials evaluated at a hit. See scene.h.
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "noise.h"
 #include "procedural.h"
@@ -79,19 +80,23 @@ void Scene::check_textures() {
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
     }
     validate_world(world_);
-    check_index(world_.environment, "World.environment");
-    if (world_.environment >= 0 && !plain_image(textures_[size_t(world_.environment)]))
-        bad("World.environment = " + std::to_string(world_.environment) +
-            " names a procedural texture or one with coordinates or a vector_transform: an environment is an image "
-            "looked up along the ray's direction");
-    if (world_.environment >= 0 && uv_mapped(textures_[size_t(world_.environment)]))
-        bad("World.environment = " + std::to_string(world_.environment) +
-            " names a texture with a uv_transform, which an environment does not use: "
-            "turn it with World.environment_rotation");
-    if (world_.environment >= 0 && adjusts(textures_[size_t(world_.environment)]))
-        bad("World.environment = " + std::to_string(world_.environment) +
-            " names a texture with a channel, gain, bias or clamp, which an environment does not use: "
-            "scale it with World.environment_strength");
+    for (const auto& [index, name] : {std::pair{world_.environment, "World.environment"}, std::pair{world_.inset, "World.inset"}}) {
+        check_index(index, name);
+        if (index < 0) continue;
+        const Texture& t = textures_[size_t(index)];
+        if (!plain_image(t))
+            bad(std::string(name) + " = " + std::to_string(index) +
+                " names a procedural texture or one with coordinates or a vector_transform: an environment is an image "
+                "looked up along the ray's direction");
+        if (uv_mapped(t))
+            bad(std::string(name) + " = " + std::to_string(index) +
+                " names a texture with a uv_transform, which an environment does not use: "
+                "turn it with World.environment_rotation");
+        if (adjusts(t))
+            bad(std::string(name) + " = " + std::to_string(index) +
+                " names a texture with a channel, gain, bias or clamp, which an environment does not use: "
+                "scale it with World.environment_strength");
+    }
     env_light_ = world_.environment_light && world_.environment >= 0;
     env_rotated_ = world_.environment_rotation != std::array<float, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (env_light_) {

@@ -17,6 +17,13 @@
 // transparent: camera rays that miss see nothing (RGB 0 with alpha 0, a
 // premultiplied transparent film, Blender's Film > Transparent); mirror and
 // refraction rays still see the background or environment.
+// inset: a texture showing a small part of the environment in detail (a Sky
+// Texture's sun, a few texels of the environment wide), -1 = none: rays that miss
+// see it instead of the environment within the square |x / z|, |y / z| <
+// inset_extent of the frame inset_frame (rows: the x, y and z axes, orthonormal,
+// in the environment image's frame; z the square's centre), its texture's u along
+// x and v along y. Lighting still reads the environment alone, so the inset must
+// show the same light: it only adds the detail the environment's texels blur.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -33,6 +40,9 @@ struct World {
     std::array<float, 9> environment_rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
     bool environment_light = false;
     bool transparent = false;
+    int32_t inset = -1;
+    std::array<float, 9> inset_frame{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    float inset_extent = 0;
 };
 
 // R d and R^T d for a row-major 3 x 3 matrix R.

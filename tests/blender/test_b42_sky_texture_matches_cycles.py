@@ -2,7 +2,8 @@
 Debian's 3.4: the node as Blender adds it (Nishita in 3.x-4.x, Multiple Scattering in 5.0),
 5.0's Single Scattering, a low sun turned round with every atmosphere setting changed, no sun
 disc, a Mapping node turning the sky (read where Blender gives the node a Vector input: without
-the disc), the Preetham type (sun direction and turbidity), and an unread type (Hosek / Wilkie: the
+the disc), the Preetham type (sun direction and turbidity), the sun's disc seen through a long lens,
+and an unread type (Hosek / Wilkie: the
 viewport colour). Before, every Sky Texture was a
 warning and the viewport colour. Cycles renders direct light only (max bounces 0), as Gridwalk
 does. Scenes: sky_scenes.sky_scene; the numbers behind the sky: test81."""
@@ -46,6 +47,25 @@ def scenes(module_blender, tmp_path_factory):
 def panoramas(module_blender, tmp_path_factory):
     return _renders(module_blender, tmp_path_factory, ("default", "evening", "preetham"), panorama=True,
                     resolution=[192, 96])
+
+
+@pytest.fixture(scope="module")
+def sun_views(module_blender, tmp_path_factory):
+    return _renders(module_blender, tmp_path_factory, ("default",), sun_view=True, resolution=[96, 64])
+
+
+def test_the_sun_seen_through_a_long_lens_is_cycles_disc(sun_views):
+    """The disc (13 pixels across) with its limb darkening and redder lower edge, as Cycles
+    draws it: the sky's image alone blurred it into a square of three texels (about 20 pixels)."""
+    ours, cycles = sun_views[("GRIDWALK", "default")], sun_views[("CYCLES", "default")]
+    disc = cycles.sum(-1) > 1000 * np.median(cycles.sum(-1))
+    assert 80 < disc.sum() < 200                                         # (about pi 6.5^2 pixels)
+    assert ((ours.sum(-1) > 1000 * np.median(cycles.sum(-1))) != disc).sum() <= 0.15 * disc.sum()
+    assert np.allclose(ours.sum((0, 1)), cycles.sum((0, 1)), rtol=0.03)
+    a, b = (x.sum(-1).ravel() for x in (ours, cycles))
+    assert np.corrcoef(a, b)[0, 1] > 0.98
+    centre, edge = disc & np.roll(disc, 3, 0) & np.roll(disc, -3, 0), disc & ~np.roll(disc, 2, 0)
+    assert ours[centre].sum(-1).mean() > 1.3 * ours[edge].sum(-1).mean()   # (the limb: darker)
 
 
 @pytest.mark.parametrize("variant", ["default", "evening", "preetham"])

@@ -394,13 +394,22 @@ class World(Record):
     64 x 32 normals of its exact cosine integral, interpolated), added to
     ambient and likewise unoccluded unless RenderSettings.world_shadows. transparent:
     camera rays that miss see nothing (RGB 0, alpha 0: a premultiplied
-    transparent film); reflections still see the environment."""
+    transparent film); reflections still see the environment. inset: a texture
+    index showing a small part of the environment in detail (a sky's sun:
+    gridwalk.sky.sky_inset), -1 none: rays that miss see it within the square
+    |x / z|, |y / z| < inset_extent of inset_frame (9 numbers, row-major
+    orthonormal rows: the square's x, y and centre z axes in the environment
+    image's frame), its u along x and v along y; lighting reads the environment
+    alone."""
     ambient: tuple = _WORLD.ambient
     environment: int = _WORLD.environment
     environment_strength: float = _WORLD.environment_strength
     environment_light: bool = _WORLD.environment_light
     environment_rotation: tuple = tuple(_WORLD.environment_rotation)
     transparent: bool = _WORLD.transparent
+    inset: int = _WORLD.inset
+    inset_frame: tuple = tuple(_WORLD.inset_frame)
+    inset_extent: float = _WORLD.inset_extent
     CORE = _core.World
 
 

@@ -374,16 +374,9 @@ def _preetham_image(sky: _Preetham, width: int) -> np.ndarray:
     return image
 
 
-def sky_image(model: str = "single", *, blender_version=(4, 5), sun_elevation: float = math.radians(15.0),
-              sun_rotation: float = 0.0, sun_disc: bool = True, sun_size: float = math.radians(0.545),
-              sun_intensity: float = 1.0, altitude: float = 0.0, air_density: float = 1.0,
-              dust_density: float = 1.0, ozone_density: float = 1.0, sun_direction=(0.0, 0.0, 1.0),
-              turbidity: float = 2.2, width: int = 2048) -> np.ndarray:
-    """The sky as a float32 (width / 2, width, 3) equirectangular image (row 0 at the
-    zenith; linear Rec.709). The arguments are the Sky Texture node's (radians, metres;
-    dust_density is 5.0's Aerosol Density; sun_direction and turbidity are the Preetham
-    model's, the others the other models'); blender_version picks the Blender whose
-    Cycles it matches."""
+def _settings(model, blender_version, sun_elevation, sun_rotation, sun_disc, sun_size, sun_intensity, altitude,
+              air_density, dust_density, ozone_density, sun_direction, turbidity, width):
+    """The sky these settings describe (_Sky or _Preetham), and the image width; ValueError for bad ones."""
     if model not in MODELS:
         raise ValueError(f"sky model must be one of {list(MODELS)}, got {model!r}")
     values = dict(sun_elevation=sun_elevation, sun_rotation=sun_rotation, sun_size=sun_size,
@@ -397,15 +390,66 @@ def sky_image(model: str = "single", *, blender_version=(4, 5), sun_elevation: f
     if width < 8 or width % 2:
         raise ValueError(f"sky image width must be an even number of at least 8, got {width}")
     if model == "preetham":
-        return _preetham_image(_Preetham(sun_direction, turbidity), width)
-    sky = _Sky(model, blender_version, sun_elevation, sun_rotation, sun_disc, max(sun_size, 0.0),
-               max(sun_intensity, 0.0), max(altitude, 0.0), max(air_density, 0.0), max(dust_density, 0.0),
-               max(ozone_density, 0.0))
+        return _Preetham(sun_direction, turbidity), width
+    return _Sky(model, blender_version, sun_elevation, sun_rotation, sun_disc, max(sun_size, 0.0),
+                max(sun_intensity, 0.0), max(altitude, 0.0), max(air_density, 0.0), max(dust_density, 0.0),
+                max(ozone_density, 0.0)), width
+
+
+_DEFAULTS = dict(blender_version=(4, 5), sun_elevation=math.radians(15.0), sun_rotation=0.0, sun_disc=True,
+                 sun_size=math.radians(0.545), sun_intensity=1.0, altitude=0.0, air_density=1.0, dust_density=1.0,
+                 ozone_density=1.0, sun_direction=(0.0, 0.0, 1.0), turbidity=2.2, width=2048)
+
+
+def sky_image(model: str = "single", **settings) -> np.ndarray:
+    """The sky as a float32 (width / 2, width, 3) equirectangular image (row 0 at the
+    zenith; linear Rec.709). settings (keywords, defaults as Blender adds the node):
+    the Sky Texture node's sun_elevation, sun_rotation, sun_disc, sun_size,
+    sun_intensity, altitude, air_density, dust_density (5.0's Aerosol Density) and
+    ozone_density (radians, metres), the Preetham model's sun_direction and
+    turbidity; blender_version, the Blender whose Cycles it matches; width."""
+    sky, width = _settings(model, **{**_DEFAULTS, **settings})
+    if isinstance(sky, _Preetham):
+        return _preetham_image(sky, width)
     height = width // 2
     el = (0.5 - (np.arange(height) + 0.5) / height) * math.pi
     u = sky.table_u((0.5 - (np.arange(width) + 0.5) / width) * 2 * math.pi)
     xyz = sky.sky(el[:, None], lambda v: _grid_bilinear(sky.table, v[:, 0], u))
     image = _to_rgb(xyz).astype(np.float32)
     if sky.sun_reach() > 0:
-        (_splat_sun if sky.diameter < 8 * math.pi / height else _edge_sun)(image, sky, width)
+        (_splat_sun if _small_disc(sky, width) else _edge_sun)(image, sky, width)
     return image
+
+
+def _small_disc(sky, width: int) -> bool:
+    """Whether the sun's disc is under 8 texels of a width x width / 2 image across."""
+    return sky.diameter < 8 * math.pi / (width // 2)
+
+
+_INSET_TEXELS = 48      # across the sun's disc
+
+
+def sky_inset(model: str = "single", **settings):
+    """The sun as sky_image(model, **settings) blurs it, in detail: (pixels, frame, extent)
+    for World.inset / inset_frame / inset_extent, or None (no disc, or a disc the image
+    already shows 8 texels wide or more). The inset is the square of half-angle the
+    disc's radius + 3 texels about the sun, the disc 48 texels across (at most 512
+    texels in all), each the radiance at its centre (the sky and sun of sky_image)."""
+    sky, width = _settings(model, **{**_DEFAULTS, **settings})
+    if isinstance(sky, _Preetham) or sky.sun_reach() <= 0 or not _small_disc(sky, width):
+        return None
+    h = sky.sun_reach()
+    half = h + 3 * math.pi / (width // 2)
+    n = int(min(512, max(16, math.ceil(_INSET_TEXELS * half / h))))
+    axis = sky.sun
+    x_axis = np.cross([0.0, 0.0, 1.0] if abs(axis[2]) < 0.9 else [1.0, 0.0, 0.0], axis)
+    x_axis /= np.linalg.norm(x_axis)
+    y_axis = np.cross(axis, x_axis)
+    extent = math.tan(half)
+    t = (2 * (np.arange(n) + 0.5) / n - 1) * extent
+    x, y = t[None, :], -t[:, None]                               # (row 0 at the top: v = 1)
+    d = x[..., None] * x_axis + y[..., None] * y_axis + axis
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    pixels = sky.radiance(d).astype(np.float32)
+    frame = tuple(float(v) for v in np.concatenate([x_axis, y_axis, axis]))
+    return pixels, frame, extent

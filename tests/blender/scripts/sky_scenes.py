@@ -55,12 +55,19 @@ def _diffuse(name, grey):
     return shader_material(name, "ShaderNodeBsdfDiffuse", [("Color", (grey, grey, grey, 1.0))])
 
 
-def sky_scene(resolution=(96, 64), variant="default", panorama=False):
+def sky_scene(resolution=(96, 64), variant="default", panorama=False, sun_view=False):
     """panorama: the sky alone through an equirectangular panorama, looking along +X (every
-    direction, the sun's disc included)."""
+    direction, the sun's disc included). sun_view: the sky alone through a 500 mm lens aimed
+    at the default sun (15 degrees up, along +Y): its disc 13 pixels of 96 across."""
     scene = reset(resolution=tuple(resolution))
     scene.cycles.max_bounces = 0        # (direct light only in Cycles too: Gridwalk has no diffuse interreflection)
     _sky_world(variant)
+    if sun_view:
+        scene.camera.location = (0.0, 0.0, 1.0)
+        scene.camera.rotation_euler = (math.radians(105), 0.0, 0.0)
+        scene.camera.data.lens = 500.0
+        bpy.context.view_layer.update()
+        return {}
     if panorama:
         data = scene.camera.data
         data.type = "PANO"

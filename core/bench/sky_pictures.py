@@ -22,6 +22,8 @@ ROWS = (   # (Blender, scene options, label)
     ("bpy45", {"variant": "evening"}, "Blender 4.5: sun 6 degrees up, turned 140 degrees; 2 km up, more air, dust, ozone"),
     ("bpy45", {"variant": "default", "panorama": True, "resolution": [256, 128]},
      "Blender 4.5: the default sky in every direction (equirectangular; the sun at the left quarter)"),
+    ("bpy45", {"variant": "default", "sun_view": True, "resolution": [192, 128]},
+     "Blender 4.5: the sun through a 500 mm lens (exposure for the disc: its darker limb, redder lower edge)"),
     ("bpy50", {"variant": "default"}, "Blender 5.0: the Sky Texture as added (Multiple Scattering)"),
     ("bpy50", {"variant": "evening"}, "Blender 5.0: Multiple Scattering, the evening settings"),
     ("bpy50", {"variant": "default", "panorama": True, "resolution": [256, 128]},
@@ -42,9 +44,11 @@ def main():
             opts = {"GRIDWALK": options, "CYCLES": options}
             ours, cycles = (render("sky", e, opts[e], Path(tmp), blender) for e in ("GRIDWALK", "CYCLES"))
             exposure = 0.45 / np.median(cycles[..., :3].mean(-1))
+            if scene.get("sun_view"):                              # (the disc, not the sky around it)
+                exposure = 0.9 / cycles[..., :3].mean(-1).max()
             # (NCC with radiance clipped at 20 x the median: the sun, a third of a pixel wide, is a few
             # samples' noise in either engine and would weigh more than the rest of the picture)
-            top = 20 * np.median(cycles[..., :3])
+            top = np.inf if scene.get("sun_view") else 20 * np.median(cycles[..., :3])
             rows.append((label, to_srgb(ours * exposure), to_srgb(cycles * exposure),
                          ncc(np.minimum(ours, top), np.minimum(cycles, top))))
             print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")

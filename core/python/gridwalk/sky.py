@@ -27,11 +27,12 @@ layout and the lookup of the Blender version asked for (blender_version):
 
 The sun's disc is darker at its limb (Cycles' 0.6 coefficient) and redder at its
 lower edge. Each texel holds the radiance at its centre, the sun's texels the
-mean over their solid angle: a disc
-under 8 texels across is 65,536 points of equal solid angle, each adding its
-share of the light to its texel (exact at any resolution, at the poles too); a
-larger disc's texels take their centre's radiance inside it and the mean of
-16 x 16 directions on its edge.
+mean over their solid angle: a disc under 8 texels across is 65,536 points of
+equal solid angle, each adding its share of the light to its texel (exact at
+any resolution, at the poles too); a larger disc's texels take their centre's
+radiance inside it and the mean of 16 x 16 directions on its edge. Such a
+small disc is a blur of a few texels to a ray that sees it, so sky_inset()
+also draws it 48 texels across, for World(inset=...).
 """
 from __future__ import annotations
 

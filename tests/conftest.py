@@ -13,14 +13,21 @@ if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # The longest files start first. pytest-xdist (--dist=loadfile) hands whole files to its
-# workers in collection order, so a long file collected late (the sanitizer run, about 8
-# minutes of CI's 2 cores, sorts after the Blender tests and most others) was the last to
-# finish, minutes after the rest. Longest first is the usual rule for such a schedule.
-LONGEST_FIRST = ("tests/test40_fuzz_and_sanitizers.py", "tests/blender/test_b23_gui_viewport.py",
-                 "tests/test52_instruction_counts_run.py", "tests/test51_speed_vs_error_runs.py",
-                 "tests/test50_benchmark_runs.py")
+# workers, by default the files with the most tests first; a long file of few tests (the
+# sanitizer run, about 10 minutes of CI's 2 cores, in 4 tests) then started half an hour into
+# CI and ended minutes after the rest. pyproject.toml turns xdist's order off
+# (--no-loadscope-reorder), and this hook gives its own: the files known to be long, then
+# xdist's rule (most tests first) for the others. Longest first is the usual rule for such a
+# schedule.
+LONGEST_FIRST = ("tests/test83_the_core_runs_clean_under_asan_and_ubsan.py", "tests/blender/test_b23_gui_viewport.py",
+                 "tests/test40_fuzz_and_sanitizers.py", "tests/test52_instruction_counts_run.py",
+                 "tests/test51_speed_vs_error_runs.py", "tests/test50_benchmark_runs.py")
 
 
 def pytest_collection_modifyitems(config, items):
+    files = [item.nodeid.split("::")[0] for item in items]
+    count = {f: files.count(f) for f in set(files)}
     rank = {path: i for i, path in enumerate(LONGEST_FIRST)}
-    items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))
+    order = {f: (rank.get(f, len(rank)), -count[f]) for f in count}
+    keyed = sorted(zip(items, files), key=lambda pair: order[pair[1]])      # (stable: a file's own order kept)
+    items[:] = [item for item, _ in keyed]

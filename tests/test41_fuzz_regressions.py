@@ -7,7 +7,7 @@ cause of each crash is also tested directly through the Scene API.
 
 Every case runs in its own Python process, so that a crash in the native core
 fails that one test instead of killing the test session; the child inherits
-the environment, so under the sanitizer run of test40 it uses the ASan core.
+the environment, so under the sanitizer run of test83 it uses the ASan core.
 """
 import json
 import os

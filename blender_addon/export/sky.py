@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import zlib
 
-from gridwalk.sky import sky_image, sky_inset
+from gridwalk.sky import sky_environment
 
 MODELS = {"NISHITA": "single", "SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple",
           "PREETHAM": "preetham"}
@@ -44,8 +44,7 @@ def _bake(key, model: str, version: tuple, settings: dict):
     if key not in _RECENT:
         while len(_RECENT) >= _RECENT_SIZE:
             del _RECENT[next(iter(_RECENT))]
-        kwargs = dict(blender_version=version, width=WIDTH, **settings)
-        _RECENT[key] = (sky_image(model, **kwargs), sky_inset(model, **kwargs))
+        _RECENT[key] = sky_environment(model, blender_version=version, width=WIDTH, **settings)
     return _RECENT[key]
 
 

@@ -409,7 +409,16 @@ def sky_image(model: str = "single", **settings) -> np.ndarray:
     sun_intensity, altitude, air_density, dust_density (5.0's Aerosol Density) and
     ozone_density (radians, metres), the Preetham model's sun_direction and
     turbidity; blender_version, the Blender whose Cycles it matches; width."""
+    return _image(*_settings(model, **{**_DEFAULTS, **settings}))
+
+
+def sky_environment(model: str = "single", **settings):
+    """(sky_image(model, **settings), sky_inset(model, **settings)) from one table."""
     sky, width = _settings(model, **{**_DEFAULTS, **settings})
+    return _image(sky, width), _inset(sky, width)
+
+
+def _image(sky, width: int) -> np.ndarray:
     if isinstance(sky, _Preetham):
         return _preetham_image(sky, width)
     height = width // 2
@@ -436,7 +445,10 @@ def sky_inset(model: str = "single", **settings):
     already shows 8 texels wide or more). The inset is the square of half-angle the
     disc's radius + 3 texels about the sun, the disc 48 texels across (at most 512
     texels in all), each the radiance at its centre (the sky and sun of sky_image)."""
-    sky, width = _settings(model, **{**_DEFAULTS, **settings})
+    return _inset(*_settings(model, **{**_DEFAULTS, **settings}))
+
+
+def _inset(sky, width: int):
     if isinstance(sky, _Preetham) or sky.sun_reach() <= 0 or not _small_disc(sky, width):
         return None
     h = sky.sun_reach()

@@ -135,7 +135,7 @@ def test_worst_case_distributions_build_small_structures():
 
 def cancel_build(V, T, settings, at_seconds, python_threads):
     """Builds, asking the build to stop once at_seconds have passed: (latency in seconds from the first
-    yes to the build's stop, or None if the build finished first). Checks that no Python thread takes part
+    yes to the build's stop, or None if the build finished first; the build's seconds). Checks that no Python thread takes part
     and that the native build thread is seen at the polls."""
     sc = gw.Scene(vertices=V, triangles=T)
     asked, seen = [], []
@@ -159,7 +159,7 @@ def cancel_build(V, T, settings, at_seconds, python_threads):
     # poll but maybe the last (the build can end between a wait and its poll).
     assert seen and all(count == python_threads for count, _ in seen), seen
     assert all(named for _, named in seen[:-1]) and any(named for _, named in seen), seen
-    return latency
+    return latency, time.perf_counter() - start
 
 
 def test_build_stops_within_100ms_of_a_cancel():
@@ -187,10 +187,15 @@ def test_build_stops_within_100ms_of_a_cancel():
             whole = min(whole, time.perf_counter() - start)
         cancelled = []
         for fraction in (0.05, 0.2, 0.35, 0.5, 0.65, 0.8):
+            # A late stop is tried again; so is a build that finished before the cancel, at the
+            # fraction of its own (faster) time: the two timing builds may both have been slowed.
             latencies = []
             for _ in range(3):
-                latencies.append(cancel_build(V, T, settings, fraction * whole, python_threads))
-                if latencies[-1] is None or latencies[-1] < 0.1:
+                latency, seconds = cancel_build(V, T, settings, fraction * whole, python_threads)
+                latencies.append(latency)
+                if latency is None:
+                    whole = min(whole, seconds)
+                elif latency < 0.1:
                     break
             if latencies[-1] is not None:
                 assert latencies[-1] < 0.1, \

@@ -144,8 +144,8 @@ class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):
 
 
 class GRIDWALK_CAMERA_PT_panorama(GridwalkPanel, bpy.types.Panel):
-    """A Panoramic camera's type and range, which Blender's Lens panel draws for Cycles only
-    (the default type, Fisheye Equisolid, is one Gridwalk refuses: the user must reach it)."""
+    """A Panoramic camera's type and the settings of that type (export/camera.py's
+    PANORAMAS), which Blender's Lens panel draws for Cycles only."""
     bl_label = "Panorama"
     bl_context = "data"
     bl_parent_id = "DATA_PT_lens"
@@ -155,25 +155,24 @@ class GRIDWALK_CAMERA_PT_panorama(GridwalkPanel, bpy.types.Panel):
         return super().poll(context) and context.camera is not None and context.camera.type == "PANO"
 
     def draw(self, context):
-        cam = context.camera
-        # (Blender 4.0+ keeps these on the camera; 3.x on Cycles' camera settings, where Cycles is enabled)
-        holder = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
+        from .export.camera import PANORAMAS, panorama_settings
+        holder = panorama_settings(context.camera)
         layout = self.layout
         layout.use_property_split = True
-        if holder is None or not hasattr(holder, "panorama_type"):
-            layout.label(text="Equirectangular (enable Cycles to choose the panorama type)")
+        if holder is None:
+            layout.label(text="Enable the Cycles add-on to set up panoramas (Blender 3.x keeps them there)",
+                         icon="ERROR")
             return
         col = layout.column()
         col.prop(holder, "panorama_type")
-        if holder.panorama_type == "EQUIRECTANGULAR":
-            sub = col.column(align=True)
-            sub.prop(holder, "latitude_min", text="Latitude Min")
-            sub.prop(holder, "latitude_max", text="Max")
-            sub = col.column(align=True)
-            sub.prop(holder, "longitude_min", text="Longitude Min")
-            sub.prop(holder, "longitude_max", text="Max")
-        else:
-            col.label(text="Gridwalk renders Equirectangular panoramas only", icon="ERROR")
+        names = PANORAMAS.get(holder.panorama_type, (None, ()))[1]
+        if not names and holder.panorama_type not in PANORAMAS:
+            col.label(text="Gridwalk does not render this panorama type", icon="ERROR")
+        sub = None
+        for name in names:
+            if name.endswith(("_min", "_k0")) or sub is None:   # (a range, or the coefficients, kept together)
+                sub = col.column(align=True)
+            sub.prop(holder, name)
 
 
 classes = (GRIDWALK_RENDER_PT_sampling, GRIDWALK_RENDER_PT_viewport, GRIDWALK_RENDER_PT_acceleration,

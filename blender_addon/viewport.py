@@ -379,17 +379,17 @@ def view_from_context(engine, context, depsgraph):
         camera_frame(cam_obj)          # a camera without a view (zero scale, NaN) raises CameraError, named
         try:
             lens = convert_camera(cam_obj, scene.render)
-        except CameraError:            # (an unsupported panorama: its frame, in perspective)
+        except CameraError:            # (a panorama Gridwalk cannot render: its frame, in perspective)
             lens = None
         if lens is not None:
             clip = (lens.hither, lens.yon)
             extra = dict(aperture=lens.aperture, focus_distance=lens.focus_distance)
-            if lens.projection == "equirectangular":
+            if lens.projection not in ("perspective", "orthographic"):
                 render = scene.render
                 frame = frame_in_region(cam_obj.calc_matrix_camera(
                     depsgraph, x=lens.width, y=lens.height, scale_x=render.pixel_aspect_x,
                     scale_y=render.pixel_aspect_y), window, width, height)
-                extra.update(projection="equirectangular", **stretch_panorama(lens, frame, width, height))
+                extra.update(stretch_panorama(lens, frame, width, height))
     key = (width, height, pixel, view.tobytes(), window.tobytes(), tuple(clip), repr(extra))
     camera = view_camera(view, window, -(-width // pixel), -(-height // pixel), clip=clip, **extra)
     return key, camera, pixel

@@ -166,10 +166,16 @@ def test_camera_far_from_the_origin_keeps_its_direction():
 
 @pytest.mark.parametrize("changes, message", [
     (dict(projection="fisheye"), "Camera.projection must be one of"),
+    (dict(projection="fisheye_equisolid", fisheye_lens=0.0), "Camera.fisheye_lens must be > 0 mm"),
+    (dict(projection="fisheye_equidistant", fisheye_fov=float("inf")), "Camera.fisheye_fov must be finite"),
+    (dict(projection="fisheye_polynomial", polynomial=(0, 1, 0, float("nan"), 0)), "Camera.polynomial must be finite"),
+    (dict(projection="fisheye_polynomial", sensor=(36, -1)), "Camera.sensor sizes must be > 0 mm"),
+    (dict(projection="central_cylindrical", cylinder_height=(2, 2)), "Camera.cylinder_height must span a range"),
+    (dict(projection="mirror_ball", window=(0, 1, 0.5, 0.5)), "Camera.window must span a range"),
     (dict(projection="orthographic", ortho_height=0.0), "Camera.ortho_height must be > 0"),
     (dict(projection="orthographic", ortho_height=1e-3, eye=(1e7, 0, 0), target=(1e7, 1, 0)),
      "Camera.ortho_height .* too small for float32 ray origins"),
-    (dict(projection="equirectangular", longitude=(1.0, 1.0)), "Camera.longitude must be .min, max. with min < max"),
+    (dict(projection="equirectangular", longitude=(1.0, 1.0)), "Camera.longitude must span a range"),
     (dict(projection="equirectangular", latitude=(0.0, float("nan"))), "Camera.latitude must be finite"),
     (dict(pixel_aspect=0.0), r"Camera.pixel_aspect must be in \[1e-4, 1e4\]"),
     (dict(hither=2.0, yon=1.0), r"Camera.yon must be greater than Camera.hither \(2\)"),

@@ -3,6 +3,7 @@
 frustums built here from their planes give the rays the planes say; a
 camera frame inside a region is found where it is; a panorama stretched over
 the region keeps the frame's angles at the frame's edges."""
+import dataclasses
 import math
 
 import numpy as np
@@ -75,16 +76,17 @@ def test_camera_frame_is_found_in_the_region():
     assert (x0, x1) == pytest.approx((10, 30)) and (y0, y1) == pytest.approx((0, 20))
 
 
-def test_panorama_stretched_over_the_region_keeps_the_frame_angles():
-    pano = gw.Camera(projection="equirectangular", longitude=(-1.0, 2.0), latitude=(-0.5, 0.7), width=100,
-                     height=50)
+@pytest.mark.parametrize("projection", ["equirectangular", "fisheye_equisolid", "mirror_ball",
+                                        "central_cylindrical"])
+def test_panorama_stretched_over_the_region_keeps_the_frame_angles(projection):
+    pano = gw.Camera(projection=projection, longitude=(-1.0, 2.0), latitude=(-0.5, 0.7), width=100,
+                     height=50, shift=(0.05, -0.1), fisheye_lens=9.0, sensor=(30.0, 15.0),
+                     cylinder_height=(-0.4, 0.9))
     frame = (50, 15, 150, 75)                                  # region pixels, from the bottom left
-    ranges = stretch_panorama(pano, frame, 200, 90)
-    cam = gw.Camera(projection="equirectangular", eye=(0, 0, 0), target=(0, 1, 0), width=200, height=90,
-                    **ranges)
-    ref = gw.Camera(projection="equirectangular", eye=(0, 0, 0), target=(0, 1, 0), width=100, height=50,
-                    longitude=pano.longitude, latitude=pano.latitude)
-    # the frame's corners (rows from the top: the region's 90 - 75 = 15 and 90 - 15 = 75)
-    _, d_region, _, _ = cam.rays([50, 150, 50], [15, 15, 75])
-    _, d_frame, _, _ = ref.rays([0, 100, 0], [0, 0, 50])
+    fields = stretch_panorama(pano, frame, 200, 90)
+    cam = gw.Camera(eye=(0, 0, 0), target=(0, 1, 0), width=200, height=90, **fields)
+    ref = dataclasses.replace(pano, eye=(0, 0, 0), target=(0, 1, 0))
+    # points of the frame (rows from the top: the region's 90 - 75 = 15 and 90 - 15 = 75)
+    _, d_region, _, _ = cam.rays([50, 150, 50, 100, 80], [15, 15, 75, 45, 30])
+    _, d_frame, _, _ = ref.rays([0, 100, 0, 50, 30], [0, 0, 50, 25, 12.5])
     np.testing.assert_allclose(d_region, d_frame, atol=1e-5)

@@ -16,9 +16,12 @@ w * a wide for h high (its sensor fit compares w * a with h): every length
 above is in these view units, and Camera.pixel_aspect = a.
 
 Orthographic: ortho_scale spans the fitted side, so the view's height is
-ortho_height = ortho_scale * h / side. Panoramic: the equirectangular
-panorama's latitude and longitude ranges (Blender 4.x: on the camera; 3.x:
-Cycles' camera settings). Clipping: clip_start and clip_end become hither
+ortho_height = ortho_scale * h / side. Panoramic: every type Cycles renders
+(PANORAMAS; Blender 4.x keeps their settings on the camera, 3.x in Cycles'
+camera settings), with the lens shift in units of the image, as Cycles shifts
+a panorama. The equisolid and polynomial fisheyes measure the image on the
+sensor as Cycles does: the sensor size spans the fitted side (AUTO: the
+larger, with sensor_width). Clipping: clip_start and clip_end become hither
 and yon. A camera with a negative scale (negative determinant) is mirrored,
 as Cycles mirrors it.
 
@@ -112,17 +115,64 @@ def _focus_distance(cam, eye, forward) -> float | None:
     return max(float(dof.focus_distance), 1e-6)
 
 
-def panorama(cam, name: str) -> dict:
-    """The equirectangular panorama's ranges (Blender 4.x keeps them on the
-    camera; 3.x on the camera's Cycles settings)."""
-    settings = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
-    kind = getattr(settings, "panorama_type", None)
-    if kind != "EQUIRECTANGULAR":
-        what = f"the {kind.replace('_', ' ').lower()} panorama" if kind else "a panorama (enable the Cycles add-on)"
-        raise CameraError(f"Camera {name!r} uses {what}; Gridwalk renders the equirectangular panorama only "
-                          "(Camera properties > Lens > Panorama Type)")
-    return dict(longitude=(settings.longitude_min, settings.longitude_max),
-                latitude=(settings.latitude_min, settings.latitude_max))
+# Blender's panorama types: (Camera.projection, the settings read; ui.py's panel draws them).
+PANORAMAS = {
+    "EQUIRECTANGULAR": ("equirectangular", ("latitude_min", "latitude_max", "longitude_min", "longitude_max")),
+    "FISHEYE_EQUIDISTANT": ("fisheye_equidistant", ("fisheye_fov",)),
+    "FISHEYE_EQUISOLID": ("fisheye_equisolid", ("fisheye_lens", "fisheye_fov")),
+    "FISHEYE_LENS_POLYNOMIAL": ("fisheye_polynomial",
+                                ("fisheye_fov",) + tuple(f"fisheye_polynomial_k{i}" for i in range(5))),
+    "MIRRORBALL": ("mirror_ball", ()),
+    "EQUIANGULAR_CUBEMAP_FACE": ("cubemap_face", ()),
+    "CENTRAL_CYLINDRICAL": ("central_cylindrical",
+                            tuple(f"central_cylindrical_range_{k}" for k in ("u_min", "u_max", "v_min", "v_max"))
+                            + ("central_cylindrical_radius",)),
+}
+
+
+def panorama_settings(cam):
+    """What holds a panoramic camera's settings: the camera (Blender 4.0+), its
+    Cycles settings (3.x, with the Cycles add-on enabled), or None."""
+    holder = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
+    return holder if hasattr(holder, "panorama_type") else None
+
+
+def panorama(cam, name: str, width: int, height: int, aspect: float) -> dict:
+    """Camera fields of a panoramic camera, as Cycles projects its type."""
+    settings = panorama_settings(cam)
+    if settings is None:
+        raise CameraError(f"Camera {name!r} is panoramic, and Blender 3.x keeps the panorama's settings in the "
+                          "Cycles add-on: enable Cycles (Preferences > Add-ons) to render it")
+    kind = settings.panorama_type
+    if kind not in PANORAMAS:
+        raise CameraError(f"Camera {name!r} uses the {kind.replace('_', ' ').title()} panorama, which Gridwalk "
+                          "does not render (Camera properties > Lens > Panorama Type)")
+    projection, names = PANORAMAS[kind]
+    value = {key: float(getattr(settings, key)) for key in names}
+    for low in (key for key in names if key.endswith("_min")):   # (reversed ranges flip the image, as in Cycles)
+        if value[low] == value[low[:-4] + "_max"]:
+            label = settings.bl_rna.properties[low].name
+            raise CameraError(f"Camera {name!r}: the panorama's {label} and its maximum are equal "
+                              f"({value[low]:g}), so the image spans nothing: set a range")
+    fields = dict(projection=projection, shift=(float(cam.shift_x), float(cam.shift_y)))
+    if kind == "EQUIRECTANGULAR":
+        fields.update(longitude=(value["longitude_min"], value["longitude_max"]),
+                      latitude=(value["latitude_min"], value["latitude_max"]))
+    elif kind == "CENTRAL_CYLINDRICAL":
+        radius = max(value["central_cylindrical_radius"], 1e-5)
+        fields.update(longitude=(value["central_cylindrical_range_u_min"], value["central_cylindrical_range_u_max"]),
+                      cylinder_height=(value["central_cylindrical_range_v_min"] / radius,
+                                       value["central_cylindrical_range_v_max"] / radius))
+    elif kind.startswith("FISHEYE"):
+        fields["fisheye_fov"] = value["fisheye_fov"]
+        if kind != "FISHEYE_EQUIDISTANT":
+            sensor, side = fitted_side(cam, width, height, aspect)
+            fields["sensor"] = (sensor * width * aspect / side, sensor * height / side)
+        if kind == "FISHEYE_EQUISOLID":
+            fields["fisheye_lens"] = value["fisheye_lens"]
+        elif kind == "FISHEYE_LENS_POLYNOMIAL":
+            fields["polynomial"] = tuple(value[f"fisheye_polynomial_k{i}"] for i in range(5))
+    return fields
 
 
 def camera_frame(cam_obj) -> dict:
@@ -160,7 +210,7 @@ def convert_camera(cam_obj, render) -> Camera:
     fields = dict(frame, width=width, height=height, pixel_aspect=aspect, hither=float(cam.clip_start),
                   yon=float(cam.clip_end))
     if cam.type == "PANO":
-        fields.update(projection="equirectangular", **panorama(cam, cam_obj.name))
+        fields.update(panorama(cam, cam_obj.name, width, height, aspect))
     else:
         sensor, side = fitted_side(cam, width, height, aspect)
         larger = max(width * aspect, float(height))

@@ -13,8 +13,10 @@ size in pixels. Every view is one of:
   Blender puts the near plane behind the view point, so the eye moves back
   to it;
 - a panoramic camera seen through: Blender draws its frame with the lens'
-  perspective; the equirectangular ranges are stretched linearly from the
-  camera's frame to the whole region, as the projection is linear in both.
+  perspective; the panorama's unit square is stretched linearly from the
+  camera's frame to the whole region (Camera.window), as Cycles stretches
+  its panorama viewplane: every panorama type shows in the frame what the
+  final render shows.
 
 These come from the matrices alone (no bpy), so a camera's own matrices
 (matrix_world inverted, calc_matrix_camera) must give the camera's rays: the
@@ -91,13 +93,18 @@ def frame_in_region(camera_projection, window_matrix, width: int, height: int) -
     return x0, y0, x1, y1
 
 
+# The Camera fields that make a panorama what it is (the viewport keeps them, and the view's own frame).
+PANORAMA_FIELDS = ("projection", "shift", "longitude", "latitude", "fisheye_fov", "fisheye_lens", "sensor",
+                   "polynomial", "cylinder_height")
+
+
 def stretch_panorama(camera: Camera, frame, width: int, height: int) -> dict:
-    """Longitude and latitude ranges of a panorama whose camera frame
-    (x0, y0, x1, y1, region pixels from the bottom left) is stretched over a
-    whole width x height region."""
+    """Camera fields of the panoramic `camera` whose frame (x0, y0, x1, y1,
+    region pixels from the bottom left) is stretched over a whole
+    width x height region: its own projection and settings, and the window
+    of its unit square that the region spans."""
     x0, y0, x1, y1 = frame
-    lon, lat = camera.longitude, camera.latitude
-    per_x = (lon[1] - lon[0]) / max(x1 - x0, 1e-9)
-    per_y = (lat[1] - lat[0]) / max(y1 - y0, 1e-9)
-    return dict(longitude=(lon[0] - x0 * per_x, lon[0] + (width - x0) * per_x),
-                latitude=(lat[0] - y0 * per_y, lat[0] + (height - y0) * per_y))
+    per_x, per_y = 1.0 / max(x1 - x0, 1e-9), 1.0 / max(y1 - y0, 1e-9)
+    fields = {name: getattr(camera, name) for name in PANORAMA_FIELDS}
+    fields["window"] = (-x0 * per_x, (width - x0) * per_x, -y0 * per_y, (height - y0) * per_y)
+    return fields

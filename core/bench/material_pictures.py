@@ -111,6 +111,14 @@ def ncc(a, b) -> float:
     return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
 
 
+def compared(label, scene, options, tmp: Path, blender: str = "bpy45"):
+    """A sheet row (label, ours, cycles, ncc): `scene` rendered by both engines with `options`."""
+    ours, cycles = (render(scene, e, options, tmp, blender) for e in ("GRIDWALK", "CYCLES"))
+    row = (label, to_srgb(ours), to_srgb(cycles), ncc(ours, cycles))
+    print(f"{label}: NCC of luminance {row[3]:.4f}")
+    return row
+
+
 def write_sheet(rows, out):
     """One picture of (label, ours, cycles, ncc) rows, GRIDWALK left and Cycles right, doubled in size."""
     scale, pad, head = 2, 8, 18
@@ -132,12 +140,8 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", default=str(ROOT / "docs" / "images" / "materials.png"))
     args = parser.parse_args()
-    rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for scene, label, options in SCENES:
-            ours, cycles = (render(scene, e, options, Path(tmp)) for e in ("GRIDWALK", "CYCLES"))
-            rows.append((label, to_srgb(ours), to_srgb(cycles), ncc(ours, cycles)))
-            print(f"{label}: NCC of luminance {rows[-1][3]:.4f}")
+        rows = [compared(label, scene, options, Path(tmp)) for scene, label, options in SCENES]
     write_sheet(rows, args.out)
     print("wrote", args.out)
 

@@ -1,6 +1,7 @@
-// The camera: perspective, orthographic or equirectangular (panoramic)
-// projection, with an optional thin lens (depth of field), lens shift, pixel
-// aspect, near and far clipping and mirroring.
+// The camera: perspective, orthographic or one of Cycles' panoramic
+// projections (equirectangular, three fisheyes, mirror ball, cube map face,
+// central cylindrical), with an optional thin lens (depth of field), lens
+// shift, pixel aspect, near and far clipping and mirroring.
 #pragma once
 #include <array>
 
@@ -23,9 +24,18 @@ struct CameraDesc {
     int width = 512, height = 512;
     float pixel_aspect = 1;               // a pixel's width / height
     float aperture = 0, focus_distance = 1;
-    std::array<float, 2> shift{0, 0};     // in units of the image plane's larger side
+    std::array<float, 2> shift{0, 0};     // in units of the image plane's larger side; a panorama's: of the unit square
     std::array<float, 2> longitude{-float(kPi), float(kPi)};         // equirectangular: left, right edge (radians)
     std::array<float, 2> latitude{-float(kPi / 2), float(kPi / 2)};  // equirectangular: bottom, top edge
+    // Panoramas: the part (u0, u1, v0, v1) of the projection's unit square
+    // that the image spans, left to right and bottom to top (Cycles' panorama
+    // viewplane, before the shift: a final render's is the unit square).
+    std::array<float, 4> window{0, 1, 0, 1};
+    float fisheye_fov = float(kPi);        // fisheyes: the widest angle across the view axis (radians)
+    float fisheye_lens = 10.5f;            // equisolid: focal length, mm
+    std::array<float, 2> sensor{36, 24};   // equisolid and polynomial: the image's size on the sensor, mm
+    std::array<float, 5> polynomial{-1.1735e-5f, -0.0199887f, -3.3525e-6f, 3.0993e-6f, -2.6065e-8f};   // k0..k4
+    std::array<float, 2> cylinder_height{-1, 1};   // central cylindrical: bottom, top edge at distance 1
     float hither = 0;                     // near clip: rays start this far along the view axis
     float yon = kInf;                     // far clip: rays end this far along the view axis
     bool mirror = false;                  // mirrored image (a camera with negative scale)
@@ -49,26 +59,41 @@ public:
         const float big = 2.0f * std::max(half_w_, half_h_);   // shift is in units of the larger side
         shift_x_ = c.shift[0] * big;
         shift_y_ = c.shift[1] * big;
-        lon0_ = c.longitude[0];
-        lon_span_ = c.longitude[1] - c.longitude[0];
-        lat1_ = c.latitude[1];
-        lat_span_ = c.latitude[1] - c.latitude[0];
+        lon_ = Span(c.longitude);
+        lat_ = Span(c.latitude);
         aperture_ = c.aperture;
         focus_ = c.focus_distance;
         hither_ = c.hither;
         yon_ = c.yon;
+        panorama_ = projection_ != Projection::Perspective && projection_ != Projection::Orthographic;
+        pano_shift_ = c.shift;
+        window_u_ = Span({c.window[0], c.window[1]});
+        window_v_ = Span({c.window[2], c.window[3]});
+        cylinder_ = Span(c.cylinder_height);
+        fisheye_fov_ = c.fisheye_fov;
+        fisheye_lens_ = c.fisheye_lens;
+        sensor_ = c.sensor;
+        poly_ = c.polynomial;
     }
     // Image position (px, py) in pixels from the top-left corner; lens sample
-    // (lu, lv) in [0,1)^2 (ignored for a pinhole).
+    // (lu, lv) in [0,1)^2 (ignored for a pinhole). A panorama's position that
+    // shows nothing (outside a fisheye's circle) gets no ray: a zero direction
+    // (none()), which the pixel counts as black and opaque, as Cycles does
+    // (also on a transparent film).
     Ray generate(float px, float py, float lu, float lv) const {
         Ray r;
         r.o = eye_;
         Vec3 d, lens_u = right_, lens_v = up_;
-        if (projection_ == Projection::Equirectangular) {
-            const float lon = lon0_ + px / float(width_) * lon_span_;
-            const float lat = lat1_ - py / float(height_) * lat_span_;
-            const float c = std::cos(lat);
-            d = normalize(fwd_ * (c * std::cos(lon)) + right_ * (c * std::sin(lon)) + up_ * std::sin(lat));
+        if (panorama_) {
+            const float u = window_u_.at(px / float(width_)) + pano_shift_[0];
+            const float v = window_v_.at(1.0f - py / float(height_)) + pano_shift_[1];
+            Vec3 p;   // the direction in panorama space: x forward, y left, z up
+            if (!panorama_direction(u, v, p)) {
+                r.d = Vec3();
+                r.tmin = r.tmax = 0;
+                return r;
+            }
+            d = normalize(fwd_ * p.x - right_ * p.y + up_ * p.z);
             basis(d, lens_u, lens_v);   // the lens lies across the ray
         } else {
             const float x = (2.0f * px / float(width_) - 1.0f) * half_w_ + shift_x_;
@@ -85,31 +110,106 @@ public:
             concentric_disk(lu, lv, dx, dy);
             const Vec3 lens = lens_u * (dx * aperture_) + lens_v * (dy * aperture_);
             r.o = r.o + lens;
-            d = d * focus_ - lens;           // through the point on the focal plane
+            d = d * focus_ - lens;           // through the point on the focal plane (a panorama's: sphere)
         }
         r.d = normalize(d);
-        if (projection_ == Projection::Equirectangular) {   // clipped by spheres around the eye
+        if (panorama_) {                     // clipped by spheres around the eye
             r.tmin = hither_;
             r.tmax = yon_;
-        } else {                                            // clipped by planes across the view axis
+        } else {                             // clipped by planes across the view axis
             r.tmin = hither_ > 0 ? hither_ / dot(r.d, fwd_) : 0.0f;
             if (yon_ < kInf) r.tmax = yon_ / dot(r.d, fwd_);
         }
         return r;
     }
+    // Whether generate() gave no ray (a fisheye's corner).
+    static bool none(const Ray& r) { return r.d.x == 0 && r.d.y == 0 && r.d.z == 0; }
     // The axis the Depth pass measures along: the view axis (a panorama: the ray).
-    Vec3 depth_axis(const Ray& r) const { return projection_ == Projection::Equirectangular ? r.d : fwd_; }
+    Vec3 depth_axis(const Ray& r) const { return panorama_ ? r.d : fwd_; }
     int width() const { return width_; }
     int height() const { return height_; }
 
 private:
+    // The panorama's direction at (u, v) of its unit square, in panorama
+    // space (x forward, y left, z up), as Cycles computes it for each type;
+    // false where the projection shows nothing.
+    bool panorama_direction(float u, float v, Vec3& p) const {
+        switch (projection_) {
+        case Projection::Equirectangular: {
+            const float lon = lon_.at(u), lat = lat_.at(v);
+            const float c = std::cos(lat);
+            p = Vec3(c * std::cos(lon), -c * std::sin(lon), std::sin(lat));
+            return true;
+        }
+        case Projection::CentralCylindrical: {
+            const float lon = lon_.at(u);
+            p = Vec3(std::cos(lon), -std::sin(lon), cylinder_.at(v));
+            return true;
+        }
+        case Projection::CubemapFace:
+            p = Vec3(1.0f, std::tan((0.5f - u) * float(kPi / 2)), std::tan((v - 0.5f) * float(kPi / 2)));
+            return true;
+        case Projection::MirrorBall: {
+            // The ball's normal n = (2u - 1, -sqrt(...), 2v - 1) in the ball's frame (its y
+            // towards the camera's back); the view ray (0, -1, 0) reflected about it, then
+            // turned into panorama space (ball x: right, y: back, z: up).
+            const float nx = 2.0f * u - 1.0f, nz = 2.0f * v - 1.0f, rr = nx * nx + nz * nz;
+            if (rr > 1.0f) return false;
+            const float ny = -std::sqrt(std::max(1.0f - rr, 0.0f));
+            const float k = -2.0f * ny;   // 2 (n . i), i = (0, -1, 0)
+            const Vec3 ball(k * nx, k * ny + 1.0f, k * nz);
+            p = Vec3(-ball.y, -ball.x, ball.z);
+            return true;
+        }
+        default: {   // the fisheyes: an angle theta from the view axis for a radius r in the image
+            float x, y, theta;
+            if (projection_ == Projection::FisheyeEquidistant) {
+                x = 2.0f * u - 1.0f;
+                y = 2.0f * v - 1.0f;
+                const float r = std::sqrt(x * x + y * y);
+                if (r > 1.0f) return false;
+                theta = r * fisheye_fov_ * 0.5f;
+            } else {
+                x = (u - 0.5f) * sensor_[0];   // mm on the sensor
+                y = (v - 0.5f) * sensor_[1];
+                const float r = std::sqrt(x * x + y * y);
+                if (projection_ == Projection::FisheyeEquisolid) {
+                    if (r > 2.0f * fisheye_lens_ * std::sin(fisheye_fov_ * 0.25f)) return false;
+                    theta = 2.0f * std::asin(std::min(r / (2.0f * fisheye_lens_), 1.0f));
+                } else {
+                    theta = -(poly_[0] + r * (poly_[1] + r * (poly_[2] + r * (poly_[3] + r * poly_[4]))));
+                    if (std::abs(theta) > fisheye_fov_ * 0.5f) return false;
+                }
+            }
+            const float r = std::sqrt(x * x + y * y);
+            // (the centre: Cycles' direction there, with cos(phi) = 0 and sin(phi) = 1)
+            const float cx = r != 0.0f ? x / r : 0.0f, sy = r != 0.0f ? y / r : 1.0f;
+            const float st = std::sin(theta);
+            p = Vec3(std::cos(theta), -cx * st, sy * st);
+            return true;
+        }
+        }
+    }
+
+    // A range [start, start + size] of a panorama's setting, read at a fraction t of it.
+    struct Span {
+        float start = 0, size = 1;
+        Span() = default;
+        explicit Span(const std::array<float, 2>& ends) : start(ends[0]), size(ends[1] - ends[0]) {}
+        float at(float t) const { return start + t * size; }
+    };
+
     int width_, height_;
     Projection projection_;
     Vec3 eye_;
     Vec3d eye_d_;
     Vec3 fwd_, right_, up_;
-    float half_h_, half_w_, shift_x_, shift_y_, lon0_, lon_span_, lat1_, lat_span_, aperture_, focus_, hither_,
-        yon_;
+    float half_h_, half_w_, shift_x_, shift_y_, aperture_, focus_, hither_, yon_;
+    Span lon_, lat_, window_u_, window_v_, cylinder_;
+    bool panorama_ = false;
+    float fisheye_fov_, fisheye_lens_;
+    std::array<float, 2> sensor_, pano_shift_;
+    std::array<float, 5> poly_;
 };
 
 }  // namespace gw

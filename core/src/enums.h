@@ -74,7 +74,18 @@ GW_ENUM(LightKind, GW_LIGHT_KINDS)
     X(Perspective, "perspective", "Perspective", "A pinhole (or thin lens) camera; fov is the vertical angle") \
     X(Orthographic, "orthographic", "Orthographic", "Parallel rays; ortho_height is the view's height")      \
     X(Equirectangular, "equirectangular", "Equirectangular",                                                  \
-      "A panorama: x spans the longitude range, y the latitude range")
+      "A panorama: x spans the longitude range, y the latitude range")                                      \
+    X(FisheyeEquidistant, "fisheye_equidistant", "Fisheye Equidistant",                                      \
+      "A circular fisheye filling the image: the angle from the view axis grows with the radius up to fisheye_fov / 2") \
+    X(FisheyeEquisolid, "fisheye_equisolid", "Fisheye Equisolid",                                            \
+      "A real fisheye lens (radius 2 fisheye_lens sin(angle / 2) on the sensor), cut at fisheye_fov")          \
+    X(FisheyePolynomial, "fisheye_polynomial", "Fisheye Lens Polynomial",                                    \
+      "A fitted lens: the angle from the view axis is -(k0 + k1 r + ... + k4 r^4), r in mm on the sensor")    \
+    X(MirrorBall, "mirror_ball", "Mirror Ball", "The world as a mirrored sphere in front of the camera reflects it") \
+    X(CubemapFace, "cubemap_face", "Equiangular Cubemap Face",                                               \
+      "One 90 x 90 degree face of an equiangular cube map")                                                  \
+    X(CentralCylindrical, "central_cylindrical", "Central Cylindrical",                                     \
+      "A cylinder around the camera: x spans the longitude range, y the cylinder_height range")
 GW_ENUM(Projection, GW_PROJECTIONS)
 
 #define GW_INTERPOLATIONS(X)                                                                  \

@@ -36,10 +36,14 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
         if (lens_)
             strat2(shared_slot(sample_in_set, set_samples, key, j), nd * set_samples, lens_rng.next(), rot, lu, lv);
         const Ray ray = camera_.generate(px, py, lu, lv);
-        SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
         FirstHit local;
-        sum += integrator_.camera_ray(ray, camera_.depth_axis(ray), st, ctx, &local);
-        hits += local.alpha;
+        if (Camera::none(ray)) {   // no ray (a fisheye's corner): black and opaque, as Cycles' film has it
+            hits += 1;
+        } else {
+            SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
+            sum += integrator_.camera_ray(ray, camera_.depth_axis(ray), st, ctx, &local);
+            hits += local.alpha;
+        }
         if (fh && j == 0) *fh = local;
     }
     const float inv = 1.0f / float(nd);

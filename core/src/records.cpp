@@ -171,15 +171,27 @@ void validate_camera(const CameraDesc& c) {
             refuse(where, "ortho_height", "= " + show(c.ortho_height) + " is too small for float32 ray origins " +
                                           show(reach) + " from the origin at " + std::to_string(c.height) +
                                           " pixels");
-    } else {
-        for (const char* field : {"longitude", "latitude"}) {
-            const auto& range = field[1] == 'o' ? c.longitude : c.latitude;
-            need_finite(where, field, range[0]);
-            need_finite(where, field, range[1]);
-            if (!(range[0] < range[1]))
-                refuse(where, field, "must be (min, max) with min < max, got (" + show(range[0]) + ", " +
-                                         show(range[1]) + ")");
+    } else {   // a panorama
+        auto need_range = [&](const char* field, float lo, float hi) {
+            need_finite(where, field, lo);
+            need_finite(where, field, hi);
+            if (!(lo != hi))   // (reversed is allowed: a flipped image, as in Cycles)
+                refuse(where, field, "must span a range (its two ends differ), got (" + show(lo) + ", " + show(hi) + ")");
+        };
+        need_range("longitude", c.longitude[0], c.longitude[1]);
+        need_range("latitude", c.latitude[0], c.latitude[1]);
+        need_range("window", c.window[0], c.window[1]);
+        need_range("window", c.window[2], c.window[3]);
+        need_range("cylinder_height", c.cylinder_height[0], c.cylinder_height[1]);
+        for (const float k : c.polynomial) need_finite(where, "polynomial", k);
+        for (const float size : c.sensor) {
+            need_finite(where, "sensor", size);
+            if (!(size > 0)) refuse(where, "sensor", "sizes must be > 0 mm, got " + show(size));
         }
+        need_finite(where, "fisheye_fov", c.fisheye_fov);
+        if (!(c.fisheye_fov > 0)) refuse(where, "fisheye_fov", "must be > 0 radians, got " + show(c.fisheye_fov));
+        need_finite(where, "fisheye_lens", c.fisheye_lens);
+        if (!(c.fisheye_lens > 0)) refuse(where, "fisheye_lens", "must be > 0 mm, got " + show(c.fisheye_lens));
     }
     need_at_least(where, "aperture", c.aperture, 0);
     need_finite(where, "focus_distance", c.focus_distance);

@@ -70,19 +70,25 @@ def test_every_settings_group_has_a_panel(registration):
 
 
 def test_the_panorama_and_cast_shadow_settings_are_drawn(any_blender, tmp_path):
-    # Blender's Lens panel draws a panoramic camera's type and range for Cycles only, and its
-    # default type (Fisheye Equisolid) is one Gridwalk refuses, naming a field the user could
-    # not reach; Cast Shadow, which the export reads, was not drawn either.
+    # Blender's Lens panel draws a panoramic camera's type and settings for Cycles only;
+    # Cast Shadow, which the export reads, was not drawn either. Every panorama type
+    # this Blender has is drawn with the settings the export reads for it.
     run_script(any_blender, "panels_draw.py", tmp_path)
     info = json.loads((tmp_path / "panels.json").read_text())
     props = lambda drawn: [item["prop"] for item in drawn if "prop" in item]
-    for kind in ("FISHEYE_EQUISOLID", "EQUIRECTANGULAR"):
+    kinds = {key.split()[1] for key in info if key.startswith("panorama ")}
+    assert {"EQUIRECTANGULAR", "FISHEYE_EQUIDISTANT", "FISHEYE_EQUISOLID", "FISHEYE_LENS_POLYNOMIAL",
+            "MIRRORBALL", "EQUIANGULAR_CUBEMAP_FACE"} <= kinds
+    for kind in kinds:
         panel = info[f"panorama {kind}"]
         assert panel["poll"] and props(panel["drawn"])[0] == "panorama_type"
         assert all(item["real"] for item in panel["drawn"] if "prop" in item), panel
+        assert not any("label" in item for item in panel["drawn"]), panel      # (no "not rendered" notice)
     assert props(info["panorama EQUIRECTANGULAR"]["drawn"]) == [
         "panorama_type", "latitude_min", "latitude_max", "longitude_min", "longitude_max"]
-    assert "Equirectangular panoramas only" in info["panorama FISHEYE_EQUISOLID"]["drawn"][-1]["label"]
+    assert props(info["panorama FISHEYE_EQUISOLID"]["drawn"]) == ["panorama_type", "fisheye_lens", "fisheye_fov"]
+    assert props(info["panorama FISHEYE_LENS_POLYNOMIAL"]["drawn"]) == [
+        "panorama_type", "fisheye_fov"] + [f"fisheye_polynomial_k{i}" for i in range(5)]
     assert not info["perspective poll"]
     for kind in ("POINT", "SPOT", "SUN", "AREA"):
         drawn = info[f"light {kind}"]

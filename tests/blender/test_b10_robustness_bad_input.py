@@ -3,7 +3,7 @@
 One Blender session per Blender (bpy 4.5, bpy 5.0, Debian's 3.4 binary) renders
 every case of scripts/bad_input.py: an empty scene, no camera (refused by
 Blender; deleted mid-animation; the engine called directly), a camera with
-zero scale or a fisheye lens, a camera inside an object, a 1 x 1 image and
+zero scale or an empty panorama, a camera inside an object, a 1 x 1 image and
 render borders, NaN / Inf transforms, meshes
 without faces and with zero-area faces, and a scene too large for the memory
 limit. The messages are read from what Blender printed for its reports.
@@ -125,11 +125,11 @@ def test_no_camera(results):
     assert "Camera 'Camera' has a non-finite transform (NaN or Inf)" in results.error("nan_camera")
 
 
-def test_camera_without_a_viewing_direction_or_with_an_unsupported_panorama(results):
+def test_camera_without_a_viewing_direction_or_with_an_empty_panorama(results):
     assert ("Gridwalk: Camera 'Camera' has a zero scale (1, 0, 1 along its X, Y, Z axes): it has no viewing "
             "direction. Give it a non-zero scale") in results.error("zero_scale_camera")
-    assert ("Gridwalk: Camera 'Camera' uses the fisheye equidistant panorama; Gridwalk renders the "
-            "equirectangular panorama only") in results.error("fisheye_camera")
+    assert ("Gridwalk: Camera 'Camera': the panorama's Min Latitude and its maximum are equal (0.3), so the "
+            "image spans nothing: set a range") in results.error("empty_panorama")
     if tuple(results["blender"][:2]) >= (4, 5):     # (rendered as a perspective camera, silently)
         assert ("Gridwalk: Camera 'Camera': the Custom camera type is not supported; choose Perspective, "
                 "Orthographic or Panoramic") in results.error("custom_camera")

@@ -468,7 +468,10 @@ def _projection(value, where):
 
 @dataclass
 class Camera(Record):
-    """The camera. projection: perspective | orthographic | equirectangular.
+    """The camera. projection: perspective | orthographic | a panorama, as
+    Cycles projects each: equirectangular | fisheye_equidistant |
+    fisheye_equisolid | fisheye_polynomial | mirror_ball | cubemap_face |
+    central_cylindrical.
 
     eye, target, up: position, a point on the view axis, and the up hint; eye
     and target are kept in double, so a camera far from the origin keeps its
@@ -478,10 +481,25 @@ class Camera(Record):
     width, height: image size in pixels; pixel_aspect: a pixel's width /
     height (2 = wide pixels: the view shows twice the width per pixel).
     shift = (sx, sy) moves the image window, in units of the image plane's
-    larger side (Blender's convention; perspective and orthographic).
+    larger side (Blender's convention); a panorama's, in units of its unit
+    square (Cycles').
     longitude, latitude: equirectangular: the (min, max) angles in radians
     spanned by the image from left to right and from bottom to top; the
     image centre at longitude 0, latitude 0 looks at the target.
+    Central cylindrical: longitude as above, cylinder_height the (bottom, top)
+    heights spanned on a cylinder of radius 1 around the view axis' upright.
+    window = (u0, u1, v0, v1): the part of a panorama's unit square the image
+    spans, left to right and bottom to top (before the shift; the viewport
+    stretches it to show the camera's frame).
+    fisheye_fov (radians): the fisheyes' widest angle across the view axis;
+    fisheye_equidistant fills the image's ellipse with it, fisheye_equisolid
+    maps the angle theta to 2 fisheye_lens sin(theta / 2) mm on a sensor of
+    size sensor = (width, height) mm, and fisheye_polynomial maps a radius r mm
+    to theta = -(k0 + k1 r + ... + k4 r^4), polynomial = (k0, ..., k4). Image
+    positions beyond the fisheye's circle (or a mirror ball's) get no ray
+    (Camera.rays: a zero direction): black and opaque, as in Cycles, also on a
+    transparent film. mirror_ball: the world reflected by a
+    ball filling the image. cubemap_face: 90 x 90 degrees, equiangular.
     aperture is the thin-lens radius (0 = pinhole); focus_distance defaults to
     |target - eye|. hither, yon: rays start and end this far along the view
     axis (near and far clipping; a panorama clips by distance from the eye).
@@ -502,6 +520,12 @@ class Camera(Record):
     pixel_aspect: float = _CAM.pixel_aspect
     longitude: tuple = tuple(_f32(x) for x in _CAM.longitude)
     latitude: tuple = tuple(_f32(x) for x in _CAM.latitude)
+    window: tuple = tuple(_CAM.window)
+    fisheye_fov: float = _CAM.fisheye_fov
+    fisheye_lens: float = _CAM.fisheye_lens
+    sensor: tuple = tuple(_CAM.sensor)
+    polynomial: tuple = tuple(_CAM.polynomial)
+    cylinder_height: tuple = tuple(_CAM.cylinder_height)
     yon: float = _CAM.yon
     mirror: bool = _CAM.mirror
     CORE = _core.Camera

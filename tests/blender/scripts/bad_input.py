@@ -108,11 +108,14 @@ def case_zero_scale_camera(bpy, s):
     bpy.context.scene.camera.scale = (1.0, 0.0, 1.0)
 
 
-def case_fisheye_camera(bpy, s):
+def case_empty_panorama(bpy, s):
+    """An equirectangular panorama whose latitude range is empty."""
     s.cube_scene()
     cam = bpy.context.scene.camera.data
     cam.type = "PANO"
-    (cam if hasattr(cam, "panorama_type") else cam.cycles).panorama_type = "FISHEYE_EQUIDISTANT"
+    pano = cam if hasattr(cam, "panorama_type") else cam.cycles
+    pano.panorama_type = "EQUIRECTANGULAR"
+    pano.latitude_min = pano.latitude_max = 0.3
 
 
 def case_custom_camera(bpy, s):

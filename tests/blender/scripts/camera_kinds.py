@@ -5,7 +5,8 @@ Writes OUT_DIR/<kind>_gridwalk.exr and <kind>_cycles.exr (film transparent:
 alpha is coverage). Both sample pixel centres (GRIDWALK: aa=center; Cycles:
 a 0.01 px filter), so the alphas compare the cameras' geometry alone.
 
-Also writes OUT_DIR/rays.json: for each non-panoramic kind, how far the rays
+Also writes OUT_DIR/kinds.json (the Blender's version and the kinds it
+has: Central Cylindrical came in 4.3) and OUT_DIR/rays.json: for each non-panoramic kind, how far the rays
 of the exported camera (export/camera.py, from the lens and sensor
 settings) lie from the rays of the same camera rebuilt from Blender's own
 matrices (export/viewport_camera.py, as the viewport does: matrix_world
@@ -71,8 +72,11 @@ def main(argv):
 
     out_dir, *kinds = argv
     blender_addon.register()
-    rays = {}
+    rays, rendered = {}, []
     for kind in kinds or scenes.CAMERA_KINDS:
+        if not scenes.has_panorama(kind):
+            continue
+        rendered.append(kind)
         for engine in ("GRIDWALK", "CYCLES"):
             scenes.camera_kinds_scene(kind)
             scene = bpy.context.scene
@@ -82,11 +86,13 @@ def main(argv):
                 scene.cycles.filter_width = 0.01
             scene.render.filepath = os.path.join(out_dir, f"{kind}_{engine.lower()}.exr")
             bpy.ops.render.render(write_still=True)
-        if kind != "panoramic":
+        if kind != "panoramic" and kind not in scenes.PANORAMA_KINDS:
             rays[kind] = compare_rays(bpy, bpy.context.scene)
         print("camera_kinds:", kind, "done", flush=True)
     with open(os.path.join(out_dir, "rays.json"), "w") as f:
         json.dump(rays, f)
+    with open(os.path.join(out_dir, "kinds.json"), "w") as f:
+        json.dump({"blender": list(bpy.app.version), "rendered": rendered}, f)
 
 
 if __name__ == "__main__":

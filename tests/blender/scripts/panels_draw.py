@@ -52,7 +52,8 @@ def main(out_dir):
     cam.type = "PANO"
     out = {}
     holder = cam if hasattr(cam, "panorama_type") else cam.cycles
-    for kind in ("FISHEYE_EQUISOLID", "EQUIRECTANGULAR"):
+    for item in holder.bl_rna.properties["panorama_type"].enum_items:     # every type this Blender has
+        kind = item.identifier
         holder.panorama_type = kind
         context = SimpleNamespace(engine="GRIDWALK", camera=cam)
         out[f"panorama {kind}"] = {"poll": ui.GRIDWALK_CAMERA_PT_panorama.poll(context),

@@ -602,15 +602,37 @@ def nan_scene():
 
 
 CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far",
-                "portrait_auto", "portrait_horizontal")
+                "portrait_auto", "portrait_horizontal", "fisheye_equidistant", "fisheye_equisolid",
+                "fisheye_polynomial", "mirror_ball", "cubemap_face", "central_cylindrical")
+# Blender's panorama type of each panoramic kind but "panoramic" (equirectangular), and its settings
+PANORAMA_KINDS = {
+    "fisheye_equidistant": ("FISHEYE_EQUIDISTANT", dict(fisheye_fov=2.6), dict(shift_x=0.05)),
+    "fisheye_equisolid": ("FISHEYE_EQUISOLID", dict(fisheye_fov=3.0, fisheye_lens=10.5), dict(shift_y=-0.05)),
+    # (Blender's coefficients, a 50 mm lens on a 36 mm sensor, cut at 0.3 radians off the axis)
+    "fisheye_polynomial": ("FISHEYE_LENS_POLYNOMIAL", dict(fisheye_fov=0.6),
+                           dict(sensor_fit="VERTICAL", sensor_height=24.0)),
+    "mirror_ball": ("MIRRORBALL", {}, {}),
+    "cubemap_face": ("EQUIANGULAR_CUBEMAP_FACE", {}, dict(shift_x=-0.1)),
+    "central_cylindrical": ("CENTRAL_CYLINDRICAL",
+                            dict(central_cylindrical_range_u_min=-1.2, central_cylindrical_range_u_max=1.5,
+                                 central_cylindrical_range_v_min=-0.8, central_cylindrical_range_v_max=0.6,
+                                 central_cylindrical_radius=1.3), {}),
+}
+
+
+def has_panorama(kind) -> bool:
+    """Whether this Blender has the panorama type of camera kind `kind` (Central
+    Cylindrical came in 4.3)."""
+    return kind != "central_cylindrical" or bpy.app.version >= (4, 3)
 FAR = (1e7, 1e7, 0.0)       # whole numbers: exact in float32 (spacing 1 at 1e7)
 
 
-def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR):
+def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR, sky=None):
     """Cubes, a sphere and a ground plane seen by one kind of camera (the
     CAMERA_KINDS): the scene the camera tests compare with Cycles. "far"
     moves everything 1e7 from the origin and keeps only geometry with whole
-    coordinates, which float32 holds exactly there."""
+    coordinates, which float32 holds exactly there. sky: a world colour
+    (the pictures': a fisheye's black corners show against it)."""
     far = kind == "far"
     portrait = kind.startswith("portrait")      # a tall image: AUTO fits the sensor to the height
     scene = reset(resolution=(101, 101) if far else tuple(resolution)[::-1] if portrait else tuple(resolution))
@@ -632,6 +654,15 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR)
         pano.panorama_type = "EQUIRECTANGULAR"
         pano.longitude_min, pano.longitude_max = -1.2, 2.0
         pano.latitude_min, pano.latitude_max = -0.6, 0.9
+    elif kind in PANORAMA_KINDS:
+        data.type = "PANO"
+        pano = data if hasattr(data, "panorama_type") else data.cycles      # Blender 4.x / 3.x
+        pano_type, settings, lens = PANORAMA_KINDS[kind]
+        pano.panorama_type = pano_type
+        for name, value in settings.items():
+            setattr(pano, name, value)
+        for name, value in lens.items():
+            setattr(data, name, value)
     elif kind == "mirrored":
         cam.scale = (-1.0, 1.0, 1.0)
     elif kind == "pixel_aspect":
@@ -659,6 +690,8 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR)
     if not far:
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(0.6, -2.0, -0.1), segments=48, ring_count=24)
     add_light("Key", "SUN", offset + Vector((0, 0, 9)), (0.5, 0.2, 0), energy=3.0)
+    if sky is not None:
+        plain_world("Sky", tuple(sky))
     bpy.context.view_layer.update()
     return {}
 

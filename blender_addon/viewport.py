@@ -363,9 +363,10 @@ def view_from_context(engine, context, depsgraph):
     """(key, Camera, pixel size) of the region being drawn. The camera renders
     the region at 1 / pixel size of its resolution. Looking through the scene
     camera, its clipping and lens come from it, and a panorama is stretched
-    from the camera's frame over the region; a camera with a zero scale or a
-    non-finite transform raises CameraError naming it."""
-    from .export.camera import CameraError, camera_frame, convert_camera
+    from the camera's frame over the region; a camera the final render
+    refuses (a zero scale, a non-finite transform, an empty panorama, Blender
+    4.5's Custom type) raises CameraError naming it."""
+    from .export.camera import convert_camera
     from .export._matrix import to_numpy
     from .export.viewport_camera import frame_in_region, stretch_panorama, view_camera
     region, rv3d, space = context.region, context.region_data, context.space_data
@@ -373,23 +374,20 @@ def view_from_context(engine, context, depsgraph):
     pixel = max(1, int(engine.get_preview_pixel_size(scene)))
     width, height = max(1, region.width), max(1, region.height)
     view, window = to_numpy(rv3d.view_matrix), to_numpy(rv3d.window_matrix)
-    clip, extra, lens = (space.clip_start, space.clip_end), {}, None
+    clip, extra = (space.clip_start, space.clip_end), {}
     if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
         cam_obj = scene.camera.evaluated_get(depsgraph)
-        camera_frame(cam_obj)          # a camera without a view (zero scale, NaN) raises CameraError, named
-        try:
-            lens = convert_camera(cam_obj, scene.render)
-        except CameraError:            # (a panorama Gridwalk cannot render: its frame, in perspective)
-            lens = None
-        if lens is not None:
-            clip = (lens.hither, lens.yon)
-            extra = dict(aperture=lens.aperture, focus_distance=lens.focus_distance)
-            if lens.projection not in ("perspective", "orthographic"):
-                render = scene.render
-                frame = frame_in_region(cam_obj.calc_matrix_camera(
-                    depsgraph, x=lens.width, y=lens.height, scale_x=render.pixel_aspect_x,
-                    scale_y=render.pixel_aspect_y), window, width, height)
-                extra.update(stretch_panorama(lens, frame, width, height))
+        # (a camera without a view, zero scale or NaN, or an empty panorama raises CameraError, named,
+        # which the view shows, as the final render reports it)
+        lens = convert_camera(cam_obj, scene.render, live=True)
+        clip = (lens.hither, lens.yon)
+        extra = dict(aperture=lens.aperture, focus_distance=lens.focus_distance)
+        if lens.projection not in ("perspective", "orthographic"):
+            render = scene.render
+            frame = frame_in_region(cam_obj.calc_matrix_camera(
+                depsgraph, x=lens.width, y=lens.height, scale_x=render.pixel_aspect_x,
+                scale_y=render.pixel_aspect_y), window, width, height)
+            extra.update(stretch_panorama(lens, frame, width, height))
     key = (width, height, pixel, view.tobytes(), window.tobytes(), tuple(clip), repr(extra))
     camera = view_camera(view, window, -(-width // pixel), -(-height // pixel), clip=clip, **extra)
     return key, camera, pixel

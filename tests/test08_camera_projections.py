@@ -172,6 +172,7 @@ def test_camera_far_from_the_origin_keeps_its_direction():
     (dict(projection="fisheye_polynomial", sensor=(36, -1)), "Camera.sensor sizes must be > 0 mm"),
     (dict(projection="central_cylindrical", cylinder_height=(2, 2)), "Camera.cylinder_height must span a range"),
     (dict(projection="mirror_ball", window=(0, 1, 0.5, 0.5)), "Camera.window must span a range"),
+    (dict(projection="central_cylindrical", longitude=(-3e38, 3e38)), "Camera.longitude spans more than float32"),
     (dict(projection="orthographic", ortho_height=0.0), "Camera.ortho_height must be > 0"),
     (dict(projection="orthographic", ortho_height=1e-3, eye=(1e7, 0, 0), target=(1e7, 1, 0)),
      "Camera.ortho_height .* too small for float32 ray origins"),

@@ -170,3 +170,16 @@ def test_a_fisheye_render_follows_its_rays_and_is_black_beyond_its_circle(projec
     depth = job.depth[hit]
     distance = np.linalg.norm(center)
     assert np.all((depth >= distance - radius - 1e-3) & (depth <= distance + 1e-3))
+
+
+def test_a_position_whose_direction_overflows_gets_no_ray():
+    """A window far outside the unit square (from a script) never gives a NaN
+    direction: the fisheyes, whose radius and angle overflow there, give no ray."""
+    for projection in ("fisheye_polynomial", "fisheye_equisolid", "fisheye_equidistant", "mirror_ball",
+                       "central_cylindrical", "cubemap_face", "equirectangular"):
+        cam = gw.Camera(projection=projection, polynomial=(0, -0.02, 0, 0, 0), fisheye_fov=3.0,
+                        window=(0, 1e30, 0, 1e30), width=W, height=H, **EYE)
+        _, d, _, _ = cam.rays(np.arange(W) + 0.5, np.full(W, 10.5))
+        assert np.isfinite(d).all(), projection
+        if projection.startswith("fisheye") or projection == "mirror_ball":
+            assert np.all(d == 0), projection

@@ -130,16 +130,23 @@ PANORAMAS = {
 }
 
 
-def panorama_settings(cam):
+def panorama_settings(cam, live: bool = False):
     """What holds a panoramic camera's settings: the camera (Blender 4.0+), its
-    Cycles settings (3.x, with the Cycles add-on enabled), or None."""
-    holder = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", None)
+    Cycles settings (3.x, with the Cycles add-on enabled), or None. live (the
+    viewport): 3.x's Cycles settings of the original camera, as the panel and
+    scripts set them: Blender 3.4 does not tag the depsgraph for them, and the
+    evaluated camera kept its old panorama type (a fisheye drawn as the
+    equirectangular panorama it was before)."""
+    if hasattr(cam, "panorama_type"):
+        return cam
+    source = cam.original if live and getattr(cam, "is_evaluated", False) else cam
+    holder = getattr(source, "cycles", None)
     return holder if hasattr(holder, "panorama_type") else None
 
 
-def panorama(cam, name: str, width: int, height: int, aspect: float) -> dict:
-    """Camera fields of a panoramic camera, as Cycles projects its type."""
-    settings = panorama_settings(cam)
+def panorama(cam, name: str, width: int, height: int, aspect: float, live: bool = False) -> dict:
+    """Camera fields of a panoramic camera, as Cycles projects its type (live: panorama_settings')."""
+    settings = panorama_settings(cam, live)
     if settings is None:
         raise CameraError(f"Camera {name!r} is panoramic, and Blender 3.x keeps the panorama's settings in the "
                           "Cycles add-on: enable Cycles (Preferences > Add-ons) to render it")
@@ -160,9 +167,12 @@ def panorama(cam, name: str, width: int, height: int, aspect: float) -> dict:
                       latitude=(value["latitude_min"], value["latitude_max"]))
     elif kind == "CENTRAL_CYLINDRICAL":
         radius = max(value["central_cylindrical_radius"], 1e-5)
+        heights = tuple(value[f"central_cylindrical_range_{k}"] / radius for k in ("v_min", "v_max"))
+        if not all(abs(h) < 1e30 for h in heights):
+            raise CameraError(f"Camera {name!r}: the panorama's heights over its radius ({heights[0]:g}, "
+                              f"{heights[1]:g}) are too large to render: lower them or raise the radius")
         fields.update(longitude=(value["central_cylindrical_range_u_min"], value["central_cylindrical_range_u_max"]),
-                      cylinder_height=(value["central_cylindrical_range_v_min"] / radius,
-                                       value["central_cylindrical_range_v_max"] / radius))
+                      cylinder_height=heights)
     elif kind.startswith("FISHEYE"):
         fields["fisheye_fov"] = value["fisheye_fov"]
         if kind != "FISHEYE_EQUIDISTANT":
@@ -193,8 +203,9 @@ def camera_frame(cam_obj) -> dict:
                 mirror=bool(np.linalg.det(m[:3, :3]) < 0))
 
 
-def convert_camera(cam_obj, render) -> Camera:
-    """The camera object `cam_obj` (evaluated) for the render settings `render`."""
+def convert_camera(cam_obj, render, live: bool = False) -> Camera:
+    """The camera object `cam_obj` (evaluated) for the render settings `render`
+    (live: the viewport's, see panorama_settings)."""
     if cam_obj is None:
         raise CameraError("The scene has no active camera: add a camera and make it active "
                           "(Scene properties > Camera)")
@@ -210,7 +221,7 @@ def convert_camera(cam_obj, render) -> Camera:
     fields = dict(frame, width=width, height=height, pixel_aspect=aspect, hither=float(cam.clip_start),
                   yon=float(cam.clip_end))
     if cam.type == "PANO":
-        fields.update(panorama(cam, cam_obj.name, width, height, aspect))
+        fields.update(panorama(cam, cam_obj.name, width, height, aspect, live))
     else:
         sensor, side = fitted_side(cam, width, height, aspect)
         larger = max(width * aspect, float(height))

@@ -88,7 +88,9 @@ public:
             const float u = window_u_.at(px / float(width_)) + pano_shift_[0];
             const float v = window_v_.at(1.0f - py / float(height_)) + pano_shift_[1];
             Vec3 p;   // the direction in panorama space: x forward, y left, z up
-            if (!panorama_direction(u, v, p)) {
+            // (no ray, too, where the direction overflows: a position far outside the
+            // square, a shift or window of 1e19)
+            if (!panorama_direction(u, v, p) || !finite3(p)) {
                 r.d = Vec3();
                 r.tmin = r.tmax = 0;
                 return r;
@@ -178,7 +180,7 @@ private:
                     theta = 2.0f * std::asin(std::min(r / (2.0f * fisheye_lens_), 1.0f));
                 } else {
                     theta = -(poly_[0] + r * (poly_[1] + r * (poly_[2] + r * (poly_[3] + r * poly_[4]))));
-                    if (std::abs(theta) > fisheye_fov_ * 0.5f) return false;
+                    if (!(std::abs(theta) <= fisheye_fov_ * 0.5f)) return false;   // (NaN too)
                 }
             }
             const float r = std::sqrt(x * x + y * y);

@@ -177,6 +177,8 @@ void validate_camera(const CameraDesc& c) {
             need_finite(where, field, hi);
             if (!(lo != hi))   // (reversed is allowed: a flipped image, as in Cycles)
                 refuse(where, field, "must span a range (its two ends differ), got (" + show(lo) + ", " + show(hi) + ")");
+            if (!std::isfinite(hi - lo))
+                refuse(where, field, "spans more than float32 holds: (" + show(lo) + ", " + show(hi) + ")");
         };
         need_range("longitude", c.longitude[0], c.longitude[1]);
         need_range("latitude", c.latitude[0], c.latitude[1]);

@@ -50,11 +50,13 @@ def rows_top_down(box, height):
 
 @pytest.mark.parametrize("shot, final, frame", [("shot_camera.png", "final.png", "frame"),
                                                 ("shot_panorama.png", "final_panorama.png", "frame_panorama"),
+                                                ("shot_fisheye.png", "final_fisheye.png", "frame_fisheye"),
                                                 ("shot_far.png", "final_far.png", "frame_far")])
 def test_camera_view_matches_a_final_render_of_the_same_camera(gui, shot, final, frame):
     """At zoom 1:1 the camera's frame is the render's size; the frame's part of
     the screenshot must be the final render (both colour managed by Blender).
-    A panoramic camera's ranges are stretched from its frame over the region;
+    A panoramic camera (equirectangular, and a fisheye with black corners) is
+    stretched from its frame over the region;
     a camera 1e7 from the origin keeps its place and direction."""
     final = gui.shot(final)
     view = gui.region(shot)

@@ -263,8 +263,9 @@ def cmd_info(args) -> int:
     print(f"primitives {scene.num_triangles} triangles{smooth}, {scene.num_spheres} spheres, "
           f"{scene.num_cylinders} cylinders; {len(scene.lights)} lights, {len(scene.materials)} materials")
     print(f"bounds     {_vec(lo)} .. {_vec(hi)}")
+    lens = {"perspective": f"fov {c.fov:.4g} deg", "orthographic": f"ortho height {c.ortho_height:.4g}"}
     print(f"camera     eye {_vec(c.eye)}, target {_vec(c.target)}, up {_vec(c.up)}, "
-          f"fov {c.fov:.4g} deg, {c.width}x{c.height}, aperture {c.aperture:g}")
+          f"{lens.get(c.projection, c.projection.replace('_', ' '))}, {c.width}x{c.height}, aperture {c.aperture:g}")
     print(f"grid       {grid_line(scene.grid_info(settings_from_args(args)))}")
     return 0
 

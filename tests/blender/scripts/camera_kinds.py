@@ -2,7 +2,9 @@
 
 usage: <python with bpy> camera_kinds.py OUT_DIR [KIND ...]
 Writes OUT_DIR/<kind>_gridwalk.exr and <kind>_cycles.exr (film transparent:
-alpha is coverage). Both sample pixel centres (GRIDWALK: aa=center; Cycles:
+alpha is coverage; the panoramas of scenes.PANORAMA_KINDS as multilayer EXRs
+with their Depth, which tells the opaque pixels a fisheye leaves without a ray,
+at Blender's miss depth, from the objects). Both sample pixel centres (GRIDWALK: aa=center; Cycles:
 a 0.01 px filter), so the alphas compare the cameras' geometry alone.
 
 Also writes OUT_DIR/kinds.json (the Blender's version and the kinds it
@@ -81,7 +83,8 @@ def main(argv):
             scenes.camera_kinds_scene(kind)
             scene = bpy.context.scene
             configure(scene, engine, {"samples": 4, "settings": {"aa": "CENTER"}})
-            single_layer(scene.render.image_settings)
+            if kind not in scenes.PANORAMA_KINDS:      # (a panorama's keeps its Depth: no-ray pixels lie at 1e10)
+                single_layer(scene.render.image_settings)
             if engine == "CYCLES":
                 scene.cycles.filter_width = 0.01
             scene.render.filepath = os.path.join(out_dir, f"{kind}_{engine.lower()}.exr")

@@ -7,7 +7,8 @@ shading with GRIDWALK, step by step (run by tests/blender/test_b23_gui_viewport.
  2. "Sphere" moved from this script: screenshot shot_moved.png. The
     camera's scale set to (1, 0, 1), the message shown recorded; scale restored.
     The camera made an equirectangular panorama: screenshot shot_panorama.png
-    and a final render of it, final_panorama.png; the camera made perspective again.
+    and a final render of it, final_panorama.png; then an equisolid fisheye:
+    shot_fisheye.png and final_fisheye.png; the camera made perspective again.
     Everything moved 1e7 from the origin: screenshot shot_far.png and a final
     render, final_far.png; moved back.
  3. The front numpad view (orthographic): screenshot shot_front.png.
@@ -271,6 +272,19 @@ def panorama_view():
     scene = bpy.context.scene
     RESULTS["frame_panorama"] = camera_frame()
     scene.render.filepath = os.path.join(OUT, "final_panorama.png")
+    bpy.ops.render.render(write_still=True)
+    cam = scene.camera.data
+    pano = cam if hasattr(cam, "panorama_type") else cam.cycles
+    pano.panorama_type = "FISHEYE_EQUISOLID"      # a 10.5 mm lens over 150 degrees: black corners
+    pano.fisheye_lens, pano.fisheye_fov = 10.5, 2.6
+    after(0.5, lambda: when_done(fisheye_view))
+
+
+def fisheye_view():
+    screenshot("shot_fisheye.png")
+    scene = bpy.context.scene
+    RESULTS["frame_fisheye"] = camera_frame()
+    scene.render.filepath = os.path.join(OUT, "final_fisheye.png")
     bpy.ops.render.render(write_still=True)
     scene.camera.data.type = "PERSP"
     move_everything(FAR)

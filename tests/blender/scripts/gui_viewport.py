@@ -267,12 +267,17 @@ def zero_scale_camera():
     after(0.5, lambda: when_done(panorama_view))
 
 
-def panorama_view():
-    screenshot("shot_panorama.png")
-    scene = bpy.context.scene
-    RESULTS["frame_panorama"] = camera_frame()
-    scene.render.filepath = os.path.join(OUT, "final_panorama.png")
+def shot_and_render(name):
+    """Screenshot shot_<name>.png, the camera's frame in it (frame_<name>) and a final render, final_<name>.png."""
+    screenshot(f"shot_{name}.png")
+    RESULTS[f"frame_{name}"] = camera_frame()
+    bpy.context.scene.render.filepath = os.path.join(OUT, f"final_{name}.png")
     bpy.ops.render.render(write_still=True)
+
+
+def panorama_view():
+    shot_and_render("panorama")
+    scene = bpy.context.scene
     cam = scene.camera.data
     pano = cam if hasattr(cam, "panorama_type") else cam.cycles
     pano.panorama_type = "FISHEYE_EQUISOLID"      # a 10.5 mm lens over 150 degrees: black corners
@@ -281,12 +286,8 @@ def panorama_view():
 
 
 def fisheye_view():
-    screenshot("shot_fisheye.png")
-    scene = bpy.context.scene
-    RESULTS["frame_fisheye"] = camera_frame()
-    scene.render.filepath = os.path.join(OUT, "final_fisheye.png")
-    bpy.ops.render.render(write_still=True)
-    scene.camera.data.type = "PERSP"
+    shot_and_render("fisheye")
+    bpy.context.scene.camera.data.type = "PERSP"
     move_everything(FAR)
     after(0.5, lambda: when_done(far_view))
 
@@ -306,11 +307,7 @@ def move_everything(offset):
 
 
 def far_view():
-    screenshot("shot_far.png")
-    scene = bpy.context.scene
-    RESULTS["frame_far"] = camera_frame()
-    scene.render.filepath = os.path.join(OUT, "final_far.png")
-    bpy.ops.render.render(write_still=True)
+    shot_and_render("far")
     move_everything(tuple(-x for x in FAR))
     after(0.5, lambda: when_done(front_view))
 

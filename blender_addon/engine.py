@@ -49,10 +49,6 @@ def unsupported_render_settings(scene) -> list[str]:
     if linked:                             # (Blender 4.0+)
         out.append("Light and shadow linking are not supported (every light reaches every object, every "
                    "object casts shadows): " + ", ".join(repr(n) for n in linked))
-    cam = scene.camera.data if scene.camera is not None and scene.camera.type == "CAMERA" else None
-    if cam is not None and cam.dof.use_dof and (cam.dof.aperture_blades >= 3 or cam.dof.aperture_ratio != 1.0):
-        out.append(f"Camera {scene.camera.name!r}: aperture blades, rotation and ratio are not supported "
-                   "(the aperture is round)")
     return out
 
 

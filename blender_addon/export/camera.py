@@ -31,7 +31,9 @@ and for an orthographic camera 1 / (2 * f-stop), as Cycles sets it: the
 scene's Unit Scale plays no part (EEVEE divides by it, Cycles does not; an
 exploration measured Cycles' blur unchanged at Unit Scale 0.1). The focus
 distance is the focus object's (or its focus bone's head's) distance along the
-view axis, or the camera's focus_distance.
+view axis, or the camera's focus_distance. Blades (3 or more: a polygonal
+aperture whose corners lie on that radius), Rotation and Ratio (an anamorphic
+bokeh, narrowed across by 1 / ratio) shape the aperture as Cycles samples it.
 """
 from __future__ import annotations
 
@@ -236,4 +238,7 @@ def convert_camera(cam_obj, render, live: bool = False) -> Camera:
         size = 1.0 if cam.type == "ORTHO" else cam.lens / 1000.0
         fields["aperture"] = size / (2.0 * max(cam.dof.aperture_fstop, 1e-6))
         fields["focus_distance"] = _focus_distance(cam, eye, forward)
+        # the aperture's shape, as Cycles samples it: a polygon of 3+ blades, turned; narrowed by the ratio
+        fields.update(blades=int(cam.dof.aperture_blades), blade_rotation=float(cam.dof.aperture_rotation),
+                      aperture_ratio=float(cam.dof.aperture_ratio))
     return Camera(**fields)

@@ -24,6 +24,11 @@ struct CameraDesc {
     int width = 512, height = 512;
     float pixel_aspect = 1;               // a pixel's width / height
     float aperture = 0, focus_distance = 1;
+    // The aperture's shape: 0 (or fewer than 3) a disc, else a regular polygon of `blades`
+    // corners at the aperture's radius, turned by blade_rotation (radians; at 0 an edge faces
+    // the image's right); aperture_ratio > 1 narrows it across (an anamorphic lens' bokeh).
+    int blades = 0;
+    float blade_rotation = 0, aperture_ratio = 1;
     std::array<float, 2> shift{0, 0};     // in units of the image plane's larger side; a panorama's: of the unit square
     std::array<float, 2> longitude{-float(kPi), float(kPi)};         // equirectangular: left, right edge (radians)
     std::array<float, 2> latitude{-float(kPi / 2), float(kPi / 2)};  // equirectangular: bottom, top edge
@@ -63,6 +68,9 @@ public:
         lat_ = Span(c.latitude);
         aperture_ = c.aperture;
         focus_ = c.focus_distance;
+        blades_ = c.blades >= 3 ? c.blades : 0;
+        blade_rotation_ = c.blade_rotation;
+        inv_ratio_ = 1.0f / c.aperture_ratio;
         hither_ = c.hither;
         yon_ = c.yon;
         panorama_ = projection_ != Projection::Perspective && projection_ != Projection::Orthographic;
@@ -96,7 +104,7 @@ public:
                 return r;
             }
             d = normalize(fwd_ * p.x - right_ * p.y + up_ * p.z);
-            basis(d, lens_u, lens_v);   // the lens lies across the ray
+            if (aperture_ > 0) lens_across(d, lens_u, lens_v);
         } else {
             const float x = (2.0f * px / float(width_) - 1.0f) * half_w_ + shift_x_;
             const float y = (1.0f - 2.0f * py / float(height_)) * half_h_ + shift_y_;
@@ -109,7 +117,7 @@ public:
         }
         if (aperture_ > 0) {
             float dx, dy;
-            concentric_disk(lu, lv, dx, dy);
+            aperture_point(lu, lv, dx, dy);
             const Vec3 lens = lens_u * (dx * aperture_) + lens_v * (dy * aperture_);
             r.o = r.o + lens;
             d = d * focus_ - lens;           // through the point on the focal plane (a panorama's: sphere)
@@ -132,6 +140,42 @@ public:
     int height() const { return height_; }
 
 private:
+    // A point of the unit aperture for the lens sample (lu, lv), as Cycles samples it: the
+    // disc, or the polygon's corner lu picks, its triangle to the centre sampled uniformly;
+    // then narrowed across by the ratio.
+    void aperture_point(float lu, float lv, float& x, float& y) const {
+        if (blades_ == 0) {
+            concentric_disk(lu, lv, x, y);
+        } else {
+            const float n = float(blades_);
+            const float corner = std::min(std::floor(lu * n), n - 1.0f);
+            const float s = std::sqrt(std::max(lu * n - corner, 0.0f));   // the triangle's weights
+            const float b = lv * s, a = 1.0f - s;
+            const float half = float(kPi) / n;   // the corners lie half a sector either side of its middle
+            const float px = (a + b) * std::cos(half), py = (a - b) * std::sin(half);
+            const float turn = blade_rotation_ + corner * 2.0f * half;
+            const float c = std::cos(turn), sn = std::sin(turn);
+            x = c * px - sn * py;
+            y = sn * px + c * py;
+        }
+        x *= inv_ratio_;
+    }
+    // A panorama's lens plane across the ray d, oriented as Cycles orients it: its x along
+    // the panorama's x axis (forward; a mirror ball's: right) made perpendicular to d,
+    // its y = d x that (turned back for the mirror ball, whose axes are a mirror image).
+    void lens_across(const Vec3& d, Vec3& lens_u, Vec3& lens_v) const {
+        const bool ball = projection_ == Projection::MirrorBall;
+        const Vec3 axis = ball ? right_ : fwd_;
+        const Vec3 u = axis - d * dot(axis, d);
+        const float len = length(u);
+        if (!(len > 1e-6f)) {   // (along the axis itself, where Cycles' frame is undefined)
+            basis(d, lens_u, lens_v);
+            return;
+        }
+        lens_u = u * (1.0f / len);
+        lens_v = ball ? cross(lens_u, d) : cross(d, lens_u);
+    }
+
     // The panorama's direction at (u, v) of its unit square, in panorama
     // space (x forward, y left, z up), as Cycles computes it for each type;
     // false where the projection shows nothing.
@@ -206,7 +250,8 @@ private:
     Vec3 eye_;
     Vec3d eye_d_;
     Vec3 fwd_, right_, up_;
-    float half_h_, half_w_, shift_x_, shift_y_, aperture_, focus_, hither_, yon_;
+    float half_h_, half_w_, shift_x_, shift_y_, aperture_, focus_, hither_, yon_, blade_rotation_, inv_ratio_;
+    int blades_;
     Span lon_, lat_, window_u_, window_v_, cylinder_;
     bool panorama_ = false;
     float fisheye_fov_, fisheye_lens_;

@@ -196,6 +196,12 @@ void validate_camera(const CameraDesc& c) {
         if (!(c.fisheye_lens > 0)) refuse(where, "fisheye_lens", "must be > 0 mm, got " + show(c.fisheye_lens));
     }
     need_at_least(where, "aperture", c.aperture, 0);
+    if (!(c.blades >= 0 && c.blades <= 64))
+        refuse(where, "blades", "must be in [0, 64] (0: a round aperture), got " + std::to_string(c.blades));
+    need_finite(where, "blade_rotation", c.blade_rotation);
+    need_finite(where, "aperture_ratio", c.aperture_ratio);
+    if (!(c.aperture_ratio >= 1e-3f && c.aperture_ratio <= 1e3f))
+        refuse(where, "aperture_ratio", "must be in [1e-3, 1e3], got " + show(c.aperture_ratio));
     need_finite(where, "focus_distance", c.focus_distance);
     if (!(c.focus_distance > 0)) refuse(where, "focus_distance", "must be > 0, got " + show(c.focus_distance));
     need_finite(where, "shift", c.shift[0]);

@@ -501,7 +501,11 @@ class Camera(Record):
     transparent film. mirror_ball: the world reflected by a
     ball filling the image. cubemap_face: 90 x 90 degrees, equiangular.
     aperture is the thin-lens radius (0 = pinhole); focus_distance defaults to
-    |target - eye|. hither, yon: rays start and end this far along the view
+    |target - eye|. blades: 0 (or under 3) a round aperture, else a regular
+    polygon of that many corners on the aperture's radius, turned by
+    blade_rotation (radians; at 0 an edge faces the image's right);
+    aperture_ratio > 1 narrows the aperture across by 1 / ratio (anamorphic
+    bokeh), all as Cycles samples its aperture. hither, yon: rays start and end this far along the view
     axis (near and far clipping; a panorama clips by distance from the eye).
     mirror: flip the image left to right (a camera with a negative scale).
     """
@@ -513,6 +517,9 @@ class Camera(Record):
     height: int = _CAM.height
     aperture: float = _CAM.aperture
     focus_distance: float | None = None
+    blades: int = _CAM.blades
+    blade_rotation: float = _CAM.blade_rotation
+    aperture_ratio: float = _CAM.aperture_ratio
     shift: tuple = tuple(_CAM.shift)
     hither: float = _CAM.hither
     projection: str = PROJECTIONS[0]

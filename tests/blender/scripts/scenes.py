@@ -696,6 +696,26 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR,
     return {}
 
 
+def bokeh_scene(blades=6, rotation=0.3, ratio=1.5, resolution=(96, 96)):
+    """A glowing sphere far behind the focus of a wide-open lens, on black: its
+    image is the aperture's shape (test_b43). blades 0: a round aperture."""
+    scene = reset(resolution=tuple(resolution))
+    cam = scene.camera
+    cam.location, cam.rotation_euler = (0.0, 0.0, 0.0), (math.pi / 2, 0.0, 0.0)    # looking along +y
+    data = cam.data
+    data.lens, data.sensor_width, data.sensor_fit = 50.0, 36.0, "HORIZONTAL"
+    dof = data.dof
+    dof.use_dof, dof.focus_distance, dof.aperture_fstop = True, 1.0, 0.1            # aperture radius 0.25
+    dof.aperture_blades, dof.aperture_rotation, dof.aperture_ratio = blades, rotation, ratio
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0.0, 20.0, 0.0), segments=32, ring_count=16)
+    glow = principled_material("Glow", (0.0, 0.0, 0.0), **{"Emission Strength": 10.0})
+    glow.node_tree.nodes["Principled BSDF"].inputs[
+        "Emission Color" if bpy.app.version >= (4, 0, 0) else "Emission"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bpy.context.active_object.data.materials.append(glow)
+    plain_world("Black", (0.0, 0.0, 0.0))
+    return {}
+
+
 def uv_sphere_object(name, radius=1.0, segments=32, rings=16):
     """A smooth UV sphere built with bmesh (no operator: works in GUI timers too)."""
     import bmesh

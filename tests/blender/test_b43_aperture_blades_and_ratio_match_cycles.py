@@ -12,7 +12,7 @@ import pytest
 import exr
 from runner import ALL_BLENDERS, missing_reason, render_batch
 
-ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 8, "dof_samples": 16}', "CYCLES": "samples=1024"}
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 8, "dof_samples": 8}', "CYCLES": "samples=384"}
 VARIANTS = {"shaped": {}, "round": {"blades": 0}, "unnarrowed": {"ratio": 1.0}, "unturned": {"rotation": 0.0}}
 
 

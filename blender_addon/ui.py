@@ -165,11 +165,11 @@ class GRIDWALK_CAMERA_PT_panorama(GridwalkPanel, bpy.types.Panel):
             return
         col = layout.column()
         col.prop(holder, "panorama_type")
-        names = PANORAMAS.get(holder.panorama_type, (None, ()))[1]
-        if not names and holder.panorama_type not in PANORAMAS:
+        if holder.panorama_type not in PANORAMAS:
             col.label(text="Gridwalk does not render this panorama type", icon="ERROR")
+            return
         sub = None
-        for name in names:
+        for name in PANORAMAS[holder.panorama_type][1]:
             if name.endswith(("_min", "_k0")) or sub is None:   # (a range, or the coefficients, kept together)
                 sub = col.column(align=True)
             sub.prop(holder, name)

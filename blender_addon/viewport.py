@@ -382,7 +382,7 @@ def view_from_context(engine, context, depsgraph):
         lens = convert_camera(cam_obj, scene.render, live=True)
         clip = (lens.hither, lens.yon)
         extra = dict(aperture=lens.aperture, focus_distance=lens.focus_distance)
-        if lens.projection not in ("perspective", "orthographic"):
+        if lens.panoramic:
             render = scene.render
             frame = frame_in_region(cam_obj.calc_matrix_camera(
                 depsgraph, x=lens.width, y=lens.height, scale_x=render.pixel_aspect_x,

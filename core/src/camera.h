@@ -208,26 +208,22 @@ private:
             return true;
         }
         default: {   // the fisheyes: an angle theta from the view axis for a radius r in the image
-            float x, y, theta;
-            if (projection_ == Projection::FisheyeEquidistant) {
-                x = 2.0f * u - 1.0f;
-                y = 2.0f * v - 1.0f;
-                const float r = std::sqrt(x * x + y * y);
+            const bool equidistant = projection_ == Projection::FisheyeEquidistant;
+            // (equidistant: the unit square's ellipse; the others: mm on the sensor)
+            const float x = equidistant ? 2.0f * u - 1.0f : (u - 0.5f) * sensor_[0];
+            const float y = equidistant ? 2.0f * v - 1.0f : (v - 0.5f) * sensor_[1];
+            const float r = std::sqrt(x * x + y * y);
+            float theta;
+            if (equidistant) {
                 if (r > 1.0f) return false;
                 theta = r * fisheye_fov_ * 0.5f;
+            } else if (projection_ == Projection::FisheyeEquisolid) {
+                if (r > 2.0f * fisheye_lens_ * std::sin(fisheye_fov_ * 0.25f)) return false;
+                theta = 2.0f * std::asin(std::min(r / (2.0f * fisheye_lens_), 1.0f));
             } else {
-                x = (u - 0.5f) * sensor_[0];   // mm on the sensor
-                y = (v - 0.5f) * sensor_[1];
-                const float r = std::sqrt(x * x + y * y);
-                if (projection_ == Projection::FisheyeEquisolid) {
-                    if (r > 2.0f * fisheye_lens_ * std::sin(fisheye_fov_ * 0.25f)) return false;
-                    theta = 2.0f * std::asin(std::min(r / (2.0f * fisheye_lens_), 1.0f));
-                } else {
-                    theta = -(poly_[0] + r * (poly_[1] + r * (poly_[2] + r * (poly_[3] + r * poly_[4]))));
-                    if (!(std::abs(theta) <= fisheye_fov_ * 0.5f)) return false;   // (NaN too)
-                }
+                theta = -(poly_[0] + r * (poly_[1] + r * (poly_[2] + r * (poly_[3] + r * poly_[4]))));
+                if (!(std::abs(theta) <= fisheye_fov_ * 0.5f)) return false;   // (NaN too)
             }
-            const float r = std::sqrt(x * x + y * y);
             // (the centre: Cycles' direction there, with cos(phi) = 0 and sin(phi) = 1)
             const float cx = r != 0.0f ? x / r : 0.0f, sy = r != 0.0f ? y / r : 1.0f;
             const float st = std::sin(theta);

@@ -537,6 +537,11 @@ class Camera(Record):
     mirror: bool = _CAM.mirror
     CORE = _core.Camera
 
+    @property
+    def panoramic(self) -> bool:
+        """Whether the projection is one of the panoramas (not perspective or orthographic)."""
+        return self.projection not in ("perspective", "orthographic")
+
     def converters(self) -> dict:
         def focus(value, where):
             if value is None:   # |target - eye|, in double

@@ -145,17 +145,16 @@ public:
         if (world_.environment < 0) return background_;
         const Vec3 e = to_environment(d);
         float u, v;
-        if (world_.inset >= 0) {
-            const Vec3 l = rotate(world_.inset_frame, e);
-            if (l.z > 0 && std::abs(l.x) < world_.inset_extent * l.z && std::abs(l.y) < world_.inset_extent * l.z) {
-                u = 0.5f + 0.5f * l.x / (l.z * world_.inset_extent);
-                v = 0.5f + 0.5f * l.y / (l.z * world_.inset_extent);
-                const Texture& t = textures_[size_t(world_.inset)];
-                return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
-            }
+        int32_t texture = world_.environment;
+        const Vec3 l = world_.inset >= 0 ? rotate(world_.inset_frame, e) : Vec3();
+        if (l.z > 0 && std::abs(l.x) < world_.inset_extent * l.z && std::abs(l.y) < world_.inset_extent * l.z) {
+            u = 0.5f + 0.5f * l.x / (l.z * world_.inset_extent);
+            v = 0.5f + 0.5f * l.y / (l.z * world_.inset_extent);
+            texture = world_.inset;
+        } else {
+            equirect_uv(e, u, v);
         }
-        equirect_uv(e, u, v);
-        const Texture& t = textures_[size_t(world_.environment)];
+        const Texture& t = textures_[size_t(texture)];
         return sample_image(*images_[size_t(t.image)], t, u, v).rgb * world_.environment_strength;
     }
     // The ambient light a diffuse surface facing n gets (times its colour and

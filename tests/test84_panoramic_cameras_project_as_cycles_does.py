@@ -9,6 +9,7 @@ The image's (u, v) run from 0 to 1 left to right and bottom to top; in the
 camera's frame "forward" is the view axis (eye to target: +y here), "right"
 +x and "up" +z.
 """
+import dataclasses
 import math
 
 import numpy as np
@@ -183,3 +184,28 @@ def test_a_position_whose_direction_overflows_gets_no_ray():
         assert np.isfinite(d).all(), projection
         if projection.startswith("fisheye") or projection == "mirror_ball":
             assert np.all(d == 0), projection
+
+
+@pytest.mark.parametrize("projection", ["fisheye_equisolid", "fisheye_polynomial"])
+def test_a_sensor_fisheye_resized_to_another_aspect_stays_round(projection):
+    """Camera.resized, which gridwalk.io and the farm use for a new image size:
+    the sensor's width follows the new aspect, so pixels equally far from the
+    centre across and upwards see equal angles (keeping the sensor in mm
+    stretched the circle into an ellipse)."""
+    from gridwalk.renderfarm.core_job import load_scene
+    cam = gw.Camera(projection=projection, fisheye_lens=8.0, fisheye_fov=3.0, sensor=(36.0, 24.0),
+                    polynomial=(0.0, -0.09, 0.0, 0.0, 0.0), width=90, height=60, **EYE)
+    wide = cam.resized(200, 60)
+    assert wide.sensor == pytest.approx((80.0, 24.0)) and (wide.width, wide.height) == (200, 60)
+    assert load_scene({"camera": cam}, 200, 60)[0]["camera"] == wide
+    for c in (cam, wide):
+        px = c.width / 2 + np.array([10.0, 0.0])
+        py = c.height / 2 - np.array([0.0, 10.0])
+        _, d, _, _ = c.rays(px, py)
+        a = angle_from_axis(d)
+        assert a[0] > 0.1 and a[0] == pytest.approx(a[1], abs=1e-5)
+    # what the old resize made of it: the same sensor over a wider image stretches the circle
+    _, d, _, _ = dataclasses.replace(cam, width=200).rays(100 + np.array([10.0, 0.0]), 30 - np.array([0.0, 10.0]))
+    assert abs(angle_from_axis(d)[0] - angle_from_axis(d)[1]) > 0.05
+    with pytest.raises(ValueError, match="at least 1 x 1"):
+        cam.resized(0, 60)

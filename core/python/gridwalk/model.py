@@ -542,6 +542,24 @@ class Camera(Record):
         """Whether the projection is one of the panoramas (not perspective or orthographic)."""
         return self.projection not in ("perspective", "orthographic")
 
+    def resized(self, width: int, height: int) -> "Camera":
+        """This camera for a width x height image. The view keeps its vertical
+        extent (fov, ortho_height, a panorama's ranges); a fisheye that maps
+        millimetres on a sensor (equisolid, polynomial) keeps the sensor's
+        height and takes a width of the new image's aspect, so its circle stays
+        round. (A panorama that spans its unit square, such as equirectangular
+        or the equidistant fisheye's ellipse, stretches with the image, as in
+        Blender.)"""
+        import dataclasses
+        width, height = _scalar(width, int, "width"), _scalar(height, int, "height")
+        if width < 1 or height < 1:
+            raise ValueError(f"Camera.resized: the image size must be at least 1 x 1, not {width} x {height}")
+        sensor = self.sensor
+        if self.projection in ("fisheye_equisolid", "fisheye_polynomial"):
+            h_mm = float(sensor[1])
+            sensor = (h_mm * width * float(self.pixel_aspect) / height, h_mm)
+        return dataclasses.replace(self, width=width, height=height, sensor=sensor)
+
     def converters(self) -> dict:
         def focus(value, where):
             if value is None:   # |target - eye|, in double

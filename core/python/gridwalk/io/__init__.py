@@ -10,7 +10,6 @@ cylinder_apex_radius, cylinder_materials (float32 / int32 arrays, empty when
 a file has none of a kind; normals may be None), materials, lights, camera,
 background. Malformed files raise SceneFileError (a ValueError).
 """
-import dataclasses
 from pathlib import Path
 
 from .common import SceneFileError
@@ -35,5 +34,5 @@ def load_scene(path, width: int | None = None, height: int | None = None) -> dic
     if width is not None or height is not None:
         cam = kwargs["camera"]
         size = dict(width=cam.width if width is None else int(width), height=cam.height if height is None else int(height))
-        kwargs["camera"] = nff_resized(cam, **size) if suffix == ".nff" else dataclasses.replace(cam, **size)
+        kwargs["camera"] = nff_resized(cam, **size) if suffix == ".nff" else cam.resized(**size)
     return kwargs

@@ -104,8 +104,8 @@ def load_scene(scene, width=None, height=None) -> tuple[dict, str]:
     kwargs = dict(scene)
     cam = kwargs.get("camera")
     if cam is not None and (width is not None or height is not None):
-        kwargs["camera"] = dataclasses.replace(cam, width=cam.width if width is None else width,
-                                               height=cam.height if height is None else height)
+        kwargs["camera"] = cam.resized(cam.width if width is None else width,
+                                       cam.height if height is None else height)
     return kwargs, "scene"
 
 

@@ -26,8 +26,10 @@ from runner import ALL_BLENDERS, script_output
 
 PANORAMAS = ("fisheye_equidistant", "fisheye_equisolid", "fisheye_polynomial", "mirror_ball", "cubemap_face",
              "central_cylindrical")
+# A mirrored camera (scale -1) flips each panorama's image as it flips a perspective one.
+MIRRORED = ("mirrored_panoramic", "mirrored_fisheye_equisolid", "mirrored_mirror_ball")
 KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far", "portrait_auto",
-         "portrait_horizontal") + PANORAMAS
+         "portrait_horizontal") + PANORAMAS + MIRRORED
 
 
 @pytest.fixture(scope="module", params=list(ALL_BLENDERS))
@@ -69,7 +71,8 @@ def test_coverage_matches_cycles(renders, kind):
     (ours, ours_none), (cycles, cycles_none) = masks(renders, kind, "gridwalk"), masks(renders, kind, "cycles")
     assert 0.02 < cycles.mean() < 0.9, "the scene must be partly covered for the comparison to mean something"
     assert iou(ours, cycles) >= 0.98, f"{kind}: objects' IoU {iou(ours, cycles):.4f} with Cycles"
-    if kind.startswith("fisheye") or kind == "mirror_ball":     # (cut at a circle, or at an angle)
+    base = kind.removeprefix("mirrored_")
+    if base.startswith("fisheye") or base == "mirror_ball":     # (cut at a circle, or at an angle)
         assert cycles_none.mean() > 0.05
         assert iou(ours_none, cycles_none) >= 0.99, f"{kind}: no-ray pixels' IoU {iou(ours_none, cycles_none):.4f}"
     else:
@@ -88,7 +91,7 @@ def test_kinds_differ_from_each_other(renders):
 
 def test_exported_camera_equals_the_camera_rebuilt_from_blenders_matrices(renders):
     distances = json.loads((renders / "rays.json").read_text())
-    assert set(distances) == set(KINDS) - {"panoramic", *PANORAMAS}
+    assert set(distances) == set(KINDS) - {"panoramic", *PANORAMAS, *MIRRORED}
     for kind, worst in distances.items():
         # relative: directions, and the clipped segments' ends (Blender's float32
         # projection matrix holds the far clip to about 1e-3 of its distance)

@@ -79,17 +79,18 @@ def main(argv):
         if not scenes.has_panorama(kind):
             continue
         rendered.append(kind)
+        base = kind.removeprefix("mirrored_")       # (a mirrored panorama renders as its panorama does)
         for engine in ("GRIDWALK", "CYCLES"):
             scenes.camera_kinds_scene(kind)
             scene = bpy.context.scene
             configure(scene, engine, {"samples": 4, "settings": {"aa": "CENTER"}})
-            if kind not in scenes.PANORAMA_KINDS:      # (a panorama's keeps its Depth: no-ray pixels lie at 1e10)
+            if base not in scenes.PANORAMA_KINDS:      # (a panorama's keeps its Depth: no-ray pixels lie at 1e10)
                 single_layer(scene.render.image_settings)
             if engine == "CYCLES":
                 scene.cycles.filter_width = 0.01
             scene.render.filepath = os.path.join(out_dir, f"{kind}_{engine.lower()}.exr")
             bpy.ops.render.render(write_still=True)
-        if kind != "panoramic" and kind not in scenes.PANORAMA_KINDS:
+        if base != "panoramic" and base not in scenes.PANORAMA_KINDS:
             rays[kind] = compare_rays(bpy, bpy.context.scene)
         print("camera_kinds:", kind, "done", flush=True)
     with open(os.path.join(out_dir, "rays.json"), "w") as f:

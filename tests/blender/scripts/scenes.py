@@ -603,7 +603,8 @@ def nan_scene():
 
 CAMERA_KINDS = ("perspective", "orthographic", "panoramic", "mirrored", "pixel_aspect", "clipped", "far",
                 "portrait_auto", "portrait_horizontal", "fisheye_equidistant", "fisheye_equisolid",
-                "fisheye_polynomial", "mirror_ball", "cubemap_face", "central_cylindrical")
+                "fisheye_polynomial", "mirror_ball", "cubemap_face", "central_cylindrical", "mirrored_panoramic",
+                "mirrored_fisheye_equisolid", "mirrored_mirror_ball")
 # Blender's panorama type of each panoramic kind but "panoramic" (equirectangular), and its settings
 PANORAMA_KINDS = {
     "fisheye_equidistant": ("FISHEYE_EQUIDISTANT", dict(fisheye_fov=2.6), dict(shift_x=0.05)),
@@ -634,6 +635,8 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR,
     coordinates, which float32 holds exactly there. sky: a world colour
     (the pictures': a fisheye's black corners show against it)."""
     far = kind == "far"
+    mirrored = kind.startswith("mirrored_")     # a mirrored panorama: "mirrored_" + a panoramic kind
+    kind = kind[len("mirrored_"):] if mirrored else kind
     portrait = kind.startswith("portrait")      # a tall image: AUTO fits the sensor to the height
     scene = reset(resolution=(101, 101) if far else tuple(resolution)[::-1] if portrait else tuple(resolution))
     offset = Vector(far_offset if far else (0.0, 0.0, 0.0))
@@ -663,9 +666,9 @@ def camera_kinds_scene(kind="perspective", resolution=(128, 96), far_offset=FAR,
             setattr(pano, name, value)
         for name, value in lens.items():
             setattr(data, name, value)
-    elif kind == "mirrored":
+    if kind == "mirrored" or mirrored:
         cam.scale = (-1.0, 1.0, 1.0)
-    elif kind == "pixel_aspect":
+    if kind == "pixel_aspect":
         scene.render.pixel_aspect_x = 2.0
     elif kind == "portrait_auto":
         data.shift_x = -0.1

@@ -113,6 +113,22 @@ def test_object_coordinates_are_their_own_array():
     np.testing.assert_array_equal(both, image)
 
 
+def test_position_coordinates_are_the_world_point_under_the_texture_map():
+    # the square's world corners are VERTS; a map as the export makes for another object's
+    # Object coordinates (that object's inverse world matrix) moves the pattern off the
+    # square's own
+    texture = gw.Texture(kind="checker", coordinates="position", color1=RED, color2=BLUE, scale=1.7,
+                         vector_transform=(0.5, 0, 0, 0.3, 0, 0.5, 0, -0.2, 0, 0, 0.5, 0.4))
+    image = _render(texture, generated=None)
+    x, y = _pixel_points()
+    first = _cycles_checker(np.stack([0.5 * x + 0.3, 0.5 * y - 0.2, np.full_like(x, 0.4)], axis=-1), 1.7)
+    assert 0.2 < first.mean() < 0.8
+    np.testing.assert_array_equal(image, _expected(first))
+    # the same as Object coordinates that equal the world corners
+    same = _render(replace(texture, coordinates="object"), object_coords=VERTS[TRIS], generated=None)
+    np.testing.assert_array_equal(same, image)
+
+
 def _cycles_gradient(kind, p):
     """Blender's Gradient Texture value at the points p (..., 3), clamped, as Cycles computes it."""
     x, y = p[..., 0], p[..., 1]
@@ -238,6 +254,9 @@ def _scene(**kw):
     ({"generated": np.full((2, 3, 3), np.nan)}, r"generated\[0\] has a non-finite value"),
     ({"sphere_centers": [[0, 0, 3]], "sphere_radii": [1.0], "sphere_materials": [0]},
      "which spheres do not have"),
+    ({"sphere_centers": [[0, 0, 3]], "sphere_radii": [1.0], "sphere_materials": [0],
+      "textures": [gw.Texture(kind="checker", coordinates="position")]},
+     "texture at position coordinates, which spheres do not have"),
     ({"textures": [gw.Texture(kind="checker", image=0)], "images": [gw.Image(np.ones((2, 2, 3), np.float32))]},
      "a checker texture has no image"),
     ({"textures": [gw.Texture(kind="checker", vector_transform=(1, 0, 0, float("inf")) + (0,) * 8)]},

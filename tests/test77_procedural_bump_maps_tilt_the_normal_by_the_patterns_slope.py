@@ -4,6 +4,8 @@ pattern's slope along the surface, taken by central differences of the pattern, 
 the UV map bends it by its texels' slopes. Checked against the slope worked out by hand (a
 linear Gradient), against numpy's differences of Cycles' noise (test76's evaluation) pixel by
 pixel, and for the Bump node's Distance and Strength. Blender's side: tests/blender/test_b39."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -79,6 +81,14 @@ def test_a_checker_bump_is_flat_inside_its_squares():
     # (a step has no slope: only a pixel centre within the difference's step of an edge could
     # show one, and none lies there)
     np.testing.assert_allclose(image, flat, rtol=1e-5)
+
+
+def test_a_bump_at_position_coordinates_bends_as_at_equal_object_coordinates():
+    # the square's Object coordinates here are its world corners: the same slopes
+    texture = gw.Texture(kind="noise", coordinates="position", scale=3.0, detail=2.0)
+    bumped = _render(texture)
+    assert bumped.std() > 0.02                              # the noise's slopes show
+    np.testing.assert_array_equal(bumped, _render(replace(texture, coordinates="object")))
 
 
 def test_a_bump_at_object_coordinates_without_them_is_refused():

@@ -100,7 +100,7 @@ class Links:
         self.fields = {}           # Material field -> value
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
         self.color_layer = None    # likewise for the colour attribute
-        self.points = set()        # "generated", "object": the corner points a texture reads
+        self.points = set()        # "generated", "object", "position": the corner points a texture reads
         self.textured = []         # "input (node)" left at its default value
         self.unmodelled = []       # "input value" of layers the Whitted model does not have
 
@@ -568,7 +568,7 @@ class MaterialTable:
             material = self.materials[index]
             fields = {f.name: -1 for f in dataclasses.fields(material)
                       if f.name.endswith("_texture") and getattr(material, f.name) >= 0
-                      and self.textures.textures[getattr(material, f.name)].coordinates in ("generated", "object")}
+                      and self.textures.textures[getattr(material, f.name)].coordinates in ("generated", "object", "position")}
             self._index[key] = len(self.materials)
             self.materials.append(dataclasses.replace(material, **fields))
             self.links.append(None)

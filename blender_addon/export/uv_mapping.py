@@ -4,8 +4,13 @@ An Image Texture looks up the (x, y) of the vector it is given. Unlinked,
 that vector is the mesh's active render UV map, (u, v, 0) (a procedural
 texture's: the object's Generated coordinates); a UV Map node gives a named
 layer, a Texture Coordinate node's UV output the active render one, its
-Generated and Object outputs those coordinates (gridwalk.Texture.coordinates;
-Object only where the node names no other object). Mapping nodes between them and the texture (any number, chained) move
+Generated and Object outputs those coordinates (gridwalk.Texture.coordinates),
+and a Geometry node's Position output the world point ("position"). Where the
+Texture Coordinate node names another object, its Object output is the world
+point in that object's space: "position" under the inverse of the object's
+world matrix (read when the material is exported: in the viewport, moving
+that object alone does not move the pattern until the material is exported
+again). Mapping nodes between them and the texture (any number, chained) move
 the vector by an affine map of 3-space, as Blender defines them:
   Point:   R (S p) + L
   Texture: R^T (p - L) / S   (a zero component of S gives 0: Blender's safe divide)
@@ -23,7 +28,8 @@ Not read, each named in the material's warning: the Normal type (it
 normalises, which is not affine: the node is passed over), Location,
 Rotation or Scale inputs fed by other nodes (their own values are used), any
 other source of coordinates (Object, a Vector Math node...: the node's own
-default, the UV map or Generated, is used), and a map beyond float range
+default, the UV map or Generated, is used: the Camera, Window, Normal and
+Reflection outputs among them), and a map beyond float range
 (likewise).
 """
 from __future__ import annotations
@@ -84,7 +90,7 @@ ZERO_VECTOR_NODES = ("TEX_WHITE_NOISE",)
 
 
 def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list[str]]:
-    """(coordinates "uv" | "generated" | "object" | "constant", UV layer ("" the active render
+    """(coordinates "uv" | "generated" | "object" | "position" | "constant", UV layer ("" the active render
     one), the Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture node's
     Vector input; unlinked, the `default` coordinates (the zero vector for ZERO_VECTOR_NODES).
     "constant": the map's translation is the point everywhere (an unlinked Vector at the
@@ -112,10 +118,16 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
         elif src.type == "TEX_COORD" and (out.name == "Generated" or
                                           out.name == "Object" and getattr(src, "object", None) is None):
             coordinates = out.name.lower()
+        elif src.type == "TEX_COORD" and out.name == "Object":
+            # another object's Object coordinates: the world point in that object's space
+            coordinates = "position"
+            mappings.append(np.linalg.inv(np.array(src.object.matrix_world, np.float64)))
+        elif src.type == "NEW_GEOMETRY" and out.name == "Position":
+            coordinates = "position"
         else:
-            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}"
-                            f"{' of another object' if out.name == 'Object' else ''}: only UV maps, Generated and "
-                            f"Object coordinates, through Mapping nodes, are read; {_NAMES[default]} is used)")
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, Generated "
+                            f"and Object coordinates and the Geometry node's Position, through Mapping nodes, "
+                            f"are read; {_NAMES[default]} is used)")
             mappings = []
         break
     # (Cycles evaluates Mappings of constants as they are, and folds a Scale of 0 to zero elsewhere)

@@ -182,7 +182,10 @@ GW_ENUM(RampInterpolation, GW_RAMP_INTERPOLATIONS)
     X(UV, "uv", "UV", "The triangles' UV map (u, v, 0)")                                                    \
     X(Generated, "generated", "Generated",                                                                  \
       "Blender's Generated coordinates: the object's own position in its texture space, 0..1 across its box") \
-    X(Object, "object", "Object", "Blender's Object coordinates: the point in its object's own space")
+    X(Object, "object", "Object", "Blender's Object coordinates: the point in its object's own space")       \
+    X(Position, "position", "Position",                                                                     \
+      "The point in world space (Blender's Geometry Position; through vector_transform, another object's "  \
+      "Object coordinates)")
 GW_ENUM(TextureCoords, GW_TEXTURE_COORDS)
 
 }  // namespace gw

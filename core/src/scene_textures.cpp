@@ -114,11 +114,12 @@ void Scene::check_textures() {
     }
 }
 
-// Generated and Object coordinates exist on triangles only (Scene(generated=...),
-// Scene(object_coords=...)): a material whose textures take them may not be on
-// a sphere or a cone, and triangles using it need the array.
+// Generated, Object and Position coordinates exist on triangles only
+// (Scene(generated=...), Scene(object_coords=...); a triangle's world corners):
+// a material whose textures take them may not be on a sphere or a cone, and
+// triangles using the first two need the array.
 void Scene::check_generated() const {
-    for (const TextureCoords coords : {TextureCoords::Generated, TextureCoords::Object}) {
+    for (const TextureCoords coords : {TextureCoords::Generated, TextureCoords::Object, TextureCoords::Position}) {
         auto reads = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].coordinates == coords; };
         std::vector<uint8_t> uses(materials_.size(), 0);
         for (size_t i = 0; i < materials_.size(); ++i) {
@@ -138,6 +139,7 @@ void Scene::check_generated() const {
             if (uses[size_t(cone_mat_[i])])
                 bad(what(cone_mat_[i]) + "which cylinders do not have: cylinder_materials[" + std::to_string(i) +
                     "] uses it");
+        if (coords == TextureCoords::Position) continue;   // (the triangles' own corners)
         const bool given = !(coords == TextureCoords::Generated ? generated_ : object_coords_).empty();
         const std::string array = coords == TextureCoords::Generated ? "generated" : "object_coords";
         if (!given)
@@ -149,6 +151,11 @@ void Scene::check_generated() const {
 }
 
 Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords) const {
+    if (coords == TextureCoords::Position) {
+        if (size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
+        const Vec3* c = &tri_verts_[3 * size_t(hit.prim)];
+        return c[0] * (1.0f - hit.u - hit.v) + c[1] * hit.u + c[2] * hit.v;
+    }
     const PooledVector<float>& values = coords == TextureCoords::Generated ? generated_ : object_coords_;
     if (values.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
     const float* c = &values[9 * size_t(hit.prim)];
@@ -303,6 +310,11 @@ bool Scene::corner_points(const Texture& t, size_t prim, Vec3 c[3]) const {
     if (t.coordinates == TextureCoords::UV) {
         if (uvs_.empty()) return false;
         for (int k = 0; k < 3; ++k) c[k] = Vec3(uvs_[6 * prim + 2 * k], uvs_[6 * prim + 2 * k + 1], 0);
+        return true;
+    }
+    if (t.coordinates == TextureCoords::Position) {
+        if (prim >= num_triangles()) return false;
+        for (int k = 0; k < 3; ++k) c[k] = tri_verts_[3 * prim + size_t(k)];
         return true;
     }
     const PooledVector<float>& values = t.coordinates == TextureCoords::Generated ? generated_ : object_coords_;

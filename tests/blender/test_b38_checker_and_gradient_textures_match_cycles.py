@@ -21,7 +21,7 @@ import pytest
 from runner import luminance_by_engine
 
 VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled",   # procedural_scenes.CHECKER_VARIANTS
-            "object", "twisted", "valued")
+            "object", "twisted", "valued", "position", "other_object")
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 GRADIENTS = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL")
 
@@ -88,11 +88,23 @@ def test_constant_nodes_into_the_checker_give_their_values(export):
     assert not out.warnings, out.warnings
 
 
-def test_object_coordinates_of_another_object_are_named_in_a_warning(export):
-    out = export("procedural_checker", variant="object", other=True)
+def test_object_coordinates_of_another_object_are_the_world_point_in_its_space(export):
+    out = export("procedural_checker", variant="other_object")
+    (texture,) = out.textures
+    assert texture["coordinates"] == "position" and not out.warnings, out.warnings
+    assert "object_coords" not in out.arrays and "generated" not in out.arrays
+    # the Mapping after the empty's inverse world matrix: a world point on the empty's
+    # origin maps to the Mapping's Location
+    m = np.asarray(texture["vector_transform"]).reshape(3, 4)
+    np.testing.assert_allclose(m @ np.append(out.expected["empty_location"], 1.0), out.expected["mapping_location"],
+                               atol=1e-5)
+
+
+def test_a_texture_coordinate_output_not_read_is_named_in_a_warning(export):
+    out = export("procedural_checker", variant="cube", coordinates="Reflection")
     (texture,) = out.textures
     assert texture["coordinates"] == "generated"                      # the Checker's own default
-    assert any("ShaderNodeTexCoord Object of another object" in w for w in out.warnings), out.warnings
+    assert any("ShaderNodeTexCoord Reflection" in w for w in out.warnings), out.warnings
 
 
 def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):

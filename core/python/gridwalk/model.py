@@ -264,7 +264,9 @@ class Texture(Record):
     by several textures is stored once. coordinates: uv (the hit's (u, v, 0)
     from Scene(uvs=...)) | generated (Blender's Generated coordinates from
     Scene(generated=...)) | object (Blender's Object coordinates from
-    Scene(object_coords=...)); the last two on triangles only. vector_transform: 12 numbers, a
+    Scene(object_coords=...)) | position (the point in world space: Blender's
+    Geometry Position, and through vector_transform another object's Object
+    coordinates); the last three on triangles only. vector_transform: 12 numbers, a
     row-major 3 x 4 affine map applied to that point (Blender's Mapping node;
     the identity by default); an image then takes the point's (x, y) as its
     (u, v), mapped on by uv_transform. Normal maps and the world's

@@ -20,18 +20,22 @@ from scenes import cube_object, link, plain_world, reset, shader_material
 #   twisted    the cube twisted 60 degrees by a Simple Deform modifier: Generated is taken before it
 #   valued     the plane, a Value node (2.0) into the Checker's Scale and an RGB node into its Color1
 CHECKER_VARIANTS = ("plane", "cube", "subdivided", "uv", "fac", "image", "principled", "object", "twisted",
-                    "valued")
+                    "valued", "position", "other_object")
+# "position": a Geometry node's Position; "other_object": the Object output of a Texture
+# Coordinate node naming an empty placed thus (location, rotation, scale)
+EMPTY_PLACE = ((0.4, -0.3, 0.2), (0.3, -0.5, 0.6), (0.7, 1.4, 1.1))
 VALUE_SCALE, RGB_COLOR = 2.0, (0.2, 0.8, 0.3, 1.0)
 COLORS = ((0.9, 0.6, 0.1, 1.0), (0.05, 0.1, 0.4, 1.0))
 SCALE = 3.7          # cube edges do not fall on pixel centres
 TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
 
 
-def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
+def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
-    a black world (other: the Texture Coordinate node names another object, an
-    empty). Returns the Checker's settings."""
+    a black world (coordinates: the Texture Coordinate node's output to read instead,
+    such as "Reflection"). Returns the Checker's settings, the empty's location and the
+    Mapping's."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac", "valued"):
         bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
@@ -41,7 +45,7 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
         obj.rotation_euler = (math.radians(30.0), 0.0, math.radians(35.0))
         if variant == "subdivided":
             obj.modifiers.new("Subdivision", "SUBSURF").levels = 2
-        if variant == "object":
+        if variant in ("object", "position", "other_object"):
             obj.scale = (1.2, 0.8, 1.0)
         if variant == "twisted":
             twist = obj.modifiers.new("Twist", "SIMPLE_DEFORM")
@@ -67,18 +71,22 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
     else:
         texture = nodes.new("ShaderNodeTexChecker")
         texture.inputs["Color1"].default_value, texture.inputs["Color2"].default_value = COLORS
-        texture.inputs["Scale"].default_value = SCALE if variant != "object" else 1.5   # (object space spans 3)
+        texture.inputs["Scale"].default_value = SCALE if variant not in ("object", "position", "other_object") else 1.5   # (object space spans 3)
     links.new(texture.outputs["Fac" if variant == "fac" else "Color"], target)
     if variant == "valued":
         value, rgb = nodes.new("ShaderNodeValue"), nodes.new("ShaderNodeRGB")
         value.outputs[0].default_value, rgb.outputs[0].default_value = VALUE_SCALE, RGB_COLOR
         links.new(value.outputs[0], texture.inputs["Scale"])
         links.new(rgb.outputs[0], texture.inputs["Color1"])
-    if variant in ("cube", "image", "uv", "object"):
+    if variant in ("cube", "image", "uv", "object", "position", "other_object"):
         coords = nodes.new("ShaderNodeTexCoord")
-        source = coords.outputs[{"uv": "UV", "object": "Object"}.get(variant, "Generated")]
-        if other:
-            coords.object = link(bpy.data.objects.new("Empty", None))
+        named = coordinates or {"uv": "UV", "object": "Object", "other_object": "Object"}.get(variant, "Generated")
+        source = coords.outputs[named]
+        if variant == "position":
+            source = nodes.new("ShaderNodeNewGeometry").outputs["Position"]
+        if variant == "other_object":
+            empty = coords.object = link(bpy.data.objects.new("Empty", None))
+            empty.location, empty.rotation_euler, empty.scale = EMPTY_PLACE
         if variant != "uv":
             mapping = nodes.new("ShaderNodeMapping")
             mapping.vector_type = "POINT"
@@ -90,7 +98,8 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), other=False):
     obj.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
-    return {"colors": COLORS, "scale": SCALE, "value_scale": VALUE_SCALE, "rgb": RGB_COLOR}
+    return {"colors": COLORS, "scale": SCALE, "value_scale": VALUE_SCALE, "rgb": RGB_COLOR,
+            "empty_location": EMPTY_PLACE[0], "mapping_location": TURN[0]}
 
 
 def checker_material():

@@ -191,6 +191,33 @@ def test_a_ramp_colours_a_gradient_as_cycles_reads_its_table(interpolation):
     np.testing.assert_allclose(image, expected, atol=2e-5)
 
 
+def test_steps_after_a_ramp_adjust_its_colour():
+    # a Separate Color's green, x 2 - 0.3 (a Math Multiply Add), clamped; and a tint (a Mix Multiply)
+    local = np.column_stack([0.6 * VERTS[:, 0] + 0.45, VERTS[:, 1], np.zeros(4)]).astype(np.float32)
+    base = gw.Texture(kind="gradient", coordinates="object", ramp=STOPS)
+    x, _ = _pixel_points()
+    ramped = _cycles_ramp(np.clip(0.6 * x + 0.45, 0, 1), "linear")
+    green = _render(replace(base, ramp_channel=1, ramp_gain=(2.0,) * 3, ramp_bias=(-0.3,) * 3, ramp_clamp=True),
+                    object_coords=local[TRIS])
+    expected = np.clip(ramped[..., 1] * 2 - 0.3, 0, 1)
+    assert 0.05 < expected.mean() < 0.95 and expected.std() > 0.1
+    np.testing.assert_allclose(green, np.repeat(expected[..., None], 3, -1), atol=5e-5)
+    tint = (0.5, 1.0, 0.25)
+    tinted = _render(replace(base, ramp_gain=tint), object_coords=local[TRIS])
+    np.testing.assert_allclose(tinted, ramped * tint, atol=2e-5)
+    # the luminance after a ramp, as a number (the roughness of a lit, glossy square is not
+    # the easiest to read back: a colour and its luminance go to an emitter here)
+    lum = _render(replace(base, ramp_channel=3), object_coords=local[TRIS])
+    np.testing.assert_allclose(lum[..., 0], ramped @ [0.2126, 0.7152, 0.0722], atol=5e-5)
+
+
+def test_steps_after_a_ramp_need_the_ramp():
+    with pytest.raises(ValueError, match="adjusts the value after a ramp .* but has no ramp"):
+        _scene(textures=[gw.Texture(kind="checker", coordinates="generated", ramp_gain=(2, 2, 2))])
+    with pytest.raises(ValueError, match="ramp_channel = 7 is not"):
+        _scene(textures=[gw.Texture(kind="checker", coordinates="generated", ramp=STOPS, ramp_channel=7)])
+
+
 def test_stops_at_one_position_make_a_hard_edge_in_their_order():
     # green then blue at 0.5: below it the ramp runs into green, above it out of blue
     stops = ((0.0, 1, 0, 0, 1), (0.5, 0, 1, 0, 1), (0.5, 0, 0, 1, 1), (1.0, 1, 1, 1, 1))

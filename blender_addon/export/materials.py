@@ -129,15 +129,14 @@ class Links:
             average = {"channel": 4} if is_vector(node, out.name) and socket.type == "VALUE" else None
             self.fields[field] = self._texture(node, out.name, average)
             return True
-        if node.type == "VALTORGB" and self.textures is not None:
-            return self._ramp(socket, node, out, field)
         if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
             self.fields["vertex_color"] = True
             self.color_layer = getattr(node, "layer_name", "") or ""
             return True
-        image, output, adjust = image_through_nodes(socket) if self.textures is not None else (None, None, "")
+        image, output, adjust, ramp = (image_through_nodes(socket) if self.textures is not None
+                                       else (None, None, "", None))
         if image is not None:
-            self.fields[field] = self._texture(image, output, adjust)
+            self.fields[field] = self._ramped(image, output, adjust, ramp)
             return True
         if colour and field == "color_texture" and self._image_times_attribute(node):
             return True
@@ -159,29 +158,26 @@ class Links:
             attribute, _ = _source(other)
             if attribute is None or attribute.type != "VERTEX_COLOR":
                 continue
-            image, output, adjust = image_through_nodes(image_side)
+            image, output, adjust, ramp = image_through_nodes(image_side)
             if image is None:
                 return False
-            self.fields["color_texture"] = self._texture(image, output, adjust)
+            self.fields["color_texture"] = self._ramped(image, output, adjust, ramp)
             self.fields["vertex_color"] = True
             self.color_layer = getattr(attribute, "layer_name", "") or ""
             return True
         return False
 
-    def _ramp(self, socket, node, out, field) -> bool:
-        """A Color Ramp's Color output whose Fac a texture gives (through the value
-        nodes): that texture with the ramp (Texture.ramp, color_ramp.py); its Alpha
-        output, and a Fac that no texture gives, are named in a warning."""
-        image, output, adjust = image_through_nodes(node.inputs["Fac"])
-        if image is None or out.name != "Color":
-            why = "its Alpha output" if image is not None else f"Fac: {adjust or 'no texture'}"
-            self.textured.append(f"{socket.name} ({node.bl_idname}, {why})")
-            return False
-        stops, interpolation, notes = ramp_stops(node.color_ramp, node.name)
+    def _ramped(self, node, output, adjust, ramp) -> int:
+        """The texture index of a texture node's output (_texture) with the steps before the
+        Color Ramp `ramp`, then the ramp (Texture.ramp, color_ramp.py) and the steps after it
+        (adjust's ramp_* fields); without a ramp, _texture's."""
+        if ramp is None:
+            return self._texture(node, output, adjust)
+        before = {k: v for k, v in adjust.items() if not k.startswith("ramp_")}
+        stops, interpolation, notes = ramp_stops(ramp.color_ramp, ramp.name)
         self.textured += notes
-        index = self._texture(image, output, adjust)
-        self.fields[field] = self.textures.with_ramp(index, stops, interpolation)
-        return True
+        after = {k: v for k, v in adjust.items() if k.startswith("ramp_")}
+        return self.textures.with_ramp(self._texture(node, output, before), stops, interpolation, after)
 
     def _texture(self, node, output, adjust=None) -> int:
         """The texture index of an image or procedural texture node (value_nodes.TEXTURE_NODES)'s output."""

@@ -435,12 +435,13 @@ class TextureTable:
         return self._add(dict(kind="checker", color1=color1, color2=color2, scale=float(values["Scale"]),
                               **(coords or {}), **(adjust or {})))
 
-    def with_ramp(self, index: int, stops: tuple, interpolation: str) -> int:
+    def with_ramp(self, index: int, stops: tuple, interpolation: str, after: dict | None = None) -> int:
         """Index of texture `index` with a colour ramp (Texture.ramp: (position, R, G, B, A)
-        stops in increasing position; Texture.ramp_interpolation)."""
+        stops in increasing position; Texture.ramp_interpolation) and the steps after it
+        (`after`: Texture's ramp_channel, ramp_gain, ramp_bias, ramp_clamp)."""
         base = self.textures[index]
         fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
-        fields.update(ramp=stops, ramp_interpolation=interpolation)
+        fields.update(ramp=stops, ramp_interpolation=interpolation, **(after or {}))
         return self._add(fields)
 
     def _add(self, fields: dict) -> int:

@@ -11,7 +11,8 @@ map of the value, channel by channel, so a chain of them is one:
   Math: Multiply, Add, Subtract, Divide (by a constant), Multiply Add
   Mix (Color or Float; MixRGB in 3.x): Mix, Multiply, Add, Subtract
   Invert                                      v (1 - f) + (1 - v) f
-with every other input of the node constant (unlinked, or an RGB or Value
+and one Color Ramp among them, its Color output (the nodes after it adjust
+the ramp's colour: gridwalk.Texture's ramp_* fields), with every other input of the node constant (unlinked, or an RGB or Value
 node). A colour entering a float input becomes its luminance, as Blender
 converts it. A node's Clamp (Math's, Mix's Clamp Result) is kept where it is
 the last step (Mix's only in Color mode, as Cycles reads it); anything else
@@ -201,22 +202,38 @@ def is_vector(node, output: str) -> bool:
 
 
 def image_through_nodes(socket):
-    """(image or procedural texture node (TEXTURE_NODES), its output's name, Texture fields) for an input
-    fed by a texture through the nodes above, or (None, None, why not) for any other chain."""
-    steps = []
+    """(image or procedural texture node (TEXTURE_NODES), its output's name, Texture fields, Color Ramp
+    node or None) for an input fed by a texture through the nodes above, and through at most one
+    Color Ramp's Color output, with such nodes before and after it (those after it become the
+    Texture's ramp_* fields); (None, None, why not, None) for any other chain."""
+    steps, after, ramp, fed = [], None, None, socket    # fed: the input the steps before the ramp lead to
     try:
         node, out = _source(socket)
         while node is not None and node.type not in TEXTURE_NODES:
+            if node.type == "VALTORGB":
+                if ramp is not None or out.name != "Color":
+                    raise Unread(f"{node.name!r} after another Color Ramp" if ramp is not None
+                                 else f"the {out.name} output of {node.name!r}")
+                ramp, after, steps, fed = node, steps, [], node.inputs["Fac"]
+                node, out = _source(fed)
+                continue
             chain, others = _chain_input(node)
             steps.append((node, out, others))
             node, out = _source(chain)
         if node is None:
-            raise Unread(f"{steps[-1][0].name!r} fed by no image" if steps else "no node")
+            last = steps[-1][0].name if steps else ramp.name if ramp is not None else None
+            raise Unread(f"{last!r} fed by no image" if last else "no node")
         value = Value(out.name in SINGLE_OUTPUTS.get(node.type, ()), vector=is_vector(node, out.name))
         for step in reversed(steps):
             _apply(value, *step)
-        if value.vector and not value.single and socket.type == "VALUE":   # (a vector into a number)
+        if value.vector and not value.single and fed.type == "VALUE":   # (a vector into a number)
             value.to_float("a vector")
-        return node, out.name, value.fields()
+        fields = value.fields()
+        if after:
+            coloured = Value(False)              # (the ramp's colour)
+            for step in reversed(after):
+                _apply(coloured, *step)
+            fields.update({f"ramp_{k}": v for k, v in coloured.fields().items()})
+        return node, out.name, fields, ramp
     except Unread as problem:
-        return None, None, "" if problem.quiet and not steps else str(problem)
+        return None, None, "" if problem.quiet and not steps and ramp is None else str(problem), None

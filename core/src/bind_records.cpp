@@ -109,6 +109,10 @@ void bind_records(nb::module_& m) {
         .def_rw("gain", &Texture::gain)
         .def_rw("bias", &Texture::bias)
         .def_rw("clamp", &Texture::clamp)
+        .def_rw("ramp_channel", &Texture::ramp_channel)
+        .def_rw("ramp_gain", &Texture::ramp_gain)
+        .def_rw("ramp_bias", &Texture::ramp_bias)
+        .def_rw("ramp_clamp", &Texture::ramp_clamp)
         .def("validate", [](const Texture& t) { validate_texture(t, "Texture"); });
     m.def("signed_noise", [](const std::vector<float>& x, bool wrap) {
         if (x.empty() || x.size() > 4) throw std::invalid_argument("signed_noise takes 1 to 4 coordinates");

@@ -96,18 +96,30 @@ Rgba Image::texel(int x, int y, bool decode, bool premultiply) const {
     return out;
 }
 
+namespace {
+// A channel, gain and bias (Texture::channel; prefix "ramp_": those after the ramp) in range.
+void check_adjustment(const std::string& where, const std::string& prefix, int32_t channel,
+                      const std::array<float, 3>& gain, const std::array<float, 3>& bias) {
+    if (channel < -1 || channel > 4)
+        throw std::invalid_argument(where + "." + prefix + "channel = " + std::to_string(channel) +
+                                    " is not -1 (the colour), 0-2 (red, green, blue), 3 (the luminance) or 4 (the average)");
+    for (float x : gain)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + "." + prefix + "gain has a non-finite value");
+    for (float x : bias)
+        if (!std::isfinite(x)) throw std::invalid_argument(where + "." + prefix + "bias has a non-finite value");
+}
+}  // namespace
+
 void validate_texture(const Texture& t, const std::string& where) {
     if (!enum_valid(t.interpolation)) throw std::invalid_argument(where + ".interpolation is not an interpolation");
     if (!enum_valid(t.extension)) throw std::invalid_argument(where + ".extension is not an extension");
     for (float x : t.uv_transform)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".uv_transform has a non-finite value");
-    if (t.channel < -1 || t.channel > 4)
-        throw std::invalid_argument(where + ".channel = " + std::to_string(t.channel) +
-                                    " is not -1 (the colour), 0-2 (red, green, blue), 3 (the luminance) or 4 (the average)");
-    for (float x : t.gain)
-        if (!std::isfinite(x)) throw std::invalid_argument(where + ".gain has a non-finite value");
-    for (float x : t.bias)
-        if (!std::isfinite(x)) throw std::invalid_argument(where + ".bias has a non-finite value");
+    check_adjustment(where, "", t.channel, t.gain, t.bias);
+    check_adjustment(where, "ramp_", t.ramp_channel, t.ramp_gain, t.ramp_bias);
+    if (t.ramp.empty() && adjusts_after_ramp(t))
+        throw std::invalid_argument(where + " adjusts the value after a ramp (ramp_channel, ramp_gain, ramp_bias, "
+                                    "ramp_clamp) but has no ramp");
     if (!enum_valid(t.kind)) throw std::invalid_argument(where + ".kind is not a texture kind");
     if (!enum_valid(t.coordinates)) throw std::invalid_argument(where + ".coordinates is not a texture coordinate");
     for (float x : t.vector_transform)

@@ -161,12 +161,26 @@ struct Texture {
     std::array<float, 3> gain = {1, 1, 1};
     std::array<float, 3> bias = {0, 0, 0};
     bool clamp = false;
+    // The same adjustments of the ramp's colour, after the ramp (the nodes
+    // between a Color Ramp and the shader's input): ramp_channel -1 the
+    // colour, 0-2 a channel, 3 its luminance, 4 its average, as grey; then x
+    // ramp_gain + ramp_bias; then clamped where ramp_clamp is set. Only with a
+    // ramp; the defaults change nothing.
+    int32_t ramp_channel = -1;
+    std::array<float, 3> ramp_gain = {1, 1, 1};
+    std::array<float, 3> ramp_bias = {0, 0, 0};
+    bool ramp_clamp = false;
 };
 
-// Whether the texture's value is adjusted (see Texture::channel).
-inline bool adjusts(const Texture& t) {
-    return t.channel != -1 || t.gain != std::array<float, 3>{1, 1, 1} || t.bias != std::array<float, 3>{0, 0, 0} ||
-           t.clamp;
+// Whether channel, gain, bias and clamp change a value (see Texture::channel).
+inline bool changes(int32_t channel, const std::array<float, 3>& gain, const std::array<float, 3>& bias, bool clamp) {
+    return channel != -1 || gain != std::array<float, 3>{1, 1, 1} || bias != std::array<float, 3>{0, 0, 0} || clamp;
+}
+
+// Whether the texture's value is adjusted before its ramp (see Texture::channel), and after it.
+inline bool adjusts(const Texture& t) { return changes(t.channel, t.gain, t.bias, t.clamp); }
+inline bool adjusts_after_ramp(const Texture& t) {
+    return changes(t.ramp_channel, t.ramp_gain, t.ramp_bias, t.ramp_clamp);
 }
 
 inline bool uv_mapped(const Texture& t) { return t.uv_transform != std::array<float, 6>{1, 0, 0, 0, 1, 0}; }
@@ -238,34 +252,44 @@ Rgba sample_image(const Image& img, const Texture& t, float u, float v);
 // Rec. 709 luminance: Blender's colour-to-float conversion.
 inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-// v (the texture's colour, or its alpha as grey) through the texture's
-// channel, gain, bias and clamp (see Texture::channel).
-inline Vec3 adjusted(const Texture& t, const Rgba& c, Vec3 v) {
-    if (!t.use_alpha && t.channel >= 0) {
-        const float grey = t.channel == 0   ? c.rgb.x
-                           : t.channel == 1 ? c.rgb.y
-                           : t.channel == 2 ? c.rgb.z
-                           : t.channel == 3 ? luminance(c.rgb)
-                                            : (c.rgb.x + c.rgb.y + c.rgb.z) * (1.0f / 3.0f);
+// v through a channel (of the colour rgb: v becomes that grey, unless
+// channel is -1), gain, bias and clamp (see Texture::channel).
+inline Vec3 adjust_value(int32_t channel, const std::array<float, 3>& gain, const std::array<float, 3>& bias,
+                         bool clamp, const Vec3& rgb, Vec3 v) {
+    if (channel >= 0) {
+        const float grey = channel == 0   ? rgb.x
+                           : channel == 1 ? rgb.y
+                           : channel == 2 ? rgb.z
+                           : channel == 3 ? luminance(rgb)
+                                          : (rgb.x + rgb.y + rgb.z) * (1.0f / 3.0f);
         v = Vec3(grey, grey, grey);
     }
-    v = Vec3(v.x * t.gain[0] + t.bias[0], v.y * t.gain[1] + t.bias[1], v.z * t.gain[2] + t.bias[2]);
-    if (t.clamp) {
+    v = Vec3(v.x * gain[0] + bias[0], v.y * gain[1] + bias[1], v.z * gain[2] + bias[2]);
+    if (clamp) {
         auto unit = [](float x) { return x > 0 ? (x < 1 ? x : 1) : 0; };   // (NaN -> 0)
         v = Vec3(unit(v.x), unit(v.y), unit(v.z));
     }
     return v;
 }
 
+// v (the texture's colour, or its alpha as grey) through the texture's
+// channel, gain, bias and clamp (see Texture::channel).
+inline Vec3 adjusted(const Texture& t, const Rgba& c, Vec3 v) {
+    return adjust_value(t.use_alpha ? -1 : t.channel, t.gain, t.bias, t.clamp, c.rgb, v);
+}
+
 // Colour of a texture feeding a colour input: its alpha as grey (use_alpha),
 // else its colour (premultiplied by sample_image where the texture says), then
 // the texture's channel, gain, bias and clamp (see Texture::channel), then its
-// ramp, if it has one (the value grey as it is, else its luminance).
+// ramp, if it has one (the value grey as it is, else its luminance), and the
+// adjustments after the ramp.
 inline Vec3 color_of(const Texture& t, const Rgba& c) {
     Vec3 v = t.use_alpha ? Vec3(c.a, c.a, c.a) : c.rgb;
     if (adjusts(t)) v = adjusted(t, c, v);
     if (t.ramp.empty()) return v;
-    return ramp_color(t, v.x == v.y && v.y == v.z ? v.x : luminance(v));
+    v = ramp_color(t, v.x == v.y && v.y == v.z ? v.x : luminance(v));
+    if (adjusts_after_ramp(t)) v = adjust_value(t.ramp_channel, t.ramp_gain, t.ramp_bias, t.ramp_clamp, v, v);
+    return v;
 }
 
 // Scalar value of a texture feeding a scalar input: a grey value (the alpha,
@@ -273,7 +297,8 @@ inline Vec3 color_of(const Texture& t, const Rgba& c) {
 // weights, Blender's colour-to-float conversion), after color_of's adjustments.
 inline float scalar_of(const Texture& t, const Rgba& c) {
     const Vec3 rgb = color_of(t, c);
-    if ((t.use_alpha || t.channel >= 0) && rgb.x == rgb.y && rgb.y == rgb.z) return rgb.x;
+    const bool grey = t.ramp.empty() ? t.use_alpha || t.channel >= 0 : t.ramp_channel >= 0;
+    if (grey && rgb.x == rgb.y && rgb.y == rgb.z) return rgb.x;
     return luminance(rgb);
 }
 

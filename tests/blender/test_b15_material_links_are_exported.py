@@ -79,7 +79,9 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "premultiply": True,   # its Alpha output is not linked: associated
                                                "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
                                                "channel": -1, "gain": [1.0, 1.0, 1.0], "bias": [0.0, 0.0, 0.0],
-                                               "clamp": False, "kind": "image", "coordinates": "uv",
+                                               "clamp": False, "ramp_channel": -1, "ramp_gain": [1.0, 1.0, 1.0],
+                                               "ramp_bias": [0.0, 0.0, 0.0], "ramp_clamp": False,
+                                               "kind": "image", "coordinates": "uv",
                                                "vector_transform": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
                                                                     0.0, 0.0, 1.0, 0.0],
                                                "color1": [0.8, 0.8, 0.8], "color2": [0.2, 0.2, 0.2], "scale": 5.0,

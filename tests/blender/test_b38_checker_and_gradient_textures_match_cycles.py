@@ -120,7 +120,7 @@ def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export
         assert "not read on point clouds and hair" in warnings
 
 
-RAMPS = ("LINEAR", "EASE", "CONSTANT", "SHARED", "ODD")    # procedural_scenes.procedural_gradient_scene's ramps
+RAMPS = ("LINEAR", "EASE", "CONSTANT", "SHARED", "ODD", "AFTER", "TINTED")    # procedural_gradient_scene's ramps
 RAMP_COLORS = ((0.9, 0.2, 0.1), (0.1, 0.8, 0.2))           # its first two stops (procedural_scenes.RAMP)
 
 
@@ -148,6 +148,17 @@ def test_a_color_ramp_colours_the_gradient_as_in_cycles(gradients, ramp):
     assert np.percentile(np.abs(ours - cycles)[3:-3, 3:-3], 90) < 0.002
     other = gradients[("GRIDWALK", "ramp " + ("EASE" if ramp == "LINEAR" else "LINEAR"))]
     assert np.abs(ours - other).max() > 0.02                     # each interpolation shows
+
+
+def test_nodes_before_and_after_a_color_ramp_are_exported_around_it(export):
+    # (before, the nodes after a ramp left the input at its default value, with a warning)
+    out = export("procedural_gradient", ramp="AFTER")
+    texture = out.textures[out.materials[int(out.triangle_materials[0])]["color_texture"]]
+    assert not out.warnings, out.warnings
+    assert len(texture["ramp"]) == 3                                   # (three stops)
+    assert texture["gain"] == pytest.approx((0.8,) * 3) and texture["bias"] == pytest.approx((0.1,) * 3)
+    assert texture["ramp_channel"] == 1 and texture["ramp_clamp"]
+    assert texture["ramp_gain"] == pytest.approx((2.0,) * 3) and texture["ramp_bias"] == pytest.approx((-0.3,) * 3)
 
 
 def test_a_color_ramp_of_a_constant_fac_gives_its_colour_there(export, any_blender, tmp_path_factory):

@@ -287,7 +287,10 @@ class Texture(Record):
     grey, 4 the average of the three as grey (a vector read as a number, as
     Cycles converts it) (use_alpha: the alpha as grey); then value x gain + bias (3 numbers
     each, channel by channel); then clamped to [0, 1] if clamp. The defaults
-    change nothing; an environment takes none of them."""
+    change nothing; an environment takes none of them. ramp_channel,
+    ramp_gain, ramp_bias, ramp_clamp: the same steps taken after the ramp, on
+    its colour (the nodes between a Color Ramp and the shader's input); only
+    with a ramp."""
     image: object = None
     kind: str = TEXTURE_KINDS[0]
     coordinates: str = TEXTURE_COORDS[0]
@@ -342,6 +345,10 @@ class Texture(Record):
     gain: tuple = tuple(_TEX.gain)
     bias: tuple = tuple(_TEX.bias)
     clamp: bool = _TEX.clamp
+    ramp_channel: int = _TEX.ramp_channel
+    ramp_gain: tuple = tuple(_TEX.ramp_gain)
+    ramp_bias: tuple = tuple(_TEX.ramp_bias)
+    ramp_clamp: bool = _TEX.ramp_clamp
     CORE = _core.Texture
 
     def converters(self) -> dict:

@@ -161,7 +161,10 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
     interpolation between the gradient and the shader; "SHARED": Linear, a fourth stop
     (blue) at the green one's position, a hard edge; "ODD": B-Spline in HSV mode, the
     first stop moved past the others by a script (Blender keeps the stops in that order);
-    "FIXED": Linear, its Fac a Value node (0.3) instead of the gradient (one colour)."""
+    "FIXED": Linear, its Fac a Value node (0.3) instead of the gradient (one colour);
+    "AFTER": Linear, the gradient x 0.8 + 0.1 (a Math node) before it, and after it a
+    Separate Color's green x 2 - 0.3 (a clamped Math Multiply Add) into the Color;
+    "TINTED": Linear, a Mix multiplying its colour by a tint after it."""
     plane, mat = emissive_plane("Graded", resolution)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     texture = nodes.new("ShaderNodeTexGradient")
@@ -181,7 +184,8 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
         elements[1].position, elements[1].color = RAMP[2]
         middle = elements.new(RAMP[1][0])
         middle.color = RAMP[1][1]
-        node.color_ramp.interpolation = {"SHARED": "LINEAR", "ODD": "B_SPLINE", "FIXED": "LINEAR"}.get(ramp, ramp)
+        node.color_ramp.interpolation = {"SHARED": "LINEAR", "ODD": "B_SPLINE", "FIXED": "LINEAR", "AFTER": "LINEAR",
+                                         "TINTED": "LINEAR"}.get(ramp, ramp)
         if ramp == "SHARED":
             edge = elements.new(RAMP[1][0])
             edge.color = (0.05, 0.1, 0.9, 1.0)
@@ -192,9 +196,29 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
             value = nodes.new("ShaderNodeValue")
             value.outputs[0].default_value = 0.3
             links.new(value.outputs[0], node.inputs["Fac"])
+        elif ramp == "AFTER":
+            before = nodes.new("ShaderNodeMath")
+            before.operation, before.inputs[1].default_value, before.inputs[2].default_value = "MULTIPLY_ADD", 0.8, 0.1
+            links.new(texture.outputs["Fac"], before.inputs[0])
+            links.new(before.outputs[0], node.inputs["Fac"])
         else:
             links.new(texture.outputs["Fac"], node.inputs["Fac"])
-        links.new(node.outputs["Color"], nodes["Emission"].inputs["Color"])
+        color = node.outputs["Color"]
+        if ramp == "AFTER":
+            split = nodes.new("ShaderNodeSeparateColor" if bpy.app.version >= (3, 3) else "ShaderNodeSeparateRGB")
+            after = nodes.new("ShaderNodeMath")
+            after.operation, after.use_clamp = "MULTIPLY_ADD", True
+            after.inputs[1].default_value, after.inputs[2].default_value = 2.0, -0.3
+            links.new(color, split.inputs[0])
+            links.new(split.outputs[1], after.inputs[0])
+            color = after.outputs[0]
+        if ramp == "TINTED":
+            tint = nodes.new("ShaderNodeMixRGB")
+            tint.blend_type, tint.inputs["Fac"].default_value = "MULTIPLY", 1.0
+            tint.inputs["Color2"].default_value = (0.9, 0.5, 0.2, 1.0)
+            links.new(color, tint.inputs["Color1"])
+            color = tint.outputs["Color"]
+        links.new(color, nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()

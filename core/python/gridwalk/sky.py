@@ -153,11 +153,15 @@ def _bilinear(table: np.ndarray, u, v) -> np.ndarray:
 
 
 def _grid_bilinear(table: np.ndarray, v, u) -> np.ndarray:
-    """The table at every (v[i], u[j]): (len(v), len(u), 3), a row pass then a column pass."""
-    ya, yb, sy = _texel_weights(v, table.shape[0])
-    rows = table[ya] * (1 - sy[..., None]) + table[yb] * sy[..., None]
+    """The table at every (v[i], u[j]): (len(v), len(u), 3), float32 (as Cycles reads its
+    float image): a column pass over the table's rows, then a row pass, which gathers whole rows."""
+    table = np.asarray(table, np.float32)
     xa, xb, sx = _texel_weights(u, table.shape[1])
-    return rows[:, xa] * (1 - sx) + rows[:, xb] * sx
+    sx = sx.astype(np.float32)
+    columns = table[:, xa] * (1 - sx) + table[:, xb] * sx
+    ya, yb, sy = _texel_weights(v, table.shape[0])
+    sy = sy[..., None].astype(np.float32)
+    return columns[ya] * (1 - sy) + columns[yb] * sy
 
 
 class _Sky:
@@ -189,7 +193,8 @@ class _Sky:
             return lookup(np.sign(el) * np.sqrt(np.abs(el) * (2 / math.pi)) * 0.5 + 0.5)
         z = np.sin(el)
         fade = np.where(z >= 0, 1.0, np.where(z < -0.4, 0.0, np.clip(1 + 2.5 * z, 0, None) ** 3))
-        return lookup(np.where(z >= 0, np.sqrt(np.maximum(el, 0.0) / (math.pi / 2)), -0.5)) * fade[..., None]
+        xyz = lookup(np.where(z >= 0, np.sqrt(np.maximum(el, 0.0) / (math.pi / 2)), -0.5))
+        return xyz * fade[..., None].astype(xyz.dtype)
 
     def table_u(self, azimuth):
         """The table's column coordinate of azimuths (0.5: facing the sun)."""
@@ -229,10 +234,12 @@ class _Sky:
 
 
 def _to_rgb(xyz) -> np.ndarray:
-    """Linear Rec.709 of CIE XYZ, clamped to [0, RADIANCE_LIMIT] (Cycles clamps at 0)."""
+    """Linear Rec.709 of CIE XYZ, clamped to [0, RADIANCE_LIMIT] (Cycles clamps at 0); in
+    float32 for float32 XYZ."""
     with np.errstate(over="ignore", invalid="ignore"):
-        rgb = np.nan_to_num(xyz @ XYZ_TO_REC709.T, nan=0.0, posinf=RADIANCE_LIMIT, neginf=0.0)
-    return np.clip(rgb, 0.0, RADIANCE_LIMIT)
+        rgb = xyz @ XYZ_TO_REC709.T.astype(xyz.dtype if xyz.dtype == np.float32 else np.float64)
+        rgb = np.nan_to_num(rgb, copy=False, nan=0.0, posinf=RADIANCE_LIMIT, neginf=0.0)
+    return np.clip(rgb, 0.0, RADIANCE_LIMIT, out=rgb)
 
 
 def _perez(coefficients, theta, gamma):

@@ -8,9 +8,8 @@ Generated and Object outputs those coordinates (gridwalk.Texture.coordinates),
 and a Geometry node's Position output the world point ("position"). Where the
 Texture Coordinate node names another object, its Object output is the world
 point in that object's space: "position" under the inverse of the object's
-world matrix (read when the material is exported: in the viewport, moving
-that object alone does not move the pattern until the material is exported
-again). Mapping nodes between them and the texture (any number, chained) move
+world matrix (read at each export: in the viewport, moving that object
+exports again, and the pattern follows it). Mapping nodes between them and the texture (any number, chained) move
 the vector by an affine map of 3-space, as Blender defines them:
   Point:   R (S p) + L
   Texture: R^T (p - L) / S   (a zero component of S gives 0: Blender's safe divide)

@@ -4,7 +4,8 @@ scripts/viewport_session.py drives a viewport session with real depsgraph
 updates. Moving an object reads no mesh and transforms one instance, in the
 core (Scene.moved); editing
 a mesh shared by two objects reads it once; a modifier change reads that
-object only; a material, light, world (a Sky Texture's too) or render-setting change restarts
+object only; a material, light, world (a Sky Texture's too) or render-setting change, or moving
+an empty whose Object coordinates a texture reads, restarts
 without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
 Instances of one mesh are transformed together, in chunks (blender_addon/export/assemble.py),
 so deleting one of two linked duplicates transforms the other again (their chunk changed), and
@@ -24,6 +25,7 @@ from runner import BPY_VENVS, script_output
 EDITS = {   # edit: (meshes read, instances transformed)
     "move_object": (0, 1),
     "rotate_linked_duplicate": (0, 1),
+    "move_texture_empty": (0, 0),    # the empty whose Object coordinates Smooth's Checker reads
     "edit_shared_mesh": (1, 2),
     "change_modifier": (1, 1),
     "change_material": (0, 0),

@@ -49,6 +49,17 @@ def build(bpy, scenes):
     a.data.materials.append(checkered)
     for poly in a.data.polygons[:3]:
         poly.material_index = 1
+    # Smooth: a Checker at the Object coordinates of an empty (the world point in its space),
+    # which moves with the empty, not with Smooth
+    frame = scenes.link(bpy.data.objects.new("Frame", None))
+    frame.location, frame.scale = (1.0, 0.3, -0.2), (0.5, 0.5, 0.5)
+    framed = scenes.principled_material("Framed", (0.8, 0.8, 0.8))
+    nodes, coords = framed.node_tree.nodes, framed.node_tree.nodes.new("ShaderNodeTexCoord")
+    coords.object = frame
+    checker = nodes.new("ShaderNodeTexChecker")
+    framed.node_tree.links.new(coords.outputs["Object"], checker.inputs["Vector"])
+    framed.node_tree.links.new(checker.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+    smooth.data.materials.append(framed)
     scenes.add_light("Key", "POINT", (0, -6, 6), energy=800.0)
     bpy.context.scene.world = bpy.data.worlds.new("World")
     bpy.context.scene.gridwalk.viewport_samples = 1
@@ -138,6 +149,10 @@ def main(out_dir):
     bpy.data.materials["Red"].node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.1, 0.1, 0.9, 1)
     bpy.context.view_layer.update()
     check("change_material")
+    # (after a full export: a move in the core, the edits before, leaves its chunk to transform again)
+    bpy.data.objects["Frame"].location.x += 0.3
+    bpy.context.view_layer.update()
+    check("move_texture_empty")
     bpy.data.lights["Key"].energy = 300.0
     bpy.context.view_layer.update()
     check("change_light")

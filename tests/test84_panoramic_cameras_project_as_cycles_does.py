@@ -197,6 +197,9 @@ def test_a_sensor_fisheye_resized_to_another_aspect_stays_round(projection):
                     polynomial=(0.0, -0.09, 0.0, 0.0, 0.0), width=90, height=60, **EYE)
     wide = cam.resized(200, 60)
     assert wide.sensor == pytest.approx((80.0, 24.0)) and (wide.width, wide.height) == (200, 60)
+    assert cam.resized(90, 60) == cam                                    # the same size: the same camera
+    square = dataclasses.replace(cam, sensor=(30.0, 30.0))               # (a sensor not of the image's aspect)
+    assert square.resized(90, 60) == square and square.resized(60, 60).sensor == pytest.approx((20.0, 30.0))
     assert load_scene({"camera": cam}, 200, 60)[0]["camera"] == wide
     for c in (cam, wide):
         px = c.width / 2 + np.array([10.0, 0.0])

@@ -533,7 +533,7 @@ class MaterialTable:
 
     def layers(self, indices) -> tuple:
         """(uv, colour layer, corner points) the materials `indices` (an object's
-        slots) need; the last a sorted tuple of "generated" and "object", those
+        slots) need; the last a sorted tuple of "generated", "object" and "position", those
         coordinates its textures read.
         The colour layer: None when none does, "" for the active render layer,
         else the first layer named. The UV layer likewise, or, where the slots'
@@ -553,7 +553,7 @@ class MaterialTable:
         return (named.pop() if named else None), color, tuple(sorted(points))
 
     def shape_material(self, index: int) -> int:
-        """`index`, or where that material's textures read Generated or Object
+        """`index`, or where that material's textures read Generated, Object or Position
         coordinates, which spheres and cylinders (point clouds, hair) do not have,
         the index of a copy without those textures (their inputs' own values), noted."""
         links = self.links[index]
@@ -584,8 +584,8 @@ class MaterialTable:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
         if self.shape_notes:
-            out.append("Generated and Object texture coordinates are not read on point clouds and hair (their textures' "
-                       f"inputs take their own values): {', '.join(sorted(self.shape_notes))}")
+            out.append("Generated, Object and Position texture coordinates are not read on point clouds and hair "
+                       f"(their textures' inputs take their own values): {', '.join(sorted(self.shape_notes))}")
         return out
 
 

@@ -558,8 +558,8 @@ class MeshCollector:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.mesh_spheres:
-            out.append("'Render as sphere' objects whose textures read Generated or Object coordinates are rendered as "
-                       "their meshes: " + _quoted(self.mesh_spheres))
+            out.append("'Render as sphere' objects whose textures read Generated, Object or Position coordinates are "
+                       "rendered as their meshes: " + _quoted(self.mesh_spheres))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "

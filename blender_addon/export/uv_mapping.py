@@ -26,9 +26,10 @@ node (a float, as every axis) or a Combine XYZ of constants takes that value.
 Not read, each named in the material's warning: the Normal type (it
 normalises, which is not affine: the node is passed over), Location,
 Rotation or Scale inputs fed by other nodes (their own values are used), any
-other source of coordinates (Object, a Vector Math node...: the node's own
+other source of coordinates (a Vector Math node...: the node's own
 default, the UV map or Generated, is used: the Camera, Window, Normal and
-Reflection outputs among them), and a map beyond float range
+Reflection outputs among them, and the Object output of an object whose
+transform has no inverse), and a map beyond float range
 (likewise).
 """
 from __future__ import annotations
@@ -119,8 +120,14 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
             coordinates = out.name.lower()
         elif src.type == "TEX_COORD" and out.name == "Object":
             # another object's Object coordinates: the world point in that object's space
+            world = np.array(src.object.matrix_world, np.float64)
+            if not (np.all(np.isfinite(world)) and abs(np.linalg.det(world[:3, :3])) > 1e-30):
+                problems.append(f"Vector of {node.name!r} (the Object coordinates of {src.object.name!r}, whose "
+                                f"transform cannot be inverted (a scale of 0): {_NAMES[default]} is used)")
+                mappings = []
+                break
             coordinates = "position"
-            mappings.append(np.linalg.inv(np.array(src.object.matrix_world, np.float64)))
+            mappings.append(np.linalg.inv(world))
         elif src.type == "NEW_GEOMETRY" and out.name == "Position":
             coordinates = "position"
         else:

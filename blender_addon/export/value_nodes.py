@@ -137,6 +137,7 @@ def _apply(value: Value, node, out, others):
     if kind == "INVERT":
         f = float(input_value(others["fac"]))
         value.affine(np.full(3, 1.0 - 2.0 * f), np.full(3, f), what)
+        value.vector = False     # (a vector into a colour input is a colour: a number of it, its luminance)
         return
     slot, used = others["slot"], others["used"]
     consts = [None if i == slot else input_value(s) for i, s in enumerate(used)]
@@ -155,6 +156,7 @@ def _apply(value: Value, node, out, others):
     floats = kind == "MIX" and node.data_type == "FLOAT"     # (no blend modes; Clamp Result is Color's)
     gain, bias = _mix("MIX" if floats else node.blend_type, slot, f, k, what)
     value.affine(gain, bias, what)
+    value.vector = value.vector and floats
     if (kind == "MIX" and not floats and node.clamp_result) or (kind == "MIX_RGB" and node.use_clamp):
         value.clamp = True
 

@@ -53,6 +53,9 @@ def masks(out, kind, engine):
     return opaque & ~far, opaque & far
 
 
+objects_and_none = masks    # (a test below names its dict of masks `masks`)
+
+
 def iou(a, b):
     return (a & b).sum() / (a | b).sum()
 
@@ -87,6 +90,10 @@ def test_kinds_differ_from_each_other(renders):
     for kind, mask in masks.items():
         if mask.shape == plain.shape:
             assert (mask != plain).mean() > 0.02, kind
+    for kind in MIRRORED:                       # a mirrored panorama's objects differ from its panorama's
+        if kind in done:
+            objects = [objects_and_none(renders, k, "cycles")[0] for k in (kind, kind.removeprefix("mirrored_"))]
+            assert iou(*objects) < 0.9, kind                  # (a fisheye's objects are small: IoU, not pixels)
 
 
 def test_exported_camera_equals_the_camera_rebuilt_from_blenders_matrices(renders):

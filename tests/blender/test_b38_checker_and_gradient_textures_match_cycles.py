@@ -100,6 +100,14 @@ def test_object_coordinates_of_another_object_are_the_world_point_in_its_space(e
                                atol=1e-5)
 
 
+def test_object_coordinates_of_an_object_scaled_to_zero_are_named_in_a_warning(export):
+    # (its transform has no inverse: the export used to stop with "Singular matrix")
+    out = export("procedural_checker", variant="other_object", flat_empty=True)
+    (texture,) = out.textures
+    assert "error" not in out.info and texture["coordinates"] == "generated"     # the Checker's own default
+    assert any("'Empty', whose transform cannot be inverted" in w for w in out.warnings), out.warnings
+
+
 def test_a_texture_coordinate_output_not_read_is_named_in_a_warning(export):
     out = export("procedural_checker", variant="cube", coordinates="Reflection")
     (texture,) = out.textures

@@ -555,18 +555,20 @@ class Camera(Record):
         """This camera for a width x height image. The view keeps its vertical
         extent (fov, ortho_height, a panorama's ranges); a fisheye that maps
         millimetres on a sensor (equisolid, polynomial) keeps the sensor's
-        height and takes a width of the new image's aspect, so its circle stays
-        round. (A panorama that spans its unit square, such as equirectangular
-        or the equidistant fisheye's ellipse, stretches with the image, as in
-        Blender.)"""
+        height, and its width changes with the image's aspect, so its circle
+        stays round (the same size is the same camera). (A panorama that spans
+        its unit square, such as equirectangular or the equidistant fisheye's
+        ellipse, stretches with the image. Blender, rendering at another size,
+        fits its sensor anew: with AUTO fit on a wide image it keeps the width.)"""
         import dataclasses
         width, height = _scalar(width, int, "width"), _scalar(height, int, "height")
         if width < 1 or height < 1:
             raise ValueError(f"Camera.resized: the image size must be at least 1 x 1, not {width} x {height}")
         sensor = self.sensor
         if self.projection in ("fisheye_equisolid", "fisheye_polynomial"):
-            h_mm = float(sensor[1])
-            sensor = (h_mm * width * float(self.pixel_aspect) / height, h_mm)
+            # (the width in mm over the image's aspect, kept: the pixel aspect cancels)
+            stretch = (width / height) / (self.width / self.height)
+            sensor = (float(sensor[0]) * stretch, float(sensor[1]))
         return dataclasses.replace(self, width=width, height=height, sensor=sensor)
 
     def converters(self) -> dict:

@@ -30,12 +30,12 @@ SCALE = 3.7          # cube edges do not fall on pixel centres
 TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
 
 
-def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None):
+def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None, flat_empty=False):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
     a black world (coordinates: the Texture Coordinate node's output to read instead,
-    such as "Reflection"). Returns the Checker's settings, the empty's location and the
-    Mapping's."""
+    such as "Reflection"; flat_empty: "other_object"'s empty scaled to 0 along z). Returns the
+    Checker's settings, the empty's location and the Mapping's."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac", "valued"):
         bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
@@ -87,6 +87,8 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=N
         if variant == "other_object":
             empty = coords.object = link(bpy.data.objects.new("Empty", None))
             empty.location, empty.rotation_euler, empty.scale = EMPTY_PLACE
+            if flat_empty:
+                empty.scale.z = 0.0
         if variant != "uv":
             mapping = nodes.new("ShaderNodeMapping")
             mapping.vector_type = "POINT"

@@ -2,7 +2,7 @@
 as Blender adds it (3D F1, Euclidean, its Distance at Generated coordinates), its Color and
 Position outputs, F2 with the Manhattan metric, Smooth F1, Minkowski with less randomness, 2D,
 4D and 1D cells, its Position into a Color Ramp (a vector read as a number: the average of
-its coordinates), and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
+its coordinates; through a colour Mix first, a colour: its luminance), and (Blender 4.0 and later) several octaves normalized; Blender 5.0 hashes the
 cells anew (PCG), as the export tells the core. Its Distance to Edge (also over octaves, 4.0
 and later) and N-Sphere Radius features. Before, a Voronoi Texture was a warning and its
 input's default colour (and, until a later change, those two features were). Scene: voronoi_scenes.voronoi_scene."""
@@ -12,7 +12,7 @@ import pytest
 from runner import luminance_by_engine
 
 VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d",  # VORONOI_VARIANTS
-            "fractal", "position_ramp", "edge", "edge_fractal", "radius")
+            "fractal", "position_ramp", "tinted_position_ramp", "edge", "edge_fractal", "radius")
 OCTAVES = ("fractal", "edge_fractal")                                # Blender 4.0 and later
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 

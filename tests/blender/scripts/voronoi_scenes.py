@@ -18,8 +18,10 @@ from scenes import plain_world
 #   edge_fractal  (Blender 4.0 and later) Distance to Edge over Detail 1.5, Roughness 0.6, Normalize
 #   radius     N-Sphere Radius, its Radius output
 #   position_ramp  its Position into a Color Ramp's Fac (a vector read as a number: its average)
+#   tinted_position_ramp  its Position through a Mix multiplying it by a colour, then into the
+#              ramp (the Mix makes it a colour: read as a number, its luminance)
 VORONOI_VARIANTS = ("distance", "color", "position", "f2", "smooth", "minkowski", "2d", "4d", "1d", "fractal",
-                    "position_ramp", "edge", "edge_fractal", "radius")
+                    "position_ramp", "tinted_position_ramp", "edge", "edge_fractal", "radius")
 OUTPUTS = {"color": "Color", "position": "Position", "smooth": "Color", "2d": "Color", "4d": "Color", "1d": "Color",
            "radius": "Radius"}
 
@@ -32,7 +34,7 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
     if variant != "distance":
         mapping = nodes.new("ShaderNodeMapping")
         mapping.inputs["Scale"].default_value = (0.25, 0.25, 0.25)
-        if variant in ("position", "position_ramp"):    # (moved to positive coordinates: no negative light)
+        if variant in ("position", "position_ramp", "tinted_position_ramp"):    # (moved to positive coordinates: no negative light)
             mapping.inputs["Location"].default_value = (1.0, 1.0, 1.0)
         links.new(nodes.new("ShaderNodeTexCoord").outputs["Object"], mapping.inputs["Vector"])
         links.new(mapping.outputs["Vector"], cells.inputs["Vector"])
@@ -61,10 +63,17 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
         cells.inputs["Detail"].default_value, cells.inputs["Roughness"].default_value = 2.5, 0.6
         cells.inputs["Lacunarity"].default_value = 2.2
         cells.normalize = True
-    if variant == "position_ramp":
+    if variant in ("position_ramp", "tinted_position_ramp"):
         ramp = nodes.new("ShaderNodeValToRGB")
         ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.6, 1.4 / 1.5
-        links.new(cells.outputs["Position"], ramp.inputs["Fac"])
+        position = cells.outputs["Position"]
+        if variant == "tinted_position_ramp":
+            tint = nodes.new("ShaderNodeMixRGB")
+            tint.blend_type, tint.inputs["Fac"].default_value = "MULTIPLY", 1.0
+            tint.inputs["Color2"].default_value = (0.35, 0.8, 1.1, 1.0)
+            links.new(position, tint.inputs["Color1"])
+            position = tint.outputs["Color"]
+        links.new(position, ramp.inputs["Fac"])
         links.new(ramp.outputs["Color"], nodes["Emission"].inputs["Color"])
     else:
         links.new(cells.outputs[OUTPUTS.get(variant, "Distance")], nodes["Emission"].inputs["Color"])

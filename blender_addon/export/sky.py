@@ -6,7 +6,7 @@ Sun Rotation, Altitude, Air, Dust or Aerosol, Ozone), evaluated with the rules
 of the Blender that runs the export (gridwalk.sky), and the Preetham type (Sun
 Direction, Turbidity). The image is 2048 x 1024
 (0.18 degrees a texel: the default sun spans three texels, its light exact);
-each distinct setting is baked once (0.6-2.5 s) and kept in the viewport's image
+each distinct setting is baked once (0.3-0.6 s on 2 cores) and kept in the viewport's image
 cache, and the last four settings in this module (an animation's frames bake once).
 A sun under 8 texels across also gets an inset (World.inset: gridwalk.sky.sky_inset),
 its disc 48 texels across, which rays that see the sky directly read: the disc

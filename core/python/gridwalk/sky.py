@@ -280,8 +280,13 @@ class _Preetham:
         """Linear Rec.709 radiance along unit directions d (..., 3), at most RADIANCE_LIMIT."""
         if self.black:
             return np.zeros(d.shape)
-        theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
-        phi = np.arctan2(d[..., 0], d[..., 1])
+        return self.radiance_at(np.arccos(np.clip(d[..., 2], -1.0, 1.0)), np.arctan2(d[..., 0], d[..., 1]))
+
+    def radiance_at(self, theta, phi) -> np.ndarray:
+        """radiance() at zenith angles theta and azimuths phi (atan2(x, y)), broadcast together
+        (an image's rows and columns: the factors of one row or column are computed once)."""
+        if self.black:
+            return np.zeros(np.broadcast_shapes(np.shape(theta), np.shape(phi)) + (3,))
         cos_gamma = (np.sin(theta) * math.sin(self.sun_theta) * np.cos(self.sun_phi - phi)
                      + np.cos(theta) * math.cos(self.sun_theta))
         gamma = np.arccos(np.clip(cos_gamma, -1.0, 1.0))
@@ -372,13 +377,16 @@ def _edge_sun(image, sky: _Sky, width: int):
 
 
 def _preetham_image(sky: _Preetham, width: int) -> np.ndarray:
+    """The sky at the texels' centres: a row's zenith angle and a column's azimuth (the texel
+    directions' atan2(x, y), which does not depend on the row) broadcast over the image."""
     height = width // 2
     image = np.empty((height, width, 3), np.float32)
-    cols = np.arange(width)
+    el = (0.5 - (np.arange(height) + 0.5) / height) * math.pi
+    az = (0.5 - (np.arange(width) + 0.5) / width) * 2 * math.pi
+    theta = np.arccos(np.clip(np.sin(el), -1.0, 1.0))[:, None]
+    phi = np.arctan2(np.cos(az), np.sin(az))[None, :]
     for r0 in range(0, height, 64):                         # (bands of rows: bounded memory)
-        rows = np.arange(r0, min(r0 + 64, height))
-        r, c = (a.ravel() for a in np.meshgrid(rows, cols, indexing="ij"))
-        image[rows] = sky.radiance(_texel_directions(r, c, width)[:, 0]).reshape(len(rows), width, 3)
+        image[r0:r0 + 64] = sky.radiance_at(theta[r0:r0 + 64], phi)
     return image
 
 

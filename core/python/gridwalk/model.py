@@ -11,7 +11,7 @@ record and the field.
 from __future__ import annotations
 
 import numbers
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -560,7 +560,6 @@ class Camera(Record):
         its unit square, such as equirectangular or the equidistant fisheye's
         ellipse, stretches with the image. Blender, rendering at another size,
         fits its sensor anew: with AUTO fit on a wide image it keeps the width.)"""
-        import dataclasses
         width, height = _scalar(width, int, "width"), _scalar(height, int, "height")
         if width < 1 or height < 1:
             raise ValueError(f"Camera.resized: the image size must be at least 1 x 1, not {width} x {height}")
@@ -569,7 +568,7 @@ class Camera(Record):
             # (the width in mm over the image's aspect, kept: the pixel aspect cancels)
             stretch = (width / height) / (self.width / self.height)
             sensor = (float(sensor[0]) * stretch, float(sensor[1]))
-        return dataclasses.replace(self, width=width, height=height, sensor=sensor)
+        return replace(self, width=width, height=height, sensor=sensor)
 
     def converters(self) -> dict:
         def focus(value, where):

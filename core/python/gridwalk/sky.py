@@ -237,7 +237,7 @@ def _to_rgb(xyz) -> np.ndarray:
     """Linear Rec.709 of CIE XYZ, clamped to [0, RADIANCE_LIMIT] (Cycles clamps at 0); in
     float32 for float32 XYZ."""
     with np.errstate(over="ignore", invalid="ignore"):
-        rgb = xyz @ XYZ_TO_REC709.T.astype(xyz.dtype if xyz.dtype == np.float32 else np.float64)
+        rgb = xyz @ (XYZ_TO_REC709.T.astype(np.float32) if xyz.dtype == np.float32 else XYZ_TO_REC709.T)
         rgb = np.nan_to_num(rgb, copy=False, nan=0.0, posinf=RADIANCE_LIMIT, neginf=0.0)
     return np.clip(rgb, 0.0, RADIANCE_LIMIT, out=rgb)
 
@@ -278,8 +278,6 @@ class _Preetham:
 
     def radiance(self, d: np.ndarray) -> np.ndarray:
         """Linear Rec.709 radiance along unit directions d (..., 3), at most RADIANCE_LIMIT."""
-        if self.black:
-            return np.zeros(d.shape)
         return self.radiance_at(np.arccos(np.clip(d[..., 2], -1.0, 1.0)), np.arctan2(d[..., 0], d[..., 1]))
 
     def radiance_at(self, theta, phi) -> np.ndarray:

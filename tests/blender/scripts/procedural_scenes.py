@@ -155,6 +155,15 @@ def emissive_plane(name, resolution):
     return bpy.context.object, shader_material(name, "ShaderNodeEmission", [("Strength", 1.0)])
 
 
+def tinted(tree, socket, tint):
+    """The Color output of a Mix node (MixRGB) multiplying `socket` by the colour `tint`, factor 1."""
+    mix = tree.nodes.new("ShaderNodeMixRGB")
+    mix.blend_type, mix.inputs["Fac"].default_value = "MULTIPLY", 1.0
+    mix.inputs["Color2"].default_value = tint
+    tree.links.new(socket, mix.inputs["Color1"])
+    return mix.outputs["Color"]
+
+
 def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None):
     """A plane facing the camera, its Emission's Color a Gradient Texture of type `gradient`
     at the plane's Object coordinates through a Mapping node: the ramps from x = 0 to 1
@@ -215,11 +224,7 @@ def procedural_gradient_scene(gradient="LINEAR", resolution=(96, 72), ramp=None)
             links.new(split.outputs[1], after.inputs[0])
             color = after.outputs[0]
         if ramp == "TINTED":
-            tint = nodes.new("ShaderNodeMixRGB")
-            tint.blend_type, tint.inputs["Fac"].default_value = "MULTIPLY", 1.0
-            tint.inputs["Color2"].default_value = (0.9, 0.5, 0.2, 1.0)
-            links.new(color, tint.inputs["Color1"])
-            color = tint.outputs["Color"]
+            color = tinted(mat.node_tree, color, (0.9, 0.5, 0.2, 1.0))
         links.new(color, nodes["Emission"].inputs["Color"])
     plane.data.materials.append(mat)
     plain_world("World", (0.0, 0.0, 0.0))

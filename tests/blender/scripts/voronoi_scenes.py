@@ -1,5 +1,5 @@
 """A Voronoi Texture on a plane (render_scene.py and export_dump.py build it by name)."""
-from procedural_scenes import emissive_plane
+from procedural_scenes import emissive_plane, tinted
 from scenes import plain_world
 
 # Voronoi variants: how the node is set and which output feeds the Emission's Color. Object
@@ -68,11 +68,7 @@ def voronoi_scene(variant="distance", resolution=(96, 72)):
         ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.6, 1.4 / 1.5
         position = cells.outputs["Position"]
         if variant == "tinted_position_ramp":
-            tint = nodes.new("ShaderNodeMixRGB")
-            tint.blend_type, tint.inputs["Fac"].default_value = "MULTIPLY", 1.0
-            tint.inputs["Color2"].default_value = (0.35, 0.8, 1.1, 1.0)
-            links.new(position, tint.inputs["Color1"])
-            position = tint.outputs["Color"]
+            position = tinted(mat.node_tree, position, (0.35, 0.8, 1.1, 1.0))
         links.new(position, ramp.inputs["Fac"])
         links.new(ramp.outputs["Color"], nodes["Emission"].inputs["Color"])
     else:

@@ -115,10 +115,11 @@ def timed_render(scene, settings, reps):
     return best, stats
 
 
-def parallel_capacity(seconds: float = 0.3) -> float:
-    """Cores this process can get right now: NPROC threads each hash the same data (hashlib
-    releases the GIL); effective cores = NPROC * (time for one thread) / (time for NPROC threads).
-    Median of 3. Other work on the machine shows up as fewer than NPROC."""
+def parallel_capacity(seconds: float = 0.3, threads: int = NPROC) -> float:
+    """Cores this process can get right now: `threads` threads each hash the same data (hashlib
+    releases the GIL); effective cores = threads * (time for one thread) / (time for all of them).
+    Median of 3. Other work on the machine, or cores that slow down when their neighbours are busy,
+    show up as fewer than `threads`."""
     import hashlib
     import threading
     data = os.urandom(1 << 24)
@@ -138,7 +139,8 @@ def parallel_capacity(seconds: float = 0.3) -> float:
         for th in threads:
             th.join()
         return time.perf_counter() - t
-    return float(np.median([NPROC * timed(1) / timed(NPROC) for _ in range(3)]))
+    timed(1)   # warm-up: a core waking from idle runs the first round slower (1 thread read 1.28x)
+    return float(np.median([threads * timed(1) / timed(threads) for _ in range(3)]))
 
 
 def interleaved(scene, columns, reps):

@@ -18,7 +18,7 @@ import time
 
 import bpy
 
-from . import dependencies, passes, streaming
+from . import cryptomatte, dependencies, passes, streaming
 from .settings import render_settings
 
 MEMORY_LIMIT_ENV = "GRIDWALK_MEMORY_LIMIT_MB"
@@ -134,6 +134,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
     def update_render_passes(self, scene=None, renderlayer=None):
         for p in passes.enabled(renderlayer, scene):
             self.register_pass(scene, renderlayer, p.name, p.channels, p.chanid, p.kind)
+        for name in cryptomatte.pass_names(renderlayer):
+            self.register_pass(scene, renderlayer, name, 4, "rgba", "COLOR")   # (lower case, as Cycles' are saved)
 
     def render(self, depsgraph):
         try:
@@ -207,6 +209,9 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         region = render_region(scene.render)
         if region is not None:
             settings = settings.replace(region=region)
+        ranks = cryptomatte.levels(depsgraph.view_layer)
+        if ranks:   # (a few more keys than ranks: an object's materials are merged into one id)
+            settings = settings.replace(matte_ranks=min(cryptomatte.MAX_RANKS, ranks + 2))
         writer = self.writer = streaming.ResultWriter(self, *resolution(scene.render), depsgraph.view_layer.name,
                                                       opaque=not scene.render.film_transparent, region=region)
         self.update_stats("", "Gridwalk: estimating memory")
@@ -224,7 +229,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         try:
             # A render with nothing visible (a cut in an animation, a farm's frame, an empty scene)
             # shows the world, as Cycles renders it, and says why in a warning.
-            kwargs, warnings = export.kwargs(world_only=not self.is_preview)
+            kwargs, warnings = export.kwargs(world_only=not self.is_preview, mattes=ranks > 0)
         except ExportError:
             if not self.is_preview:
                 raise
@@ -236,13 +241,15 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             return
         for warning in warnings:
             self._warn(warning)
+        if ranks:
+            writer.mattes = cryptomatte.Mattes(depsgraph.view_layer, export.matte_names)
         if depsgraph.scene.render.use_multiview:
             self._warn("Stereoscopy is not supported: the first view is rendered, the others are left empty")
         for warning in unsupported_render_settings(depsgraph.scene):
             self._warn(warning)
         unwritten = passes.unwritten_passes(depsgraph.view_layer)
         if unwritten:
-            self._warn("Render passes not written (only Combined, Depth, Normal and the denoising data are): "
+            self._warn("Render passes not written (only Combined, Depth, Normal, the denoising data and Cryptomatte are): "
                        + ", ".join(unwritten))
         t1 = time.perf_counter()
         if self._cancelled("after the export", writer):

@@ -66,8 +66,7 @@ UNWRITTEN = {
     "use_pass_transmission_direct": "Transmission Direct", "use_pass_transmission_indirect": "Transmission Indirect",
     "use_pass_transmission_color": "Transmission Color", "use_pass_emit": "Emission",
     "use_pass_environment": "Environment", "use_pass_ambient_occlusion": "Ambient Occlusion",
-    "use_pass_shadow": "Shadow", "use_pass_cryptomatte_object": "Cryptomatte Object",
-    "use_pass_cryptomatte_material": "Cryptomatte Material", "use_pass_cryptomatte_asset": "Cryptomatte Asset",
+    "use_pass_shadow": "Shadow",
 }
 
 

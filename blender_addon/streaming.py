@@ -5,7 +5,7 @@ finished tiles every POLL_SECONDS and writes each into the render result
 (begin_result / end_result per tile, so the image appears as it renders),
 reports progress and statistics, and cancels the job as soon as Blender asks
 to stop (test_break): cancel() returns only when no worker thread is left.
-Every pass (Depth, Normal, Denoising Albedo / Normal) is written with its tile.
+Every pass (Depth, Normal, Denoising Albedo / Normal, Cryptomatte) is written with its tile.
 
 A border render (RenderSettings.region) gets a render result the size of the
 border from Blender, so tiles are written relative to the region's corner.
@@ -58,6 +58,8 @@ class ResultWriter:
         self.engine, self.layer_name, self.opaque = engine, layer_name, opaque
         self.region = tuple(region) if region is not None else (0, 0, width, height)
         self.written = False
+        self.mattes = None          # a cryptomatte.Mattes: the tiles' matte ranks become its passes
+        self.stamped = False        # its metadata added to the render result
 
     def ensure_written(self):
         """After a cancel: if no tile was written, write the (empty) result for the
@@ -88,6 +90,15 @@ class ResultWriter:
             for p in PASSES:
                 if p.source in arrays and p.name in layer_passes:
                     set_pass(layer_passes[p.name], p.values(arrays))
+            if self.mattes is not None and "matte_keys" in arrays:
+                for name, values in self.mattes.passes(arrays["matte_keys"], arrays["matte_coverage"]).items():
+                    if name in layer_passes:
+                        set_pass(layer_passes[name], values)
+                if not self.stamped:   # (on the whole render's result, as Cycles adds them)
+                    whole = self.engine.get_result()
+                    for key, value in self.mattes.metadata().items():
+                        whole.stamp_data_add_field(key, value)
+                    self.stamped = True
         finally:
             self.engine.end_result(result)
 

@@ -513,6 +513,7 @@ class MaterialTable:
         self._problems = {}
         self.override = override
         self._names = {}             # index -> material name
+        self.matte_names = [None]    # per material: the Blender material's name (Cryptomatte's), None for none
         self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
 
     def index_of(self, mat) -> int:
@@ -529,6 +530,7 @@ class MaterialTable:
             self._names[index] = key or "(none)"
             self.materials.append(material)
             self.links.append(links)
+            self.matte_names.append(None if mat is None else mat.original.name)
         return index
 
     def layers(self, indices) -> tuple:
@@ -568,6 +570,7 @@ class MaterialTable:
             self._index[key] = len(self.materials)
             self.materials.append(dataclasses.replace(material, **fields))
             self.links.append(None)
+            self.matte_names.append(self.matte_names[index])
             self.shape_notes.add(self._names.get(index, "?"))
         return self._index[key]
 

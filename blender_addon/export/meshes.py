@@ -340,6 +340,17 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
         obj.to_mesh_clear()
 
 
+def matte_names(obj) -> tuple[str, str]:
+    """(object, asset) names Cryptomatte gives an evaluated object's primitives:
+    its original's name and that of its topmost parent, as Blender hashes
+    them (the ID's name, without a library)."""
+    source = getattr(obj, "original", None) or obj
+    top = source
+    while getattr(top, "parent", None) is not None:
+        top = top.parent
+    return source.name, top.name
+
+
 class MeshCollector:
     """Gathers world-space triangles and spheres over all object instances.
 
@@ -369,6 +380,8 @@ class MeshCollector:
         self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
+        # Cryptomatte's names (object, its top parent: the asset) of each part, sphere and point or cone set
+        self.part_names, self.sphere_names, self.set_names = [], [], {}
         self._sources = {}         # (object, original, data addresses) -> what _source() read of it
         self._lookups = {}         # material lookup bytes -> the one array the parts share
         self._hair = {}            # object_key -> whether it has hair particle systems to render
@@ -396,15 +409,16 @@ class MeshCollector:
         memo = object_key(obj)
         known = self._sources.get(memo)
         if known is None:
-            known = self._sources[memo] = self._source(obj)
+            known = self._sources[memo] = (*self._source(obj), matte_names(obj))
         kind, lookup = known[0], known[1]
+        names = known[-1]
         if kind == "shapes":
             read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
-            self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets)
+            self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, names)
         elif kind == "sphere":
-            self._add_sphere(obj.name, known[2], flat, lookup)
+            self._add_sphere(obj.name, known[2], flat, lookup, names)
         elif kind == "mesh":
-            self._add_mesh(obj.name, known, matrix, flat)
+            self._add_mesh(obj.name, known, matrix, flat, names)
 
     def _source(self, obj) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
@@ -447,7 +461,7 @@ class MeshCollector:
             return "none", lookup
         return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
 
-    def _add_sphere(self, name, bounds, flat, lookup):
+    def _add_sphere(self, name, bounds, flat, lookup, names):
         """One 'Render as sphere' instance: its bounds' centre under the matrix (row by
         row, as transform_points sums), its half size times the largest axis scale
         (plain floats: a sphere costs a few microseconds, not numpy's per-call cost)."""
@@ -462,11 +476,12 @@ class MeshCollector:
         if max(scales) - min(scales) > 1e-4 * max(scales):
             self.non_uniform_spheres.append(name)
         self.spheres.append((np.array(centre), radius, int(lookup[0])))
+        self.sphere_names.append(names)
         if textured:
             self.textured_spheres.add(name)
 
-    def _add_mesh(self, name, known, matrix, flat):
-        _, lookup, key, data, layers, from_mesh, noted = known
+    def _add_mesh(self, name, known, matrix, flat, names):
+        _, lookup, key, data, layers, from_mesh, noted = known[:7]
         if not data.finite:
             self.invalid[name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
             return
@@ -492,6 +507,7 @@ class MeshCollector:
             if data.non_finite_corners:
                 self.non_finite_corners[name] = data.non_finite_corners
         self.parts.append((key, data, matrix, lookup))
+        self.part_names.append(names)
 
     def add_particle_hair(self, inst, render: bool):
         """The instance's hair particle systems (particle_hair.py) as cones;
@@ -510,15 +526,17 @@ class MeshCollector:
         lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
+        names = matte_names(obj)
         for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, render):
-            self._add_shapes(obj.name, lookup, *found, self.cone_sets)
+            self._add_shapes(obj.name, lookup, *found, self.cone_sets, names)
 
-    def _add_shapes(self, name, lookup, found, why, non_uniform, sets):
+    def _add_shapes(self, name, lookup, found, why, non_uniform, sets, names):
         """Keeps a point or cone set read from an object (or why it was skipped)."""
         if why is not None:
             self.invalid[name] = why
         elif len(found):
             sets.append(found)
+            self.set_names[id(found)] = names
             if non_uniform:
                 self.non_uniform_spheres.append(name)
             if self.materials.layers(lookup)[0] is not None:
@@ -586,6 +604,31 @@ class MeshCollector:
                        cylinder_apex_radius=joined("apex_radius", -1).astype(np.float32),
                        cylinder_materials=self._shape_materials(joined("materials", -1).astype(np.int32)))
         return out
+
+    def primitive_names(self, arrays) -> tuple[list, np.ndarray]:
+        """(names, index): the distinct (object, asset) names of matte_names()
+        and, per primitive of `arrays` (triangles, spheres, cylinders, in the
+        core's order), the index of its names (-1: none, such as the world-only
+        scene's placeholder triangle). After arrays()."""
+        table, index_of = [], {}
+
+        def index(names):
+            if names not in index_of:
+                index_of[names] = len(table)
+                table.append(names)
+            return index_of[names]
+        n_tris = len(arrays["triangles"])
+        tris = np.full(n_tris, -1, np.int32)
+        if self.layout:
+            starts = np.array([p.triangle_start for p in self.layout], np.int64)
+            counts = np.array([p.triangle_count for p in self.layout], np.int64)
+            which = np.array([index(n) for n in self.part_names], np.int32)
+            order = np.argsort(starts, kind="stable")
+            tris[:int(counts.sum())] = np.repeat(which[order], counts[order])
+        shapes = [np.array([index(n) for n in self.sphere_names], np.int32).reshape(-1)]
+        shapes += [np.full(len(p.radii), index(self.set_names[id(p)]), np.int32) for p in self.point_sets]
+        shapes += [np.full(len(c.base_radius), index(self.set_names[id(c)]), np.int32) for c in self.cone_sets]
+        return table, np.concatenate([tris] + shapes)
 
     def _shape_materials(self, indices):
         """The spheres' or cylinders' material indices, each without textures at

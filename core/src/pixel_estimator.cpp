@@ -13,7 +13,8 @@ PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, cons
     : s_(s), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
 
 void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
-                                  TraceContext& ctx, float out[4], FirstHit* fh) const {
+                                  TraceContext& ctx, float out[4], FirstHit* fh, MatteCoverage* mc,
+                                  float mc_weight) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
     Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
     // The lens points of all the pixel's samples (samples x nd) form one
@@ -45,6 +46,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
             hits += local.alpha;
         }
         if (fh && j == 0) *fh = local;
+        if (mc) mc->add(local, mc_weight / float(nd));
     }
     const float inv = 1.0f / float(nd);
     out[0] = sum.x * inv; out[1] = sum.y * inv; out[2] = sum.z * inv; out[3] = hits * inv;
@@ -59,6 +61,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
     const uint32_t shuffle = prng.next_u32(), sx = prng.next_u32(), sy = prng.next_u32();
     PixelValue pv;
     float acc[4] = {0, 0, 0, 0}, wsum = 0;
+    MatteCoverage* mc = s_.matte_ranks > 0 ? &pv.matte : nullptr;
     for (uint32_t s = 0; s < count; ++s) {
         float u = 0.5f, v = 0.5f;
         switch (s_.aa) {
@@ -75,7 +78,8 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
         float ox = u - 0.5f, oy = v - 0.5f;
         if (s_.filter == PixelFilter::Gaussian && count > 1) gaussian_offset(u, v, s_.filter_width, ox, oy);
         float out[4];
-        sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr);
+        sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr,
+                     mc, 1.0f / float(count));
         for (int c = 0; c < 4; ++c) acc[c] += out[c];
         wsum += 1;
     }
@@ -132,15 +136,23 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
     PixelValue pv;
     const int ci = x - sc.x0, cj = y - sc.y0;
     pv.first = sc.corner_hits[size_t(cj) * (sc.w + 1) + ci];
-    auto point = [&](int i, int j) -> const float* {
-        if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1))
-            return &sc.corners[4 * (size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0))];
+    const bool mattes = s_.matte_ranks > 0;
+    if (mattes && sc.lattice_hits.size() != size_t(side) * side) sc.lattice_hits.assign(size_t(side) * side, FirstHit());
+    // A lattice point's rgba, and its first hit (with mattes; the corners always have theirs).
+    auto point = [&](int i, int j, const FirstHit** hit = nullptr) -> const float* {
+        if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1)) {
+            const size_t k = size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0);
+            if (hit) *hit = &sc.corner_hits[k];
+            return &sc.corners[4 * k];
+        }
         const size_t k = size_t(j) * side + i;
         float* e = &sc.lattice[4 * k];
         if (sc.stamp[k] != sc.generation) {
-            lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e, nullptr);
+            lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e,
+                          mattes ? &sc.lattice_hits[k] : nullptr);
             sc.stamp[k] = sc.generation;
         }
+        if (hit) *hit = &sc.lattice_hits[k];
         return e;
     };
     const float thr = s_.adaptive_threshold;
@@ -168,6 +180,14 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
             stack[top++] = {q.i + h, q.j + h, h, q.w * 0.25f};
         } else {
             for (int ch = 0; ch < 4; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
+            if (mattes) {   // each corner's first surface (its first lens ray's), with the corner's weight
+                const int ij[4][2] = {{q.i, q.j}, {q.i + q.size, q.j}, {q.i, q.j + q.size}, {q.i + q.size, q.j + q.size}};
+                for (const auto& p : ij) {
+                    const FirstHit* h = nullptr;
+                    point(p[0], p[1], &h);
+                    pv.matte.add(*h, q.w * 0.25f);
+                }
+            }
         }
     }
     pv.rgb = non_negative(Vec3(acc[0], acc[1], acc[2]));

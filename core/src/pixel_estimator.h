@@ -6,6 +6,7 @@
 
 #include "camera.h"
 #include "integrator.h"
+#include "matte_coverage.h"
 
 namespace gw {
 
@@ -13,12 +14,14 @@ struct PixelValue {
     Vec3 rgb;
     float alpha = 0;   // fraction of camera samples that hit geometry
     FirstHit first;
+    MatteCoverage matte;   // with RenderSettings.matte_ranks > 0: the keys the samples met
 };
 
 // Per-thread scratch for adaptive sampling: one pixel's lattice, and the
 // pixel corners of the current tile (traced once, shared by the tile's pixels).
 struct PixelScratch {
     std::vector<float> lattice;       // rgba per lattice point of the current pixel
+    std::vector<FirstHit> lattice_hits;   // with mattes: each lattice point's first hit
     std::vector<uint32_t> stamp;      // == generation: the point is computed for this pixel
     uint32_t generation = 0;
     std::vector<float> corners;       // rgba per corner, (w + 1) x (h + 1)
@@ -35,8 +38,10 @@ public:
 
 private:
     // One lattice point / camera position: dof_samples lens rays averaged. rgba out.
+    // mc: each lens ray's first surface added to it with weight mc_weight / dof_samples.
     void sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
-                      TraceContext& ctx, float out[4], FirstHit* fh) const;
+                      TraceContext& ctx, float out[4], FirstHit* fh, MatteCoverage* mc = nullptr,
+                      float mc_weight = 0) const;
     PixelValue adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
     void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh) const;
 

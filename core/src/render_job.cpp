@@ -36,6 +36,8 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
     albedo.assign(n * 3, 0.0f);
+    matte_keys.assign(n * size_t(s_.matte_ranks), -1);
+    matte_coverage.assign(n * size_t(s_.matte_ranks), 0.0f);
     for (int y = y0; y < y1; y += s_.tile_size)
         for (int x = x0; x < x1; x += s_.tile_size)
             tiles_.push_back({x, y, std::min(s_.tile_size, x1 - x), std::min(s_.tile_size, y1 - y)});
@@ -95,6 +97,8 @@ void RenderJob::worker() {
                     albedo[3 * k + 0] = pv.first.albedo.x;
                     albedo[3 * k + 1] = pv.first.albedo.y;
                     albedo[3 * k + 2] = pv.first.albedo.z;
+                    if (const int r = s_.matte_ranks)
+                        pv.matte.top(r, &matte_keys[size_t(r) * k], &matte_coverage[size_t(r) * k]);
                 }
             }
             std::lock_guard<std::mutex> lock(mu_);

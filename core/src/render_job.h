@@ -57,6 +57,11 @@ public:
     // the area's top row. Complete after wait(); before that, only tiles
     // returned by poll() (in image coordinates) are final.
     std::vector<float> rgba, depth, normal, albedo;
+    // (area.h, area.w, matte_ranks) with RenderSettings.matte_ranks > 0, else
+    // empty: the keys covering most of each pixel, most first (-1 beyond
+    // those met), and the share of the pixel each covers (MatteCoverage).
+    std::vector<int32_t> matte_keys;
+    std::vector<float> matte_coverage;
     size_t at(int x, int y) const { return size_t(y - area.y) * size_t(area.w) + size_t(x - area.x); }
 
 private:

@@ -200,7 +200,16 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 size_t Scene::memory_bytes() const {
     return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + generated_.size() * 4 + object_coords_.size() * 4 + tangents_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
-           cone_mat_.size() * 4;
+           cone_mat_.size() * 4 + matte_keys_.size() * 4;
+}
+
+void Scene::set_matte_keys(std::vector<int32_t> keys) {
+    if (!keys.empty() && keys.size() != num_prims())
+        bad("matte_keys must have one entry per primitive (" + std::to_string(num_prims()) + ": triangles, spheres, "
+            "then cylinders), not " + std::to_string(keys.size()));
+    for (size_t i = 0; i < keys.size(); ++i)
+        if (keys[i] < -1) bad("matte_keys[" + std::to_string(i) + "] is " + std::to_string(keys[i]) + ": a key is >= 0, or -1 for none");
+    matte_keys_ = std::move(keys);
 }
 
 }  // namespace gw

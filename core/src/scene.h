@@ -111,6 +111,14 @@ public:
         return prim - num_triangles() - num_spheres();
     }
 
+    // Per primitive (triangles, then spheres, then cones), a key whose share of
+    // each pixel a render reports (RenderSettings.matte_ranks: the host turns
+    // the keys into Cryptomatte's object and material mattes); -1: none.
+    // Set once, before the scene is shared; empty: no keys (every primitive -1).
+    void set_matte_keys(std::vector<int32_t> keys);
+    int32_t matte_key(size_t prim) const { return prim < matte_keys_.size() ? matte_keys_[prim] : -1; }
+    bool has_matte_keys() const { return !matte_keys_.empty(); }
+
     Bounds prim_bounds(size_t prim) const;
     const Vec3& sphere_center(size_t s) const { return centers_[s]; }
     float sphere_radius(size_t s) const { return radii_[s]; }
@@ -237,6 +245,7 @@ private:
     // 12 floats per triangle (tangents.h) where a material has a normal map
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
+    std::vector<int32_t> matte_keys_;   // set_matte_keys
     void build_tangents();
     // Those of triangles [first, first + count) again (an instance moved: it
     // shares no vertex with the rest).

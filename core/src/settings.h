@@ -65,7 +65,11 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
       "Lens samples per camera sample (used when the camera has an aperture)")                                     \
     X(int, glossy_samples, 1, 1, 4096, "lens", "", "Glossy Samples", "Rays at the first glossy bounce")            \
     X(Region, region, Region(), 0, 0, "host", "", "Region",                                                        \
-      "(x, y, w, h) in pixels, row 0 at the top: render only this part of the image (Blender: the render border)")
+      "(x, y, w, h) in pixels, row 0 at the top: render only this part of the image (Blender: the render border)") \
+    X(int, matte_ranks, 0, 0, 16, "host", "", "Matte Ranks",                                                       \
+      "Per pixel, the matte keys (Scene(matte_keys=...)) covering most of it, with their coverage, most first: "  \
+      "RenderJob.matte_keys / matte_coverage, what Cryptomatte passes are made of; 0 = none (Blender: the "       \
+      "view layer's Cryptomatte Levels)")
 
 // Where a host (the Blender add-on) starts from other defaults, and why.
 // X(name, default as the host writes it, reason)

@@ -29,18 +29,29 @@ def _channels(value):
     return channels
 
 
-def _header(data, pos):
+def _header(data, pos, strings=None):
+    """(attribute name -> raw value, position after the header); `strings`, a
+    dict, also gets the attributes of type string, decoded (metadata)."""
     header = {}
     while data[pos] != 0:
         name, pos = _cstring(data, pos)
-        _, pos = _cstring(data, pos)
+        kind, pos = _cstring(data, pos)
         size, = struct.unpack_from("<i", data, pos)
         header[name] = data[pos + 4:pos + 4 + size]
+        if strings is not None and kind == "string":
+            strings[name] = header[name].decode("utf-8")
         pos += 4 + size
     return header, pos + 1
 
 
-def read_exr(path) -> dict[str, np.ndarray]:
+def read_metadata(path) -> dict[str, str]:
+    """The string attributes of a scanline EXR's headers (every part's): Blender's metadata."""
+    strings = {}
+    read_exr(path, strings)
+    return strings
+
+
+def read_exr(path, strings=None) -> dict[str, np.ndarray]:
     """Every channel of a single- or multi-part (Blender 5.0) scanline EXR."""
     data = open(path, "rb").read()
     magic, version = struct.unpack_from("<ii", data, 0)
@@ -49,7 +60,7 @@ def read_exr(path) -> dict[str, np.ndarray]:
         raise ValueError(f"{path}: not a scanline OpenEXR file")
     headers, pos = [], 8
     while True:
-        header, pos = _header(data, pos)
+        header, pos = _header(data, pos, strings)
         headers.append(header)
         if not multipart or data[pos] == 0:
             break

@@ -40,7 +40,9 @@ What is counted (bytes):
                 colours (36, x2) when a material uses them.
   images        the core's RGBA, depth, normal and albedo buffers (44 per pixel), the
                 copies read back at the end (36) and the host's render result
-                (Combined + Depth + Normal, 32): 112 per pixel.
+                (Combined + Depth + Normal, 32): 112 per pixel; with
+                RenderSettings.matte_ranks, 8 per rank (a key and its
+                coverage) and as much again for the host's Cryptomatte passes.
 Checked against the resident memory of a render of a 1M-triangle sphere
 (tests/test16_memory_estimate.py): with the adaptive grid the estimate is
 within 0.8 - 1.6 of the measured figure; with the uniform grid, whose budget
@@ -153,7 +155,7 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
         if settings.mailboxes:
             threads = int(settings.threads) or (os.cpu_count() or 1)
             mailboxes = prims * STAMP_BYTES * threads
-    images = int(width) * int(height) * PIXEL_BYTES
+    images = int(width) * int(height) * (PIXEL_BYTES + 16 * int(settings.matte_ranks))
     textures = (int(texture_bytes)
                 + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0) + 36 * int(corner_points))
                 + (triangles * TANGENT_BYTES if uvs and tangents else 0))

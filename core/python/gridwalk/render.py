@@ -20,7 +20,8 @@ class TileResult:
     width: int
     height: int
     rgba: np.ndarray  # (height, width, 4) float32 copy of the finished pixels
-    passes: dict = None   # "depth", "normal", "albedo": copies of the tile's pixels in those passes
+    passes: dict = None   # "depth", "normal", "albedo" (and "matte_keys", "matte_coverage" with
+                          # RenderSettings.matte_ranks > 0): copies of the tile's pixels in those passes
 
 
 class RenderJob:
@@ -64,6 +65,8 @@ class RenderJob:
         job = self._job
         ax, ay = job.area[:2]               # the buffers hold only the rendered area
         arrays = {"depth": job.depth, "normal": job.normal, "albedo": job.albedo}
+        if self.settings.matte_ranks > 0:
+            arrays.update(matte_keys=job.matte_keys, matte_coverage=job.matte_coverage)
         tiles = []
         for x, y, w, h in job.poll():
             part = (slice(y - ay, y - ay + h), slice(x - ax, x - ax + w))
@@ -125,7 +128,7 @@ class RenderJob:
         height, width = self._job.height, self._job.width
         if (w, h) == (width, height):
             return part.copy()
-        whole = np.full((height, width) + part.shape[2:], outside, np.float32)
+        whole = np.full((height, width) + part.shape[2:], outside, part.dtype)
         whole[y:y + h, x:x + w] = part
         return whole
 
@@ -161,6 +164,21 @@ class RenderJob:
         """(H, W, 3) base colour at the first hit, textures applied (0 on a miss):
         Blender's Denoising Albedo pass."""
         return self._whole(self._job.albedo, 0.0)
+
+    @property
+    def matte_keys(self) -> np.ndarray:
+        """(H, W, RenderSettings.matte_ranks) int32: the matte keys
+        (Scene(matte_keys=...)) covering most of each pixel, most first; -1
+        beyond the keys the pixel's samples met."""
+        return self._whole(self._job.matte_keys, -1)
+
+    @property
+    def matte_coverage(self) -> np.ndarray:
+        """(H, W, RenderSettings.matte_ranks) float32: the share of each
+        pixel that each of matte_keys covers (its samples' weights times the
+        surfaces' alpha; the ranks of a pixel whose samples all hit keyed
+        surfaces sum to 1)."""
+        return self._whole(self._job.matte_coverage, 0.0)
 
     @property
     def stats(self) -> dict:

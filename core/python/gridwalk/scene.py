@@ -164,7 +164,7 @@ class Scene:
                  cylinder_apex_radius=None, cylinder_materials=None,
                  materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0),
                  uvs=None, colors=None, images=None, textures=None, world=None, generated=None,
-                 object_coords=None):
+                 object_coords=None, matte_keys=None):
         """uvs: (M, 3, 2) texture coordinates per triangle corner; colors:
         (M, 3, 3) RGB per triangle corner (Material.vertex_color); generated:
         (M, 3, 3) Blender's Generated coordinates per triangle corner, what
@@ -175,7 +175,13 @@ class Scene:
         gridwalk.Image list that textures may refer to by index; textures:
         gridwalk.Texture list that materials and the world refer to by index
         (a Texture's image may also be a gridwalk.Image: each distinct Image
-        is stored once); world: gridwalk.World (ambient light, environment)."""
+        is stored once); world: gridwalk.World (ambient light, environment);
+        matte_keys: (triangles + spheres + cylinders,) int, each primitive's
+        key (-1: none), in that order: a render with
+        RenderSettings.matte_ranks > 0 reports which keys cover each pixel
+        and how much (RenderJob.matte_keys / matte_coverage): Cryptomatte's
+        object and material mattes, when the keys name objects and
+        materials."""
         f32, i32 = np.float32, np.int32
         self.materials = list(materials) if materials else [Material()]
         self.lights = list(lights) if lights else []
@@ -208,6 +214,8 @@ class Scene:
             self.background, _corners(uvs, "uvs", 2, n_tris), _corners(colors, "colors", 3, n_tris),
             [image._native for image in self.images], core_textures, self.world.to_core(),
             _corners(generated, "generated", 3, n_tris), _corners(object_coords, "object_coords", 3, n_tris))
+        if matte_keys is not None:
+            self._native.set_matte_keys(_array(matte_keys, "matte_keys", i32, 0))
         self._accels = {}
 
     def moved(self, moves) -> "Scene":

@@ -1,4 +1,4 @@
-"""Cryptomatte passes, as Cycles writes them: CryptoObject00, CryptoMaterial00,
+"""Cryptomatte and index passes, as Cycles writes them: CryptoObject00, CryptoMaterial00,
 CryptoAsset00, ... (the view layer's Cryptomatte Object / Material / Asset and
 its Levels), each pass two ranks of (id, coverage), and the render's metadata
 (name, hash, conversion, manifest per layer) that compositors read names from.
@@ -9,6 +9,10 @@ Here each layer's ids are merged by name (an object of two materials is one
 object), sorted by coverage and encoded. An id is the Cryptomatte
 specification's: MurmurHash3 (x86, 32 bits, seed 0) of the name's UTF-8
 bytes, its bits read as a float32 whose exponent is kept off 0 and 255.
+
+The Object Index and Material Index passes (IndexOB, IndexMA) come from the
+same ranks: the Pass Index of the object and material covering most of the
+pixel (Cycles takes its first sample's, so edge pixels may differ).
 """
 from __future__ import annotations
 
@@ -17,10 +21,15 @@ import struct
 
 import numpy as np
 
-# (view layer flag, pass name prefix, what names the layer's ids: the index into MatteTable's names)
-LAYERS = (("use_pass_cryptomatte_object", "CryptoObject", 0),
-          ("use_pass_cryptomatte_material", "CryptoMaterial", 2),
-          ("use_pass_cryptomatte_asset", "CryptoAsset", 1))
+# What a matte key's entry (Export.matte_names) holds, by position.
+OBJECT, ASSET, OBJECT_INDEX, MATERIAL, MATERIAL_INDEX = range(5)
+# (view layer flag, pass name prefix, the entry's name the layer's ids hash)
+LAYERS = (("use_pass_cryptomatte_object", "CryptoObject", OBJECT),
+          ("use_pass_cryptomatte_material", "CryptoMaterial", MATERIAL),
+          ("use_pass_cryptomatte_asset", "CryptoAsset", ASSET))
+# (view layer flag, pass name, the entry's pass index it shows)
+INDEX_PASSES = (("use_pass_object_index", "IndexOB", OBJECT_INDEX),
+                ("use_pass_material_index", "IndexMA", MATERIAL_INDEX))
 MAX_RANKS = 16      # RenderSettings.matte_ranks' maximum
 
 
@@ -60,6 +69,19 @@ def levels(view_layer) -> int:
     return max(2, min(MAX_RANKS, int(getattr(view_layer, "pass_cryptomatte_depth", 6))))
 
 
+def index_passes(view_layer) -> list[tuple[str, int]]:
+    """(pass name, entry position) of the index passes the view layer enables."""
+    return [(name, which) for flag, name, which in INDEX_PASSES if getattr(view_layer, flag, False) is True]
+
+
+def ranks(view_layer) -> int:
+    """RenderSettings.matte_ranks for the view layer's passes (0: none asks for mattes)."""
+    wanted = levels(view_layer)
+    if wanted:   # (a few more keys than ranks: an object's materials are merged into one id)
+        return min(MAX_RANKS, wanted + 2)
+    return 1 if index_passes(view_layer) else 0
+
+
 def enabled(view_layer) -> list[tuple[str, int]]:
     """(pass name prefix, names index) of the layers the view layer enables."""
     return [(prefix, which) for flag, prefix, which in LAYERS if getattr(view_layer, flag, False) is True]
@@ -81,6 +103,10 @@ class Mattes:
         self.levels = levels(view_layer)
         self.layers = enabled(view_layer)
         self.names = names
+        self.indices = index_passes(view_layer)
+        # per index pass: each key's pass index, and the key -1's (0) at the end
+        self.index_values = {name: np.array([n[which] for n in names] + [0], np.float32)
+                             for name, which in self.indices}
         # per layer: each key's id (0 where it has no name), and the key -1's at the end
         self.ids = {}
         for prefix, which in self.layers:
@@ -88,8 +114,9 @@ class Mattes:
             self.ids[prefix] = np.array(ids + [0.0], np.float32)
 
     def passes(self, keys: np.ndarray, coverage: np.ndarray) -> dict:
-        """Pass name -> (h, w, 4) float32 from (h, w, R) keys and coverage."""
-        out = {}
+        """Pass name -> (h, w, 4) (Cryptomatte) or (h, w, 1) (index) float32 from (h, w, R)
+        keys and coverage."""
+        out = {name: self.index_values[name][keys[..., :1]] for name, _ in self.indices}
         for prefix, _ in self.layers:
             ids = self.ids[prefix][keys]             # (key -1 reads the last entry: 0)
             cov = np.where(ids != 0, coverage, 0.0).astype(np.float32)

@@ -209,9 +209,9 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         region = render_region(scene.render)
         if region is not None:
             settings = settings.replace(region=region)
-        ranks = cryptomatte.levels(depsgraph.view_layer)
-        if ranks:   # (a few more keys than ranks: an object's materials are merged into one id)
-            settings = settings.replace(matte_ranks=min(cryptomatte.MAX_RANKS, ranks + 2))
+        ranks = cryptomatte.ranks(depsgraph.view_layer)
+        if ranks:
+            settings = settings.replace(matte_ranks=ranks)
         writer = self.writer = streaming.ResultWriter(self, *resolution(scene.render), depsgraph.view_layer.name,
                                                       opaque=not scene.render.film_transparent, region=region)
         self.update_stats("", "Gridwalk: estimating memory")
@@ -249,8 +249,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
             self._warn(warning)
         unwritten = passes.unwritten_passes(depsgraph.view_layer)
         if unwritten:
-            self._warn("Render passes not written (only Combined, Depth, Normal, the denoising data and Cryptomatte are): "
-                       + ", ".join(unwritten))
+            self._warn("Render passes not written (only Combined, Depth, Normal, Object and Material Index, "
+                       "the denoising data and Cryptomatte are): " + ", ".join(unwritten))
         t1 = time.perf_counter()
         if self._cancelled("after the export", writer):
             return

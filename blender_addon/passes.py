@@ -8,6 +8,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+try:
+    import bpy
+    NEW_NAMES = bpy.app.version >= (5, 0, 0)   # Blender 5.0 renamed IndexOB / IndexMA
+except ImportError:                            # (outside Blender: the tests read the table)
+    NEW_NAMES = False
+
 
 @dataclass(frozen=True)
 class Pass:
@@ -37,6 +43,9 @@ PASSES = (
     # What the compositor's Denoise node takes, under Cycles' names.
     Pass("Denoising Albedo", "RGB", "COLOR", "gridwalk.denoising_data", "albedo"),
     Pass("Denoising Normal", "XYZ", "VECTOR", "gridwalk.denoising_data", "normal"),
+    # From the matte ranks (cryptomatte.Mattes): the Pass Index of what covers most of the pixel.
+    Pass("Object Index" if NEW_NAMES else "IndexOB", "X", "VALUE", "use_pass_object_index", "IndexOB"),
+    Pass("Material Index" if NEW_NAMES else "IndexMA", "X", "VALUE", "use_pass_material_index", "IndexMA"),
 )
 
 
@@ -59,7 +68,6 @@ def enabled(view_layer, scene=None) -> list[Pass]:
 # it would get nothing without a word).
 UNWRITTEN = {
     "use_pass_mist": "Mist", "use_pass_position": "Position", "use_pass_vector": "Vector", "use_pass_uv": "UV",
-    "use_pass_object_index": "Object Index", "use_pass_material_index": "Material Index",
     "use_pass_diffuse_direct": "Diffuse Direct", "use_pass_diffuse_indirect": "Diffuse Indirect",
     "use_pass_diffuse_color": "Diffuse Color", "use_pass_glossy_direct": "Glossy Direct",
     "use_pass_glossy_indirect": "Glossy Indirect", "use_pass_glossy_color": "Glossy Color",

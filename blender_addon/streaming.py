@@ -5,7 +5,8 @@ finished tiles every POLL_SECONDS and writes each into the render result
 (begin_result / end_result per tile, so the image appears as it renders),
 reports progress and statistics, and cancels the job as soon as Blender asks
 to stop (test_break): cancel() returns only when no worker thread is left.
-Every pass (Depth, Normal, Denoising Albedo / Normal, Cryptomatte) is written with its tile.
+Every pass (Depth, Normal, Denoising Albedo / Normal, Object and Material Index, Cryptomatte) is
+written with its tile.
 
 A border render (RenderSettings.region) gets a render result the size of the
 border from Blender, so tiles are written relative to the region's corner.
@@ -87,14 +88,18 @@ class ResultWriter:
         self.written = True
         try:
             layer_passes = result.layers[0].passes
+            mattes = {}
+            if self.mattes is not None and "matte_keys" in arrays:
+                mattes = self.mattes.passes(arrays["matte_keys"], arrays["matte_coverage"])
+                arrays = dict(arrays, **mattes)
             for p in PASSES:
                 if p.source in arrays and p.name in layer_passes:
                     set_pass(layer_passes[p.name], p.values(arrays))
+            for name, values in mattes.items():
+                if name.startswith("Crypto") and name in layer_passes:
+                    set_pass(layer_passes[name], values)
             if self.mattes is not None and "matte_keys" in arrays:
-                for name, values in self.mattes.passes(arrays["matte_keys"], arrays["matte_coverage"]).items():
-                    if name in layer_passes:
-                        set_pass(layer_passes[name], values)
-                if not self.stamped:   # (on the whole render's result, as Cycles adds them)
+                if not self.stamped and self.mattes.layers:   # (on the whole render's result, as Cycles adds them)
                     whole = self.engine.get_result()
                     for key, value in self.mattes.metadata().items():
                         whole.stamp_data_add_field(key, value)

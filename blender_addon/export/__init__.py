@@ -99,8 +99,8 @@ class Export:
         world) gives a scene that shows the world alone and says why in a
         warning. Invalid objects (NaN transforms, ...) are skipped
         with a warning naming them. mattes: the scene also gets matte_keys, one
-        per distinct (object, material) pair, whose names `matte_names` then
-        lists (Cryptomatte)."""
+        per distinct (object, material) pair, whose names and pass indices
+        `matte_names` then lists (Cryptomatte, Object and Material Index)."""
         warnings = list(self.warnings)
         kwargs = self.meshes.arrays()
         if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0 and "cylinder_materials" not in kwargs:
@@ -129,7 +129,8 @@ class Export:
         return kwargs, warnings
 
     def _matte_keys(self, kwargs) -> tuple[np.ndarray, list[tuple]]:
-        """(per primitive its key, -1 for none; per key (object, asset, material) names)."""
+        """(per primitive its key, -1 for none; per key (object, asset, object pass index,
+        material, material pass index): cryptomatte.OBJECT, ... index them)."""
         table, which = self.meshes.primitive_names(kwargs)
         materials = np.concatenate([np.asarray(kwargs.get(k, np.zeros(0, np.int32)), np.int64).reshape(-1) for k in
                                     ("triangle_materials", "sphere_materials", "cylinder_materials")])
@@ -137,7 +138,7 @@ class Export:
             raise ValueError("matte keys: the primitives' names and materials do not line up")
         pairs = np.where(which >= 0, which.astype(np.int64) * len(self.materials.materials) + materials, -1)
         found, keys = np.unique(pairs, return_inverse=True)
-        names = [table[p // len(self.materials.materials)] + (self.materials.matte_names[p % len(self.materials.materials)],)
+        names = [table[p // len(self.materials.materials)] + self.materials.matte_names[p % len(self.materials.materials)]
                  for p in found.tolist() if p >= 0]
         keys = keys.astype(np.int32) - (1 if len(found) and found[0] < 0 else 0)
         return keys, names

@@ -513,7 +513,8 @@ class MaterialTable:
         self._problems = {}
         self.override = override
         self._names = {}             # index -> material name
-        self.matte_names = [None]    # per material: the Blender material's name (Cryptomatte's), None for none
+        # per material: the Blender material's name (Cryptomatte's; None for none) and Pass Index
+        self.matte_names = [(None, 0)]
         self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
 
     def index_of(self, mat) -> int:
@@ -530,7 +531,7 @@ class MaterialTable:
             self._names[index] = key or "(none)"
             self.materials.append(material)
             self.links.append(links)
-            self.matte_names.append(None if mat is None else mat.original.name)
+            self.matte_names.append((None, 0) if mat is None else (mat.original.name, int(mat.original.pass_index)))
         return index
 
     def layers(self, indices) -> tuple:

@@ -340,15 +340,16 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
         obj.to_mesh_clear()
 
 
-def matte_names(obj) -> tuple[str, str]:
-    """(object, asset) names Cryptomatte gives an evaluated object's primitives:
-    its original's name and that of its topmost parent, as Blender hashes
-    them (the ID's name, without a library)."""
+def matte_names(obj) -> tuple[str, str, int]:
+    """(object, asset, pass index) of an evaluated object's primitives: the
+    names Cryptomatte gives them, its original's name and that of its topmost
+    parent, as Blender hashes them (the ID's name, without a library), and
+    its Pass Index (the Object Index pass)."""
     source = getattr(obj, "original", None) or obj
     top = source
     while getattr(top, "parent", None) is not None:
         top = top.parent
-    return source.name, top.name
+    return source.name, top.name, int(getattr(source, "pass_index", 0))
 
 
 class MeshCollector:
@@ -606,7 +607,7 @@ class MeshCollector:
         return out
 
     def primitive_names(self, arrays) -> tuple[list, np.ndarray]:
-        """(names, index): the distinct (object, asset) names of matte_names()
+        """(names, index): the distinct (object, asset, pass index) of matte_names()
         and, per primitive of `arrays` (triangles, spheres, cylinders, in the
         core's order), the index of its names (-1: none, such as the world-only
         scene's placeholder triangle). After arrays()."""

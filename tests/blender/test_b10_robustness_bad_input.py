@@ -79,8 +79,8 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "Light 'Negative': negative power (a light that darkens) is not supported",
                      "Light 'Stretched': a non-uniform scale does not stretch its cone",
                      "Motion blur is not supported: each object renders where it is at the current frame",
-                     "Render passes not written (only Combined, Depth, Normal, the denoising data and Cryptomatte are): "
-                     "Mist, Object Index, Shader AOV 'mask', Light Group 'key_group'"):
+                     "Render passes not written (only Combined, Depth, Normal, Object and Material Index, the "
+                     "denoising data and Cryptomatte are): Mist, Shader AOV 'mask', Light Group 'key_group'"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
     assert "aperture" not in warnings          # six aperture blades are rendered (test_b12 compares the bokeh)

@@ -1,7 +1,8 @@
 """Cryptomatte Object, Material and Asset passes: GRIDWALK writes Cycles'
 passes (CryptoObject00, ...; channels r, g, b, a), the same ids for the same
 names, mattes that match Cycles' over the same scene, and the metadata
-(name, hash, conversion, manifest) a compositor reads the names from."""
+(name, hash, conversion, manifest) a compositor reads the names from. The
+Object and Material Index passes come from the same data."""
 import json
 import sys
 from pathlib import Path
@@ -78,3 +79,17 @@ def test_metadata_names_each_layer_and_its_ids_as_cycles_does(renders):
         mine, cycles = json.loads(ours[f"{key}/manifest"]), json.loads(theirs[f"{key}/manifest"])
         assert set(LAYERS[layer.split("Crypto")[1]]) <= set(mine)
         assert all(cycles[name] == value for name, value in mine.items())
+
+
+@pytest.mark.parametrize("name, values", [("IndexOB", {0, 1, 2, 3}), ("IndexMA", {0, 4, 5})])
+def test_index_passes_hold_the_pass_index_cycles_writes(renders, name, values):
+    ours, theirs = renders["gridwalk"][0], renders["cycles"][0]
+    if renders["blender"]["blender"] >= [5, 0, 0]:       # (renamed in 5.0)
+        name = {"IndexOB": "Object Index", "IndexMA": "Material Index"}[name]
+    a, b = ours[f"ViewLayer.{name}.X"], theirs[f"ViewLayer.{name}.X"]
+    assert set(np.unique(b).tolist()) == values
+    assert set(np.unique(a).tolist()) == values
+    solid = (theirs["ViewLayer.CryptoObject00.g"] > 0.999) & (ours["ViewLayer.CryptoObject00.g"] > 0.999) & \
+        (theirs["ViewLayer.CryptoMaterial00.g"] > 0.999)
+    assert (a[solid] == b[solid]).mean() > 0.995
+    assert (a != b).mean() < 0.03          # (edges: Cycles takes its first sample's object, we the most covering)

@@ -225,7 +225,8 @@ def case_ignored_settings(bpy, s):
     hair = furry.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings
     hair.type, hair.count = "HAIR", 20
     view_layer = bpy.context.view_layer
-    view_layer.use_pass_mist = view_layer.use_pass_object_index = True   # passes GRIDWALK does not write
+    view_layer.use_pass_mist = True   # a pass GRIDWALK does not write
+    view_layer.use_pass_object_index = True   # one it writes (not in the warning)
     view_layer.aovs.add().name = "mask"                                   # a Shader AOV: a pass of its own
     if hasattr(view_layer, "lightgroups"):                                # (light groups: Blender 3.2+)
         view_layer.lightgroups.add(name="key_group")

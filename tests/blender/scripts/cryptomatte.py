@@ -3,7 +3,8 @@
 usage: <python with bpy> cryptomatte.py OUT_DIR
 A floor ("Floor"), a cube whose top face is "Blue" and the rest "Red"
 ("Box"), and a sphere ("Ball", "Red") parented to an empty ("Rig"); Cryptomatte
-Object, Material and Asset at 6 levels. Writes gridwalk.exr and cycles.exr
+Object, Material and Asset at 6 levels, and the Object and Material Index
+passes (objects' pass indices 1-3, Red's 4, Blue's 5). Writes gridwalk.exr and cycles.exr
 (multilayer, uncompressed) and info.json (the Blender version).
 """
 import json
@@ -54,6 +55,10 @@ def build(bpy):
     layer.use_pass_cryptomatte_object = layer.use_pass_cryptomatte_material = True
     layer.use_pass_cryptomatte_asset = True
     layer.pass_cryptomatte_depth = 6
+    layer.use_pass_object_index = layer.use_pass_material_index = True
+    for index, name in enumerate(("Floor", "Box", "Ball"), start=1):
+        bpy.data.objects[name].pass_index = index
+    red.pass_index, blue.pass_index = 4, 5
     return scene
 
 

@@ -185,7 +185,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
                                    width=width, height=height, settings=settings, normals=counts["normals"],
                                    texture_bytes=texture_bytes, uvs=texture_bytes > 0,
                                    tangents=texture_bytes > 0 and uses_normal_maps(depsgraph),
-                                   corner_points=corner_point_arrays(depsgraph))
+                                   corner_points=corner_point_arrays(depsgraph),
+                                   matte_layers=len(cryptomatte.key_layers(depsgraph.view_layer)))
         limit, source = memory_limit(scene.gridwalk, memory)
         print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
               f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")
@@ -229,7 +230,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         try:
             # A render with nothing visible (a cut in an animation, a farm's frame, an empty scene)
             # shows the world, as Cycles renders it, and says why in a warning.
-            kwargs, warnings = export.kwargs(world_only=not self.is_preview, mattes=ranks > 0)
+            kwargs, warnings = export.kwargs(world_only=not self.is_preview,
+                                             mattes=cryptomatte.key_layers(depsgraph.view_layer) if ranks else ())
         except ExportError:
             if not self.is_preview:
                 raise
@@ -242,7 +244,7 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         for warning in warnings:
             self._warn(warning)
         if ranks:
-            writer.mattes = cryptomatte.Mattes(depsgraph.view_layer, export.matte_names)
+            writer.mattes = cryptomatte.Mattes(depsgraph.view_layer, export.matte_tables)
         if depsgraph.scene.render.use_multiview:
             self._warn("Stereoscopy is not supported: the first view is rendered, the others are left empty")
         for warning in unsupported_render_settings(depsgraph.scene):

@@ -1,6 +1,7 @@
 """Matte coverage (RenderSettings.matte_ranks, Scene(matte_keys=...)): per
-pixel the keys its camera samples meet, most first, with the share of the
-pixel each covers: what the Blender add-on turns into Cryptomatte passes."""
+pixel and per layer of keys, the keys its camera samples meet, most first,
+with the share of the pixel each covers: what the Blender add-on turns into
+Cryptomatte passes (one layer for objects, one for materials, ...)."""
 import numpy as np
 import pytest
 
@@ -33,8 +34,8 @@ def render(scene, **settings):
 def test_coverage_of_the_keys_adds_up_to_the_pixels_alpha(mode):
     kw, keys = two_quads()
     job = render(gw.Scene(**kw, matte_keys=keys), matte_ranks=4, **mode)
-    k, c = job.matte_keys, job.matte_coverage
-    assert k.shape == c.shape == (48, 48, 4) and k.dtype == np.int32
+    k, c = job.matte_keys[:, :, 0], job.matte_coverage[:, :, 0]
+    assert job.matte_keys.shape == job.matte_coverage.shape == (48, 48, 1, 4) and k.dtype == np.int32
     np.testing.assert_allclose(c.sum(-1), job.image[..., 3], atol=1e-5)
     assert np.all(np.diff(c, axis=-1) <= 0), "ranks are ordered by coverage, most first"
     assert np.all((k >= 0) == (c > 0)), "a rank without coverage has no key"
@@ -52,9 +53,22 @@ def test_coverage_of_the_keys_adds_up_to_the_pixels_alpha(mode):
 def test_a_partly_covering_surface_shares_its_pixels_with_what_lies_behind():
     kw, keys = two_quads(front_alpha=0.25)
     job = render(gw.Scene(**kw, matte_keys=keys), matte_ranks=2, aa="jittered", aa_samples=2)
-    k, c = job.matte_keys[24, 14], job.matte_coverage[24, 14]
+    k, c = job.matte_keys[24, 14, 0], job.matte_coverage[24, 14, 0]
     assert k.tolist() == [0, 1]
     np.testing.assert_allclose(c, [0.75, 0.25], atol=1e-6)
+
+
+def test_every_surface_behind_see_through_ones_keeps_its_share():
+    kw, keys = two_quads(front_alpha=0.5)
+    v = np.concatenate([kw["vertices"], kw["vertices"][4:] + [0, 0, 0.5]]).astype(np.float32)
+    kw.update(vertices=v, triangles=np.concatenate([kw["triangles"], [[8, 9, 10], [8, 10, 11]]]).astype(np.int32),
+              triangle_materials=[0, 0, 1, 1, 1, 1])
+    keys = np.array([0, 0, 1, 1, 3, 3, 2], np.int32)
+    for mode in (dict(aa="center"), dict(aa="adaptive", adaptive_depth=1)):
+        job = render(gw.Scene(**kw, matte_keys=keys), matte_ranks=3, **mode)
+        k, c = job.matte_keys[24, 14, 0], job.matte_coverage[24, 14, 0]
+        assert k.tolist() == [3, 0, 1]           # 0.5 the top quad, then 0.25 each (ties: the smaller key first)
+        np.testing.assert_allclose(c, [0.5, 0.25, 0.25], atol=1e-6)
 
 
 def test_depth_of_field_spreads_an_edge_over_more_pixels():
@@ -63,9 +77,31 @@ def test_depth_of_field_spreads_an_edge_over_more_pixels():
     kw["camera"] = gw.Camera(eye=(0, 0, 10), target=(0, 0, 0), up=(0, 1, 0), fov=45, width=48, height=48,
                              aperture=0.6, focus_distance=12.0)
     blurred = render(gw.Scene(**kw, matte_keys=keys), matte_ranks=3, aa="jittered", aa_samples=2, dof_samples=8)
-    mixed = lambda job: int(((job.matte_coverage[..., 0] > 0.02) & (job.matte_coverage[..., 0] < 0.98)).sum())
+    mixed = lambda job: int(((job.matte_coverage[..., 0, 0] > 0.02) & (job.matte_coverage[..., 0, 0] < 0.98)).sum())
     assert mixed(blurred) > 2 * mixed(sharp)
-    np.testing.assert_allclose(blurred.matte_coverage.sum(-1), blurred.image[..., 3], atol=1e-5)
+    np.testing.assert_allclose(blurred.matte_coverage[:, :, 0].sum(-1), blurred.image[..., 3], atol=1e-5)
+    # Whitted-adaptive sampling: every lens ray of every lattice point counts
+    adaptive = render(gw.Scene(**kw, matte_keys=keys), matte_ranks=3, aa="adaptive", adaptive_depth=2,
+                      adaptive_threshold=0.0, dof_samples=8)
+    np.testing.assert_allclose(adaptive.matte_coverage[:, :, 0].sum(-1), adaptive.image[..., 3], atol=1e-5)
+
+
+def test_each_layer_merges_its_keys_before_keeping_the_ranks():
+    # twelve thin slats side by side under one pixel: twelve objects (layer 0), one material (layer 1)
+    slats = 12
+    x = np.linspace(-0.004, 0.004, slats + 1)     # (the middle pixel is 0.005 wide: 7-8 slats)
+    v = np.array([[[x[i], -0.5, 1], [x[i + 1], -0.5, 1], [x[i + 1], 0.5, 1], [x[i], 0.5, 1]] for i in range(slats)],
+                 np.float32).reshape(-1, 3)
+    t = np.array([[[4 * i, 4 * i + 1, 4 * i + 2], [4 * i, 4 * i + 2, 4 * i + 3]] for i in range(slats)],
+                 np.int32).reshape(-1, 3)
+    camera = gw.Camera(eye=(0, 0, 10), target=(0, 0, 0), up=(0, 1, 0), fov=0.1, width=3, height=3)
+    keys = np.stack([np.repeat(np.arange(slats), 2), np.zeros(2 * slats, int)], axis=1)
+    job = render(gw.Scene(vertices=v, triangles=t, camera=camera, matte_keys=keys), matte_ranks=4,
+                 aa="jittered", aa_samples=8)
+    k, c = job.matte_keys[1, 1], job.matte_coverage[1, 1]
+    assert job.image[1, 1, 3] == 1.0
+    assert (c[0] > 0).all() and c[0].sum() < 0.6      # four of twelve slats kept in the object layer
+    assert k[1].tolist() == [0, -1, -1, -1] and c[1, 0] == pytest.approx(1.0)   # the material whole
 
 
 def test_mattes_are_the_same_on_any_number_of_threads():
@@ -80,7 +116,7 @@ def test_mattes_are_the_same_on_any_number_of_threads():
 def test_without_ranks_or_keys_nothing_is_recorded():
     kw, keys = two_quads()
     job = render(gw.Scene(**kw, matte_keys=keys), aa="jittered", aa_samples=2)
-    assert job.matte_keys.shape == (48, 48, 0)
+    assert job.matte_keys.shape == (48, 48, 1, 0)
     tiles = gw.RenderJob(gw.Scene(**kw), gw.RenderSettings(tile_size=48)).start()
     tiles.wait()
     assert "matte_keys" not in (tiles.poll()[0].passes or {})
@@ -100,8 +136,10 @@ def test_tiles_carry_their_mattes():
         assert np.array_equal(tile.passes["matte_coverage"], job.matte_coverage[part])
 
 
-@pytest.mark.parametrize("keys, message", [([0, 0, 1], "matte_keys must have one entry per primitive (5"),
+@pytest.mark.parametrize("keys, message", [([0, 0, 1], "matte_keys must have one row per primitive (5"),
                                            ([0, 0, 1, 1, -2], "matte_keys[4] is -2"),
+                                           ([[0, 1]] * 4 + [[2, -3]], "matte_keys[4, 1] is -3"),
+                                           ([[0] * 5] * 5, "matte_keys must have 1 to 4 keys per primitive"),
                                            ([0.5, 0, 1, 1, 2], "matte_keys must be an integer array")])
 def test_bad_keys_are_refused_naming_the_array(keys, message):
     kw, _ = two_quads()

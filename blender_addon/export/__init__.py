@@ -91,16 +91,18 @@ class Export:
         return (parts, spheres, points, repr(self.materials.materials), repr(self.lights), self.background,
                 repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
 
-    def kwargs(self, world_only: bool = False, mattes: bool = False) -> tuple[dict, list[str]]:
+    def kwargs(self, world_only: bool = False, mattes: tuple = ()) -> tuple[dict, list[str]]:
         """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.
 
         When there is nothing to render, raises ExportError with a user-facing
         message, or with world_only (a final render, where Cycles renders the
         world) gives a scene that shows the world alone and says why in a
         warning. Invalid objects (NaN transforms, ...) are skipped
-        with a warning naming them. mattes: the scene also gets matte_keys, one
-        per distinct (object, material) pair, whose names and pass indices
-        `matte_names` then lists (Cryptomatte, Object and Material Index)."""
+        with a warning naming them. mattes: the layers of matte keys the scene
+        gets (matte_keys: per primitive, a key of each layer named, in that
+        order: "object", "material", "asset"); `matte_tables` then gives per
+        layer each key's (name, pass index) (Cryptomatte, Object and Material
+        Index)."""
         warnings = list(self.warnings)
         kwargs = self.meshes.arrays()
         if len(kwargs["triangles"]) == 0 and len(kwargs["sphere_radii"]) == 0 and "cylinder_materials" not in kwargs:
@@ -125,23 +127,23 @@ class Export:
         self.textures.prune()
         warnings.extend(self.meshes.warnings())
         if mattes:
-            kwargs["matte_keys"], self.matte_names = self._matte_keys(kwargs)
+            kwargs["matte_keys"], self.matte_tables = self._matte_keys(kwargs, mattes)
         return kwargs, warnings
 
-    def _matte_keys(self, kwargs) -> tuple[np.ndarray, list[tuple]]:
-        """(per primitive its key, -1 for none; per key (object, asset, object pass index,
-        material, material pass index): cryptomatte.OBJECT, ... index them)."""
-        table, which = self.meshes.primitive_names(kwargs)
-        materials = np.concatenate([np.asarray(kwargs.get(k, np.zeros(0, np.int32)), np.int64).reshape(-1) for k in
+    def _matte_keys(self, kwargs, layers) -> tuple[np.ndarray, dict]:
+        """((primitives, len(layers)) int32 keys, -1 for none; per layer its keys' (name, pass index))."""
+        entries, which = self.meshes.primitive_names(kwargs)     # entries: (object, asset, pass index)
+        materials = np.concatenate([np.asarray(kwargs.get(k, np.zeros(0, np.int32)), np.int32).reshape(-1) for k in
                                     ("triangle_materials", "sphere_materials", "cylinder_materials")])
         if len(materials) != len(which):
             raise ValueError("matte keys: the primitives' names and materials do not line up")
-        pairs = np.where(which >= 0, which.astype(np.int64) * len(self.materials.materials) + materials, -1)
-        found, keys = np.unique(pairs, return_inverse=True)
-        names = [table[p // len(self.materials.materials)] + self.materials.matte_names[p % len(self.materials.materials)]
-                 for p in found.tolist() if p >= 0]
-        keys = keys.astype(np.int32) - (1 if len(found) and found[0] < 0 else 0)
-        return keys, names
+        assets = sorted({e[1] for e in entries})
+        asset_of = np.array([assets.index(e[1]) for e in entries] + [-1], np.int32)   # (which -1: the last)
+        columns = {"object": which, "material": np.where(which >= 0, materials, -1).astype(np.int32),
+                   "asset": asset_of[which]}
+        tables = {"object": [(e[0], e[2]) for e in entries], "material": list(self.materials.matte_names),
+                  "asset": [(a, 0) for a in assets]}
+        return np.stack([columns[layer] for layer in layers], axis=1), {layer: tables[layer] for layer in layers}
 
 
 def export_scene(depsgraph, cache: MeshCache | None = None, camera: bool = True) -> tuple[dict, list[str]]:

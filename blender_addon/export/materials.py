@@ -513,8 +513,9 @@ class MaterialTable:
         self._problems = {}
         self.override = override
         self._names = {}             # index -> material name
-        # per material: the Blender material's name (Cryptomatte's; None for none) and Pass Index
-        self.matte_names = [(None, 0)]
+        # per material: the Blender material's name (Cryptomatte's: "default_surface" for none, as
+        # Cycles names its default shader) and Pass Index
+        self.matte_names = [("default_surface", 0)]
         self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
 
     def index_of(self, mat) -> int:
@@ -531,7 +532,8 @@ class MaterialTable:
             self._names[index] = key or "(none)"
             self.materials.append(material)
             self.links.append(links)
-            self.matte_names.append((None, 0) if mat is None else (mat.original.name, int(mat.original.pass_index)))
+            self.matte_names.append(("default_surface", 0) if mat is None else
+                                    (mat.original.name, int(mat.original.pass_index)))
         return index
 
     def layers(self, indices) -> tuple:

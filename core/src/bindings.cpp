@@ -115,8 +115,9 @@ NB_MODULE(_core, m) {
                                   std::move(textures), world, pooled(generated),
                                   pooled(object_coords));
              })
-        .def("set_matte_keys", [](Scene& s, In<int32_t> keys) { s.set_matte_keys(vec(keys)); }, "keys"_a,
-             "Per primitive, its matte key (-1 none); before the scene is used (Scene(matte_keys=...))")
+        .def("set_matte_keys", [](Scene& s, In<int32_t> keys, int layers) { s.set_matte_keys(vec(keys), layers); },
+             "keys"_a, "layers"_a,
+             "Per primitive, its `layers` matte keys (-1 none), row-major; before the scene is used (Scene(matte_keys=...))")
         .def("moved",
              [](const Scene& s, std::vector<size_t> vertex_starts, std::vector<size_t> triangle_starts,
                 std::vector<size_t> triangle_counts, std::vector<In<float>> positions, std::vector<In<float>> normals,
@@ -387,12 +388,12 @@ NB_MODULE(_core, m) {
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.area.h), size_t(j.area.w), 3});
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("matte_keys", [](RenderJob& j) {
-            const size_t r = j.matte_keys.size() / std::max<size_t>(1, size_t(j.area.w) * size_t(j.area.h));
-            return nb::ndarray<nb::numpy, int32_t, nb::ndim<3>>(j.matte_keys.data(), {size_t(j.area.h), size_t(j.area.w), r});
+            const size_t l = size_t(j.matte_layers), r = j.matte_keys.size() / std::max<size_t>(1, size_t(j.area.w) * size_t(j.area.h) * l);
+            return nb::ndarray<nb::numpy, int32_t, nb::ndim<4>>(j.matte_keys.data(), {size_t(j.area.h), size_t(j.area.w), l, r});
         }, nb::rv_policy::reference_internal)
         .def_prop_ro("matte_coverage", [](RenderJob& j) {
-            const size_t r = j.matte_coverage.size() / std::max<size_t>(1, size_t(j.area.w) * size_t(j.area.h));
-            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.matte_coverage.data(), {size_t(j.area.h), size_t(j.area.w), r});
+            const size_t l = size_t(j.matte_layers), r = j.matte_coverage.size() / std::max<size_t>(1, size_t(j.area.w) * size_t(j.area.h) * l);
+            return nb::ndarray<nb::numpy, float, nb::ndim<4>>(j.matte_coverage.data(), {size_t(j.area.h), size_t(j.area.w), l, r});
         }, nb::rv_policy::reference_internal);
 
     bind_viewport(m);   // uses Scene, RenderSettings and CameraDesc, bound above

@@ -767,14 +767,12 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         fh->depth = hit.t * dot(ray.d, view_axis);
         fh->normal = sp.ns;
         fh->albedo = m.color;
-        fh->matte = scene_.matte_key(size_t(hit.prim));
-        fh->matte_weight = 1;
-        fh->matte_behind = -1;
-        fh->matte_behind_weight = 0;
+        fh->mattes.clear();
+        if (scene_.has_matte_keys()) fh->mattes.add(hit.prim, 1.0f);
     }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
-            if (fh) fh->hit = false, fh->alpha = 0, fh->matte = -1, fh->matte_weight = 0;
+            if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
             return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
         }
         // On the camera's path what lies behind is traced with a FirstHit of its
@@ -785,9 +783,11 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
                                              fh ? &beyond : nullptr, view_axis);
         if (fh) {
             fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
-            fh->matte_weight = m.alpha;
-            fh->matte_behind = beyond.matte;
-            fh->matte_behind_weight = (1 - m.alpha) * beyond.matte_weight;
+            fh->mattes.clear();
+            if (scene_.has_matte_keys()) {
+                fh->mattes.add(hit.prim, m.alpha);
+                fh->mattes.add(beyond.mattes, 1 - m.alpha);
+            }
         }
         Material opaque = m;
         opaque.alpha = 1;

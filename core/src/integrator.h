@@ -2,6 +2,7 @@
 // the exact dielectric Fresnel and total internal reflection) plus the distribution-ray
 // effects: soft shadows from area lights and glossy reflection.
 #pragma once
+#include "matte_coverage.h"
 #include "accel.h"
 #include "microfacet.h"
 #include "sampler.h"
@@ -25,11 +26,10 @@ struct FirstHit {
     Vec3 normal;          // world-space shading normal (outward)
     Vec3 albedo;          // the surface's base colour (the Denoising Albedo pass)
     float alpha = 0;      // coverage: 1 opaque, a partly covered surface's alpha over what lies behind, 0 a miss
-    // The surface's matte key (Scene::matte_key) and its share of the sample
-    // (its alpha), and the key of what a partly covered surface shows behind
-    // it with the rest (MatteCoverage); -1: none.
-    int32_t matte = -1, matte_behind = -1;
-    float matte_weight = 0, matte_behind_weight = 0;
+    // With matte keys (Scene::has_matte_keys): the primitive hit with its
+    // share of the ray (its alpha), and those a partly covered surface shows
+    // behind it with the rest (matte_coverage.h).
+    RayMattes mattes;
 };
 
 class Integrator {

@@ -10,11 +10,17 @@ Vec3 non_negative(const Vec3& c) { return Vec3(std::max(c.x, 0.0f), std::max(c.y
 }  // namespace
 
 PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera)
-    : s_(s), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
+    : s_(s), scene_(accel.scene()), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
+
+void PixelEstimator::add_mattes(MatteCoverage& mc, const SampleMattes& sm, float weight) const {
+    const int layers = scene_.matte_layers();
+    for (int i = 0; i < sm.n; ++i)
+        for (int l = 0; l < layers; ++l)
+            mc.layer[l].add(scene_.matte_key(size_t(sm.id[i]), l), sm.weight[i] * weight);
+}
 
 void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
-                                  TraceContext& ctx, float out[4], FirstHit* fh, MatteCoverage* mc,
-                                  float mc_weight) const {
+                                  TraceContext& ctx, float out[4], FirstHit* fh, SampleMattes* sm) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
     Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
     // The lens points of all the pixel's samples (samples x nd) form one
@@ -46,7 +52,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
             hits += local.alpha;
         }
         if (fh && j == 0) *fh = local;
-        if (mc) mc->add(local, mc_weight / float(nd));
+        if (sm) sm->add(local.mattes, 1.0f / float(nd));
     }
     const float inv = 1.0f / float(nd);
     out[0] = sum.x * inv; out[1] = sum.y * inv; out[2] = sum.z * inv; out[3] = hits * inv;
@@ -61,7 +67,8 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
     const uint32_t shuffle = prng.next_u32(), sx = prng.next_u32(), sy = prng.next_u32();
     PixelValue pv;
     float acc[4] = {0, 0, 0, 0}, wsum = 0;
-    MatteCoverage* mc = s_.matte_ranks > 0 ? &pv.matte : nullptr;
+    const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
+    SampleMattes sm;
     for (uint32_t s = 0; s < count; ++s) {
         float u = 0.5f, v = 0.5f;
         switch (s_.aa) {
@@ -78,8 +85,10 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
         float ox = u - 0.5f, oy = v - 0.5f;
         if (s_.filter == PixelFilter::Gaussian && count > 1) gaussian_offset(u, v, s_.filter_width, ox, oy);
         float out[4];
+        sm.clear();
         sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr,
-                     mc, 1.0f / float(count));
+                     mattes ? &sm : nullptr);
+        if (mattes) add_mattes(pv.matte, sm, 1.0f / float(count));
         for (int c = 0; c < 4; ++c) acc[c] += out[c];
         wsum += 1;
     }
@@ -94,7 +103,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
 // jittered position and value wherever it is computed. Pixel corners are
 // traced once per tile; inner points once per pixel.
 void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4],
-                                   FirstHit* fh) const {
+                                   FirstHit* fh, SampleMattes* sm) const {
     // Every point is jittered within the finest cell around it. (Jittering a
     // pixel corner by up to half a pixel lets all four corners fall on the same
     // side of an edge that crosses the pixel, which then never subdivides.)
@@ -103,7 +112,8 @@ void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext
     Rng jr(stream_seed(s_.seed, Stream::LatticeJitter), key, 0);
     const float px = float(gx) / float(1 << D) + (jr.next() - 0.5f) * spacing;
     const float py = float(gy) / float(1 << D) + (jr.next() - 0.5f) * spacing;
-    sample_point(px, py, key, 0, 1, ctx, out, fh);
+    if (sm) sm->clear();
+    sample_point(px, py, key, 0, 1, ctx, out, fh, sm);
 }
 
 void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx, PixelScratch& sc) const {
@@ -112,10 +122,13 @@ void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx,
     sc.x0 = x0; sc.y0 = y0; sc.w = w;
     sc.corners.assign(size_t(w + 1) * (h + 1) * 4, 0.0f);
     sc.corner_hits.assign(size_t(w + 1) * (h + 1), FirstHit());
+    const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
+    sc.corner_mattes.assign(mattes ? size_t(w + 1) * (h + 1) : 0, SampleMattes());
     for (int j = 0; j <= h; ++j)
         for (int i = 0; i <= w; ++i) {
             const size_t k = size_t(j) * (w + 1) + i;
-            lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[4 * k], &sc.corner_hits[k]);
+            lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[4 * k], &sc.corner_hits[k],
+                          mattes ? &sc.corner_mattes[k] : nullptr);
         }
 }
 
@@ -136,23 +149,23 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
     PixelValue pv;
     const int ci = x - sc.x0, cj = y - sc.y0;
     pv.first = sc.corner_hits[size_t(cj) * (sc.w + 1) + ci];
-    const bool mattes = s_.matte_ranks > 0;
-    if (mattes && sc.lattice_hits.size() != size_t(side) * side) sc.lattice_hits.assign(size_t(side) * side, FirstHit());
-    // A lattice point's rgba, and its first hit (with mattes; the corners always have theirs).
-    auto point = [&](int i, int j, const FirstHit** hit = nullptr) -> const float* {
+    const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
+    if (mattes && sc.lattice_mattes.size() != size_t(side) * side) sc.lattice_mattes.assign(size_t(side) * side, SampleMattes());
+    // A lattice point's rgba, and (with mattes) the primitives its lens rays see.
+    auto point = [&](int i, int j, const SampleMattes** seen = nullptr) -> const float* {
         if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1)) {
             const size_t k = size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0);
-            if (hit) *hit = &sc.corner_hits[k];
+            if (seen) *seen = &sc.corner_mattes[k];
             return &sc.corners[4 * k];
         }
         const size_t k = size_t(j) * side + i;
         float* e = &sc.lattice[4 * k];
         if (sc.stamp[k] != sc.generation) {
-            lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e,
-                          mattes ? &sc.lattice_hits[k] : nullptr);
+            lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e, nullptr,
+                          mattes ? &sc.lattice_mattes[k] : nullptr);
             sc.stamp[k] = sc.generation;
         }
-        if (hit) *hit = &sc.lattice_hits[k];
+        if (seen) *seen = &sc.lattice_mattes[k];
         return e;
     };
     const float thr = s_.adaptive_threshold;
@@ -180,12 +193,12 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
             stack[top++] = {q.i + h, q.j + h, h, q.w * 0.25f};
         } else {
             for (int ch = 0; ch < 4; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
-            if (mattes) {   // each corner's first surface (its first lens ray's), with the corner's weight
+            if (mattes) {   // each corner's primitives, with the corner's weight
                 const int ij[4][2] = {{q.i, q.j}, {q.i + q.size, q.j}, {q.i, q.j + q.size}, {q.i + q.size, q.j + q.size}};
                 for (const auto& p : ij) {
-                    const FirstHit* h = nullptr;
-                    point(p[0], p[1], &h);
-                    pv.matte.add(*h, q.w * 0.25f);
+                    const SampleMattes* seen = nullptr;
+                    point(p[0], p[1], &seen);
+                    add_mattes(pv.matte, *seen, q.w * 0.25f);
                 }
             }
         }

@@ -21,11 +21,12 @@ struct PixelValue {
 // pixel corners of the current tile (traced once, shared by the tile's pixels).
 struct PixelScratch {
     std::vector<float> lattice;       // rgba per lattice point of the current pixel
-    std::vector<FirstHit> lattice_hits;   // with mattes: each lattice point's first hit
+    std::vector<SampleMattes> lattice_mattes;   // with mattes: each lattice point's primitives
     std::vector<uint32_t> stamp;      // == generation: the point is computed for this pixel
     uint32_t generation = 0;
     std::vector<float> corners;       // rgba per corner, (w + 1) x (h + 1)
     std::vector<FirstHit> corner_hits;
+    std::vector<SampleMattes> corner_mattes;   // with mattes
     int x0 = 0, y0 = 0, w = 0;
 };
 
@@ -38,14 +39,17 @@ public:
 
 private:
     // One lattice point / camera position: dof_samples lens rays averaged. rgba out.
-    // mc: each lens ray's first surface added to it with weight mc_weight / dof_samples.
+    // sm: with mattes, the primitives each lens ray sees, weighted 1 / dof_samples.
     void sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
-                      TraceContext& ctx, float out[4], FirstHit* fh, MatteCoverage* mc = nullptr,
-                      float mc_weight = 0) const;
+                      TraceContext& ctx, float out[4], FirstHit* fh, SampleMattes* sm = nullptr) const;
+    // The sample's primitives into the pixel's keys, each layer's, with `weight`.
+    void add_mattes(MatteCoverage& mc, const SampleMattes& sm, float weight) const;
     PixelValue adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
-    void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh) const;
+    void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh,
+                       SampleMattes* sm) const;
 
     const RenderSettings& s_;
+    const Scene& scene_;
     Integrator integrator_;
     Camera camera_;
     bool lens_;

@@ -36,8 +36,9 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
     albedo.assign(n * 3, 0.0f);
-    matte_keys.assign(n * size_t(s_.matte_ranks), -1);
-    matte_coverage.assign(n * size_t(s_.matte_ranks), 0.0f);
+    matte_layers = accel_->scene().matte_layers();
+    matte_keys.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), -1);
+    matte_coverage.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), 0.0f);
     for (int y = y0; y < y1; y += s_.tile_size)
         for (int x = x0; x < x1; x += s_.tile_size)
             tiles_.push_back({x, y, std::min(s_.tile_size, x1 - x), std::min(s_.tile_size, y1 - y)});
@@ -98,7 +99,10 @@ void RenderJob::worker() {
                     albedo[3 * k + 1] = pv.first.albedo.y;
                     albedo[3 * k + 2] = pv.first.albedo.z;
                     if (const int r = s_.matte_ranks)
-                        pv.matte.top(r, &matte_keys[size_t(r) * k], &matte_coverage[size_t(r) * k]);
+                        for (int l = 0; l < matte_layers; ++l) {
+                            const size_t at = (k * size_t(matte_layers) + size_t(l)) * size_t(r);
+                            pv.matte.layer[l].top(r, &matte_keys[at], &matte_coverage[at]);
+                        }
                 }
             }
             std::lock_guard<std::mutex> lock(mu_);

@@ -57,11 +57,13 @@ public:
     // the area's top row. Complete after wait(); before that, only tiles
     // returned by poll() (in image coordinates) are final.
     std::vector<float> rgba, depth, normal, albedo;
-    // (area.h, area.w, matte_ranks) with RenderSettings.matte_ranks > 0, else
-    // empty: the keys covering most of each pixel, most first (-1 beyond
-    // those met), and the share of the pixel each covers (MatteCoverage).
+    // (area.h, area.w, matte_layers, matte_ranks) with RenderSettings.matte_ranks
+    // > 0, else empty: per layer of the scene's matte keys, the keys covering
+    // most of each pixel, most first (-1 beyond those met), and the share of
+    // the pixel each covers (matte_coverage.h).
     std::vector<int32_t> matte_keys;
     std::vector<float> matte_coverage;
+    int matte_layers = 1;
     size_t at(int x, int y) const { return size_t(y - area.y) * size_t(area.w) + size_t(x - area.x); }
 
 private:

@@ -203,13 +203,20 @@ size_t Scene::memory_bytes() const {
            cone_mat_.size() * 4 + matte_keys_.size() * 4;
 }
 
-void Scene::set_matte_keys(std::vector<int32_t> keys) {
-    if (!keys.empty() && keys.size() != num_prims())
-        bad("matte_keys must have one entry per primitive (" + std::to_string(num_prims()) + ": triangles, spheres, "
-            "then cylinders), not " + std::to_string(keys.size()));
+void Scene::set_matte_keys(std::vector<int32_t> keys, int layers) {
+    if (layers < 1 || layers > kMaxMatteLayers)
+        bad("matte_keys must have 1 to " + std::to_string(kMaxMatteLayers) + " keys per primitive, not " +
+            std::to_string(layers));
+    if (!keys.empty() && keys.size() != num_prims() * size_t(layers))
+        bad("matte_keys must have one row per primitive (" + std::to_string(num_prims()) + ": triangles, spheres, "
+            "then cylinders), not " + std::to_string(keys.size() / size_t(layers)));
     for (size_t i = 0; i < keys.size(); ++i)
-        if (keys[i] < -1) bad("matte_keys[" + std::to_string(i) + "] is " + std::to_string(keys[i]) + ": a key is >= 0, or -1 for none");
+        if (keys[i] < -1)
+            bad("matte_keys[" + std::to_string(i / size_t(layers)) +
+                (layers > 1 ? ", " + std::to_string(i % size_t(layers)) : std::string()) + "] is " +
+                std::to_string(keys[i]) + ": a key is >= 0, or -1 for none");
     matte_keys_ = std::move(keys);
+    matte_layers_ = layers;
 }
 
 }  // namespace gw

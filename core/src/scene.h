@@ -14,6 +14,7 @@
 #include "irradiance.h"
 #include "lights.h"
 #include "material.h"
+#include "matte_coverage.h"
 #include "ray.h"
 #include "sphere.h"
 #include "surface_point.h"
@@ -111,13 +112,15 @@ public:
         return prim - num_triangles() - num_spheres();
     }
 
-    // Per primitive (triangles, then spheres, then cones), a key whose share of
-    // each pixel a render reports (RenderSettings.matte_ranks: the host turns
-    // the keys into Cryptomatte's object and material mattes); -1: none.
-    // Set once, before the scene is shared; empty: no keys (every primitive -1).
-    void set_matte_keys(std::vector<int32_t> keys);
-    int32_t matte_key(size_t prim) const { return prim < matte_keys_.size() ? matte_keys_[prim] : -1; }
+    // Per primitive (triangles, then spheres, then cones), `layers` keys (1 to
+    // kMaxMatteLayers: say its object's, its material's) whose shares of each
+    // pixel a render reports per layer (RenderSettings.matte_ranks: the host
+    // turns them into Cryptomatte's mattes); -1: none. Row-major (primitive,
+    // layer). Set once, before the scene is shared; empty: no keys.
+    void set_matte_keys(std::vector<int32_t> keys, int layers);
+    int32_t matte_key(size_t prim, int layer) const { return matte_keys_[prim * size_t(matte_layers_) + size_t(layer)]; }
     bool has_matte_keys() const { return !matte_keys_.empty(); }
+    int matte_layers() const { return matte_layers_; }
 
     Bounds prim_bounds(size_t prim) const;
     const Vec3& sphere_center(size_t s) const { return centers_[s]; }
@@ -246,6 +249,7 @@ private:
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
     std::vector<int32_t> matte_keys_;   // set_matte_keys
+    int matte_layers_ = 1;
     void build_tangents();
     // Those of triangles [first, first + count) again (an instance moved: it
     // shares no vertex with the rest).

@@ -16,7 +16,9 @@ from runner import ALL_BLENDERS, script_output
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "blender_addon"))
 import cryptomatte  # noqa: E402  (the add-on's module: numpy only)
 
-LAYERS = {"Object": ("Floor", "Box", "Ball"), "Material": ("Floor", "Red", "Blue"), "Asset": ("Floor", "Box", "Rig")}
+# (Bare has no material: Cycles' default shader; Orb is an analytic sphere in GRIDWALK, a mesh in Cycles)
+LAYERS = {"Object": ("Floor", "Box", "Ball", "Bare", "Orb"), "Material": ("Floor", "Red", "Blue", "default_surface"),
+          "Asset": ("Floor", "Box", "Rig", "Bare", "Orb")}
 
 
 @pytest.fixture(scope="module", params=ALL_BLENDERS)
@@ -47,7 +49,7 @@ def test_each_names_matte_matches_cycles(renders, layer):
     ours, theirs = renders["gridwalk"][0], renders["cycles"][0]
     for name in LAYERS[layer]:
         a, b = matte(ours, layer, name), matte(theirs, layer, name)
-        assert b.sum() > 100, f"Cycles' {layer} matte of {name} is empty"
+        assert b.sum() > 50, f"Cycles' {layer} matte of {name} is empty"
         inside_a, inside_b = a > 0.5, b > 0.5
         iou = (inside_a & inside_b).sum() / (inside_a | inside_b).sum()
         assert iou > 0.97, (layer, name, iou)

@@ -167,14 +167,14 @@ class RenderJob:
 
     @property
     def matte_keys(self) -> np.ndarray:
-        """(H, W, RenderSettings.matte_ranks) int32: the matte keys
-        (Scene(matte_keys=...)) covering most of each pixel, most first; -1
-        beyond the keys the pixel's samples met."""
+        """(H, W, L, RenderSettings.matte_ranks) int32: per layer of the
+        scene's matte keys (Scene(matte_keys=...)), the keys covering most of
+        each pixel, most first; -1 beyond the keys the pixel's samples met."""
         return self._whole(self._job.matte_keys, -1)
 
     @property
     def matte_coverage(self) -> np.ndarray:
-        """(H, W, RenderSettings.matte_ranks) float32: the share of each
+        """(H, W, L, RenderSettings.matte_ranks) float32: the share of each
         pixel that each of matte_keys covers (its samples' weights times the
         surfaces' alpha; the ranks of a pixel whose samples all hit keyed
         surfaces sum to 1)."""

@@ -176,12 +176,12 @@ class Scene:
         gridwalk.Texture list that materials and the world refer to by index
         (a Texture's image may also be a gridwalk.Image: each distinct Image
         is stored once); world: gridwalk.World (ambient light, environment);
-        matte_keys: (triangles + spheres + cylinders,) int, each primitive's
-        key (-1: none), in that order: a render with
-        RenderSettings.matte_ranks > 0 reports which keys cover each pixel
-        and how much (RenderJob.matte_keys / matte_coverage): Cryptomatte's
-        object and material mattes, when the keys name objects and
-        materials."""
+        matte_keys: (triangles + spheres + cylinders,) or (that, L) int, each
+        primitive's key (-1: none), in that order, in each of L <= 4 layers
+        (say its object's and its material's): a render with
+        RenderSettings.matte_ranks > 0 reports, per layer, which keys cover
+        each pixel and how much (RenderJob.matte_keys / matte_coverage):
+        Cryptomatte's object and material mattes."""
         f32, i32 = np.float32, np.int32
         self.materials = list(materials) if materials else [Material()]
         self.lights = list(lights) if lights else []
@@ -215,7 +215,10 @@ class Scene:
             [image._native for image in self.images], core_textures, self.world.to_core(),
             _corners(generated, "generated", 3, n_tris), _corners(object_coords, "object_coords", 3, n_tris))
         if matte_keys is not None:
-            self._native.set_matte_keys(_array(matte_keys, "matte_keys", i32, 0))
+            keys = np.asarray(matte_keys)
+            layers = keys.shape[1] if keys.ndim == 2 else 1
+            self._native.set_matte_keys(_array(keys.reshape(-1) if keys.ndim == 2 else keys, "matte_keys", i32, 0),
+                                        layers)
         self._accels = {}
 
     def moved(self, moves) -> "Scene":

@@ -2,7 +2,9 @@
 
 usage: <python with bpy> cryptomatte.py OUT_DIR
 A floor ("Floor"), a cube whose top face is "Blue" and the rest "Red"
-("Box"), and a sphere ("Ball", "Red") parented to an empty ("Rig"); Cryptomatte
+("Box"), a sphere ("Ball", "Red") parented to an empty ("Rig"), a cube with no
+material ("Bare": Cycles' "default_surface") and a sphere GRIDWALK renders as
+an analytic sphere ("Orb", "Blue", Render as Sphere); Cryptomatte
 Object, Material and Asset at 6 levels, and the Object and Material Index
 passes (objects' pass indices 1-3, Red's 4, Blue's 5). Writes gridwalk.exr and cycles.exr
 (multilayer, uncompressed) and info.json (the Blender version).
@@ -46,6 +48,14 @@ def build(bpy):
     ball.data.materials.append(red)
     ball.parent = rig
     ball.matrix_parent_inverse = rig.matrix_world.inverted()
+    bpy.ops.object.shade_smooth()
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(-2.6, -1.6, 0.4))
+    bpy.context.object.name = "Bare"
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0.4, -2.2, 0.5), segments=64, ring_count=32)
+    orb = bpy.context.object
+    orb.name = "Orb"
+    orb.data.materials.append(blue)
+    orb.gridwalk.render_as_sphere = True
     bpy.ops.object.shade_smooth()
     bpy.ops.object.camera_add(location=(0.0, -7.0, 4.0), rotation=(math.radians(62), 0.0, 0.0))
     scene.camera = bpy.context.object

@@ -145,3 +145,21 @@ def test_bad_keys_are_refused_naming_the_array(keys, message):
     kw, _ = two_quads()
     with pytest.raises(ValueError, match=message.replace("[", r"\[").replace("(", r"\(")):
         gw.Scene(**kw, matte_keys=keys)
+
+
+@pytest.mark.parametrize("mode", [dict(aa="center"), dict(aa="adaptive", adaptive_depth=1)])
+def test_many_triangles_of_one_object_under_many_lens_rays_keep_their_coverage(mode):
+    # a 120 x 120-quad floor of one key: 64 lens rays a sample each meet a different triangle
+    n = 120
+    g = np.linspace(-4, 4, n + 1, dtype=np.float32)
+    x, y = np.meshgrid(g, g)
+    v = np.stack([x, y, np.zeros_like(x)], -1).reshape(-1, 3)
+    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).reshape(-1)
+    t = np.concatenate([np.stack([i, i + 1, i + n + 2], 1), np.stack([i, i + n + 2, i + n + 1], 1)]).astype(np.int32)
+    camera = gw.Camera(eye=(0, 0, 10), target=(0, 0, 0), up=(0, 1, 0), fov=30, width=8, height=8,
+                       aperture=0.3, focus_distance=3.0)
+    scene = gw.Scene(vertices=v, triangles=t, camera=camera, matte_keys=np.zeros(len(t), np.int32))
+    job = render(scene, matte_ranks=2, dof_samples=64, **mode)
+    assert job.image[..., 3].min() > 0.99
+    np.testing.assert_allclose(job.matte_coverage[:, :, 0, 0], job.image[..., 3], atol=1e-5)
+    assert np.all(job.matte_keys[:, :, 0, 0] == 0)

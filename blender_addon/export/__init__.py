@@ -139,9 +139,13 @@ class Export:
             raise ValueError("matte keys: the primitives' names and materials do not line up")
         assets = sorted({e[1] for e in entries})
         asset_of = np.array([assets.index(e[1]) for e in entries] + [-1], np.int32)   # (which -1: the last)
-        columns = {"object": which, "material": np.where(which >= 0, materials, -1).astype(np.int32),
+        # one key per (name, pass index): a material's copy for spheres (MaterialTable.shape_material)
+        # is the same Blender material
+        first = {}
+        material_key = np.array([first.setdefault(n, len(first)) for n in self.materials.matte_names] + [-1], np.int32)
+        columns = {"object": which, "material": material_key[np.where(which >= 0, materials, -1)],
                    "asset": asset_of[which]}
-        tables = {"object": [(e[0], e[2]) for e in entries], "material": list(self.materials.matte_names),
+        tables = {"object": [(e[0], e[2]) for e in entries], "material": list(first),
                   "asset": [(a, 0) for a in assets]}
         return np.stack([columns[layer] for layer in layers], axis=1), {layer: tables[layer] for layer in layers}
 

@@ -768,7 +768,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         fh->normal = sp.ns;
         fh->albedo = m.color;
         fh->mattes.clear();
-        if (scene_.has_matte_keys()) fh->mattes.add(hit.prim, 1.0f);
+        if (scene_.has_matte_keys()) fh->mattes.add(scene_.matte_class(size_t(hit.prim)), 1.0f);
     }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
@@ -785,7 +785,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
             fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
             fh->mattes.clear();
             if (scene_.has_matte_keys()) {
-                fh->mattes.add(hit.prim, m.alpha);
+                fh->mattes.add(scene_.matte_class(size_t(hit.prim)), m.alpha);
                 fh->mattes.add(beyond.mattes, 1 - m.alpha);
             }
         }

@@ -26,9 +26,9 @@ struct FirstHit {
     Vec3 normal;          // world-space shading normal (outward)
     Vec3 albedo;          // the surface's base colour (the Denoising Albedo pass)
     float alpha = 0;      // coverage: 1 opaque, a partly covered surface's alpha over what lies behind, 0 a miss
-    // With matte keys (Scene::has_matte_keys): the primitive hit with its
-    // share of the ray (its alpha), and those a partly covered surface shows
-    // behind it with the rest (matte_coverage.h).
+    // With matte keys (Scene::has_matte_keys): the matte class of the
+    // primitive hit with its share of the ray (its alpha), and those a partly
+    // covered surface shows behind it with the rest (matte_coverage.h).
     RayMattes mattes;
 };
 

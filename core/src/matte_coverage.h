@@ -1,11 +1,13 @@
 // Matte coverage: what Cryptomatte's passes are made of (RenderSettings.
 // matte_ranks, Scene::set_matte_keys). A camera ray's first surfaces are kept
-// as primitives with their shares of the ray (FirstHit::mattes: the surface,
-// and where it is partly transparent (alpha) what lies behind it, with the
-// rest); a camera sample's lens rays add theirs (SampleMattes); a pixel sums
-// its samples' primitives into each key layer's keys (MatteCoverage), so that
-// every layer (objects, materials, ...) is merged by key before its ranks are
-// cut. Entries beyond a list's capacity are dropped.
+// as matte classes (Scene::matte_class: one per distinct row of keys, say an
+// object and material pair) with their shares of the ray (FirstHit::mattes:
+// the surface, and where it is partly transparent (alpha) what lies behind
+// it, with the rest); a camera sample's lens rays add theirs (SampleMattes);
+// a pixel sums its samples' classes into each key layer's keys
+// (MatteCoverage), so that every layer (objects, materials, ...) is merged by
+// key before its ranks are cut. Entries beyond a list's capacity are dropped:
+// it takes more classes than that in one sample or ray, not more triangles.
 #pragma once
 #include <algorithm>
 #include <cstdint>
@@ -51,7 +53,7 @@ struct IdWeights {
     }
 };
 
-using RayMattes = IdWeights<4>;       // primitives a camera ray sees, with their shares (FirstHit)
+using RayMattes = IdWeights<4>;       // matte classes a camera ray sees, with their shares (FirstHit)
 using SampleMattes = IdWeights<16>;   // a camera sample's: its lens rays' together
 
 constexpr int kMaxMatteLayers = 4;

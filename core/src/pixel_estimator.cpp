@@ -16,7 +16,7 @@ void PixelEstimator::add_mattes(MatteCoverage& mc, const SampleMattes& sm, float
     const int layers = scene_.matte_layers();
     for (int i = 0; i < sm.n; ++i)
         for (int l = 0; l < layers; ++l)
-            mc.layer[l].add(scene_.matte_key(size_t(sm.id[i]), l), sm.weight[i] * weight);
+            mc.layer[l].add(scene_.class_key(sm.id[i], l), sm.weight[i] * weight);
 }
 
 void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,

@@ -21,7 +21,7 @@ struct PixelValue {
 // pixel corners of the current tile (traced once, shared by the tile's pixels).
 struct PixelScratch {
     std::vector<float> lattice;       // rgba per lattice point of the current pixel
-    std::vector<SampleMattes> lattice_mattes;   // with mattes: each lattice point's primitives
+    std::vector<SampleMattes> lattice_mattes;   // with mattes: each lattice point's matte classes
     std::vector<uint32_t> stamp;      // == generation: the point is computed for this pixel
     uint32_t generation = 0;
     std::vector<float> corners;       // rgba per corner, (w + 1) x (h + 1)
@@ -39,10 +39,10 @@ public:
 
 private:
     // One lattice point / camera position: dof_samples lens rays averaged. rgba out.
-    // sm: with mattes, the primitives each lens ray sees, weighted 1 / dof_samples.
+    // sm: with mattes, the matte classes each lens ray sees, weighted 1 / dof_samples.
     void sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
                       TraceContext& ctx, float out[4], FirstHit* fh, SampleMattes* sm = nullptr) const;
-    // The sample's primitives into the pixel's keys, each layer's, with `weight`.
+    // The sample's matte classes into the pixel's keys, each layer's, with `weight`.
     void add_mattes(MatteCoverage& mc, const SampleMattes& sm, float weight) const;
     PixelValue adaptive(int x, int y, TraceContext& ctx, PixelScratch& sc) const;
     void lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4], FirstHit* fh,

@@ -2,6 +2,9 @@
 #include "scene.h"
 #include "text.h"
 
+#include <algorithm>
+#include <array>
+#include <map>
 #include <stdexcept>
 
 namespace gw {
@@ -200,7 +203,7 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 size_t Scene::memory_bytes() const {
     return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + generated_.size() * 4 + object_coords_.size() * 4 + tangents_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
-           cone_mat_.size() * 4 + matte_keys_.size() * 4;
+           cone_mat_.size() * 4 + matte_class_.size() * 4 + class_keys_.size() * 4;
 }
 
 void Scene::set_matte_keys(std::vector<int32_t> keys, int layers) {
@@ -215,8 +218,20 @@ void Scene::set_matte_keys(std::vector<int32_t> keys, int layers) {
             bad("matte_keys[" + std::to_string(i / size_t(layers)) +
                 (layers > 1 ? ", " + std::to_string(i % size_t(layers)) : std::string()) + "] is " +
                 std::to_string(keys[i]) + ": a key is >= 0, or -1 for none");
-    matte_keys_ = std::move(keys);
     matte_layers_ = layers;
+    matte_class_.assign(keys.empty() ? 0 : num_prims(), -1);
+    class_keys_.clear();
+    std::map<std::array<int32_t, kMaxMatteLayers>, int32_t> classes;
+    for (size_t p = 0; p < matte_class_.size(); ++p) {
+        std::array<int32_t, kMaxMatteLayers> row;
+        row.fill(-1);
+        std::copy(keys.begin() + ptrdiff_t(p * size_t(layers)), keys.begin() + ptrdiff_t((p + 1) * size_t(layers)),
+                  row.begin());
+        if (std::all_of(row.begin(), row.end(), [](int32_t k) { return k < 0; })) continue;
+        const auto found = classes.emplace(row, int32_t(classes.size()));
+        if (found.second) class_keys_.insert(class_keys_.end(), row.begin(), row.begin() + layers);
+        matte_class_[p] = found.first->second;
+    }
 }
 
 }  // namespace gw

@@ -117,9 +117,13 @@ public:
     // pixel a render reports per layer (RenderSettings.matte_ranks: the host
     // turns them into Cryptomatte's mattes); -1: none. Row-major (primitive,
     // layer). Set once, before the scene is shared; empty: no keys.
+    // Stored as each primitive's matte class (one per distinct row of keys;
+    // -1 for a row of -1s), so that rays and samples count the few classes
+    // they meet, however many triangles of one object they hit.
     void set_matte_keys(std::vector<int32_t> keys, int layers);
-    int32_t matte_key(size_t prim, int layer) const { return matte_keys_[prim * size_t(matte_layers_) + size_t(layer)]; }
-    bool has_matte_keys() const { return !matte_keys_.empty(); }
+    int32_t matte_class(size_t prim) const { return matte_class_[prim]; }
+    int32_t class_key(int32_t cls, int layer) const { return class_keys_[size_t(cls) * size_t(matte_layers_) + size_t(layer)]; }
+    bool has_matte_keys() const { return !matte_class_.empty(); }
     int matte_layers() const { return matte_layers_; }
 
     Bounds prim_bounds(size_t prim) const;
@@ -248,7 +252,7 @@ private:
     // 12 floats per triangle (tangents.h) where a material has a normal map
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
-    std::vector<int32_t> matte_keys_;   // set_matte_keys
+    std::vector<int32_t> matte_class_, class_keys_;   // set_matte_keys
     int matte_layers_ = 1;
     void build_tangents();
     // Those of triangles [first, first + count) again (an instance moved: it

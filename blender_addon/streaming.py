@@ -79,9 +79,9 @@ class ResultWriter:
         `arrays` maps a pass source ("rgba", "depth", ...) to its pixels."""
         h, w = arrays["rgba"].shape[:2]
         rx, ry, _, rh = self.region
-        if self.opaque:
+        if self.opaque:   # (the film is opaque but where a holdout clears it)
             arrays = dict(arrays, rgba=np.array(arrays["rgba"], dtype=np.float32))
-            arrays["rgba"][..., 3] = 1.0
+            arrays["rgba"][..., 3] = 1.0 - arrays["holdout"] if "holdout" in arrays else 1.0
         result = self.engine.begin_result(x - rx, ry + rh - y - h, w, h, layer=self.layer_name)
         if result is None:
             raise RuntimeError(f"Blender refused the result rectangle {x - rx}, {ry + rh - y - h}, {w} x {h}")

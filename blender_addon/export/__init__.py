@@ -57,7 +57,7 @@ class Export:
         self.textures = TextureTable(cache.images)
         view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
         self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
-        self.meshes = MeshCollector(self.materials, cache)
+        self.meshes = MeshCollector(self.materials, cache, getattr(depsgraph, "view_layer", None))
         self.lights = []
         render = getattr(depsgraph, "mode", "RENDER") == "RENDER"   # (a final render's depsgraph; else the viewport's)
         unrendered = {}   # label -> names of objects of a kind the core has no primitive for
@@ -163,19 +163,18 @@ UNRENDERED_TYPES = {"VOLUME": "Volume objects are"}
 
 
 def _collection_warnings(depsgraph) -> list[str]:
-    """The view layer's collections set to Holdout or Indirect Only, which the
-    core does not model (their objects render as the others do)."""
+    """The view layer's collections set to Indirect Only, which the core does
+    not model (their objects render as the others do). (Holdout is rendered:
+    MeshCollector asks each object's holdout_get.)"""
     view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
     if view_layer is None:
         return []
-    found = {"Holdout": [], "Indirect Only": []}
+    found = {"Indirect Only": []}
     stack = list(view_layer.layer_collection.children)
     while stack:
         layer = stack.pop()
         if layer.exclude:
             continue
-        if getattr(layer, "holdout", False):
-            found["Holdout"].append(layer.name)
         if getattr(layer, "indirect_only", False):
             found["Indirect Only"].append(layer.name)
         stack.extend(layer.children)

@@ -430,6 +430,8 @@ def _surface_node(tree):
 VOLUME_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, alpha=0.0)
 # No surface shader (the output's Surface unlinked, or no output node): Cycles renders it opaque black.
 NO_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0)
+# Cycles' Holdout shader, and every slot of an object or collection set to Holdout
+HOLDOUT = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, holdout=True)
 
 
 def _volume_only(tree) -> bool:
@@ -466,6 +468,8 @@ def convert_material(mat, textures=None):
                                "(as Cycles' is)", None
     if node is None:
         return dataclasses.replace(NO_SURFACE), "no surface shader: it renders black, as in Cycles", None
+    if node.type == "HOLDOUT":
+        return dataclasses.replace(HOLDOUT), None, None
     links = Links(textures)
     mix, (node, clear) = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, (node, None))
     if node is None or node.type == "BSDF_PRINCIPLED":
@@ -577,8 +581,21 @@ class MaterialTable:
             self.shape_notes.add(self._names.get(index, "?"))
         return self._index[key]
 
-    def slot_indices(self, obj):
-        """Global material index for each material slot of `obj` (at least one entry)."""
+    def holdout_index(self) -> int:
+        """The index of the material every slot of a Holdout object takes."""
+        key = ("holdout",)
+        if key not in self._index:
+            self._index[key] = len(self.materials)
+            self.materials.append(dataclasses.replace(HOLDOUT))
+            self.links.append(None)
+            self.matte_names.append(("default_surface", 0))
+        return self._index[key]
+
+    def slot_indices(self, obj, holdout: bool = False):
+        """Global material index for each material slot of `obj` (at least one entry);
+        holdout: the object is a holdout (every slot the holdout material)."""
+        if holdout:
+            return [self.holdout_index()] * max(len(obj.material_slots), 1)
         if self.override is not None:
             return [self.index_of(self.override)] * max(len(obj.material_slots), 1)
         slots = [self.index_of(slot.material) for slot in obj.material_slots]

@@ -311,7 +311,6 @@ IGNORED_VISIBILITY = (("visible_camera", False, "Visibility > Camera off"),
                       ("visible_shadow", False, "Visibility > Shadow off"),
                       ("visible_glossy", False, "Visibility > Glossy off"),
                       ("visible_transmission", False, "Visibility > Transmission off"),
-                      ("is_holdout", True, "Holdout"),
                       ("is_shadow_catcher", True, "Shadow Catcher"))
 
 
@@ -358,9 +357,10 @@ class MeshCollector:
     cache: a mesh_cache.MeshCache; meshes it holds are not read again (the
     viewport keeps one between updates; a final render starts empty)."""
 
-    def __init__(self, materials, cache):
+    def __init__(self, materials, cache, view_layer=None):
         self.materials = materials
         self.cache = cache
+        self.view_layer = view_layer   # (whose collections may set objects to Holdout)
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
@@ -426,7 +426,7 @@ class MeshCollector:
         hair curves), "sphere" (+ (its local bounds' centre, half size, whether it is
         textured)), "mesh" (+ cache key, MeshData, uv/colour layers, whether it is a mesh
         object, [whether its warnings were noted]), or "none" (a mesh without triangles)."""
-        lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj)), dtype=np.int32)
         lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
         kind = obj.type
         sphere = kind not in ("POINTCLOUD", "CURVES") and as_sphere(obj)
@@ -461,6 +461,15 @@ class MeshCollector:
                 self.faceless.add(obj.name)
             return "none", lookup
         return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
+
+    def _holdout(self, obj) -> bool:
+        """Whether the object is a holdout: its own Visibility > Holdout, or a collection's in the view layer."""
+        source = obj.original
+        try:
+            return bool(source.holdout_get(view_layer=self.view_layer)) if self.view_layer is not None \
+                else bool(getattr(source, "is_holdout", False))
+        except (AttributeError, TypeError, RuntimeError):
+            return bool(getattr(source, "is_holdout", False))
 
     def _add_sphere(self, name, bounds, flat, lookup, names):
         """One 'Render as sphere' instance: its bounds' centre under the matrix (row by
@@ -524,7 +533,7 @@ class MeshCollector:
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
-        lookup = np.asarray(self.materials.slot_indices(obj), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj)), dtype=np.int32)
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         names = matte_names(obj)

@@ -51,6 +51,7 @@ void bind_records(nb::module_& m) {
         .def_rw("dielectric_reflection", &Material::dielectric_reflection)
         .def_rw("layered_diffuse", &Material::layered_diffuse)
         .def_rw("emits_light", &Material::emits_light)
+        .def_rw("holdout", &Material::holdout)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 
     nb::class_<Texture>(m, "Texture")

@@ -387,6 +387,10 @@ NB_MODULE(_core, m) {
         .def_prop_ro("albedo", [](RenderJob& j) {
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(j.albedo.data(), {size_t(j.area.h), size_t(j.area.w), 3});
         }, nb::rv_policy::reference_internal)
+        .def_prop_ro("holdout", [](RenderJob& j) {
+            const size_t h = j.holdout.empty() ? 0 : size_t(j.area.h), w = j.holdout.empty() ? 0 : size_t(j.area.w);
+            return nb::ndarray<nb::numpy, float, nb::ndim<2>>(j.holdout.data(), {h, w});
+        }, nb::rv_policy::reference_internal)
         .def_prop_ro("matte_keys", [](RenderJob& j) {
             const size_t l = size_t(j.matte_layers), r = j.matte_keys.size() / std::max<size_t>(1, size_t(j.area.w) * size_t(j.area.h) * l);
             return nb::ndarray<nb::numpy, int32_t, nb::ndim<4>>(j.matte_keys.data(), {size_t(j.area.h), size_t(j.area.w), l, r});

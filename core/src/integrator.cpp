@@ -769,6 +769,11 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         fh->albedo = m.color;
         fh->mattes.clear();
         if (scene_.has_matte_keys()) fh->mattes.add(scene_.matte_class(size_t(hit.prim)), 1.0f);
+        fh->holdout = 0;
+    }
+    if (m.holdout) {   // nothing seen; on the camera's path, the film is clear here
+        if (fh) fh->alpha = 0, fh->holdout = 1;
+        return Vec3();
     }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
@@ -783,6 +788,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
                                              fh ? &beyond : nullptr, view_axis);
         if (fh) {
             fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
+            fh->holdout = (1 - m.alpha) * beyond.holdout;
             fh->mattes.clear();
             if (scene_.has_matte_keys()) {
                 fh->mattes.add(scene_.matte_class(size_t(hit.prim)), m.alpha);
@@ -812,7 +818,7 @@ Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int de
     // The passes measure depth from the camera: the offset origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
-    if (fh) fh->alpha = behind.alpha;
+    if (fh) fh->alpha = behind.alpha, fh->holdout = behind.holdout;
     if (fh && behind.hit) {
         *fh = behind;
         fh->depth += dot(next.o - ray.o, view_axis);

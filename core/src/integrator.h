@@ -30,6 +30,7 @@ struct FirstHit {
     // primitive hit with its share of the ray (its alpha), and those a partly
     // covered surface shows behind it with the rest (matte_coverage.h).
     RayMattes mattes;
+    float holdout = 0;    // the share of the ray a holdout surface takes (Material::holdout)
 };
 
 class Integrator {

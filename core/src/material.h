@@ -65,6 +65,11 @@ struct Material {
     // view direction (Blender 4.0+'s Principled BSDF); without it the layer
     // adds to the diffuse (3.x's Principled, NFF).
     bool layered_diffuse = false;
+    // A holdout (Cycles' Holdout shader, an object or collection set to
+    // Holdout): camera rays that meet it see nothing (black) and leave the
+    // film transparent there (RenderJob.holdout: the share of each pixel);
+    // other rays see it black; it blocks light as an opaque surface does.
+    bool holdout = false;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.

@@ -20,7 +20,7 @@ void PixelEstimator::add_mattes(MatteCoverage& mc, const SampleMattes& sm, float
 }
 
 void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32_t sample, uint32_t samples,
-                                  TraceContext& ctx, float out[4], FirstHit* fh, SampleMattes* sm) const {
+                                  TraceContext& ctx, float out[kPointValues], FirstHit* fh, SampleMattes* sm) const {
     const uint32_t nd = uint32_t(std::max(1, s_.dof_samples));
     Rng lens_rng(stream_seed(s_.seed, Stream::Lens), pixel_key, sample);
     // The lens points of all the pixel's samples (samples x nd) form one
@@ -37,7 +37,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
         rot = lens_rng.next();
     }
     Vec3 sum;
-    float hits = 0;
+    float hits = 0, held = 0;
     for (uint32_t j = 0; j < nd; ++j) {
         float lu = 0.5f, lv = 0.5f;
         if (lens_)
@@ -50,12 +50,13 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
             SampleState st{Rng(stream_seed(s_.seed, Stream::Path), pixel_key, sample * nd + j), s_.seed, pixel_key, sample * nd + j, samples * nd};
             sum += integrator_.camera_ray(ray, camera_.depth_axis(ray), st, ctx, &local);
             hits += local.alpha;
+            held += local.holdout;
         }
         if (fh && j == 0) *fh = local;
         if (sm) sm->add(local.mattes, 1.0f / float(nd));
     }
     const float inv = 1.0f / float(nd);
-    out[0] = sum.x * inv; out[1] = sum.y * inv; out[2] = sum.z * inv; out[3] = hits * inv;
+    out[0] = sum.x * inv; out[1] = sum.y * inv; out[2] = sum.z * inv; out[3] = hits * inv; out[4] = held * inv;
 }
 
 PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& sc) const {
@@ -66,7 +67,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
     Rng prng(stream_seed(s_.seed, Stream::PixelSamples), key, 0);
     const uint32_t shuffle = prng.next_u32(), sx = prng.next_u32(), sy = prng.next_u32();
     PixelValue pv;
-    float acc[4] = {0, 0, 0, 0}, wsum = 0;
+    float acc[kPointValues] = {0, 0, 0, 0, 0}, wsum = 0;
     const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
     SampleMattes sm;
     for (uint32_t s = 0; s < count; ++s) {
@@ -84,16 +85,17 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
         }
         float ox = u - 0.5f, oy = v - 0.5f;
         if (s_.filter == PixelFilter::Gaussian && count > 1) gaussian_offset(u, v, s_.filter_width, ox, oy);
-        float out[4];
+        float out[kPointValues];
         sm.clear();
         sample_point(float(x) + 0.5f + ox, float(y) + 0.5f + oy, key, s, count, ctx, out, s == 0 ? &pv.first : nullptr,
                      mattes ? &sm : nullptr);
         if (mattes) add_mattes(pv.matte, sm, 1.0f / float(count));
-        for (int c = 0; c < 4; ++c) acc[c] += out[c];
+        for (int c = 0; c < kPointValues; ++c) acc[c] += out[c];
         wsum += 1;
     }
     pv.rgb = non_negative(Vec3(acc[0], acc[1], acc[2]) * (1.0f / wsum));
     pv.alpha = acc[3] / wsum;
+    pv.holdout = acc[4] / wsum;
     return pv;
 }
 
@@ -102,7 +104,7 @@ PixelValue PixelEstimator::pixel(int x, int y, TraceContext& ctx, PixelScratch& 
 // address, so a point shared by two pixels (or two tiles) gets the same
 // jittered position and value wherever it is computed. Pixel corners are
 // traced once per tile; inner points once per pixel.
-void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[4],
+void PixelEstimator::lattice_point(uint32_t gx, uint32_t gy, int D, TraceContext& ctx, float out[kPointValues],
                                    FirstHit* fh, SampleMattes* sm) const {
     // Every point is jittered within the finest cell around it. (Jittering a
     // pixel corner by up to half a pixel lets all four corners fall on the same
@@ -120,14 +122,14 @@ void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx,
     if (s_.aa != AAMode::Adaptive) return;
     const int D = s_.adaptive_depth;
     sc.x0 = x0; sc.y0 = y0; sc.w = w;
-    sc.corners.assign(size_t(w + 1) * (h + 1) * 4, 0.0f);
+    sc.corners.assign(size_t(w + 1) * (h + 1) * kPointValues, 0.0f);
     sc.corner_hits.assign(size_t(w + 1) * (h + 1), FirstHit());
     const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
     sc.corner_mattes.assign(mattes ? size_t(w + 1) * (h + 1) : 0, SampleMattes());
     for (int j = 0; j <= h; ++j)
         for (int i = 0; i <= w; ++i) {
             const size_t k = size_t(j) * (w + 1) + i;
-            lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[4 * k], &sc.corner_hits[k],
+            lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[kPointValues * k], &sc.corner_hits[k],
                           mattes ? &sc.corner_mattes[k] : nullptr);
         }
 }
@@ -138,7 +140,7 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
     // Entries are reused across pixels; a stamp per entry marks the ones this
     // pixel computed, so a pixel that never subdivides costs O(1), not O(4^D).
     if (sc.stamp.size() != size_t(side) * side) {
-        sc.lattice.assign(size_t(side) * side * 4, 0.0f);
+        sc.lattice.assign(size_t(side) * side * kPointValues, 0.0f);
         sc.stamp.assign(size_t(side) * side, 0);
         sc.generation = 0;
     }
@@ -156,10 +158,10 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
         if ((i == 0 || i == side - 1) && (j == 0 || j == side - 1)) {
             const size_t k = size_t(cj + (j ? 1 : 0)) * (sc.w + 1) + ci + (i ? 1 : 0);
             if (seen) *seen = &sc.corner_mattes[k];
-            return &sc.corners[4 * k];
+            return &sc.corners[kPointValues * k];
         }
         const size_t k = size_t(j) * side + i;
-        float* e = &sc.lattice[4 * k];
+        float* e = &sc.lattice[kPointValues * k];
         if (sc.stamp[k] != sc.generation) {
             lattice_point((uint32_t(x) << D) + uint32_t(i), (uint32_t(y) << D) + uint32_t(j), D, ctx, e, nullptr,
                           mattes ? &sc.lattice_mattes[k] : nullptr);
@@ -174,7 +176,7 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
     Sq stack[64];
     int top = 0;
     stack[top++] = {0, 0, 1 << D, 1.0f};
-    float acc[4] = {0, 0, 0, 0};
+    float acc[kPointValues] = {0, 0, 0, 0, 0};
     while (top > 0) {
         const Sq q = stack[--top];
         const float* c[4] = {point(q.i, q.j), point(q.i + q.size, q.j), point(q.i, q.j + q.size),
@@ -192,7 +194,7 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
             stack[top++] = {q.i, q.j + h, h, q.w * 0.25f};
             stack[top++] = {q.i + h, q.j + h, h, q.w * 0.25f};
         } else {
-            for (int ch = 0; ch < 4; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
+            for (int ch = 0; ch < kPointValues; ++ch) acc[ch] += q.w * 0.25f * (c[0][ch] + c[1][ch] + c[2][ch] + c[3][ch]);
             if (mattes) {   // each corner's primitives, with the corner's weight
                 const int ij[4][2] = {{q.i, q.j}, {q.i + q.size, q.j}, {q.i, q.j + q.size}, {q.i + q.size, q.j + q.size}};
                 for (const auto& p : ij) {
@@ -205,6 +207,7 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
     }
     pv.rgb = non_negative(Vec3(acc[0], acc[1], acc[2]));
     pv.alpha = acc[3];
+    pv.holdout = acc[4];
     return pv;
 }
 

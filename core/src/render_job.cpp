@@ -1,6 +1,7 @@
 // Tile scheduling, polling and cancellation. See render_job.h.
 #include "render_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <new>
 #include <stdexcept>
@@ -36,6 +37,8 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     depth.assign(n, kInf);
     normal.assign(n * 3, 0.0f);
     albedo.assign(n * 3, 0.0f);
+    const std::vector<Material>& mats = accel_->scene().materials();
+    if (std::any_of(mats.begin(), mats.end(), [](const Material& m) { return m.holdout; })) holdout.assign(n, 0.0f);
     matte_layers = accel_->scene().matte_layers();
     matte_keys.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), -1);
     matte_coverage.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), 0.0f);
@@ -98,6 +101,7 @@ void RenderJob::worker() {
                     albedo[3 * k + 0] = pv.first.albedo.x;
                     albedo[3 * k + 1] = pv.first.albedo.y;
                     albedo[3 * k + 2] = pv.first.albedo.z;
+                    if (!holdout.empty()) holdout[k] = pv.holdout;
                     if (const int r = s_.matte_ranks)
                         for (int l = 0; l < matte_layers; ++l) {
                             const size_t at = (k * size_t(matte_layers) + size_t(l)) * size_t(r);

@@ -61,6 +61,9 @@ public:
     // > 0, else empty: per layer of the scene's matte keys, the keys covering
     // most of each pixel, most first (-1 beyond those met), and the share of
     // the pixel each covers (matte_coverage.h).
+    // (area.h, area.w) where a material is a holdout, else empty: the share of
+    // each pixel's camera samples that met one (the film is clear there).
+    std::vector<float> holdout;
     std::vector<int32_t> matte_keys;
     std::vector<float> matte_coverage;
     int matte_layers = 1;

@@ -73,8 +73,6 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
     assert results.error("ignored_settings") == ""
     warnings = "\n".join(results.warnings("ignored_settings"))
     for expected in ("Visibility > Camera off is not supported (every ray sees the object): 'CameraInvisible'",
-                     "Holdout is not supported (every ray sees the object): 'Holdout'",
-                     "Collection setting Holdout is not supported (its objects render as any other): 'Mask'",
                      "Light 'Narrow': Spread 29 degrees is not supported",
                      "Light 'Negative': negative power (a light that darkens) is not supported",
                      "Light 'Stretched': a non-uniform scale does not stretch its cone",
@@ -83,6 +81,7 @@ def test_settings_the_core_does_not_model_are_named_in_warnings(results):
                      "denoising data and Cryptomatte are): Mist, Shader AOV 'mask', Light Group 'key_group'"):
         assert expected in warnings, expected
     assert "NoShadow" not in warnings          # Cast Shadow off is rendered (test05 checks the light)
+    assert "Holdout" not in warnings and "Mask" not in warnings   # holdouts are rendered (test_b45)
     assert "aperture" not in warnings          # six aperture blades are rendered (test_b12 compares the bokeh)
     if results["blender"][0] >= 4:             # (light linking came with 4.0)
         assert ("Light and shadow linking are not supported (every light reaches every object, every object "

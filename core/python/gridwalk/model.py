@@ -163,7 +163,10 @@ class Material(Record):
     layered_diffuse: the diffuse lies under that specular layer and gets kd
     times 1 - the layer's albedo seen from the viewer (what its rays return
     from a white world: 0.04 head-on at F0 0.04, more at grazing),
-    as Blender 4.0+'s Principled BSDF; without it the layer adds to kd."""
+    as Blender 4.0+'s Principled BSDF; without it the layer adds to kd.
+    holdout: a holdout (Cycles' Holdout shader): camera rays that meet it see
+    black and leave the film clear there (RenderJob.holdout gives the share of
+    each pixel; alpha excludes it); other rays see it black; it casts shadows."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -193,6 +196,7 @@ class Material(Record):
     multiscatter: bool = _MAT.multiscatter
     dielectric_reflection: bool = _MAT.dielectric_reflection
     layered_diffuse: bool = _MAT.layered_diffuse
+    holdout: bool = _MAT.holdout
     CORE = _core.Material
 
 

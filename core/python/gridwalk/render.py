@@ -21,7 +21,8 @@ class TileResult:
     height: int
     rgba: np.ndarray  # (height, width, 4) float32 copy of the finished pixels
     passes: dict = None   # "depth", "normal", "albedo" (and "matte_keys", "matte_coverage" with
-                          # RenderSettings.matte_ranks > 0): copies of the tile's pixels in those passes
+                          # RenderSettings.matte_ranks > 0, "holdout" where a material is one):
+                          # copies of the tile's pixels in those passes
 
 
 class RenderJob:
@@ -67,6 +68,8 @@ class RenderJob:
         arrays = {"depth": job.depth, "normal": job.normal, "albedo": job.albedo}
         if self.settings.matte_ranks > 0:
             arrays.update(matte_keys=job.matte_keys, matte_coverage=job.matte_coverage)
+        if job.holdout.size:
+            arrays["holdout"] = job.holdout
         tiles = []
         for x, y, w, h in job.poll():
             part = (slice(y - ay, y - ay + h), slice(x - ax, x - ax + w))
@@ -164,6 +167,13 @@ class RenderJob:
         """(H, W, 3) base colour at the first hit, textures applied (0 on a miss):
         Blender's Denoising Albedo pass."""
         return self._whole(self._job.albedo, 0.0)
+
+    @property
+    def holdout(self) -> np.ndarray | None:
+        """(H, W) float32: the share of each pixel's camera samples that met a
+        holdout (Material(holdout=True)), where the film is clear; None when
+        no material is one."""
+        return self._whole(self._job.holdout, 0.0) if self._job.holdout.size else None
 
     @property
     def matte_keys(self) -> np.ndarray:

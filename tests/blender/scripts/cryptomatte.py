@@ -72,20 +72,11 @@ def build(bpy):
     return scene
 
 
-def render(bpy, scene, path):
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):                     # Blender 5.0+
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.exr_codec, settings.color_depth = "NONE", "32"
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-
-
 def main(argv):
     import bpy
 
     import blender_addon
+    from scenes import render_exr
 
     out_dir = argv[0]
     blender_addon.register()
@@ -93,11 +84,11 @@ def main(argv):
     scene.render.use_compositing = False
     scene.render.engine = "GRIDWALK"
     scene.gridwalk.aa, scene.gridwalk.aa_samples = "JITTERED", 4
-    render(bpy, scene, os.path.join(out_dir, "gridwalk.exr"))
+    render_exr(scene, os.path.join(out_dir, "gridwalk.exr"))
     scene.render.engine = "CYCLES"
     scene.cycles.device, scene.cycles.samples = "CPU", 16
     scene.cycles.use_denoising = False
-    render(bpy, scene, os.path.join(out_dir, "cycles.exr"))
+    render_exr(scene, os.path.join(out_dir, "cycles.exr"))
     with open(os.path.join(out_dir, "info.json"), "w") as f:
         json.dump({"blender": list(bpy.app.version)}, f)
 

@@ -61,20 +61,11 @@ def build(bpy):
     return scene
 
 
-def render(bpy, scene, path):
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):                     # Blender 5.0+
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.exr_codec, settings.color_depth = "NONE", "32"
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-
-
 def main(argv):
     import bpy
 
     import blender_addon
+    from scenes import render_exr
 
     out_dir = argv[0]
     blender_addon.register()
@@ -87,7 +78,7 @@ def main(argv):
         scene.render.engine = engine
         for film in ("opaque", "transparent"):
             scene.render.film_transparent = film == "transparent"
-            render(bpy, scene, os.path.join(out_dir, f"{engine.lower()}_{film}.exr"))
+            render_exr(scene, os.path.join(out_dir, f"{engine.lower()}_{film}.exr"))
     with open(os.path.join(out_dir, "info.json"), "w") as f:
         json.dump({"blender": list(bpy.app.version)}, f)
 

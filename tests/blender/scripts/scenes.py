@@ -204,6 +204,17 @@ def plain_world(name, color):
     return world
 
 
+def render_exr(scene, path):
+    """Render the scene to `path`: a multilayer, uncompressed, 32-bit EXR (tests/blender/exr.py reads it)."""
+    settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):                     # Blender 5.0+
+        settings.media_type = "MULTI_LAYER_IMAGE"
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.exr_codec, settings.color_depth = "NONE", "32"
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+
+
 def shader_material(name, node_type, inputs=(), socket="Surface", settings=None):
     """A material whose output's `socket` takes one shader node of `node_type`:
     its inputs set from (name, value) pairs, then its properties from `settings`."""

@@ -591,15 +591,27 @@ class MaterialTable:
             self.matte_names.append(("default_surface", 0))
         return self._index[key]
 
-    def slot_indices(self, obj, holdout: bool = False):
+    def slot_indices(self, obj, holdout: bool = False, hidden: tuple = ()):
         """Global material index for each material slot of `obj` (at least one entry);
-        holdout: the object is a holdout (every slot the holdout material)."""
+        holdout: the object is a holdout (every slot the holdout material); hidden: the
+        Material visibility fields the object turns off (each slot a copy with them off)."""
         if holdout:
-            return [self.holdout_index()] * max(len(obj.material_slots), 1)
-        if self.override is not None:
-            return [self.index_of(self.override)] * max(len(obj.material_slots), 1)
-        slots = [self.index_of(slot.material) for slot in obj.material_slots]
-        return slots or [0]
+            slots = [self.holdout_index()] * max(len(obj.material_slots), 1)
+        elif self.override is not None:
+            slots = [self.index_of(self.override)] * max(len(obj.material_slots), 1)
+        else:
+            slots = [self.index_of(slot.material) for slot in obj.material_slots] or [0]
+        return [self._hidden(i, hidden) for i in slots] if hidden else slots
+
+    def _hidden(self, index: int, hidden: tuple) -> int:
+        """The index of material `index`'s copy with the visibility fields `hidden` off."""
+        key = ("hidden", index, hidden)
+        if key not in self._index:
+            self._index[key] = len(self.materials)
+            self.materials.append(dataclasses.replace(self.materials[index], **{field: False for field in hidden}))
+            self.links.append(self.links[index])
+            self.matte_names.append(self.matte_names[index])
+        return self._index[key]
 
     def warnings(self) -> list[str]:
         out = []

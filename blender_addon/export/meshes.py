@@ -307,11 +307,9 @@ def renders(inst, particles: bool = False) -> bool:
 
 # Object settings the Whitted core does not model (every ray sees every
 # object): (property, the value that asks for something else, what it is called).
-IGNORED_VISIBILITY = (("visible_camera", False, "Visibility > Camera off"),
-                      ("visible_shadow", False, "Visibility > Shadow off"),
-                      ("visible_glossy", False, "Visibility > Glossy off"),
-                      ("visible_transmission", False, "Visibility > Transmission off"),
-                      ("is_shadow_catcher", True, "Shadow Catcher"))
+IGNORED_VISIBILITY = (("is_shadow_catcher", True, "Shadow Catcher"),)
+# An object's Visibility that its materials carry (gridwalk.Material's fields of the same names).
+RAY_VISIBILITY = ("visible_camera", "visible_glossy", "visible_transmission", "visible_shadow")
 
 
 def as_sphere(obj) -> bool:
@@ -337,6 +335,12 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
         return read_mesh(mesh, uv, color, texspace, "object" in points)
     finally:
         obj.to_mesh_clear()
+
+
+def hidden_from(obj) -> tuple[str, ...]:
+    """The RAY_VISIBILITY fields the object turns off (Object > Visibility > Ray Visibility)."""
+    source = getattr(obj, "original", None) or obj
+    return tuple(field for field in RAY_VISIBILITY if getattr(source, field, True) is False)
 
 
 def matte_names(obj) -> tuple[str, str, int]:
@@ -426,7 +430,7 @@ class MeshCollector:
         hair curves), "sphere" (+ (its local bounds' centre, half size, whether it is
         textured)), "mesh" (+ cache key, MeshData, uv/colour layers, whether it is a mesh
         object, [whether its warnings were noted]), or "none" (a mesh without triangles)."""
-        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj)), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj), hidden_from(obj)), dtype=np.int32)
         lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
         kind = obj.type
         sphere = kind not in ("POINTCLOUD", "CURVES") and as_sphere(obj)
@@ -533,7 +537,7 @@ class MeshCollector:
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
-        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj)), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj), hidden_from(obj)), dtype=np.int32)
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         names = matte_names(obj)

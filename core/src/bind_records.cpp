@@ -52,6 +52,10 @@ void bind_records(nb::module_& m) {
         .def_rw("layered_diffuse", &Material::layered_diffuse)
         .def_rw("emits_light", &Material::emits_light)
         .def_rw("holdout", &Material::holdout)
+        .def_rw("visible_camera", &Material::visible_camera)
+        .def_rw("visible_glossy", &Material::visible_glossy)
+        .def_rw("visible_transmission", &Material::visible_transmission)
+        .def_rw("visible_shadow", &Material::visible_shadow)
         .def("validate", [](const Material& mat) { validate_material(mat, "Material"); });
 
     nb::class_<Texture>(m, "Texture")

@@ -191,7 +191,9 @@ Vec3 Integrator::sun_highlight(const SurfacePoint& sp, const Vec3& ng, const Ggx
 
 Vec3 Integrator::camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx,
                             FirstHit* fh) const {
-    return trace(ray, 1, 1.0f, false, RayType::Primary, st, ctx, fh, view_axis);
+    Ray r = ray;
+    r.kind = RayKind::Camera;
+    return trace(r, 1, 1.0f, false, RayType::Primary, st, ctx, fh, view_axis);
 }
 
 // 1 where the light is seen, 0 where it is blocked, per channel; in between
@@ -239,17 +241,19 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
         const SurfacePoint sp = scene_.surface(rp, hit);
         const Material& m = scene_.materials()[size_t(sp.material)];
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
-        const float alpha = scene_.alpha_at(m, hit);
-        float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
-        if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
-            // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
-            // none is a total internal reflection); IOR 1: none
-            const float eta = m.ior > 1.0f ? m.ior : 1.0f / m.ior;
-            passed *= 1.0f - fresnel_dielectric(std::abs(dot(r.d, sp.ng)), eta);
+        if (m.visible_shadow) {   // (a surface that casts no shadow passes it all)
+            const float alpha = scene_.alpha_at(m, hit);
+            float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
+            if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
+                // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
+                // none is a total internal reflection); IOR 1: none
+                const float eta = m.ior > 1.0f ? m.ior : 1.0f / m.ior;
+                passed *= 1.0f - fresnel_dielectric(std::abs(dot(r.d, sp.ng)), eta);
+            }
+            const Vec3 tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
+            through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
+            if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         }
-        const Vec3 tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
-        through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
-        if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, r.d);
         if (!std::isinf(dist)) r.tmax = std::max(dot(target - r.o, r.d), 0.0f) * (1.0f - 1e-5f);
         ++ctx.stats.rays[int(RayType::Shadow)];
@@ -585,6 +589,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
             if (g > 0 && dot(w, ng) > 0) {
                 r.d = w;
                 r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
+                r.kind = RayKind::Glossy;
                 sum += trace(r, depth + 1, weight * F, split_on, RayType::Secondary, st, ctx, nullptr, Vec3()) *
                        reflect_tint * (F * g);
             }
@@ -595,6 +600,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
             if (g > 0 && dot(w, ng) < 0) {
                 r.d = w;
                 r.o = offset_origin(sp.p, sp.p_err, sp.ng, w);
+                r.kind = RayKind::Transmission;
                 sum += trace(r, depth + 1, weight * (1 - F), split_on, RayType::Secondary, st, ctx, nullptr, Vec3()) *
                        pass_tint * ((1 - F) * g);
             }
@@ -661,6 +667,7 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     Ray r;
     r.d = dir;
     r.spawned = true;
+    r.kind = through ? RayKind::Transmission : RayKind::Glossy;
     if (roughness <= 0) {   // exact mirror or refraction
         r.o = offset_origin(sp.p, sp.p_err, sp.ng, dir);
         const Vec3 seen = shaped_lights_ ? lights_seen(r, ctx) : Vec3();
@@ -753,6 +760,10 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     }
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
+    if (!stored.seen_by(ray.kind)) {   // hidden from this kind of ray: passed as a cut-out is
+        if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
+        return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
+    }
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;
         sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "math.h"
+#include "ray.h"
 
 namespace gw {
 
@@ -70,6 +71,12 @@ struct Material {
     // film transparent there (RenderJob.holdout: the share of each pixel);
     // other rays see it black; it blocks light as an opaque surface does.
     bool holdout = false;
+    // Which rays see it (an object's Visibility in Blender): camera rays (and
+    // what continues them through see-through surfaces), glossy reflection
+    // and transmission (refraction) rays pass through a surface hidden from
+    // them as through an alpha cut-out, shadow rays through one that casts
+    // no shadow.
+    bool visible_camera = true, visible_glossy = true, visible_transmission = true, visible_shadow = true;
 
     // Whether anything varies over the surface (textures, colour attribute):
     // only such materials are re-evaluated per hit.
@@ -78,7 +85,12 @@ struct Material {
                emission_texture >= 0 || vertex_color;
     }
     // Whether it lets light through (shadow rays are attenuated, not stopped).
-    bool lets_light_through() const { return transmittance > 0 || alpha < 1 || alpha_texture >= 0; }
+    bool lets_light_through() const { return transmittance > 0 || alpha < 1 || alpha_texture >= 0 || !visible_shadow; }
+    bool seen_by(RayKind kind) const {
+        return kind == RayKind::Camera ? visible_camera
+             : kind == RayKind::Glossy ? visible_glossy
+             : kind == RayKind::Transmission ? visible_transmission : true;
+    }
 };
 
 // Throws std::invalid_argument naming `where` (e.g. "materials[2]") and the field.

@@ -6,8 +6,12 @@ namespace gw {
 
 enum class PrimKind : int32_t { Miss = 0, Triangle = 1, Sphere = 2, Cone = 3 };
 
+// What a ray is for, as far as an object's visibility goes (Material::seen_by).
+enum class RayKind : uint8_t { Camera, Glossy, Transmission, Other };
+
 struct Ray {
     Vec3 o, d;
+    RayKind kind = RayKind::Other;
     float tmin = 0.0f, tmax = kInf;
     // True for rays leaving a surface (secondary and shadow rays): hits closer
     // than the intersection test's own error bound are then taken to be the

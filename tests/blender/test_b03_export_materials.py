@@ -36,7 +36,8 @@ def test_unsupported_shaders_fall_back_with_one_warning(export):
     out = export("materials")
     np.testing.assert_allclose(out.materials[3]["color"], [0.1, 0.7, 0.2], rtol=1e-5)
     mentions = [w for w in out.warnings if "Toon" in w or "Holdout" in w]
-    assert len(mentions) == 1 and "Toon" in mentions[0] and "Holdout" in mentions[0]
+    assert len(mentions) == 1 and "Toon" in mentions[0] and "Holdout" not in mentions[0]
+    assert sum(bool(m.get("holdout")) for m in out.materials) == 1   # a Holdout shader is a holdout (test_b45)
 
 
 def test_world_colour_times_strength_is_the_background(export):

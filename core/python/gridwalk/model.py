@@ -166,7 +166,11 @@ class Material(Record):
     as Blender 4.0+'s Principled BSDF; without it the layer adds to kd.
     holdout: a holdout (Cycles' Holdout shader): camera rays that meet it see
     black and leave the film clear there (RenderJob.holdout gives the share of
-    each pixel; alpha excludes it); other rays see it black; it casts shadows."""
+    each pixel; alpha excludes it); other rays see it black; it casts shadows.
+    visible_camera, visible_glossy, visible_transmission: camera rays,
+    glossy reflection rays and refraction rays see the surface (off: they
+    pass through it, as through an alpha cut-out); visible_shadow: it casts
+    shadows (off: shadow rays pass) — Blender's object Visibility."""
     color: tuple = _MAT.color
     kd: float = _f32(_MAT.kd)
     ks: float = _MAT.ks
@@ -197,6 +201,10 @@ class Material(Record):
     dielectric_reflection: bool = _MAT.dielectric_reflection
     layered_diffuse: bool = _MAT.layered_diffuse
     holdout: bool = _MAT.holdout
+    visible_camera: bool = _MAT.visible_camera
+    visible_glossy: bool = _MAT.visible_glossy
+    visible_transmission: bool = _MAT.visible_transmission
+    visible_shadow: bool = _MAT.visible_shadow
     CORE = _core.Material
 
 

@@ -202,7 +202,7 @@ def case_zero_scale_lights(bpy, s):
 
 def case_ignored_settings(bpy, s):
     """Settings Cycles honours and the Whitted core does not model: each is named in a warning
-    (and two it does model, Holdout on an object and on a collection: not named)."""
+    (and some it does model, not named: Holdout on an object and on a collection, Visibility > Camera off)."""
     _lit_cube_scene(bpy, s)
     hidden = s.link(s.cube_object("CameraInvisible"))
     hidden.location, hidden.visible_camera = (-3.0, 0.0, 0.0), False

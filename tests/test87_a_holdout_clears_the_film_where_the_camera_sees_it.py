@@ -56,3 +56,21 @@ def test_no_holdout_no_array():
     job = render(scene(holdout=False), aa="center")
     assert job.holdout is None
     assert np.all(job.image[..., 3] == 1.0)
+
+
+def test_the_viewport_clears_an_opaque_film_where_a_holdout_is():
+    import time
+    sc = scene()
+    final = render(sc, aa="center")
+    r = gw.ProgressiveRenderer()
+    try:
+        rid, _ = r.submit(sc, [(1, gw.RenderSettings(aa="center"), sc.camera)], 48, 48, opaque=True)
+        end = time.monotonic() + 60
+        while r.status["finished"] != rid:
+            assert time.monotonic() < end, r.status
+            time.sleep(0.005)
+        img = r.image()[1][::-1]                     # (rows come bottom-up, as Blender draws them)
+    finally:
+        r.stop()
+    np.testing.assert_allclose(img[..., 3], 1.0 - final.holdout, atol=1e-6)
+    assert (img[..., 3] == 0).sum() > 100

@@ -285,6 +285,9 @@ void ViewportRenderer::add_tile(const RenderJob& job, const Tile& t, int block, 
     auto clean = [limit](float v) { return std::isnan(v) ? 0.0f : std::min(std::max(v, -limit), limit); };
     for (int ty = 0; ty < t.h; ++ty) {
         const float* src_row = &job.rgba[job.at(t.x, t.y + ty) * 4];
+        // An opaque film is clear only where a holdout takes the pixel (RenderJob::holdout).
+        const float* held_row = job.holdout.empty() ? nullptr : &job.holdout[job.at(t.x, t.y + ty)];
+        auto opaque_alpha = [&](int tx) { return held_row ? 1.0f - held_row[tx] : 1.0f; };
         if (block == 1) {
             const int row = height_ - 1 - (t.y + ty);          // the display is bottom-up
             if (row < 0) continue;
@@ -292,7 +295,7 @@ void ViewportRenderer::add_tile(const RenderJob& job, const Tile& t, int block, 
                 const size_t k = size_t(row) * width_ + size_t(t.x + tx);
                 count_[k] += 1.0f;
                 for (int c = 0; c < 4; ++c) {
-                    const float v = c == 3 && opaque ? 1.0f : clean(src_row[4 * tx + c]);
+                    const float v = c == 3 && opaque ? opaque_alpha(tx) : clean(src_row[4 * tx + c]);
                     accum_[4 * k + c] += v;
                     rgba_[4 * k + c] = accum_[4 * k + c] / count_[k];
                 }
@@ -304,7 +307,7 @@ void ViewportRenderer::add_tile(const RenderJob& job, const Tile& t, int block, 
         for (int tx = 0; tx < t.w; ++tx) {
             const int x0 = (t.x + tx) * block, x1 = std::min(x0 + block, width_);
             float v[4];
-            for (int c = 0; c < 4; ++c) v[c] = c == 3 && opaque ? 1.0f : clean(src_row[4 * tx + c]);
+            for (int c = 0; c < 4; ++c) v[c] = c == 3 && opaque ? opaque_alpha(tx) : clean(src_row[4 * tx + c]);
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) std::copy_n(v, 4, &rgba_[(size_t(height_ - 1 - y) * width_ + x) * 4]);
         }

@@ -74,3 +74,26 @@ def test_the_viewport_clears_an_opaque_film_where_a_holdout_is():
         r.stop()
     np.testing.assert_allclose(img[..., 3], 1.0 - final.holdout, atol=1e-6)
     assert (img[..., 3] == 0).sum() > 100
+
+
+def test_an_object_held_out_from_the_camera_is_still_seen_by_other_rays():
+    mirror = gw.Material(color=(0.9, 0.9, 0.9), kd=0.0, mirror=1.0)
+
+    def with_quad(**flags):
+        v = np.array([[-40, -40, 0], [40, -40, 0], [40, 40, 0], [-40, 40, 0],
+                      [-2, -1.5, 1], [0, -1.5, 1], [0, 1.5, 1], [-2, 1.5, 1]], np.float32)
+        t = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]], np.int32)
+        quad = gw.Material(color=(0.9, 0.1, 0.1), emission=1.0, **flags)   # (its underside glows in the mirror)
+        camera = gw.Camera(eye=(0, -3, 10), target=(0, 0, 0), up=(0, 1, 0), fov=45, width=48, height=48)
+        sc = gw.Scene(vertices=v, triangles=t, triangle_materials=[0, 0, 1, 1], materials=[mirror, quad],
+                      camera=camera, lights=[gw.Light(position=(0, 0, 20), color=(1, 1, 1))])
+        return render(sc, aa="center")
+
+    red = lambda job: ((job.image[..., 0] - job.image[..., 1]) > 0.3) & (job.holdout < 0.5)
+    camera_only, everywhere = with_quad(holdout_camera=True), with_quad(holdout=True)
+    assert camera_only.holdout.sum() == everywhere.holdout.sum() > 100     # the same pixels held out
+    assert red(camera_only).sum() > 10 and not red(everywhere).any()      # the mirror shows it, or black
+    # an alpha cut-out held out from the camera keeps its holes: the mirror floor shows through them
+    cut = with_quad(holdout_camera=True, alpha=0.5)
+    held = cut.holdout[cut.holdout > 0]
+    np.testing.assert_allclose(held[held > 0.45].mean(), 0.5, atol=0.02)

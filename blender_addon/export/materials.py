@@ -430,7 +430,7 @@ def _surface_node(tree):
 VOLUME_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, alpha=0.0)
 # No surface shader (the output's Surface unlinked, or no output node): Cycles renders it opaque black.
 NO_SURFACE = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0)
-# Cycles' Holdout shader, and every slot of an object or collection set to Holdout
+# Cycles' Holdout shader (an object or collection set to Holdout: Material.holdout_camera)
 HOLDOUT = Material(color=(0.0, 0.0, 0.0), kd=0.0, ks=0.0, holdout=True)
 
 
@@ -581,34 +581,23 @@ class MaterialTable:
             self.shape_notes.add(self._names.get(index, "?"))
         return self._index[key]
 
-    def holdout_index(self) -> int:
-        """The index of the material every slot of a Holdout object takes."""
-        key = ("holdout",)
-        if key not in self._index:
-            self._index[key] = len(self.materials)
-            self.materials.append(dataclasses.replace(HOLDOUT))
-            self.links.append(None)
-            self.matte_names.append(("default_surface", 0))
-        return self._index[key]
-
     def slot_indices(self, obj, holdout: bool = False, hidden: tuple = ()):
         """Global material index for each material slot of `obj` (at least one entry);
-        holdout: the object is a holdout (every slot the holdout material); hidden: the
-        Material visibility fields the object turns off (each slot a copy with them off)."""
-        if holdout:
-            slots = [self.holdout_index()] * max(len(obj.material_slots), 1)
-        elif self.override is not None:
+        holdout: the object is a holdout (each slot a copy held out from camera rays); hidden:
+        the Material visibility fields the object turns off (each slot a copy with them off)."""
+        if self.override is not None:
             slots = [self.index_of(self.override)] * max(len(obj.material_slots), 1)
         else:
             slots = [self.index_of(slot.material) for slot in obj.material_slots] or [0]
-        return [self._hidden(i, hidden) for i in slots] if hidden else slots
+        changes = tuple((field, False) for field in hidden) + ((("holdout_camera", True),) if holdout else ())
+        return [self._variant(i, changes) for i in slots] if changes else slots
 
-    def _hidden(self, index: int, hidden: tuple) -> int:
-        """The index of material `index`'s copy with the visibility fields `hidden` off."""
-        key = ("hidden", index, hidden)
+    def _variant(self, index: int, changes: tuple) -> int:
+        """The index of material `index`'s copy with the (field, value) `changes`."""
+        key = ("variant", index, changes)
         if key not in self._index:
             self._index[key] = len(self.materials)
-            self.materials.append(dataclasses.replace(self.materials[index], **{field: False for field in hidden}))
+            self.materials.append(dataclasses.replace(self.materials[index], **dict(changes)))
             self.links.append(self.links[index])
             self.matte_names.append(self.matte_names[index])
         return self._index[key]

@@ -365,6 +365,7 @@ class MeshCollector:
         self.materials = materials
         self.cache = cache
         self.view_layer = view_layer   # (whose collections may set objects to Holdout)
+        self._flag_cache = {}          # object address -> (holdout, hidden_from fields)
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
@@ -411,10 +412,11 @@ class MeshCollector:
         matrix = np.array(flat, dtype=np.float64).reshape(4, 4)
         # What does not depend on the matrix is read once per object and mesh: Geometry Nodes
         # and particles list thousands of instances of one (each a few microseconds then).
-        memo = object_key(obj)
+        flags = self._flags(inst)
+        memo = object_key(obj) + flags
         known = self._sources.get(memo)
         if known is None:
-            known = self._sources[memo] = (*self._source(obj), matte_names(obj))
+            known = self._sources[memo] = (*self._source(obj, flags), matte_names(obj))
         kind, lookup = known[0], known[1]
         names = known[-1]
         if kind == "shapes":
@@ -425,12 +427,12 @@ class MeshCollector:
         elif kind == "mesh":
             self._add_mesh(obj.name, known, matrix, flat, names)
 
-    def _source(self, obj) -> tuple:
+    def _source(self, obj, flags=(False, ())) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
         hair curves), "sphere" (+ (its local bounds' centre, half size, whether it is
         textured)), "mesh" (+ cache key, MeshData, uv/colour layers, whether it is a mesh
         object, [whether its warnings were noted]), or "none" (a mesh without triangles)."""
-        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj), hidden_from(obj)), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, *flags), dtype=np.int32)
         lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
         kind = obj.type
         sphere = kind not in ("POINTCLOUD", "CURVES") and as_sphere(obj)
@@ -466,14 +468,30 @@ class MeshCollector:
             return "none", lookup
         return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
 
-    def _holdout(self, obj) -> bool:
-        """Whether the object is a holdout: its own Visibility > Holdout, or a collection's in the view layer."""
-        source = obj.original
-        try:
-            return bool(source.holdout_get(view_layer=self.view_layer)) if self.view_layer is not None \
-                else bool(getattr(source, "is_holdout", False))
-        except (AttributeError, TypeError, RuntimeError):
-            return bool(getattr(source, "is_holdout", False))
+    def _flags(self, inst) -> tuple:
+        """(holdout, hidden_from fields) of an instance: its object's, and for an instance (Geometry Nodes,
+        particles, a collection instance) its instancer's too, as Cycles combines them."""
+        holdout, hidden = self._object_flags(inst.object)
+        parent = inst.parent if inst.is_instance else None
+        if parent is not None:
+            parent_holdout, parent_hidden = self._object_flags(parent)
+            holdout, hidden = holdout or parent_holdout, tuple(sorted(set(hidden) | set(parent_hidden)))
+        return holdout, hidden
+
+    def _object_flags(self, obj) -> tuple:
+        """(whether the object is a holdout: its own Visibility > Holdout, or a collection's in the
+        view layer; the visibility fields it turns off), read once per object."""
+        key = obj.as_pointer()
+        found = self._flag_cache.get(key)
+        if found is None:
+            source = obj.original
+            try:
+                holdout = bool(source.holdout_get(view_layer=self.view_layer)) if self.view_layer is not None \
+                    else bool(getattr(source, "is_holdout", False))
+            except (AttributeError, TypeError, RuntimeError):
+                holdout = bool(getattr(source, "is_holdout", False))
+            found = self._flag_cache[key] = (holdout, tuple(sorted(hidden_from(obj))))
+        return found
 
     def _add_sphere(self, name, bounds, flat, lookup, names):
         """One 'Render as sphere' instance: its bounds' centre under the matrix (row by
@@ -537,7 +555,7 @@ class MeshCollector:
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
-        lookup = np.asarray(self.materials.slot_indices(obj, self._holdout(obj), hidden_from(obj)), dtype=np.int32)
+        lookup = np.asarray(self.materials.slot_indices(obj, *self._flags(inst)), dtype=np.int32)
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         names = matte_names(obj)

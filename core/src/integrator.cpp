@@ -10,6 +10,11 @@
 #include "offset.h"
 
 namespace gw {
+
+// Surfaces hidden from a ray that it passes before it is seen as a miss (Material::seen_by), and
+// surfaces that cast no shadow that a shadow ray passes.
+constexpr int kMaxHiddenCrossings = 4096;
+
 namespace {
 
 // White, with the share `metal` (in [0, 1]) of it taking the base colour.
@@ -233,7 +238,8 @@ Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float 
 Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks) const {
     const Vec3 target = r.o + r.d * (std::isinf(dist) ? 0.0f : dist);
     Vec3 through(1, 1, 1);
-    for (int crossings = 0; crossings < 64; ++crossings) {
+    // (64 crossings of surfaces that shadow; as many as kMaxHiddenCrossings of ones that cast none)
+    for (int crossings = 0, passed_by = 0; crossings < 64 && passed_by < kMaxHiddenCrossings;) {
         const RayPre rp(r);
         Hit hit;
         hit.t = r.tmax;
@@ -241,6 +247,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
         const SurfacePoint sp = scene_.surface(rp, hit);
         const Material& m = scene_.materials()[size_t(sp.material)];
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
+        ++(m.visible_shadow ? crossings : passed_by);
         if (m.visible_shadow) {   // (a surface that casts no shadow passes it all)
             const float alpha = scene_.alpha_at(m, hit);
             float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
@@ -537,12 +544,15 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const Vec3 intensity = radiance * float(std::min(scale, double(std::numeric_limits<float>::max())));
         Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, wi) : 1.0f));
         Vec3 f_shared;
-        if (traced) {   // (the light point's density per solid angle; the rays' over it, per point)
+        // An emitter hidden from glossy rays gives no highlight (as Cycles leaves a mesh light's glossy
+        // part out for an object with Glossy off); its diffuse light stays.
+        if (traced && em.visible_glossy) {   // (the light point's density per solid angle; the rays' over it, per point)
             const double ratio = ray_density * double(ggx_pdf(*traced, wi)) /
                                  emitter_point_density(probability, dist, cos_l);
             f_shared = ggx_highlight(*traced, wi) * float(1 / (1 + ratio * ratio));
         }
-        if (m.roughness > 0) {
+        if (!em.visible_glossy) {
+        } else if (m.roughness > 0) {
             if (glossy_highlight) f += ggx_highlight(glossy, wi);
         } else if (sharp_highlight > 0) {   // (a mirror's rays see the emitter itself: its highlight is theirs)
             const Vec3 h = normalize(wi + wo);
@@ -727,6 +737,32 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     return sum * (1.0f / float(n));
 }
 
+// The ray moved on past the surface at sp, unchanged and unbent (a cut-out, a surface hidden
+// from it): its origin just beyond, what is left of its length and of its MIS offset.
+static Ray past(const SurfacePoint& sp, const Ray& ray) {
+    Ray next = ray;
+    next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
+    next.spawned = true;
+    if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
+    if (ray.emitter_mis > 0) next.mis_offset = ray.mis_offset + length(next.o - ray.o);
+    return next;
+}
+
+// Whether a surface the ray's kind sees lies on it (surfaces hidden from it are passed).
+bool Integrator::blocked(Ray r, TraceContext& ctx) const {
+    if (!scene_.hides_from_rays()) return accel_.occluded(RayPre(r), ctx);
+    for (int hidden = 0; hidden < kMaxHiddenCrossings; ++hidden) {
+        const RayPre rp(r);
+        Hit hit;
+        hit.t = r.tmax;
+        if (!accel_.closest(rp, hit, ctx)) return false;
+        const SurfacePoint sp = scene_.surface(rp, hit);
+        if (scene_.materials()[size_t(sp.material)].seen_by(r.kind)) return true;
+        r = past(sp, r);
+    }
+    return false;
+}
+
 Vec3 Integrator::lights_seen(const Ray& r, TraceContext& ctx) const {
     Vec3 sum;
     for (const Light& L : scene_.lights()) {
@@ -737,18 +773,32 @@ Vec3 Integrator::lights_seen(const Ray& r, TraceContext& ctx) const {
         Ray shadow = r;
         shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);
         ++ctx.stats.rays[int(RayType::Shadow)];
-        if (!accel_.occluded(RayPre(shadow), ctx)) sum += radiance;
+        if (!blocked(shadow, ctx)) sum += radiance;
     }
     return sum;
 }
 
-Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayType type, SampleState& st,
+Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, RayType type, SampleState& st,
                        TraceContext& ctx, FirstHit* fh, const Vec3& view_axis) const {
     ++ctx.stats.rays[int(type)];
-    const RayPre r(ray);
+    // Surfaces hidden from this kind of ray (Material::seen_by) are passed here, as a traversal
+    // that skips them would: neither a bounce nor a cut-out's crossing (whose stack is capped).
+    Ray ray = ray_in;
+    RayPre r(ray);
     Hit hit;
-    hit.t = ray.tmax;
-    if (!accel_.closest(r, hit, ctx)) {
+    SurfacePoint sp;
+    bool found = false;
+    for (int hidden = 0; hidden < kMaxHiddenCrossings; ++hidden) {
+        hit = Hit();
+        hit.t = ray.tmax;
+        if (!(found = accel_.closest(r, hit, ctx))) break;
+        sp = scene_.surface(r, hit);
+        if (scene_.materials()[size_t(sp.material)].seen_by(ray.kind)) break;
+        found = false;
+        ray = past(sp, ray);
+        r = RayPre(ray);
+    }
+    if (!found) {
         if (fh && scene_.world().transparent) return Vec3();   // fh: the camera's own path
         // A glossy ray whose lobe samples the sun sees the environment's radiance map less its
         // sun (world_map(): 512 x 256 cells, what the sun map was split from), so that the two
@@ -758,12 +808,7 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
         if (ray.without_sun) return scene_.world_map().radiance(scene_.to_environment(ray.d));
         return scene_.miss(ray.d);
     }
-    SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
-    if (!stored.seen_by(ray.kind)) {   // hidden from this kind of ray: passed as a cut-out is
-        if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
-        return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
-    }
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;
         sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
@@ -775,37 +820,49 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
     if (fh) {
         fh->hit = true;
         fh->alpha = 1;
-        fh->depth = hit.t * dot(ray.d, view_axis);
+        fh->depth = hit.t * dot(ray.d, view_axis) + dot(ray.o - ray_in.o, view_axis);   // (from past hidden surfaces)
         fh->normal = sp.ns;
         fh->albedo = m.color;
         fh->mattes.clear();
         if (scene_.has_matte_keys()) fh->mattes.add(scene_.matte_class(size_t(hit.prim)), 1.0f);
         fh->holdout = 0;
     }
-    if (m.holdout) {   // nothing seen; on the camera's path, the film is clear here
-        if (fh) fh->alpha = 0, fh->holdout = 1;
+    // A holdout: nothing seen, and on the camera's path the film is clear here (no data passes,
+    // no matte). The Holdout shader holds out from every ray; an object set to Holdout from
+    // camera rays only (other rays see its material, as in Cycles), and keeps its cut-outs.
+    const bool held = m.holdout || (m.holdout_camera && ray.kind == RayKind::Camera);
+    if (held && m.alpha >= 1) {
+        if (fh) *fh = FirstHit(), fh->holdout = 1;
         return Vec3();
     }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
             if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
-            return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis);
+            return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis, ray_in.o);
         }
         // On the camera's path what lies behind is traced with a FirstHit of its
         // own: with Film Transparent its misses are transparent, and its
         // coverage makes this sample's alpha (the passes keep this surface).
         FirstHit beyond;
         const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
-                                             fh ? &beyond : nullptr, view_axis);
+                                             fh ? &beyond : nullptr, view_axis, ray_in.o);
         if (fh) {
-            fh->alpha = m.alpha + (1 - m.alpha) * beyond.alpha;
-            fh->holdout = (1 - m.alpha) * beyond.holdout;
-            fh->mattes.clear();
-            if (scene_.has_matte_keys()) {
-                fh->mattes.add(scene_.matte_class(size_t(hit.prim)), m.alpha);
-                fh->mattes.add(beyond.mattes, 1 - m.alpha);
+            if (held) {   // (the passes see what lies behind)
+                const RayMattes behind_mattes = beyond.mattes;
+                *fh = beyond;
+                fh->mattes.clear();
+                fh->mattes.add(behind_mattes, 1 - m.alpha);
+            } else {
+                fh->mattes.clear();
+                if (scene_.has_matte_keys()) {
+                    fh->mattes.add(scene_.matte_class(size_t(hit.prim)), m.alpha);
+                    fh->mattes.add(beyond.mattes, 1 - m.alpha);
+                }
             }
+            fh->alpha = (held ? 0 : m.alpha) + (1 - m.alpha) * beyond.alpha;
+            fh->holdout = (held ? m.alpha : 0) + (1 - m.alpha) * beyond.holdout;
         }
+        if (held) return behind * (1 - m.alpha);
         Material opaque = m;
         opaque.alpha = 1;
         const Vec3 front =
@@ -818,21 +875,17 @@ Vec3 Integrator::trace(const Ray& ray, int depth, float weight, bool split, RayT
 // Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
 Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
                                   RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
-                                  const Vec3& view_axis) const {
+                                  const Vec3& view_axis, const Vec3& depth_origin) const {
     if (depth >= s_.max_depth + 16)   // a stack of cut-outs: seen as a miss
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
-    Ray next = ray;
-    next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
-    next.spawned = true;
-    if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
-    if (ray.emitter_mis > 0) next.mis_offset = ray.mis_offset + length(next.o - ray.o);
+    const Ray next = past(sp, ray);
     // The passes measure depth from the camera: the offset origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
     if (fh) fh->alpha = behind.alpha, fh->holdout = behind.holdout;
     if (fh && behind.hit) {
         *fh = behind;
-        fh->depth += dot(next.o - ray.o, view_axis);
+        fh->depth += dot(next.o - depth_origin, view_axis);
     }
     return c;
 }

@@ -71,6 +71,9 @@ struct Material {
     // film transparent there (RenderJob.holdout: the share of each pixel);
     // other rays see it black; it blocks light as an opaque surface does.
     bool holdout = false;
+    // Held out from camera rays only (an object or collection set to Holdout in
+    // Blender): other rays see the material, and its alpha cut-outs stay.
+    bool holdout_camera = false;
     // Which rays see it (an object's Visibility in Blender): camera rays (and
     // what continues them through see-through surfaces), glossy reflection
     // and transmission (refraction) rays pass through a surface hidden from

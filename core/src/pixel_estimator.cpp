@@ -182,7 +182,8 @@ PixelValue PixelEstimator::adaptive(int x, int y, TraceContext& ctx, PixelScratc
         const float* c[4] = {point(q.i, q.j), point(q.i + q.size, q.j), point(q.i, q.j + q.size),
                              point(q.i + q.size, q.j + q.size)};
         float diff = 0;
-        for (int ch = 0; ch < 3; ++ch) {
+        // (the colour, and the held-out share: a black holdout against a dark surface differs there only)
+        for (int ch : {0, 1, 2, 4}) {
             const float lo = std::min(std::min(c[0][ch], c[1][ch]), std::min(c[2][ch], c[3][ch]));
             const float hi = std::max(std::max(c[0][ch], c[1][ch]), std::max(c[2][ch], c[3][ch]));
             diff = std::max(diff, hi - lo);

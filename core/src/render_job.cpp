@@ -38,7 +38,7 @@ RenderJob::RenderJob(std::shared_ptr<const Accel> accel, const RenderSettings& s
     normal.assign(n * 3, 0.0f);
     albedo.assign(n * 3, 0.0f);
     const std::vector<Material>& mats = accel_->scene().materials();
-    if (std::any_of(mats.begin(), mats.end(), [](const Material& m) { return m.holdout; })) holdout.assign(n, 0.0f);
+    if (std::any_of(mats.begin(), mats.end(), [](const Material& m) { return m.holdout || m.holdout_camera; })) holdout.assign(n, 0.0f);
     matte_layers = accel_->scene().matte_layers();
     matte_keys.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), -1);
     matte_coverage.assign(n * size_t(matte_layers) * size_t(s_.matte_ranks), 0.0f);

@@ -208,6 +208,8 @@ public:
     int32_t triangle_material(int32_t tri) const { return tri_mat_[size_t(tri)]; }
     // Whether some material lets light through: shadow rays then look at what they hit.
     bool transparent_shadows() const { return transparent_shadows_; }
+    // Whether a material is hidden from some kind of ray (Material::seen_by).
+    bool hides_from_rays() const { return hides_from_rays_; }
     // The material at a hit with its textures and colour attribute applied
     // (call only when materials()[sp.material].varies()).
     Material shade(const Material& m, const Hit& hit) const;
@@ -267,6 +269,7 @@ private:
     Irradiance env_irradiance_, sun_irradiance_;   // the environment without its bright cells, and those
     WorldMap world_map_, sun_map_;
     bool transparent_shadows_ = false;
+    bool hides_from_rays_ = false;
     Bounds bounds_;
     uint64_t id_ = next_id();
     std::vector<SceneAncestor> ancestors_;

@@ -78,6 +78,7 @@ void Scene::check_textures() {
                 " names a procedural texture or one at other coordinates than the UV map: "
                 "a normal map takes an image at the UV map");
         transparent_shadows_ = transparent_shadows_ || m.lets_light_through();
+        hides_from_rays_ = hides_from_rays_ || !m.visible_camera || !m.visible_glossy || !m.visible_transmission;
     }
     validate_world(world_);
     for (const auto& [index, name] : {std::pair{world_.environment, "World.environment"}, std::pair{world_.inset, "World.inset"}}) {

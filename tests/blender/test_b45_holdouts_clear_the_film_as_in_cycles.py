@@ -1,6 +1,8 @@
 """Holdouts (an object's Visibility > Holdout, a collection set to Holdout in
 the view layer, a Holdout shader) clear the film where the camera sees them,
-black and transparent, with the film opaque or transparent, where Cycles does."""
+black and transparent, with the film opaque or transparent, where Cycles does;
+a mirror still shows the object set to Holdout (Cycles holds objects out from
+camera rays only)."""
 import json
 
 import numpy as np
@@ -38,3 +40,10 @@ def test_each_kind_of_holdout_clears_its_object(renders):
     assert all(part.sum() > 100 for part in thirds), [int(part.sum()) for part in thirds]
     # an opaque film stays opaque elsewhere: the background and the floor
     assert (renders["gridwalk", "opaque"][..., 3] > 0.999).mean() > 0.5
+
+
+@pytest.mark.parametrize("engine", ["gridwalk", "cycles"])
+def test_a_mirror_shows_the_held_out_object_as_it_is(renders, engine):
+    rgb = renders[engine, "opaque"][..., :3]
+    red = (rgb[..., 0] > 0.03) & (rgb[..., 0] > 3 * rgb[..., 1])     # (its side the sun lights, dim)
+    assert red.sum() > 30, "the red sphere set to Holdout, in the mirror"

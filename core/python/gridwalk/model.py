@@ -167,6 +167,8 @@ class Material(Record):
     holdout: a holdout (Cycles' Holdout shader): camera rays that meet it see
     black and leave the film clear there (RenderJob.holdout gives the share of
     each pixel; alpha excludes it); other rays see it black; it casts shadows.
+    holdout_camera: held out from camera rays only (Blender's object and
+    collection Holdout): other rays see the material, and its cut-outs stay.
     visible_camera, visible_glossy, visible_transmission: camera rays,
     glossy reflection rays and refraction rays see the surface (off: they
     pass through it, as through an alpha cut-out); visible_shadow: it casts
@@ -201,6 +203,7 @@ class Material(Record):
     dielectric_reflection: bool = _MAT.dielectric_reflection
     layered_diffuse: bool = _MAT.layered_diffuse
     holdout: bool = _MAT.holdout
+    holdout_camera: bool = _MAT.holdout_camera
     visible_camera: bool = _MAT.visible_camera
     visible_glossy: bool = _MAT.visible_glossy
     visible_transmission: bool = _MAT.visible_transmission

@@ -1,10 +1,11 @@
 """Holdouts from GRIDWALK and from Cycles on the same scene.
 
 usage: <python with bpy> holdout.py OUT_DIR
-A floor and a red wall, and in front of them three holdouts: a sphere set to
+A floor and a mirror wall, and in front of them three holdouts: a red sphere set to
 Visibility > Holdout ("HeldObject"), a cube in a collection set to Holdout in
 the view layer ("InMask"), and a cube whose material is a Holdout shader
-("HoldShader"). Renders each engine with the film opaque and transparent:
+("HoldShader"). The mirror shows the sphere red (an object's holdout is for
+camera rays only) and the shader's cube black. Renders each engine with the film opaque and transparent:
 {gridwalk,cycles}_{opaque,transparent}.exr, and info.json (the Blender version).
 """
 import json
@@ -35,7 +36,12 @@ def build(bpy):
     bpy.ops.mesh.primitive_plane_add(size=20)
     bpy.context.object.data.materials.append(grey)
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 3.0, 1.5), scale=(6.0, 0.2, 3.0))
-    bpy.context.object.data.materials.append(red)
+    mirror = bpy.data.materials.new("Mirror")
+    mirror.use_nodes = True
+    principled = mirror.node_tree.nodes["Principled BSDF"]
+    principled.inputs["Metallic"].default_value, principled.inputs["Roughness"].default_value = 1.0, 0.0
+    principled.inputs["Base Color"].default_value = (0.9, 0.9, 0.9, 1.0)
+    bpy.context.object.data.materials.append(mirror)
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(-2.0, 0.0, 1.0), segments=48, ring_count=24)
     held = bpy.context.object
     held.name, held.is_holdout = "HeldObject", True

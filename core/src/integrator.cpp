@@ -786,17 +786,16 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     Ray ray = ray_in;
     RayPre r(ray);
     Hit hit;
-    SurfacePoint sp;
-    bool found = false;
-    for (int hidden = 0; hidden < kMaxHiddenCrossings; ++hidden) {
+    hit.t = ray.tmax;
+    bool found = accel_.closest(r, hit, ctx);
+    for (int hidden = 0; found && scene_.hides_from_rays(); ++hidden) {
+        const SurfacePoint at = scene_.surface(r, hit);
+        if (scene_.materials()[size_t(at.material)].seen_by(ray.kind)) break;
+        ray = past(at, ray);
+        r = RayPre(ray);
         hit = Hit();
         hit.t = ray.tmax;
-        if (!(found = accel_.closest(r, hit, ctx))) break;
-        sp = scene_.surface(r, hit);
-        if (scene_.materials()[size_t(sp.material)].seen_by(ray.kind)) break;
-        found = false;
-        ray = past(sp, ray);
-        r = RayPre(ray);
+        found = hidden + 1 < kMaxHiddenCrossings && accel_.closest(r, hit, ctx);
     }
     if (!found) {
         if (fh && scene_.world().transparent) return Vec3();   // fh: the camera's own path
@@ -808,6 +807,7 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         if (ray.without_sun) return scene_.world_map().radiance(scene_.to_environment(ray.d));
         return scene_.miss(ray.d);
     }
+    SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;

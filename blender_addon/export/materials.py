@@ -600,6 +600,7 @@ class MaterialTable:
             self.materials.append(dataclasses.replace(self.materials[index], **dict(changes)))
             self.links.append(self.links[index])
             self.matte_names.append(self.matte_names[index])
+            self._names[self._index[key]] = self._names.get(index, "?")
         return self._index[key]
 
     def warnings(self) -> list[str]:

@@ -365,7 +365,7 @@ class MeshCollector:
         self.materials = materials
         self.cache = cache
         self.view_layer = view_layer   # (whose collections may set objects to Holdout)
-        self._flag_cache = {}          # object address -> (holdout, hidden_from fields)
+        self._flag_cache = {}          # original object address -> (holdout, hidden_from fields)
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.spheres = []          # (centre, radius, material index)
@@ -469,19 +469,20 @@ class MeshCollector:
         return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
 
     def _flags(self, inst) -> tuple:
-        """(holdout, hidden_from fields) of an instance: its object's, and for an instance (Geometry Nodes,
-        particles, a collection instance) its instancer's too, as Cycles combines them."""
+        """(holdout, hidden_from fields) of an instance: its object's; for an instance (Geometry Nodes,
+        particles, a collection instance) the instancer's Holdout, and the visibility both turn off,
+        as Cycles takes them."""
         holdout, hidden = self._object_flags(inst.object)
         parent = inst.parent if inst.is_instance else None
         if parent is not None:
             parent_holdout, parent_hidden = self._object_flags(parent)
-            holdout, hidden = holdout or parent_holdout, tuple(sorted(set(hidden) | set(parent_hidden)))
+            holdout, hidden = parent_holdout, tuple(sorted(set(hidden) | set(parent_hidden)))
         return holdout, hidden
 
     def _object_flags(self, obj) -> tuple:
         """(whether the object is a holdout: its own Visibility > Holdout, or a collection's in the
         view layer; the visibility fields it turns off), read once per object."""
-        key = obj.as_pointer()
+        key = obj.original.as_pointer()   # (the depsgraph lists instances through reused temporary objects)
         found = self._flag_cache.get(key)
         if found is None:
             source = obj.original

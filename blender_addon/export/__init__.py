@@ -138,7 +138,8 @@ class Export:
         if len(materials) != len(which):
             raise ValueError("matte keys: the primitives' names and materials do not line up")
         assets = sorted({e[1] for e in entries})
-        asset_of = np.array([assets.index(e[1]) for e in entries] + [-1], np.int32)   # (which -1: the last)
+        asset_key = {name: k for k, name in enumerate(assets)}   # (a dict: a scene may have thousands)
+        asset_of = np.array([asset_key[e[1]] for e in entries] + [-1], np.int32)   # (which -1: the last)
         # one key per (name, pass index): a material's copy for spheres (MaterialTable.shape_material)
         # is the same Blender material
         first = {}

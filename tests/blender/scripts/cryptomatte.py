@@ -76,18 +76,15 @@ def main(argv):
     import bpy
 
     import blender_addon
-    from scenes import render_exr
+    from scenes import both_engines, render_exr
 
     out_dir = argv[0]
     blender_addon.register()
     scene = build(bpy)
-    scene.render.use_compositing = False
+    both_engines(scene)
     scene.render.engine = "GRIDWALK"
-    scene.gridwalk.aa, scene.gridwalk.aa_samples = "JITTERED", 4
     render_exr(scene, os.path.join(out_dir, "gridwalk.exr"))
     scene.render.engine = "CYCLES"
-    scene.cycles.device, scene.cycles.samples = "CPU", 16
-    scene.cycles.use_denoising = False
     render_exr(scene, os.path.join(out_dir, "cycles.exr"))
     with open(os.path.join(out_dir, "info.json"), "w") as f:
         json.dump({"blender": list(bpy.app.version)}, f)

@@ -71,15 +71,12 @@ def main(argv):
     import bpy
 
     import blender_addon
-    from scenes import render_exr
+    from scenes import both_engines, render_exr
 
     out_dir = argv[0]
     blender_addon.register()
     scene = build(bpy)
-    scene.render.use_compositing = False
-    scene.gridwalk.aa, scene.gridwalk.aa_samples = "JITTERED", 4
-    scene.cycles.device, scene.cycles.samples = "CPU", 16
-    scene.cycles.use_denoising = False
+    both_engines(scene)
     for engine in ("GRIDWALK", "CYCLES"):
         scene.render.engine = engine
         for film in ("opaque", "transparent"):

@@ -19,7 +19,7 @@ def main(argv):
     import bpy
 
     import blender_addon
-    from scenes import render_exr, shader_material
+    from scenes import both_engines, render_exr, shader_material
 
     out_dir = argv[0]
     blender_addon.register()
@@ -52,10 +52,7 @@ def main(argv):
     bpy.context.object.data.energy = 3.0
     scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 128, 80, 100
     scene.render.film_transparent = False
-    scene.render.use_compositing = False
-    scene.gridwalk.aa, scene.gridwalk.aa_samples = "JITTERED", 3
-    scene.cycles.device, scene.cycles.samples = "CPU", 32
-    scene.cycles.use_denoising = False
+    both_engines(scene, aa_samples=3, cycles_samples=32)
     scene.cycles.max_bounces = 4
     for engine in ("GRIDWALK", "CYCLES"):
         scene.render.engine = engine

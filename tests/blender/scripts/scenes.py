@@ -215,6 +215,15 @@ def render_exr(scene, path):
     bpy.ops.render.render(write_still=True)
 
 
+def both_engines(scene, aa_samples=4, cycles_samples=16):
+    """Settings for comparing GRIDWALK with Cycles: jittered aa_samples^2 anti-aliasing, Cycles on the
+    CPU at cycles_samples without denoising, no compositing."""
+    scene.render.use_compositing = False
+    scene.gridwalk.aa, scene.gridwalk.aa_samples = "JITTERED", aa_samples
+    scene.cycles.device, scene.cycles.samples = "CPU", cycles_samples
+    scene.cycles.use_denoising = False
+
+
 def shader_material(name, node_type, inputs=(), socket="Surface", settings=None):
     """A material whose output's `socket` takes one shader node of `node_type`:
     its inputs set from (name, value) pairs, then its properties from `settings`."""

@@ -6,6 +6,9 @@ depsgraph, so it works inside RenderEngine.render().
 """
 from __future__ import annotations
 
+import math
+import time
+
 import numpy as np
 
 from .camera import CameraError, convert_camera, render_region, resolution
@@ -32,6 +35,9 @@ class ExportError(ValueError):
         self.warnings = list(warnings or [])
 
 
+STOP_SECONDS = 0.002   # the export's time between should_stop() calls
+
+
 class ExportCancelled(Exception):
     """should_stop() said stop while the export was reading the depsgraph."""
 
@@ -43,9 +49,11 @@ class Export:
     viewport restarts only when it changes); kwargs() assembles the arrays."""
 
     def __init__(self, depsgraph, cache: MeshCache | None = None, camera: bool = True, should_stop=None):
-        """should_stop(), if given, is asked before every object instance; when
-        it says True the export stops with ExportCancelled (a cancel lands
-        within one object's read)."""
+        """should_stop(), if given, is asked before the first object instance and
+        then before each one that comes STOP_SECONDS or more after the last
+        question (it costs microseconds, as much as an instance of a mesh read
+        already); when it says True the export stops with ExportCancelled (a
+        cancel lands within one object's read)."""
         scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
         self.warnings: list[str] = []
         try:
@@ -57,24 +65,28 @@ class Export:
         self.textures = TextureTable(cache.images)
         view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
         self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
-        self.meshes = MeshCollector(self.materials, cache, getattr(depsgraph, "view_layer", None))
-        self.lights = []
         render = getattr(depsgraph, "mode", "RENDER") == "RENDER"   # (a final render's depsgraph; else the viewport's)
+        self.meshes = MeshCollector(self.materials, cache, getattr(depsgraph, "view_layer", None), render)
+        self.lights = []
         unrendered = {}   # label -> names of objects of a kind the core has no primitive for
+        asked = -math.inf
         for inst in depsgraph.object_instances:
-            if should_stop is not None and should_stop():
-                raise ExportCancelled()
-            kind = inst.object.type
+            if should_stop is not None and time.perf_counter() - asked >= STOP_SECONDS:
+                if should_stop():
+                    raise ExportCancelled()
+                asked = time.perf_counter()
+            obj = inst.object
+            kind = obj.type
             if kind == "LIGHT":
                 light = light_from_instance(inst, self.warnings)
                 if light is not None:
                     self.lights.append(light)
             elif kind in UNRENDERED_TYPES:
-                if inst.show_self and not inst.object.original.hide_render:
-                    unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(inst.object.original.name)
+                if inst.show_self and not obj.original.hide_render:
+                    unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(obj.original.name)
             else:
-                self.meshes.add_instance(inst)
-            self.meshes.add_particle_hair(inst, render)
+                self.meshes.add_instance(inst, obj)
+        self.meshes.finish()
         self.warnings.extend(f"{label} not rendered: " + ", ".join(f"'{n}'" for n in sorted(names))
                              for label, names in sorted(unrendered.items()))
         self.warnings.extend(_collection_warnings(depsgraph))

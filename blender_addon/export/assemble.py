@@ -23,7 +23,7 @@ import numpy as np
 from ._matrix import cross, normalized, transform_normals, transform_points
 
 CHUNK_VERTICES = 1 << 18    # vertices per chunk at most (float64 temporaries of 6 MiB, up to 6 times that for flat corners)
-CHUNK_INSTANCES = 64        # instances per chunk on average (chunks())
+CHUNK_INSTANCES = 256       # instances per chunk on average (chunks())
 REVERSED = [0, 2, 1]
 
 

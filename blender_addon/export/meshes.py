@@ -7,7 +7,10 @@ matrix_world) is evaluated with its modifiers (`to_mesh()`), triangulated
 through loop_triangles and read with foreach_get into numpy. A mesh is read
 once and reused by all its instances (mesh_cache.MeshCache; the viewport keeps
 it between updates). Objects hidden for render are skipped, and instances
-whose instancer is (`renders`).
+whose instancer is (`renders`). What an instance's object, instancer and
+visibility decide is worked out once per kind of instance (`instance_key`,
+`InstancePlan`), so that the tenth thousand Geometry Nodes instance of a mesh
+costs the reading of its matrix, a few microseconds.
 
 Shading normals come from Blender's normals domain:
   FACE   (all faces flat)            -> no normals (the core uses geometric normals)
@@ -276,6 +279,18 @@ def object_key(obj) -> tuple:
     return obj.as_pointer(), obj.original.as_pointer(), obj.data.as_pointer() if obj.data is not None else 0
 
 
+def instance_key(inst, obj=None) -> tuple:
+    """What decides how an object instance renders, but for its matrix: object_key(), its
+    instancer's address and its show flags. Geometry Nodes and particles list tens of
+    thousands of instances under a few of these."""
+    obj = inst.object if obj is None else obj
+    parent = inst.parent if inst.is_instance else None
+    data = obj.data
+    return (obj.as_pointer(), obj.original.as_pointer(), data.as_pointer() if data is not None else 0,
+            parent.as_pointer() if parent is not None else 0, inst.show_self,
+            bool(getattr(inst, "show_particles", True)))
+
+
 def renders(inst, particles: bool = False) -> bool:
     """Whether a depsgraph object instance is geometry that the render shows
     (particles: whether its particle systems show, which they can while the
@@ -355,15 +370,32 @@ def matte_names(obj) -> tuple[str, str, int]:
     return source.name, top.name, int(getattr(source, "pass_index", 0))
 
 
+ROW_BLOCK = 8192    # mesh instances' matrices gathered as Python rows before they become one numpy block
+
+
+class InstancePlan:
+    """What every instance of one (object, original, data, instancer, show flags) becomes:
+    kind "mesh", "sphere", "shapes", "none" (a mesh without triangles: only its
+    transform is checked) or None (not rendered); known: what
+    MeshCollector._source read (with matte_names() last); name: the object's name in
+    warnings; names: its Cryptomatte names; hair: whether its particle hair renders;
+    index: its place among the mesh plans (-1 for other kinds)."""
+    __slots__ = ("kind", "known", "name", "names", "hair", "index")
+
+    def __init__(self, kind, known, name, names, hair, index):
+        self.kind, self.known, self.name, self.names, self.hair, self.index = kind, known, name, names, hair, index
+
+
 class MeshCollector:
     """Gathers world-space triangles and spheres over all object instances.
 
     cache: a mesh_cache.MeshCache; meshes it holds are not read again (the
     viewport keeps one between updates; a final render starts empty)."""
 
-    def __init__(self, materials, cache, view_layer=None):
+    def __init__(self, materials, cache, view_layer=None, render: bool = True):
         self.materials = materials
         self.cache = cache
+        self.render = render           # a final render's depsgraph (else the viewport's): which hair shows
         self.view_layer = view_layer   # (whose collections may set objects to Holdout)
         self._flag_cache = {}          # original object address -> (holdout, hidden_from fields)
         self.used = set()          # the cache entries this export used
@@ -392,40 +424,112 @@ class MeshCollector:
         self._lookups = {}         # material lookup bytes -> the one array the parts share
         self._hair = {}            # object_key -> whether it has hair particle systems to render
         self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
+        self._plans = {}           # add_instance's memo -> InstancePlan
+        self._mesh_plans = []      # the plans of mesh kind, by InstancePlan.index
+        self._rows, self._row_plans = [], []   # mesh instances' matrices (16 floats) and plan indices since the last block
+        self._blocks = []          # ((K, 4, 4) matrices, (K,) plan indices) of mesh instances, in the order read
 
-    def add_instance(self, inst):
+    def add_instance(self, inst, obj=None):
+        """One entry of depsgraph.object_instances (any type: what is not rendered geometry is
+        passed over); obj: its object, if read already (each read makes a new Python object).
+
+        What an instance's object, instancer and visibility decide is worked out once
+        per (object, original, data, instancer, show flags) and kept (`_plan`): Geometry
+        Nodes and particles list tens of thousands of instances of a few of those. A
+        mesh instance then costs its matrix, read into a block of rows; finish() checks
+        the rows all at once and makes the parts."""
+        obj = inst.object if obj is None else obj
+        memo = instance_key(inst, obj)
+        plan = self._plans.get(memo)
+        if plan is None:
+            plan = self._plans[memo] = self._plan(inst, obj)
+        if plan.kind == "mesh":
+            m = inst.matrix_world
+            self._rows.append(m[0][:] + m[1][:] + m[2][:] + m[3][:])
+            self._row_plans.append(plan.index)
+            if len(self._rows) >= ROW_BLOCK:
+                self._flush_rows()
+        elif plan.kind is not None:
+            flat = entries(inst.matrix_world)
+            if not finite(flat):
+                self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
+            elif plan.kind == "shapes":
+                read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
+                lookup = plan.known[1]
+                matrix = np.array(flat, dtype=np.float64).reshape(4, 4)
+                self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, plan.names)
+            elif plan.kind == "sphere":
+                self._add_sphere(obj.name, plan.known[2], flat, plan.known[1], plan.names)
+        if plan.hair:
+            self._add_particle_hair(inst, obj)
+
+    def _plan(self, inst, obj) -> "InstancePlan":
+        """What an instance of this object, instancer and visibility becomes (add_instance)."""
         if inst.is_instance and inst.parent is not None:
             self.instancers.add(inst.parent.name)
+        hair = renders(inst, particles=True) and self._has_hair(obj)
         if not renders(inst):
-            return
-        obj = inst.object
+            return InstancePlan(None, None, obj.name, None, hair, -1)
         source = obj.original
         if source.name not in self.visibility_read:   # once per object, not per instance (particles: millions)
             self.visibility_read.add(source.name)
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        flat = entries(inst.matrix_world)
-        if not finite(flat):
-            self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
-            return
-        matrix = np.array(flat, dtype=np.float64).reshape(4, 4)
-        # What does not depend on the matrix is read once per object and mesh: Geometry Nodes
-        # and particles list thousands of instances of one (each a few microseconds then).
         flags = self._flags(inst)
         memo = object_key(obj) + flags
         known = self._sources.get(memo)
         if known is None:
             known = self._sources[memo] = (*self._source(obj, flags), matte_names(obj))
-        kind, lookup = known[0], known[1]
-        names = known[-1]
-        if kind == "shapes":
-            read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
-            self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, names)
-        elif kind == "sphere":
-            self._add_sphere(obj.name, known[2], flat, lookup, names)
-        elif kind == "mesh":
-            self._add_mesh(obj.name, known, matrix, flat, names)
+        kind = known[0]
+        plan = InstancePlan(kind, known, obj.name, known[-1], hair, len(self._mesh_plans) if kind == "mesh" else -1)
+        if kind == "mesh":
+            self._mesh_plans.append(plan)
+        return plan
+
+    def _flush_rows(self):
+        """The matrices read since the last flush, as one block of (K, 4, 4) float64 and their plans."""
+        if self._rows:
+            self._blocks.append((np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4),
+                                 np.array(self._row_plans, dtype=np.int64)))
+            self._rows, self._row_plans = [], []
+
+    def finish(self):
+        """Turns the mesh instances read so far into parts, in the order they came: each
+        matrix checked (finite; the mesh's vertices within +-MAX_COORDINATE under it),
+        the ones that fail named in warnings. Called once, after the last add_instance."""
+        self._flush_rows()
+        if not self._blocks:
+            return
+        matrices = np.concatenate([b[0] for b in self._blocks])
+        which = np.concatenate([b[1] for b in self._blocks])
+        self._blocks = []
+        plans = self._mesh_plans
+        # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
+        # for |p|inf <= extent
+        extent = np.array([p.known[3].extent for p in plans], np.float64)[which]
+        mesh_finite = np.array([p.known[3].finite for p in plans], bool)[which]
+        with np.errstate(invalid="ignore", over="ignore"):
+            finite_rows = np.isfinite(matrices).all(axis=(1, 2))
+            linear = np.abs(matrices[:, :3, :3]).sum(axis=2).max(axis=1)
+            reach = linear * extent + np.abs(matrices[:, :3, 3]).max(axis=1)
+            inside = reach <= MAX_COORDINATE
+        for i in np.flatnonzero(~(finite_rows & mesh_finite & inside)).tolist():
+            name = plans[which[i]].name
+            if not finite_rows[i]:
+                self.invalid[name] = "its transform is not finite (NaN or Inf)"
+            elif not mesh_finite[i]:
+                self.invalid[name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
+            else:
+                self.invalid[name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
+        good = finite_rows & mesh_finite & inside
+        for p in {int(k) for k in np.unique(which[good])}:
+            self._note_mesh(plans[p])
+        for i in np.flatnonzero(good).tolist():
+            plan = plans[which[i]]
+            known = plan.known
+            self.parts.append((known[2], known[3], matrices[i], known[1]))
+            self.part_names.append(plan.names)
 
     def _source(self, obj, flags=(False, ())) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
@@ -513,46 +617,35 @@ class MeshCollector:
         if textured:
             self.textured_spheres.add(name)
 
-    def _add_mesh(self, name, known, matrix, flat, names):
-        _, lookup, key, data, layers, from_mesh, noted = known[:7]
-        if not data.finite:
-            self.invalid[name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
+    def _note_mesh(self, plan):
+        """What a mesh itself is worth a warning for, once per object and mesh (with a rendered instance)."""
+        _, lookup, key, data, layers, from_mesh, noted = plan.known[:7]
+        if noted[0]:
             return
-        # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
-        # for |p|inf <= extent (plain floats: numpy's per-call cost is larger at 4 x 4)
-        a, b, c, x, d, e, f, y, g, h, i, z = flat[:12]
-        linear = max(abs(a) + abs(b) + abs(c), abs(d) + abs(e) + abs(f), abs(g) + abs(h) + abs(i))
-        if not linear * data.extent + max(abs(x), abs(y), abs(z)) <= MAX_COORDINATE:
-            self.invalid[name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
-            return
-        if not noted[0]:        # what the mesh itself is worth a warning for, once
-            noted[0] = True
-            if data.degenerate and from_mesh:
-                # (a NURBS surface's, text's or metaball's tessellation has zero-area triangles at
-                # its poles and seams by design: nothing the user can or should fix)
-                self.degenerate[name] = (data.degenerate, len(data.triangles))
-            if layers[0] is not None and data.uvs is None:
-                self.without_uvs.add(name)
-            if data.missing_uv_layer:
-                self.missing_uv_layers[name] = data.missing_uv_layer
-            if data.missing_color_layer is not None:
-                self.missing_color_layers[name] = data.missing_color_layer
-            if data.non_finite_corners:
-                self.non_finite_corners[name] = data.non_finite_corners
-        self.parts.append((key, data, matrix, lookup))
-        self.part_names.append(names)
+        noted[0] = True
+        name = plan.name
+        if data.degenerate and from_mesh:
+            # (a NURBS surface's, text's or metaball's tessellation has zero-area triangles at
+            # its poles and seams by design: nothing the user can or should fix)
+            self.degenerate[name] = (data.degenerate, len(data.triangles))
+        if layers[0] is not None and data.uvs is None:
+            self.without_uvs.add(name)
+        if data.missing_uv_layer:
+            self.missing_uv_layers[name] = data.missing_uv_layer
+        if data.missing_color_layer is not None:
+            self.missing_color_layers[name] = data.missing_color_layer
+        if data.non_finite_corners:
+            self.non_finite_corners[name] = data.non_finite_corners
 
-    def add_particle_hair(self, inst, render: bool):
-        """The instance's hair particle systems (particle_hair.py) as cones;
-        render: a final render's depsgraph (else the viewport's)."""
-        if not renders(inst, particles=True):
-            return
-        obj = inst.object
+    def _has_hair(self, obj) -> bool:
+        """Whether the object has hair particle systems to render (particle_hair.py), read once per object."""
         memo = object_key(obj)
         if memo not in self._hair:
-            self._hair[memo] = bool(hair_systems(obj, render))
-        if not self._hair[memo]:
-            return
+            self._hair[memo] = bool(hair_systems(obj, self.render))
+        return self._hair[memo]
+
+    def _add_particle_hair(self, inst, obj):
+        """The instance's hair particle systems as cones (its emitter shows them: renders(particles=True))."""
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
             return
@@ -560,7 +653,7 @@ class MeshCollector:
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         names = matte_names(obj)
-        for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, render):
+        for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, self.render):
             self._add_shapes(obj.name, lookup, *found, self.cone_sets, names)
 
     def _add_shapes(self, name, lookup, found, why, non_uniform, sets, names):
@@ -684,32 +777,31 @@ def count_geometry(depsgraph) -> dict:
     per_mesh, triangles, spheres, cylinders, flat, any_normals = {}, 0, 0, 0, [0, 0], False
     vertices = 0
     render = getattr(depsgraph, "mode", "RENDER") == "RENDER"
-    known = {}          # object_key -> (its particle hair's cones, its kind, its mesh's key), read once
+    known = {}          # instance_key -> (particle hair cones, kind or None (not rendered), mesh key)
     for inst in depsgraph.object_instances:
-        obj = inst.object
-        memo = object_key(obj)
+        memo = instance_key(inst)
         facts = known.get(memo)
         if facts is None:
+            obj = inst.object
             kind = obj.type if obj.type in ("POINTCLOUD", "CURVES") else "SPHERE" if as_sphere(obj) else "MESH"
-            facts = known[memo] = [None, kind, (obj.original.name_full, obj.data.as_pointer() if obj.data else 0)]
-        if renders(inst, particles=True):
-            if facts[0] is None:
-                facts[0] = particle_segment_count(obj, render)
-            cylinders += facts[0]
-        if not renders(inst):
-            continue
+            hair = particle_segment_count(obj, render) if renders(inst, particles=True) else 0
+            facts = known[memo] = (hair, kind if renders(inst) else None,
+                                   (obj.original.name_full, obj.data.as_pointer() if obj.data else 0))
+        cylinders += facts[0]
         kind, key = facts[1:]
+        if kind is None:
+            continue
         if kind == "POINTCLOUD":
-            spheres += point_count(obj)
+            spheres += point_count(inst.object)
             continue
         if kind == "CURVES":
-            cylinders += segment_count(obj)
+            cylinders += segment_count(inst.object)
             continue
         if kind == "SPHERE":
             spheres += 1
             continue
         if key not in per_mesh:
-            per_mesh[key] = _mesh_counts(obj)
+            per_mesh[key] = _mesh_counts(inst.object)
         tris, verts, domain = per_mesh[key]
         triangles += tris
         if domain == "FACE":

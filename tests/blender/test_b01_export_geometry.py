@@ -200,3 +200,16 @@ def test_instances_of_sources_hidden_in_renders_are_exported(export):
     assert corners[:, 2].max() < 5.0          # the hidden sources themselves (z = 6 and 9) are not
     if out.expected["carrier"]:               # a carrier whose mesh is empty but instances is no mistake
         assert not any(out.expected["carrier"] in w for w in out.warnings)
+
+
+def test_thousands_of_scattered_instances_are_each_exported_under_their_own_matrix(export):
+    out = export("scatter")
+    assert out.expected["instances"] == 12000
+    assert len(out.triangles) == out.expected["triangles"]
+    used = out.vertices[np.unique(out.triangles)].astype(np.float64)
+    sampled = np.asarray(out.expected["sampled_corners"], np.float64)     # (instances, 8, 3)
+    assert len(sampled) > 100
+    for corners in sampled:
+        near = np.linalg.norm(used[None, :, :] - corners[:, None, :], axis=2).min(axis=1)
+        assert near.max() < 1e-4, "a sampled instance's corners are missing: its matrix went to another"
+    assert not out.warnings or not any("Skipped" in w for w in out.warnings)

@@ -178,11 +178,11 @@ def export_mode(bpy, scenes, streaming, out_dir, opts):
         finally:
             state["returned"] = time.perf_counter()
 
-    def add_instance(self, inst):
+    def add_instance(self, inst, *rest):
         state["added"] += 1
         if state["added"] == opts.get("at", 1000):
             state["deadline"] = time.perf_counter()
-        return real_add(self, inst)
+        return real_add(self, inst, *rest)
 
     def break_requested(engine):
         return (state["deadline"] is not None) or real_break(engine)

@@ -21,6 +21,17 @@ namespace gw {
 
 namespace walk_portable {   // 4 lanes: SSE on x86-64, NEON on aarch64 (GCC vector extensions)
 #include "adaptive_walk.inc"
+// (Out of line, as the AVX2 copy's are: inlined into AdaptiveGrid::closest / occluded,
+// the walk's register saves and stack frame were paid by every ray there, also by the
+// AVX2 walk's and the one-leaf root's.)
+__attribute__((noinline)) bool closest(const AdaptiveGridData& g, const Scene& sc, const Vec3* tv, const RayPre& r,
+                                       Hit& hit, TraceContext& ctx) {
+    return walk<4, false>(g, sc, tv, r, hit, ctx);
+}
+__attribute__((noinline)) bool occluded(const AdaptiveGridData& g, const Scene& sc, const Vec3* tv, const RayPre& r,
+                                        Hit& hit, TraceContext& ctx) {
+    return walk<4, true>(g, sc, tv, r, hit, ctx);
+}
 }  // namespace walk_portable
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
@@ -939,7 +950,7 @@ bool AdaptiveGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
 #ifdef GW_HAVE_AVX2_WALK
     if (width_ == 8) return walk_avx2::closest(g_, *scene_, tv, r, hit, ctx);
 #endif
-    return walk_portable::walk<4, false>(g_, *scene_, tv, r, hit, ctx);
+    return walk_portable::closest(g_, *scene_, tv, r, hit, ctx);
 }
 
 bool AdaptiveGrid::occluded(const RayPre& r, TraceContext& ctx) const {
@@ -953,7 +964,7 @@ bool AdaptiveGrid::occluded(const RayPre& r, TraceContext& ctx) const {
 #ifdef GW_HAVE_AVX2_WALK
     if (width_ == 8) return walk_avx2::occluded(g_, *scene_, tv, r, hit, ctx);
 #endif
-    return walk_portable::walk<4, true>(g_, *scene_, tv, r, hit, ctx);
+    return walk_portable::occluded(g_, *scene_, tv, r, hit, ctx);
 }
 
 }  // namespace gw

@@ -35,7 +35,7 @@ class ExportError(ValueError):
         self.warnings = list(warnings or [])
 
 
-STOP_SECONDS = 0.002   # the export's time between should_stop() calls
+STOP_SECONDS = 2e-4   # the export's time between should_stop() calls
 
 
 class ExportCancelled(Exception):
@@ -49,11 +49,13 @@ class Export:
     viewport restarts only when it changes); kwargs() assembles the arrays."""
 
     def __init__(self, depsgraph, cache: MeshCache | None = None, camera: bool = True, should_stop=None):
-        """should_stop(), if given, is asked before the first object instance and
-        then before each one that comes STOP_SECONDS or more after the last
-        question (it costs microseconds, as much as an instance of a mesh read
-        already); when it says True the export stops with ExportCancelled (a
-        cancel lands within one object's read)."""
+        """should_stop(), if given, is asked before the first object instance, then
+        before each one that comes STOP_SECONDS or more after the last question
+        (it costs a few microseconds, a third of an instance of a mesh read
+        already: every instance after a mesh's first read, every 20th or so of
+        the scattered ones), and before each block of mesh instances that
+        MeshCollector.finish() makes into parts; when it says True the export
+        stops with ExportCancelled (a cancel lands within one object's read)."""
         scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
         self.warnings: list[str] = []
         try:
@@ -86,7 +88,8 @@ class Export:
                     unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(obj.original.name)
             else:
                 self.meshes.add_instance(inst, obj)
-        self.meshes.finish()
+        if not self.meshes.finish(should_stop):
+            raise ExportCancelled()
         self.warnings.extend(f"{label} not rendered: " + ", ".join(f"'{n}'" for n in sorted(names))
                              for label, names in sorted(unrendered.items()))
         self.warnings.extend(_collection_warnings(depsgraph))

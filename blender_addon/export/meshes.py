@@ -374,16 +374,19 @@ ROW_BLOCK = 8192    # mesh instances' matrices gathered as Python rows before th
 
 
 class InstancePlan:
-    """What every instance of one (object, original, data, instancer, show flags) becomes:
-    kind "mesh", "sphere", "shapes", "none" (a mesh without triangles: only its
-    transform is checked) or None (not rendered); known: what
-    MeshCollector._source read (with matte_names() last); name: the object's name in
-    warnings; names: its Cryptomatte names; hair: whether its particle hair renders;
-    index: its place among the mesh plans (-1 for other kinds)."""
-    __slots__ = ("kind", "known", "name", "names", "hair", "index")
+    """What every instance of one instance_key (object, original, data, instancer, show
+    flags) becomes. Set when the plan is made: renders (whether the render shows it),
+    flags (holdout, hidden_from fields), name (the object's name in warnings), hair
+    (whether its particle hair renders). Set at its first instance with a finite matrix
+    (as the export read objects before: none of a skipped object's materials, mesh or
+    warnings): kind ("mesh", "sphere", "shapes" or "none", a mesh without triangles),
+    known (what MeshCollector._source read, with matte_names() last), names (its
+    Cryptomatte names), index (its place among the mesh plans, -1 for other kinds)."""
+    __slots__ = ("renders", "flags", "name", "hair", "kind", "known", "names", "index")
 
-    def __init__(self, kind, known, name, names, hair, index):
-        self.kind, self.known, self.name, self.names, self.hair, self.index = kind, known, name, names, hair, index
+    def __init__(self, renders, flags, name, hair):
+        self.renders, self.flags, self.name, self.hair = renders, flags, name, hair
+        self.kind, self.known, self.names, self.index = None, None, None, -1
 
 
 class MeshCollector:
@@ -426,110 +429,126 @@ class MeshCollector:
         self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
         self._plans = {}           # add_instance's memo -> InstancePlan
         self._mesh_plans = []      # the plans of mesh kind, by InstancePlan.index
-        self._rows, self._row_plans = [], []   # mesh instances' matrices (16 floats) and plan indices since the last block
-        self._blocks = []          # ((K, 4, 4) matrices, (K,) plan indices) of mesh instances, in the order read
+        self._rows, self._row_plans, self._row_seqs = [], [], []   # mesh instances' rows since the last block
+        self._blocks = []          # ((K, 4, 4) matrices, plan indices, instance numbers) of mesh instances, in order
+        self._seq = 0              # add_instance calls so far (the order _skip keeps)
+        self._skip_rank = {}       # object name -> the rank of the reason `invalid` holds
 
     def add_instance(self, inst, obj=None):
         """One entry of depsgraph.object_instances (any type: what is not rendered geometry is
         passed over); obj: its object, if read already (each read makes a new Python object).
 
-        What an instance's object, instancer and visibility decide is worked out once
-        per (object, original, data, instancer, show flags) and kept (`_plan`): Geometry
-        Nodes and particles list tens of thousands of instances of a few of those. A
-        mesh instance then costs its matrix, read into a block of rows; finish() checks
-        the rows all at once and makes the parts."""
+        What an instance's object, instancer and visibility decide is worked out once per
+        instance_key and kept (InstancePlan): Geometry Nodes and particles list tens of
+        thousands of instances of a few of those. A mesh instance then costs its matrix,
+        read as a row into a block; finish() checks the rows' bounds and makes the parts."""
         obj = inst.object if obj is None else obj
         memo = instance_key(inst, obj)
         plan = self._plans.get(memo)
         if plan is None:
             plan = self._plans[memo] = self._plan(inst, obj)
-        if plan.kind == "mesh":
+        self._seq += 1
+        if plan.renders:
             m = inst.matrix_world
-            self._rows.append(m[0][:] + m[1][:] + m[2][:] + m[3][:])
-            self._row_plans.append(plan.index)
-            if len(self._rows) >= ROW_BLOCK:
-                self._flush_rows()
-        elif plan.kind is not None:
-            flat = entries(inst.matrix_world)
-            if not finite(flat):
-                self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
-            elif plan.kind == "shapes":
-                read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
-                lookup = plan.known[1]
-                matrix = np.array(flat, dtype=np.float64).reshape(4, 4)
-                self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, plan.names)
-            elif plan.kind == "sphere":
-                self._add_sphere(obj.name, plan.known[2], flat, plan.known[1], plan.names)
+            row = m[0][:] + m[1][:] + m[2][:] + m[3][:]
+            if not finite(row):
+                self._skip(plan.name, "its transform is not finite (NaN or Inf)")
+            else:
+                if plan.known is None:
+                    self._resolve(plan, obj)
+                if plan.kind == "mesh":
+                    if not plan.known[3].finite:
+                        self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
+                    else:
+                        self._rows.append(row)
+                        self._row_plans.append(plan.index)
+                        self._row_seqs.append(self._seq)
+                        if len(self._rows) >= ROW_BLOCK:
+                            self._flush_rows()
+                elif plan.kind == "shapes":
+                    read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
+                    lookup = plan.known[1]
+                    matrix = np.array(row, dtype=np.float64).reshape(4, 4)
+                    self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, plan.names)
+                elif plan.kind == "sphere":
+                    self._add_sphere(obj.name, plan.known[2], row, plan.known[1], plan.names)
         if plan.hair:
             self._add_particle_hair(inst, obj)
 
-    def _plan(self, inst, obj) -> "InstancePlan":
+    def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
         if inst.is_instance and inst.parent is not None:
             self.instancers.add(inst.parent.name)
         hair = renders(inst, particles=True) and self._has_hair(obj)
         if not renders(inst):
-            return InstancePlan(None, None, obj.name, None, hair, -1)
+            return InstancePlan(False, None, obj.name, hair)
         source = obj.original
         if source.name not in self.visibility_read:   # once per object, not per instance (particles: millions)
             self.visibility_read.add(source.name)
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        flags = self._flags(inst)
-        memo = object_key(obj) + flags
+        return InstancePlan(True, self._flags(inst), obj.name, hair)
+
+    def _resolve(self, plan, obj):
+        """Reads what the plan's object becomes (its materials, mesh or shape), at its first
+        instance with a finite matrix."""
+        memo = object_key(obj) + plan.flags
         known = self._sources.get(memo)
         if known is None:
-            known = self._sources[memo] = (*self._source(obj, flags), matte_names(obj))
-        kind = known[0]
-        plan = InstancePlan(kind, known, obj.name, known[-1], hair, len(self._mesh_plans) if kind == "mesh" else -1)
-        if kind == "mesh":
+            known = self._sources[memo] = (*self._source(obj, plan.flags), matte_names(obj))
+        plan.kind, plan.known, plan.names = known[0], known, known[-1]
+        if plan.kind == "mesh":
+            plan.index = len(self._mesh_plans)
             self._mesh_plans.append(plan)
-        return plan
+
+    def _skip(self, name, why, rank=None):
+        """Names an object in the warnings as skipped, for `why`. Of several reasons for one
+        name, the one met last in the order the instances came is kept (rank: (instance
+        number, 0 for its geometry or 1 for its particle hair); now, by default)."""
+        rank = (self._seq, 0) if rank is None else rank
+        if rank >= self._skip_rank.get(name, (-1, 0)):
+            self._skip_rank[name] = rank
+            self.invalid[name] = why
 
     def _flush_rows(self):
-        """The matrices read since the last flush, as one block of (K, 4, 4) float64 and their plans."""
+        """The matrices read since the last flush, as one block: (K, 4, 4) float64, their
+        plans' indices, their instance numbers."""
         if self._rows:
             self._blocks.append((np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4),
-                                 np.array(self._row_plans, dtype=np.int64)))
-            self._rows, self._row_plans = [], []
+                                 np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)))
+            self._rows, self._row_plans, self._row_seqs = [], [], []
 
-    def finish(self):
-        """Turns the mesh instances read so far into parts, in the order they came: each
-        matrix checked (finite; the mesh's vertices within +-MAX_COORDINATE under it),
-        the ones that fail named in warnings. Called once, after the last add_instance."""
+    def finish(self, should_stop=None) -> bool:
+        """Turns the mesh instances read so far into parts, in the order they came, block by
+        block: each instance whose mesh's vertices lie beyond +-MAX_COORDINATE under its
+        matrix is named in the warnings instead. Called once, after the last add_instance;
+        False when should_stop() said stop (asked before each block)."""
         self._flush_rows()
-        if not self._blocks:
-            return
-        matrices = np.concatenate([b[0] for b in self._blocks])
-        which = np.concatenate([b[1] for b in self._blocks])
-        self._blocks = []
         plans = self._mesh_plans
-        # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
-        # for |p|inf <= extent
-        extent = np.array([p.known[3].extent for p in plans], np.float64)[which]
-        mesh_finite = np.array([p.known[3].finite for p in plans], bool)[which]
-        with np.errstate(invalid="ignore", over="ignore"):
-            finite_rows = np.isfinite(matrices).all(axis=(1, 2))
-            linear = np.abs(matrices[:, :3, :3]).sum(axis=2).max(axis=1)
-            reach = linear * extent + np.abs(matrices[:, :3, 3]).max(axis=1)
-            inside = reach <= MAX_COORDINATE
-        for i in np.flatnonzero(~(finite_rows & mesh_finite & inside)).tolist():
-            name = plans[which[i]].name
-            if not finite_rows[i]:
-                self.invalid[name] = "its transform is not finite (NaN or Inf)"
-            elif not mesh_finite[i]:
-                self.invalid[name] = "its mesh has non-finite vertex coordinates (NaN or Inf)"
-            else:
-                self.invalid[name] = f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space"
-        good = finite_rows & mesh_finite & inside
-        for p in {int(k) for k in np.unique(which[good])}:
-            self._note_mesh(plans[p])
-        for i in np.flatnonzero(good).tolist():
-            plan = plans[which[i]]
-            known = plan.known
-            self.parts.append((known[2], known[3], matrices[i], known[1]))
-            self.part_names.append(plan.names)
+        extents = np.array([p.known[3].extent for p in plans], np.float64)
+        noted = set()
+        blocks, self._blocks = self._blocks, []
+        for matrices, which, seqs in blocks:
+            if should_stop is not None and should_stop():
+                return False
+            # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
+            # for |p|inf <= extent
+            with np.errstate(over="ignore"):
+                linear = np.abs(matrices[:, :3, :3]).sum(axis=2).max(axis=1)
+                inside = linear * extents[which] + np.abs(matrices[:, :3, 3]).max(axis=1) <= MAX_COORDINATE
+            for i, k, seq, ok in zip(range(len(which)), which.tolist(), seqs.tolist(), inside.tolist()):
+                plan = plans[k]
+                if not ok:
+                    self._skip(plan.name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))
+                    continue
+                if k not in noted:
+                    noted.add(k)
+                    self._note_mesh(plan)
+                known = plan.known
+                self.parts.append((known[2], known[3], matrices[i], known[1]))
+                self.part_names.append(plan.names)
+        return True
 
     def _source(self, obj, flags=(False, ())) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
@@ -608,7 +627,7 @@ class MeshCollector:
                   for c in (0, 1, 2)]
         radius = half * max(scales)
         if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in (*centre, radius)):
-            self.invalid[name] = f"its sphere lies outside +-{MAX_COORDINATE:g} or is not finite"
+            self._skip(name, f"its sphere lies outside +-{MAX_COORDINATE:g} or is not finite")
             return
         if max(scales) - min(scales) > 1e-4 * max(scales):
             self.non_uniform_spheres.append(name)
@@ -647,19 +666,20 @@ class MeshCollector:
     def _add_particle_hair(self, inst, obj):
         """The instance's hair particle systems as cones (its emitter shows them: renders(particles=True))."""
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
-            self.invalid[obj.name] = "its transform is not finite (NaN or Inf)"
+            self._skip(obj.name, "its transform is not finite (NaN or Inf)", (self._seq, 1))
             return
         lookup = np.asarray(self.materials.slot_indices(obj, *self._flags(inst)), dtype=np.int32)
         if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         names = matte_names(obj)
         for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, self.render):
-            self._add_shapes(obj.name, lookup, *found, self.cone_sets, names)
+            self._add_shapes(obj.name, lookup, *found, self.cone_sets, names, phase=1)
 
-    def _add_shapes(self, name, lookup, found, why, non_uniform, sets, names):
-        """Keeps a point or cone set read from an object (or why it was skipped)."""
+    def _add_shapes(self, name, lookup, found, why, non_uniform, sets, names, phase=0):
+        """Keeps a point or cone set read from an object (or why it was skipped; phase: 1 for
+        particle hair, as _skip ranks it)."""
         if why is not None:
-            self.invalid[name] = why
+            self._skip(name, why, (self._seq, phase))
         elif len(found):
             sets.append(found)
             self.set_names[id(found)] = names

@@ -190,6 +190,7 @@ def test_nan_transforms_are_skipped_with_a_warning_naming_each_object(results):
     assert results.error("nan_only") == "" and (
         "Warning: Gridwalk: Nothing to render: the scene has no visible object with faces (skipped as invalid: "
         "'NaNCube'): the frame shows the world alone") in results.warnings("nan_only")
+    assert not any("SkippedTranslucent" in w for w in results.warnings("nan_only"))   # its material unread
 
 
 def test_meshes_without_faces_and_with_zero_area_faces(results):

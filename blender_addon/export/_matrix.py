@@ -6,12 +6,6 @@ import numpy as np
 BLOCK = 1 << 15     # vectors transformed per numpy pass over a stack of matrices
 
 
-def entries(matrix) -> list:
-    """A mathutils Matrix's entries, row by row, as one flat list of floats (numpy
-    converts that about 3 times as fast as the rows, which matters at 100,000 instances)."""
-    return [x for row in matrix for x in row]
-
-
 def to_numpy(matrix) -> np.ndarray:
     """A mathutils 4x4 Matrix as a (4, 4) float64 array (rows as in Blender)."""
     rows = tuple(matrix)

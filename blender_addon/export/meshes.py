@@ -42,7 +42,7 @@ import numpy as np
 from gridwalk.mesh_checks import zero_area_count
 
 from .assemble import assemble_triangles
-from ._matrix import entries, finite, to_numpy
+from ._matrix import finite, to_numpy
 from .hair import cone_set, segment_count
 from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
 from .point_clouds import point_count, point_set
@@ -449,31 +449,35 @@ class MeshCollector:
             plan = self._plans[memo] = self._plan(inst, obj)
         self._seq += 1
         if plan.renders:
-            m = inst.matrix_world
-            row = m[0][:] + m[1][:] + m[2][:] + m[3][:]
-            if not finite(row):
-                self._skip(plan.name, "its transform is not finite (NaN or Inf)")
-            else:
-                if plan.known is None:
-                    self._resolve(plan, obj)
-                if plan.kind == "mesh":
-                    if not plan.known[3].finite:
-                        self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
-                    else:
-                        self._rows.append(row)
-                        self._row_plans.append(plan.index)
-                        self._row_seqs.append(self._seq)
-                        if len(self._rows) >= ROW_BLOCK:
-                            self._flush_rows()
-                elif plan.kind == "shapes":
-                    read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
-                    lookup = plan.known[1]
-                    matrix = np.array(row, dtype=np.float64).reshape(4, 4)
-                    self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, plan.names)
-                elif plan.kind == "sphere":
-                    self._add_sphere(obj.name, plan.known[2], row, plan.known[1], plan.names)
+            self._add_geometry(plan, inst, obj)
         if plan.hair:
             self._add_particle_hair(inst, obj)
+
+    def _add_geometry(self, plan, inst, obj):
+        """A rendered instance's own geometry under its matrix: a mesh's row (parts come in
+        finish()), a sphere, or a point or cone set; or why it is skipped."""
+        m = inst.matrix_world
+        row = m[0][:] + m[1][:] + m[2][:] + m[3][:]
+        if not finite(row):
+            self._skip(plan.name, "its transform is not finite (NaN or Inf)")
+            return
+        if plan.known is None:
+            self._resolve(plan, obj)
+        if plan.kind == "sphere":
+            self._add_sphere(obj.name, plan.known[2], row, plan.known[1], plan.names)
+        elif plan.kind == "shapes":
+            read, sets = (point_set, self.point_sets) if obj.type == "POINTCLOUD" else (cone_set, self.cone_sets)
+            lookup = plan.known[1]
+            matrix = np.array(row, dtype=np.float64).reshape(4, 4)
+            self._add_shapes(obj.name, lookup, *read(obj, matrix, lookup, MAX_COORDINATE), sets, plan.names)
+        elif plan.kind == "mesh" and not plan.known[3].finite:
+            self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
+        elif plan.kind == "mesh":
+            self._rows.append(row)
+            self._row_plans.append(plan.index)
+            self._row_seqs.append(self._seq)
+            if len(self._rows) >= ROW_BLOCK:
+                self._flush_rows()
 
     def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
@@ -537,7 +541,7 @@ class MeshCollector:
             with np.errstate(over="ignore"):
                 linear = np.abs(matrices[:, :3, :3]).sum(axis=2).max(axis=1)
                 inside = linear * extents[which] + np.abs(matrices[:, :3, 3]).max(axis=1) <= MAX_COORDINATE
-            for i, k, seq, ok in zip(range(len(which)), which.tolist(), seqs.tolist(), inside.tolist()):
+            for i, (k, seq, ok) in enumerate(zip(which.tolist(), seqs.tolist(), inside.tolist())):
                 plan = plans[k]
                 if not ok:
                     self._skip(plan.name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))

@@ -41,7 +41,7 @@ import numpy as np
 
 from gridwalk.mesh_checks import zero_area_count
 
-from .assemble import assemble_triangles
+from .assemble import assemble_triangles, mirror_flags
 from ._matrix import finite, to_numpy
 from .hair import cone_set, segment_count
 from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
@@ -737,6 +737,7 @@ class MeshCollector:
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
         out, self.layout = assemble_triangles(self.parts, self.cache)
+        out.update(self._instances())
         self.cache.prune(self.used)
         sets = self.point_sets
         out["sphere_centers"] = np.concatenate(
@@ -754,6 +755,23 @@ class MeshCollector:
                        cylinder_apex_radius=joined("apex_radius", -1).astype(np.float32),
                        cylinder_materials=self._shape_materials(joined("materials", -1).astype(np.int32)))
         return out
+
+    def _instances(self) -> dict:
+        """gridwalk.Scene's instance_triangles / instance_meshes / instance_matrices:
+        every part, its mesh the pair (mesh entry, mirrored or not), since the
+        parts of one entry mirrored alike have their corners in one order
+        (assemble.corner_order); none where no entry repeats. After
+        assemble_triangles (self.layout)."""
+        if len(self.parts) < 2:
+            return {}
+        matrices = np.stack([part[2] for part in self.parts]).astype(np.float64, copy=False)
+        ids = {}
+        meshes = np.array([ids.setdefault((part[0], bool(flip)), len(ids))
+                           for part, flip in zip(self.parts, mirror_flags(matrices))], np.int32)
+        if len(ids) == len(self.parts):
+            return {}
+        triangles = np.array([(p.triangle_start, p.triangle_count) for p in self.layout], np.int64)
+        return {"instance_triangles": triangles, "instance_meshes": meshes, "instance_matrices": matrices}
 
     def primitive_names(self, arrays) -> tuple[list, np.ndarray]:
         """(names, index): the distinct (object, asset, pass index) of matte_names()

@@ -3,6 +3,7 @@
 
 #include "adaptive_grid.h"
 #include "brute_force.h"
+#include "instanced_grid.h"
 #include "threads.h"
 #include "uniform_grid.h"
 
@@ -34,6 +35,9 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
         ap.leaf_size = s.leaf_size;
         ap.max_depth = s.grid_levels;
         ap.threads = std::min(resolve_threads(s.threads), resolve_threads(0));   // (no more than the cores)
+        if (s.instancing) {
+            if (auto instanced = InstancedGrid::build(scene, ap, cancel)) return instanced;
+        }
         auto adaptive = std::make_shared<AdaptiveGrid>(scene, ap, cancel);
         if (!adaptive->too_few_spacings()) return adaptive;
         // A 0.2-wide sphere 1e5 from the origin (floats 0.0078 apart there):

@@ -118,6 +118,27 @@ NB_MODULE(_core, m) {
         .def("set_matte_keys", [](Scene& s, In<int32_t> keys, int layers) { s.set_matte_keys(vec(keys), layers); },
              "keys"_a, "layers"_a,
              "Per primitive, its `layers` matte keys (-1 none), row-major; before the scene is used (Scene(matte_keys=...))")
+        .def("set_instances",
+             [](Scene& s, In<int64_t> triangles, In<int32_t> meshes, In<double> matrices) {
+                 const size_t n = meshes.size();
+                 if (triangles.size() != 2 * n || matrices.size() != 16 * n)
+                     throw std::invalid_argument("instances: triangles (I, 2), meshes (I,) and matrices (I, 4, 4) "
+                                                 "must describe the same number of instances");
+                 std::vector<SceneInstance> out(n);
+                 for (size_t i = 0; i < n; ++i) {
+                     const int64_t start = triangles.data()[2 * i], count = triangles.data()[2 * i + 1];
+                     if (start < 0 || count < 0)
+                         throw std::invalid_argument("instances[" + std::to_string(i) +
+                                                     "]: triangle start and count must be >= 0");
+                     out[i].triangle_start = size_t(start);
+                     out[i].triangle_count = size_t(count);
+                     out[i].mesh = meshes.data()[i];
+                     std::copy(matrices.data() + 16 * i, matrices.data() + 16 * (i + 1), &out[i].matrix[0][0]);
+                 }
+                 s.set_instances(std::move(out));
+             },
+             "triangles"_a, "meshes"_a, "matrices"_a,
+             "Declares copies of meshes (Scene(instance_triangles=..., instance_meshes=..., instance_matrices=...))")
         .def("moved",
              [](const Scene& s, std::vector<size_t> vertex_starts, std::vector<size_t> triangle_starts,
                 std::vector<size_t> triangle_counts, std::vector<In<float>> positions, std::vector<In<float>> normals,

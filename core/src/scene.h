@@ -54,6 +54,18 @@ struct SceneAncestor {
     std::vector<InstanceDelta> moved;   // disjoint, by triangle_start
 };
 constexpr size_t kMaxAncestors = 16;
+
+// Copies of one mesh, as the host declares them (Scene::set_instances):
+// triangles [triangle_start, triangle_start + triangle_count) are mesh `mesh`
+// placed by `matrix` (object to world, rows as in Blender), corner for corner
+// the triangles of the mesh's first instance under matrix x (its matrix)^-1.
+// The instanced grid (instanced_grid.h) traces such copies through one grid
+// of the mesh, after checking that claim on their corners.
+struct SceneInstance {
+    size_t triangle_start = 0, triangle_count = 0;
+    int32_t mesh = 0;
+    double matrix[4][4] = {};
+};
 constexpr size_t kMaxMovedInstances = 8;   // an ancestor with more instances moved since is forgotten
 
 class Scene {
@@ -81,6 +93,18 @@ public:
     // the move when it does not fit the scene (ranges, shapes, a triangle
     // outside the move using its vertices, coordinates beyond +-1e30).
     std::shared_ptr<Scene> moved(const std::vector<RigidMove>& moves) const;
+
+    // Declares the scene's instances (SceneInstance), before the scene is
+    // shared. Throws std::invalid_argument naming the first bad one: a range
+    // beyond the triangles or overlapping another, a non-finite matrix, a
+    // negative mesh. A moved copy (moved()) has none.
+    void set_instances(std::vector<SceneInstance> instances);
+    const std::vector<SceneInstance>& instances() const { return instances_; }
+    // A scene of the primitives `prims` alone (ascending global indices): its
+    // primitive i is prims[i]. Geometry only (one default material; no
+    // lights, camera or textures): what a structure over part of this scene
+    // is built over and walks.
+    std::shared_ptr<const Scene> part(const std::vector<uint32_t>& prims) const;
 
     // The triangle arrays as they were given (or moved), for checks.
     struct Geometry {
@@ -273,6 +297,9 @@ private:
     Bounds bounds_;
     uint64_t id_ = next_id();
     std::vector<SceneAncestor> ancestors_;
+    std::vector<SceneInstance> instances_;   // set_instances
+    struct PartTag {};
+    explicit Scene(PartTag) {}   // part()
     static uint64_t next_id();
 
     // The texture at a hit whose UV map gives (u, v) (hit_uv).

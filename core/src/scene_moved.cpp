@@ -134,6 +134,7 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     auto out = std::make_shared<Scene>(*this);
     out->id_ = next_id();
     out->ancestors_ = ancestors_after(moves);
+    out->instances_.clear();   // (a moved instance is no longer where its matrix says)
     for (size_t i = 0; i < moves.size(); ++i) {
         out->apply(moves[i], i);
         out->update_tangents(moves[i].triangle_start, moves[i].triangle_count);

@@ -8,6 +8,7 @@ namespace gw {
 
 struct TraceContext {
     Mailbox mailbox;
+    Mailbox copies;   // the instanced grid's: copies this ray already walked (instanced_grid.h)
     Stats stats;
     bool skip_empty = true;   // grid: jump across blocks of empty cells (empty_space.h)
 };

@@ -146,13 +146,37 @@ def structure_key(settings: RenderSettings) -> tuple:
     return tuple(getattr(settings, name) for name in _STRUCTURE_SETTINGS)
 
 
-_STRUCTURE_SETTINGS = tuple(x.name for x in SCHEMA if x.group == "acceleration" and x.kind != "bool")
+# The acceleration group's on/off switches of the walk, not of the structure.
+_TRAVERSAL_SWITCHES = ("mailboxes", "skip_empty")
+_STRUCTURE_SETTINGS = tuple(x.name for x in SCHEMA if x.group == "acceleration" and x.name not in _TRAVERSAL_SWITCHES)
 
 
 # The keywords Scene.intersect / occluded took before they took a RenderSettings.
 DEPRECATED_QUERY_KEYWORDS = ("accel", "grid_density", "mailboxes", "threads", "skip_empty")
 
 KIND_MISS, KIND_TRIANGLE, KIND_SPHERE, KIND_CYLINDER = 0, 1, 2, 3
+
+
+def _declare_instances(native, triangles, meshes, matrices):
+    """Scene(instance_triangles=..., instance_meshes=..., instance_matrices=...)."""
+    given = [x is not None for x in (triangles, meshes, matrices)]
+    if not any(given):
+        return
+    if not all(given):
+        raise ValueError("instance_triangles, instance_meshes and instance_matrices come together (all three or none)")
+    ranges = np.asarray(triangles)
+    if ranges.ndim != 2 or ranges.shape[1] != 2 or not np.issubdtype(ranges.dtype, np.integer):
+        raise ValueError(f"instance_triangles must be an (I, 2) integer array, got shape {ranges.shape} of {ranges.dtype}")
+    ids = np.asarray(meshes)
+    if ids.shape != (len(ranges),) or not np.issubdtype(ids.dtype, np.integer):
+        raise ValueError(f"instance_meshes must be an ({len(ranges)},) integer array, got shape {ids.shape} of {ids.dtype}")
+    if len(ids) and (ids.min() < 0 or ids.max() > np.iinfo(np.int32).max):
+        raise ValueError("instance_meshes must lie in [0, 2^31)")
+    m = np.asarray(matrices, dtype=np.float64)
+    if m.shape != (len(ranges), 4, 4):
+        raise ValueError(f"instance_matrices must have shape ({len(ranges)}, 4, 4), got {m.shape}")
+    native.set_instances(np.ascontiguousarray(ranges, dtype=np.int64), np.ascontiguousarray(ids, dtype=np.int32),
+                         np.ascontiguousarray(m))
 
 
 class Scene:
@@ -164,7 +188,8 @@ class Scene:
                  cylinder_apex_radius=None, cylinder_materials=None,
                  materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0),
                  uvs=None, colors=None, images=None, textures=None, world=None, generated=None,
-                 object_coords=None, matte_keys=None):
+                 object_coords=None, matte_keys=None, instance_triangles=None, instance_meshes=None,
+                 instance_matrices=None):
         """uvs: (M, 3, 2) texture coordinates per triangle corner; colors:
         (M, 3, 3) RGB per triangle corner (Material.vertex_color); generated:
         (M, 3, 3) Blender's Generated coordinates per triangle corner, what
@@ -181,7 +206,15 @@ class Scene:
         (say its object's and its material's): a render with
         RenderSettings.matte_ranks > 0 reports, per layer, which keys cover
         each pixel and how much (RenderJob.matte_keys / matte_coverage):
-        Cryptomatte's object and material mattes."""
+        Cryptomatte's object and material mattes. instance_triangles (I, 2)
+        int (first triangle, count), instance_meshes (I,) int and
+        instance_matrices (I, 4, 4) float (object to world, rows as in
+        Blender), all three or none: triangles that are copies of one mesh
+        (equal instance_meshes), each the mesh under its matrix, corner for
+        corner in the same order as the mesh's first copy; the adaptive grid
+        then traces the copies through one grid of the mesh
+        (RenderSettings.instancing). Each copy is checked against the first
+        on its corners; one that does not match is traced as plain triangles."""
         f32, i32 = np.float32, np.int32
         self.materials = list(materials) if materials else [Material()]
         self.lights = list(lights) if lights else []
@@ -219,6 +252,7 @@ class Scene:
             layers = keys.shape[1] if keys.ndim == 2 else 1
             self._native.set_matte_keys(_array(keys.reshape(-1) if keys.ndim == 2 else keys, "matte_keys", i32, 0),
                                         layers)
+        _declare_instances(self._native, instance_triangles, instance_meshes, instance_matrices)
         self._accels = {}
 
     def moved(self, moves) -> "Scene":

@@ -1,0 +1,357 @@
+// See instanced_grid.h.
+#include "instanced_grid.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "bounds.h"
+#include "dda.h"
+
+namespace gw {
+
+namespace {
+
+// A copy's map may scale by at most this either way: the walks assume
+// directions within 2^+-64 (dda.h), and the mapped ray's rounding grows with
+// the scale (as for MovedGrid).
+constexpr double kMaxScale = 0x1p20;
+// How far a copy's corners may lie from its mesh's first copy's under the
+// map, relative to their magnitudes: a few float roundings of each
+// (the host rounds both to float), far below any real difference of shape.
+constexpr double kCornerTolerance = 0x1p-18;
+// Cells of the grid over the copies, per copy, and the caps on its cells and
+// references (its resolution is lowered past them).
+constexpr double kCellsPerCopy = 2.0;
+constexpr uint64_t kMaxTopCells = uint64_t(1) << 22, kMaxTopRefs = uint64_t(1) << 26;
+
+double magnitude(const Vec3d& v) { return std::max(std::max(std::abs(v.x), std::abs(v.y)), std::abs(v.z)); }
+
+// Whether triangles [start, start + count) are, corner for corner, triangles
+// [mesh_start, ...) moved by `to_mesh`'s inverse (to_mesh maps them onto those).
+bool is_copy(const Vec3* tv, size_t start, size_t mesh_start, size_t count, const Affine& to_mesh,
+             const CancelToken* cancel, uint64_t& step) {
+    const double scale = to_mesh.norm();
+    for (size_t k = 0; k < 3 * count; ++k) {
+        check_cancel(cancel, step);
+        const Vec3d here(tv[3 * start + k]), there(tv[3 * mesh_start + k]);
+        const Vec3d mapped = to_mesh.point(here);
+        const double tol = kCornerTolerance * (magnitude(there) + scale * magnitude(here) +
+                                               std::max(std::abs(to_mesh.m[0][3]), std::max(std::abs(to_mesh.m[1][3]),
+                                                                                            std::abs(to_mesh.m[2][3])))) +
+                           1e-30;
+        if (!(magnitude(mapped - there) <= tol)) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,
+                                                  const CancelToken* cancel) {
+    const auto t_start = std::chrono::steady_clock::now();
+    const std::vector<SceneInstance>& declared = scene->instances();
+    if (declared.size() < 2) return nullptr;
+    std::shared_ptr<InstancedGrid> g(new InstancedGrid(scene));
+    const Vec3* tv = scene->triangle_vertices();
+    uint64_t step = 0;
+
+    // Each mesh's first copy (in declaration order) stays in the rest; the
+    // others that check out become copies.
+    std::vector<int64_t> first_of;   // per declared mesh id: index into declared, or -1
+    std::vector<int32_t> grid_of;    // per declared mesh id: index into meshes_, or -1
+    size_t copied = 0, refused = 0;
+    for (size_t i = 0; i < declared.size(); ++i) {
+        const SceneInstance& in = declared[i];
+        if (in.triangle_count == 0) continue;
+        const size_t m = size_t(in.mesh);
+        if (m >= first_of.size()) {
+            first_of.resize(m + 1, -1);
+            grid_of.resize(m + 1, -1);
+        }
+        if (first_of[m] < 0) {
+            first_of[m] = int64_t(i);
+            continue;
+        }
+        const SceneInstance& first = declared[size_t(first_of[m])];
+        Affine back, to_mesh, inv;
+        bool ok = first.triangle_count == in.triangle_count && Affine::from_rows(in.matrix).inverse(back);
+        if (ok) {
+            to_mesh = Affine::from_rows(first.matrix).after(back);
+            ok = to_mesh.inverse(inv) && to_mesh.norm() <= kMaxScale && inv.norm() <= kMaxScale &&
+                 is_copy(tv, in.triangle_start, first.triangle_start, in.triangle_count, to_mesh, cancel, step);
+        }
+        if (!ok) {
+            ++refused;
+            continue;
+        }
+        Copy c;
+        c.start = uint32_t(in.triangle_start);
+        c.count = uint32_t(in.triangle_count);
+        c.mesh_start = uint32_t(first.triangle_start);
+        c.to_mesh = to_mesh;
+        c.scale = to_mesh.norm();
+        if (grid_of[m] < 0) grid_of[m] = int32_t(g->meshes_.size()), g->meshes_.push_back(nullptr);
+        c.mesh = uint32_t(grid_of[m]);
+        g->copies_.push_back(c);
+        copied += in.triangle_count;
+    }
+    if (2 * copied < scene->num_prims()) return nullptr;
+
+    // The rest: every primitive outside the copies.
+    {
+        std::vector<std::pair<uint32_t, uint32_t>> ranges;
+        for (const Copy& c : g->copies_) ranges.emplace_back(c.start, c.start + c.count);
+        std::sort(ranges.begin(), ranges.end());
+        g->rest_ids_.reserve(scene->num_prims() - copied);
+        uint32_t at = 0;
+        for (const auto& r : ranges) {
+            for (; at < r.first; ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
+            at = r.second;
+        }
+        for (; at < scene->num_prims(); ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
+    }
+    AccelInfo sum;
+    auto add = [&](const AdaptiveGrid& a) {
+        sum.grids += a.info().grids;
+        sum.cells += a.info().cells;
+        sum.refs += a.info().refs;
+        sum.bytes += a.info().bytes;
+    };
+    if (!g->rest_ids_.empty()) {
+        auto rest = std::make_shared<AdaptiveGrid>(scene->part(g->rest_ids_), p, cancel);
+        if (rest->too_few_spacings()) return nullptr;
+        add(*rest);
+        sum.build_threads = rest->info().build_threads;
+        g->rest_ = std::move(rest);
+    }
+    // Each copied mesh's grid, over its first copy's triangles.
+    for (size_t m = 0; m < grid_of.size(); ++m) {
+        if (grid_of[m] < 0) continue;
+        const SceneInstance& first = declared[size_t(first_of[m])];
+        std::vector<uint32_t> ids(first.triangle_count);
+        for (size_t k = 0; k < ids.size(); ++k) ids[k] = uint32_t(first.triangle_start + k);
+        AdaptiveParams mp = p;
+        mp.threads = 1;   // (small grids, one after another)
+        auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids), mp, cancel);
+        if (grid->too_few_spacings()) return nullptr;
+        add(*grid);
+        g->meshes_[size_t(grid_of[m])] = std::move(grid);
+    }
+
+    // The copies' boxes: their own triangles' bounds, padded by the map's
+    // rounding (a hit is the first copy's triangle mapped back, which may lie
+    // beside the copy's own by that much) and as the grids pad their boxes.
+    Bounds all;
+    for (Copy& c : g->copies_) {
+        Bounds b;
+        for (size_t k = 3 * size_t(c.start); k < 3 * (size_t(c.start) + c.count); ++k) b.grow(tv[k]);
+        check_cancel(cancel, step, 3 * uint64_t(c.count));
+        double lo[3], hi[3];
+        padded_box(b, lo, hi);
+        const double mag = std::max(magnitude(Vec3d(b.lo)), magnitude(Vec3d(b.hi)));
+        for (int a = 0; a < 3; ++a) {
+            const double pad = 4 * kCornerTolerance * mag;
+            c.lo[a] = next_down(float(lo[a] - pad));
+            c.hi[a] = next_up(float(hi[a] + pad));
+        }
+        all.grow(c.lo);
+        all.grow(c.hi);
+    }
+    g->lo_ = all.lo;
+    g->hi_ = all.hi;
+
+    // The grid over them: cells as cubic as the box allows, about
+    // kCellsPerCopy per copy, fewer past the caps.
+    double ext[3], maxext = 0;
+    for (int a = 0; a < 3; ++a) maxext = std::max(maxext, ext[a] = double(all.hi[a]) - double(all.lo[a]));
+    double wanted = std::min(kCellsPerCopy * double(g->copies_.size()), double(kMaxTopCells));
+    for (;;) {
+        int k = 0;
+        double vol = 1;
+        for (int a = 0; a < 3; ++a)
+            if (ext[a] > 1e-4 * maxext) ++k, vol *= ext[a];
+        const double side = k ? std::pow(vol / std::max(wanted, 1.0), 1.0 / k) : 1.0;
+        for (int a = 0; a < 3; ++a) {
+            g->n_[a] = ext[a] > 1e-4 * maxext && side > 0
+                           ? int(std::min(std::max(std::floor(ext[a] / side + 0.5), 1.0), 1024.0))
+                           : 1;
+            g->cell_[a] = ext[a] > 0 ? ext[a] / g->n_[a] : 1.0;
+            g->inv_cell_[a] = 1.0 / g->cell_[a];
+        }
+        uint64_t refs = 0;
+        for (const Copy& c : g->copies_) {
+            int c0[3], c1[3];
+            g->cell_range(c, c0, c1);
+            refs += uint64_t(c1[0] - c0[0] + 1) * uint64_t(c1[1] - c0[1] + 1) * uint64_t(c1[2] - c0[2] + 1);
+        }
+        if (refs <= kMaxTopRefs || wanted <= 1) break;
+        wanted = std::floor(wanted / 2);
+    }
+    const uint64_t cells = uint64_t(g->n_[0]) * uint64_t(g->n_[1]) * uint64_t(g->n_[2]);
+    g->first_.assign(cells + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            for (uint64_t c = 0; c < cells; ++c) g->first_[c + 1] += g->first_[c];
+            g->ids_.resize(g->first_[cells]);
+        }
+        std::vector<uint32_t> fill;
+        if (pass == 1) fill.assign(g->first_.begin(), g->first_.end() - 1);
+        for (uint32_t i = 0; i < g->copies_.size(); ++i) {
+            int c0[3], c1[3];
+            g->cell_range(g->copies_[i], c0, c1);
+            for (int z = c0[2]; z <= c1[2]; ++z)
+                for (int y = c0[1]; y <= c1[1]; ++y)
+                    for (int x = c0[0]; x <= c1[0]; ++x) {
+                        check_cancel(cancel, step);
+                        const uint64_t c = (uint64_t(z) * uint64_t(g->n_[1]) + uint64_t(y)) * uint64_t(g->n_[0]) + uint64_t(x);
+                        if (pass == 0) ++g->first_[c + 1];
+                        else g->ids_[fill[c]++] = i;
+                    }
+        }
+    }
+
+    AccelInfo& info = g->info_;
+    info.kind = "instanced adaptive grid";
+    for (int a = 0; a < 3; ++a) info.n[a] = g->n_[a];
+    info.grids = sum.grids + 1;
+    info.cells = sum.cells + cells;
+    info.refs = sum.refs + g->ids_.size();
+    info.bytes = sum.bytes + (g->first_.size() + g->ids_.size() + g->rest_ids_.size()) * sizeof(uint32_t) +
+                 g->copies_.size() * sizeof(Copy);
+    info.build_threads = std::max(sum.build_threads, 1);
+    info.density_requested = p.root_density;
+    info.density_used = p.root_density;
+    info.note = std::to_string(g->copies_.size()) + " copies of " + std::to_string(g->meshes_.size()) +
+                " meshes traced through one grid per mesh, placed by a grid over their boxes";
+    if (refused)
+        info.note += "; " + std::to_string(refused) +
+                     " declared instances did not match their mesh's first instance and are traced as triangles";
+    info.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return g;
+}
+
+void InstancedGrid::cell_range(const Copy& c, int c0[3], int c1[3]) const {
+    for (int a = 0; a < 3; ++a) {
+        const double l = (double(c.lo[a]) - double(lo_[a])) * inv_cell_[a];
+        const double h = (double(c.hi[a]) - double(lo_[a])) * inv_cell_[a];
+        c0[a] = std::min(std::max(int(std::floor(l)), 0), n_[a] - 1);
+        c1[a] = std::min(std::max(int(std::floor(h)), 0), n_[a] - 1);
+    }
+}
+
+RayPre InstancedGrid::to_mesh(const RayPre& r, const Copy& c) const {
+    Ray ray = r.ray;
+    const Vec3d o = c.to_mesh.point(Vec3d(ray.o)), d = c.to_mesh.vector(Vec3d(ray.d));
+    ray.o = Vec3(float(o.x), float(o.y), float(o.z));
+    ray.d = Vec3(float(d.x), float(d.y), float(d.z));
+    if (ray.spawned) {
+        // A ray leaving a surface starts a few ulps off it; mapped and rounded
+        // again, and met by the first copy's triangle (rounded elsewhere), the
+        // start may fall on the other side: skip the rounding of both places
+        // along the ray, as MovedGrid does (moved_grid.cpp).
+        const double here = magnitude(Vec3d(r.ray.o));
+        const double err = 64.0 * 0x1p-23 * (magnitude(o) + c.scale * here);
+        const double len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+        if (len > 0) ray.tmin = std::max(ray.tmin, float(err / len));
+    }
+    return RayPre(ray);
+}
+
+template <bool kAny>
+bool InstancedGrid::test_copy(uint32_t i, const RayPre& r, const DdaRay& w, Hit& hit, TraceContext& ctx) const {
+    const Copy& c = copies_[i];
+    double t0 = r.ray.tmin, t1 = reach(hit.t);
+    if (!w.clip(c.lo, c.hi, r.ray, t0, t1)) return false;
+    const RayPre m = to_mesh(r, c);
+    const AdaptiveGrid& grid = *meshes_[c.mesh];
+    if (kAny) return grid.occluded(m, ctx);
+    // The mesh grid's triangle k is this copy's c.start + k; a hit at the same
+    // t goes to the lower index (Scene::intersect_with): the local hit's index
+    // is the count of this copy's triangles below the current one.
+    Hit local = hit;
+    local.prim = hit.prim < int32_t(c.start) ? 0 : int32_t(std::min<uint32_t>(uint32_t(hit.prim) - c.start, c.count));
+    if (!grid.closest(m, local, ctx)) return false;
+    hit.t = local.t;
+    hit.u = local.u;
+    hit.v = local.v;
+    hit.prim = int32_t(c.start + uint32_t(local.prim));
+    return true;
+}
+
+template <bool kAny>
+bool InstancedGrid::walk(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    if (!r.valid) return false;
+    const Ray& ray = r.ray;
+    const DdaRay w(ray);
+    double t0 = ray.tmin, t1 = reach(hit.t);
+    if (!w.clip(lo_, hi_, ray, t0, t1)) return false;
+    ctx.copies.resize(copies_.size());
+    ctx.copies.next_ray();
+    int cell[3], step[3];
+    double next[3], delta[3];
+    for (int a = 0; a < 3; ++a) {
+        const double x = (w.o[a] + t0 * double(w.dir[a]) - double(lo_[a])) * inv_cell_[a];
+        cell[a] = std::min(std::max(int(std::floor(x)), 0), n_[a] - 1);
+        if (w.dir[a] > 0) {
+            step[a] = 1;
+            next[a] = (double(lo_[a]) + (cell[a] + 1) * cell_[a] - w.o[a]) * w.inv[a];
+            delta[a] = cell_[a] * w.inv[a];
+        } else if (w.dir[a] < 0) {
+            step[a] = -1;
+            next[a] = (double(lo_[a]) + cell[a] * cell_[a] - w.o[a]) * w.inv[a];
+            delta[a] = -cell_[a] * w.inv[a];
+        } else {
+            step[a] = 0;
+            next[a] = delta[a] = kInf;
+        }
+    }
+    bool found = false;
+    for (;;) {
+        ++ctx.stats.cells;
+        const uint64_t c = (uint64_t(cell[2]) * uint64_t(n_[1]) + uint64_t(cell[1])) * uint64_t(n_[0]) + uint64_t(cell[0]);
+        for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
+            const uint32_t i = ids_[k];
+            if (ctx.copies.seen(i)) continue;
+            if (test_copy<kAny>(i, r, w, hit, ctx)) {
+                if (kAny) return true;
+                found = true;
+            }
+        }
+        const int axis = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+        const double exit = next[axis];
+        if (exit >= t1 || exit >= reach(hit.t)) break;   // the ray's part (or its nearest hit) ends in this cell
+        cell[axis] += step[axis];
+        if (cell[axis] < 0 || cell[axis] >= n_[axis]) break;
+        next[axis] += delta[axis];
+    }
+    return found;
+}
+
+bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
+    bool found = false;
+    if (rest_) {
+        // The rest's primitive k is rest_ids_[k]; as in test_copy, the local
+        // hit's index is the count of the rest's primitives below the current one.
+        Hit local = hit;
+        local.prim = hit.prim < 0 ? 0
+                                  : int32_t(std::lower_bound(rest_ids_.begin(), rest_ids_.end(), uint32_t(hit.prim)) -
+                                            rest_ids_.begin());
+        if (rest_->closest(r, local, ctx)) {
+            hit = local;
+            hit.prim = int32_t(rest_ids_[size_t(local.prim)]);
+            found = true;
+        }
+    }
+    return walk<false>(r, hit, ctx) || found;
+}
+
+bool InstancedGrid::occluded(const RayPre& r, TraceContext& ctx) const {
+    if (rest_ && rest_->occluded(r, ctx)) return true;
+    Hit hit;
+    hit.t = r.ray.tmax;
+    return walk<true>(r, hit, ctx);
+}
+
+}  // namespace gw

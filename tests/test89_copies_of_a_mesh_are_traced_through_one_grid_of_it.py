@@ -1,0 +1,228 @@
+"""The instanced grid (core/src/instanced_grid.h): copies of a mesh declared
+with Scene(instance_triangles=, instance_meshes=, instance_matrices=) are
+traced through one grid of the mesh, placed by a grid over the copies, and
+find the hits the flat grid finds over every copy's triangles."""
+import numpy as np
+import pytest
+
+import gridwalk as gw
+from meshes import icosphere, random_rays
+
+INSTANCED, FLAT = gw.RenderSettings(threads=2), gw.RenderSettings(threads=2, instancing=False)
+
+
+def rotation(rng):
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+
+def scattered(n=400, seed=1, mirrored_every=3, extent=20.0):
+    """n copies of an 80-triangle icosphere on a floor (every `mirrored_every`-th one
+    mirrored, its corners reversed as Blender's exporter reverses them), turned and
+    scaled at random, plus a sphere primitive; the scene's kwargs."""
+    rng = np.random.default_rng(seed)
+    mesh_v, mesh_t = icosphere(1, dtype=np.float64)
+    verts, tris, ranges, meshes, matrices = [], [], [], [], []
+    for i in range(n):
+        m = np.eye(4)
+        size = rng.uniform(0.2, 0.8)
+        m[:3, :3] = rotation(rng) * size
+        mirrored = mirrored_every and i % mirrored_every == 0
+        if mirrored:
+            m[:3, 0] *= -1
+        m[:3, 3] = [rng.uniform(-extent, extent), rng.uniform(-extent, extent), size]
+        ranges.append((i * len(mesh_t), len(mesh_t)))
+        tris.append((mesh_t[:, ::-1] if mirrored else mesh_t) + i * len(mesh_v))
+        verts.append((mesh_v @ m[:3, :3].T + m[:3, 3]).astype(np.float32))
+        meshes.append(int(mirrored))
+        matrices.append(m)
+    k = n * len(mesh_v)
+    e = 1.5 * extent
+    floor = np.array([[-e, -e, 0], [e, -e, 0], [e, e, 0], [-e, e, 0]], np.float32)
+    return dict(vertices=np.concatenate(verts + [floor]),
+                triangles=np.concatenate(tris + [np.array([[k, k + 1, k + 2], [k, k + 2, k + 3]], np.int32)]),
+                sphere_centers=[[0.5, 0.5, 2.0]], sphere_radii=[0.7],
+                instance_triangles=np.array(ranges), instance_meshes=np.array(meshes),
+                instance_matrices=np.array(matrices))
+
+
+def rays(n=60000, seed=2, extent=20.0):
+    o, d = random_rays(n, (-extent, -extent, 0.0), (extent, extent, 3.0), seed=seed)
+    return o, d
+
+
+def test_copies_find_the_hits_of_the_flat_grid_and_of_brute_force():
+    scene = gw.Scene(**scattered())
+    info = scene.grid_info(INSTANCED)
+    assert info["kind"] == "instanced adaptive grid"
+    assert info["note"].startswith("398 copies of 2 meshes")          # each mesh's first copy stays in the rest
+    assert "did not match" not in info["note"]
+    assert scene.grid_info(FLAT)["kind"] == "adaptive grid"
+    o, d = rays()
+    a, b = scene.intersect(o, d, settings=INSTANCED), scene.intersect(o, d, settings=FLAT)
+    brute = scene.intersect(o, d, settings=gw.RenderSettings(accel="none"))
+    assert np.array_equal(b.prim, brute.prim) and np.array_equal(b.kind, brute.kind)
+    hits = a.kind > 0
+    assert 0.3 < hits.mean() < 0.99
+    same = (a.prim == b.prim) & (a.kind == b.kind)
+    # Copies are met as their mesh's first copy moved into their place: the same
+    # triangle, except where float rounding decides between two (an edge, two
+    # copies touching), and the hit point to within 1e-5 of the scene's size (20;
+    # unit directions): a few float spacings there, more along grazing rays.
+    assert same.mean() > 0.9995, f"{(~same).sum()} rays hit another primitive"
+    both = same & hits
+    np.testing.assert_allclose(a.t[both], b.t[both], rtol=0, atol=2e-4)
+    assert np.median(np.abs(a.t[both] - b.t[both])) < 2e-6
+    assert np.percentile(np.abs(a.u[both] - b.u[both]) + np.abs(a.v[both] - b.v[both]), 99.9) < 1e-3
+    on_copies = both & (a.kind == 1) & (a.prim >= 80) & (a.prim < 400 * 80)
+    assert on_copies.sum() > 1000                 # (the copies are really hit)
+    far = np.full(len(o), 1.5, np.float32)
+    occ_a = scene.occluded(o, d, tmax=far, settings=INSTANCED)
+    occ_b = scene.occluded(o, d, tmax=far, settings=FLAT)
+    assert 0.05 < occ_b.mean() < 0.95
+    assert (occ_a != occ_b).sum() <= 3
+
+
+def test_the_instanced_grid_is_much_smaller_and_faster_to_build():
+    scene = gw.Scene(**scattered(n=3000))
+    inst, flat = scene.grid_info(INSTANCED), scene.grid_info(FLAT)
+    assert inst["kind"] == "instanced adaptive grid"
+    assert inst["bytes"] < flat["bytes"] / 4, (inst["bytes"], flat["bytes"])
+
+
+def test_copies_that_coincide_give_the_hit_to_the_lower_index_as_the_flat_grid_does():
+    # Two copies of one mesh in the same place: every hit is at the same t in both;
+    # the flat grid and brute force report the first (Scene::intersect_with's rule).
+    kw = scattered(n=4, mirrored_every=0)
+    v, t = kw["vertices"], kw["triangles"]
+    copy = v[:42].copy()
+    k = len(v)
+    kw["vertices"] = np.concatenate([v, copy])
+    kw["triangles"] = np.concatenate([t, t[:80] - t[:80].min() + k])
+    kw["instance_triangles"] = np.concatenate([kw["instance_triangles"], [[len(t), 80]]])
+    kw["instance_meshes"] = np.append(kw["instance_meshes"], 0)
+    kw["instance_matrices"] = np.concatenate([kw["instance_matrices"], kw["instance_matrices"][:1]])
+    scene = gw.Scene(**kw)
+    target = v[:42].mean(axis=0)
+    rng = np.random.default_rng(5)
+    o = (target + rng.normal(0, 1, (2000, 3)) * 3 + [0, 0, 3]).astype(np.float32)
+    d = (target - o + rng.normal(0, 0.2, (2000, 3))).astype(np.float32)
+    for settings in (INSTANCED, FLAT, gw.RenderSettings(accel="none")):
+        h = scene.intersect(o, d, settings=settings)
+        on_it = (h.kind == 1) & (h.prim < 80)
+        assert on_it.mean() > 0.5
+        assert not np.any((h.kind == 1) & (h.prim >= len(t)))     # never the later, coinciding copy
+    assert scene.grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
+
+
+def test_a_declared_copy_that_does_not_match_its_mesh_is_traced_as_its_own_triangles():
+    kw = scattered(n=200)
+    bent = 5                                           # instance 5: one corner moved by 0.05
+    first = kw["triangles"][bent * 80, 0]
+    kw["vertices"] = kw["vertices"].copy()
+    kw["vertices"][first] += np.float32(0.05)
+    scene = gw.Scene(**kw)
+    info = scene.grid_info(INSTANCED)
+    assert info["kind"] == "instanced adaptive grid"
+    assert "1 declared instances did not match" in info["note"]
+    # Rays at the moved corner find what brute force finds there, to the bit.
+    corner = kw["vertices"][first]
+    rng = np.random.default_rng(3)
+    o = (corner + rng.normal(0, 0.3, (3000, 3)) + [0, 0, 2]).astype(np.float32)
+    d = (corner + rng.normal(0, 0.05, (3000, 3)) - o).astype(np.float32)
+    a = scene.intersect(o, d, settings=INSTANCED)
+    brute = scene.intersect(o, d, settings=gw.RenderSettings(accel="none"))
+    own = (brute.kind == 1) & (brute.prim >= bent * 80) & (brute.prim < (bent + 1) * 80)
+    assert own.sum() > 300
+    assert np.array_equal(a.prim[own], brute.prim[own]) and np.array_equal(a.t[own], brute.t[own])
+
+
+def test_a_wrong_matrix_is_refused_not_trusted():
+    kw = scattered(n=200)
+    kw["instance_matrices"] = kw["instance_matrices"].copy()
+    kw["instance_matrices"][7, 0, 3] += 0.5            # declared half a unit away from where it is
+    scene = gw.Scene(**kw)
+    assert "1 declared instances did not match" in scene.grid_info(INSTANCED)["note"]
+
+
+def test_a_few_copies_keep_the_flat_grid():
+    # Copies that make less than half of the primitives do not pay for a second level.
+    kw = scattered(n=4, mirrored_every=0)
+    v, t = kw["vertices"], kw["triangles"]
+    big_v, big_t = icosphere(4, radius=3.0, center=(0, 0, 10))
+    kw["vertices"] = np.concatenate([v, big_v])
+    kw["triangles"] = np.concatenate([t, big_t + len(v)])
+    scene = gw.Scene(**kw)
+    assert scene.grid_info(INSTANCED)["kind"] == "adaptive grid"
+
+
+def test_spawned_rays_leave_a_copy_without_meeting_it_again():
+    scene = gw.Scene(**scattered())
+    o, d = rays(seed=7)
+    h = scene.intersect(o, d, settings=INSTANCED)
+    on_copies = (h.kind == 1) & (h.prim >= 80) & (h.prim < 400 * 80)
+    o, d, h_prim = o[on_copies], d[on_copies], h.prim[on_copies]
+    hits = scene.intersect(o, d, settings=INSTANCED)
+    assert np.array_equal(hits.prim, h_prim)
+    # leave each hit by the mirror direction, from the renderer's offset origin
+    n = hits.normal
+    r = d - 2 * np.sum(d * n, axis=1, keepdims=True) * n
+    start = scene.spawn_origins(o, d, hits, r.astype(np.float32))
+    again = scene.intersect(start, r.astype(np.float32), settings=INSTANCED, spawned=True)
+    back = (again.kind == 1) & (again.prim == h_prim) & (again.t < 1e-3)
+    assert back.sum() == 0
+    assert not scene.occluded(start, r.astype(np.float32), tmax=1e-3, settings=INSTANCED, spawned=True).any()
+
+
+def test_a_render_of_copies_matches_the_flat_grids_render():
+    kw = scattered(n=300, extent=6.0)
+    camera = gw.Camera(eye=(0, -14, 9), target=(0, 0, 0.3), up=(0, 0, 1), fov=45, width=96, height=72)
+    scene = gw.Scene(**kw, camera=camera, materials=[gw.Material(color=(0.7, 0.6, 0.5), mirror=0.3)],
+                     lights=[gw.Light(position=(4, -6, 12), color=(1, 1, 1))])
+
+    def render(settings):
+        job = gw.RenderJob(scene, settings.replace(aa="jittered", aa_samples=2)).start()
+        job.wait()
+        return job.image
+    a, b = render(INSTANCED), render(FLAT)
+    assert scene.grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
+    assert a.std() > 0.05                              # a real picture (copies, floor, shadows)
+    differ = np.abs(a - b).max(axis=2) > 2 / 255
+    assert differ.mean() < 0.002, f"{differ.sum()} pixels differ"
+
+
+def test_a_moved_scene_forgets_its_instances():
+    kw = scattered(n=200, mirrored_every=0)
+    scene = gw.Scene(**kw)
+    assert scene.grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
+    m = kw["instance_matrices"][3]
+    start, count = kw["instance_triangles"][3]
+    first_vertex = int(kw["triangles"][start].min())
+    positions = icosphere(1, dtype=np.float64)[0]
+    moved_m = m.copy()
+    moved_m[:3, 3] += [1.0, 0.0, 0.0]
+    moved = scene.moved([gw.InstanceMove(first_vertex, int(start), int(count), positions, moved_m,
+                                         previous_matrix=m)])
+    assert moved.grid_info(INSTANCED)["kind"] == "adaptive grid"
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(instance_meshes=None), "all three or none"),
+    (dict(instance_triangles=np.array([[0, 80], [40, 80]]), instance_meshes=np.array([0, 0]),
+          instance_matrices=np.stack([np.eye(4)] * 2)), "overlap"),
+    (dict(instance_triangles=np.array([[0, 10 ** 9]]), instance_meshes=np.array([0]),
+          instance_matrices=np.eye(4)[None]), "lie beyond"),
+    (dict(instance_triangles=np.array([[0, 80]]), instance_meshes=np.array([0]),
+          instance_matrices=np.full((1, 4, 4), np.nan)), "non-finite"),
+    (dict(instance_triangles=np.array([[-1, 80]]), instance_meshes=np.array([0]),
+          instance_matrices=np.eye(4)[None]), ">= 0"),
+    (dict(instance_meshes=np.array([-1] * 400)), "instance_meshes"),
+    (dict(instance_matrices=np.zeros((400, 3, 4))), "instance_matrices must have shape"),
+    (dict(instance_triangles=np.zeros((400, 3), np.int64)), "instance_triangles must be"),
+])
+def test_bad_instances_are_refused_with_a_clear_error(change, message):
+    kw = scattered()
+    kw.update(change)
+    with pytest.raises(ValueError, match=message):
+        gw.Scene(**kw)

@@ -213,3 +213,30 @@ def test_thousands_of_scattered_instances_are_each_exported_under_their_own_matr
         near = np.linalg.norm(used[None, :, :] - corners[:, None, :], axis=2).min(axis=1)
         assert near.max() < 1e-4, "a sampled instance's corners are missing: its matrix went to another"
     assert not out.warnings or not any("Skipped" in w for w in out.warnings)
+
+
+def test_scattered_instances_are_declared_to_the_core_as_copies_of_their_meshes(export):
+    # Scene(instance_triangles=, instance_meshes=, instance_matrices=): the copies of each
+    # source cube under their matrices, so that the core traces them through one grid of it.
+    import gridwalk
+    out = export("scatter")
+    ranges, meshes, matrices = out.instance_triangles, out.instance_meshes, out.instance_matrices
+    assert len(ranges) == len(meshes) == len(matrices) == out.expected["instances"]
+    assert ranges[:, 1].sum() == len(out.triangles)
+    corners = out.vertices[out.triangles].astype(np.float64)               # (T, 3, 3)
+    for mesh in np.unique(meshes):
+        which = np.nonzero(meshes == mesh)[0]
+        assert len(which) > 100
+        first = which[0]
+        mine = corners[ranges[first, 0]:ranges[first, 0] + ranges[first, 1]]
+        for i in which[1::37]:
+            to_first = matrices[first] @ np.linalg.inv(matrices[i])
+            theirs = corners[ranges[i, 0]:ranges[i, 0] + ranges[i, 1]]
+            moved = theirs @ to_first[:3, :3].T + to_first[:3, 3]
+            np.testing.assert_allclose(moved, mine, atol=1e-4)
+    scene = gridwalk.Scene(vertices=out.vertices, triangles=out.triangles, instance_triangles=ranges,
+                           instance_meshes=meshes, instance_matrices=matrices)
+    info = scene.grid_info()
+    assert info["kind"] == "instanced adaptive grid"
+    assert info["note"].startswith(f"{len(ranges) - len(np.unique(meshes))} copies")
+    assert "did not match" not in info["note"]

@@ -193,8 +193,38 @@ def mutate_record(inp: Input, record):
     return dataclasses.replace(record, **{f.name: new})
 
 
+def with_copies(kw: dict, copies: int = 6) -> dict:
+    """kw with `copies` copies of its first two triangles, moved along x, declared as instances
+    of one mesh (Scene's instance arrays; with the first two, copies of 2 triangles each)."""
+    V, F = kw["vertices"], kw["triangles"]
+    piece = F[:2]
+    used = np.unique(piece)
+    verts, tris, matrices = [V], [F], [np.eye(4)]
+    for k in range(1, copies + 1):
+        m = np.eye(4)
+        m[0, 3] = 3.0 * k
+        start = sum(len(v) for v in verts)
+        verts.append((V[used] + np.float32(3.0 * k)*np.array([1, 0, 0], np.float32)).astype(np.float32))
+        tris.append(np.searchsorted(used, piece).astype(np.int32) + start)
+        matrices.append(m)
+    out = dict(kw, vertices=np.concatenate(verts), triangles=np.concatenate(tris))
+    out["triangle_materials"] = None
+    out["instance_triangles"] = np.array([[0, 2]] + [[len(F) + 2 * (k - 1), 2] for k in range(1, copies + 1)])
+    out["instance_meshes"] = np.zeros(copies + 1, np.int32)
+    out["instance_matrices"] = np.array(matrices)
+    return out
+
+
+INSTANCE_ARRAYS = ("instance_triangles", "instance_meshes", "instance_matrices")
+
+
 def draw_scene(inp: Input) -> gw.Scene:
     kw = base_scene()
+    if inp.byte() < 64:                       # copies of a mesh, declared (the instanced grid)
+        kw = with_copies(kw, 1 + inp.below(8))
+        for _ in range(inp.below(3)):
+            name = inp.pick(INSTANCE_ARRAYS)
+            kw[name] = mutate_array(inp, kw[name])
     for _ in range(inp.below(4)):
         target = inp.below(len(ARRAYS) + 4)
         if target < len(ARRAYS):
@@ -229,6 +259,13 @@ def draw_rays(inp: Input, scene: gw.Scene):
     spawned = inp.byte() > 200
     op = inp.below(3)
     limits = dict(tmin=tmin, tmax=tmax, spawned=spawned)
+    if op < 2 and settings.accel != "none" and scene.grid_info(settings)["kind"] == "instanced adaptive grid":
+        # Copies are met as their mesh's first copy moved into their place (instanced_grid.h):
+        # the same hits to within float rounding, not to the bit. Run, do not compare.
+        query = scene.intersect if op == 0 else scene.occluded
+        counted("Scene.intersect" if op == 0 else "Scene.occluded", query, o32, d32, settings=settings, **limits)
+        COUNTS["instanced queries"] += 1
+        return
     if op == 0:
         hits = counted("Scene.intersect", scene.intersect, o32, d32, settings=settings, **limits)
         ref = scene.intersect(o32, d32, settings=settings.replace(accel="none"), **limits)

@@ -192,19 +192,32 @@ def test_a_render_of_copies_matches_the_flat_grids_render():
     assert differ.mean() < 0.002, f"{differ.sum()} pixels differ"
 
 
-def test_a_moved_scene_forgets_its_instances():
+def test_a_copy_moved_in_the_viewport_stays_a_copy_where_it_now_is():
+    # Scene.moved (a transform edit) gives a moved instance its new matrix: the next
+    # structure is instanced again, and finds the copy in its new place.
     kw = scattered(n=200, mirrored_every=0)
     scene = gw.Scene(**kw)
     assert scene.grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
     m = kw["instance_matrices"][3]
-    start, count = kw["instance_triangles"][3]
+    start, count = (int(x) for x in kw["instance_triangles"][3])
     first_vertex = int(kw["triangles"][start].min())
     positions = icosphere(1, dtype=np.float64)[0]
     moved_m = m.copy()
-    moved_m[:3, 3] += [1.0, 0.0, 0.0]
-    moved = scene.moved([gw.InstanceMove(first_vertex, int(start), int(count), positions, moved_m,
-                                         previous_matrix=m)])
-    assert moved.grid_info(INSTANCED)["kind"] == "adaptive grid"
+    moved_m[:3, 3] += [3.0, 0.0, 0.0]
+    moved = scene.moved([gw.InstanceMove(first_vertex, start, count, positions, moved_m, previous_matrix=m)])
+    info = moved.grid_info(INSTANCED)
+    # (with its old matrix kept, the moved copy would no longer match its mesh: the note would count it)
+    assert info["kind"] == "instanced adaptive grid" and "did not match" not in info["note"], info["note"]
+    centre = moved_m[:3, 3].astype(np.float32)
+    rng = np.random.default_rng(4)
+    o = (centre + rng.normal(0, 1, (2000, 3)) + [0, 0, 4]).astype(np.float32)
+    d = (centre + rng.normal(0, 0.1, (2000, 3)) - o).astype(np.float32)
+    a = moved.intersect(o, d, settings=INSTANCED)
+    brute = moved.intersect(o, d, settings=gw.RenderSettings(accel="none"))
+    on_it = (brute.kind == 1) & (brute.prim >= start) & (brute.prim < start + count)
+    assert on_it.sum() > 500
+    assert (a.prim[on_it] == brute.prim[on_it]).mean() > 0.995
+    np.testing.assert_allclose(a.t[on_it], brute.t[on_it], rtol=0, atol=1e-4)
 
 
 @pytest.mark.parametrize("change, message", [

@@ -97,7 +97,8 @@ public:
     // Declares the scene's instances (SceneInstance), before the scene is
     // shared. Throws std::invalid_argument naming the first bad one: a range
     // beyond the triangles or overlapping another, a non-finite matrix, a
-    // negative mesh. A moved copy (moved()) has none.
+    // negative mesh. A moved copy (moved()) keeps them: an instance a move
+    // moves whole takes the move's matrix, one a move cuts into is dropped.
     void set_instances(std::vector<SceneInstance> instances);
     const std::vector<SceneInstance>& instances() const { return instances_; }
     // A scene of the primitives `prims` alone (ascending global indices): its
@@ -342,6 +343,7 @@ private:
     void apply(const RigidMove& m, size_t index);     // scene_moved.cpp
     std::vector<SceneAncestor> ancestors_after(const std::vector<RigidMove>& moves) const;
     bool where_it_was(const RigidMove& m) const;
+    std::vector<SceneInstance> instances_after(const std::vector<RigidMove>& moves) const;   // scene_moved.cpp
 };
 
 // A hit at exactly the current hit's t wins when its primitive index is

@@ -134,7 +134,7 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     auto out = std::make_shared<Scene>(*this);
     out->id_ = next_id();
     out->ancestors_ = ancestors_after(moves);
-    out->instances_.clear();   // (a moved instance is no longer where its matrix says)
+    out->instances_ = instances_after(moves);
     for (size_t i = 0; i < moves.size(); ++i) {
         out->apply(moves[i], i);
         out->update_tangents(moves[i].triangle_start, moves[i].triangle_count);
@@ -147,6 +147,36 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
     // from these arrays weighs them, so that the two render the same image to
     // the bit. (The copied weights rendered up to 2e-8 off it.)
     if (!emitters_.empty()) out->emitters_ = Emitters(out->tri_verts_, out->tri_mat_, out->materials_);
+    return out;
+}
+
+// The declared instances (set_instances) of the scene after `moves`: one that a
+// move moves whole takes the move's matrix, where it now is; one that a move
+// cuts into is forgotten. (Each is checked against its mesh again where it is
+// used: instanced_grid.cpp.)
+std::vector<SceneInstance> Scene::instances_after(const std::vector<RigidMove>& moves) const {
+    std::vector<std::pair<size_t, size_t>> starts;   // (triangle_start, move), by start
+    for (size_t i = 0; i < moves.size(); ++i)
+        if (moves[i].triangle_count > 0) starts.emplace_back(moves[i].triangle_start, i);
+    std::sort(starts.begin(), starts.end());
+    std::vector<SceneInstance> out;
+    out.reserve(instances_.size());
+    for (SceneInstance in : instances_) {
+        const size_t b = in.triangle_start, e = b + in.triangle_count;
+        // The moves are disjoint: those meeting [b, e) follow the last one starting at or before b.
+        auto it = std::upper_bound(starts.begin(), starts.end(), std::make_pair(b, moves.size()));
+        if (it != starts.begin()) --it;
+        bool keep = true;
+        for (; it != starts.end() && it->first < e && keep; ++it) {
+            const RigidMove& m = moves[it->second];
+            if (m.triangle_start + m.triangle_count <= b) continue;
+            if (m.triangle_start == b && m.triangle_count == in.triangle_count)
+                std::copy(&m.matrix[0][0], &m.matrix[0][0] + 16, &in.matrix[0][0]);
+            else
+                keep = false;
+        }
+        if (keep) out.push_back(in);
+    }
     return out;
 }
 

@@ -263,7 +263,9 @@ class Scene:
         instance transformed as the Blender exporter transforms it (to within
         an ulp: numpy's matrix product may round differently). With
         previous_matrix given (and checked on a sample of vertices), a grid of
-        this or an earlier version can serve the result (the viewport's)."""
+        this or an earlier version can serve the result (the viewport's).
+        Declared instances (instance_triangles, ...) carry over: one a move
+        moves whole takes its matrix, one a move cuts into is dropped."""
         moves = list(moves)
         for i, m in enumerate(moves):
             if not isinstance(m, InstanceMove):

@@ -8,6 +8,7 @@
 
 #include "bounds.h"
 #include "dda.h"
+#include "ordered_tasks.h"
 
 namespace gw {
 
@@ -58,9 +59,10 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     uint64_t step = 0;
 
     // Each mesh's first copy (in declaration order) stays in the rest; the
-    // others that check out become copies.
+    // others that check out become copies (checked on p.threads threads).
     std::vector<int64_t> first_of;   // per declared mesh id: index into declared, or -1
     std::vector<int32_t> grid_of;    // per declared mesh id: index into meshes_, or -1
+    std::vector<std::pair<size_t, Affine>> candidates;   // (declared index, map to its mesh's first copy)
     size_t copied = 0, refused = 0;
     for (size_t i = 0; i < declared.size(); ++i) {
         const SceneInstance& in = declared[i];
@@ -76,22 +78,35 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         }
         const SceneInstance& first = declared[size_t(first_of[m])];
         Affine back, to_mesh, inv;
-        bool ok = first.triangle_count == in.triangle_count && Affine::from_rows(in.matrix).inverse(back);
-        if (ok) {
-            to_mesh = Affine::from_rows(first.matrix).after(back);
-            ok = to_mesh.inverse(inv) && to_mesh.norm() <= kMaxScale && inv.norm() <= kMaxScale &&
-                 is_copy(tv, in.triangle_start, first.triangle_start, in.triangle_count, to_mesh, cancel, step);
+        if (first.triangle_count == in.triangle_count && Affine::from_rows(in.matrix).inverse(back) &&
+            (to_mesh = Affine::from_rows(first.matrix).after(back)).inverse(inv) && to_mesh.norm() <= kMaxScale &&
+            inv.norm() <= kMaxScale)
+            candidates.emplace_back(i, to_mesh);
+        else
+            ++refused;
+    }
+    std::vector<uint8_t> matches(candidates.size());
+    for_each_range(candidates.size(), p.threads, 256, [&](size_t b, size_t e) {
+        uint64_t steps = 0;
+        for (size_t k = b; k < e; ++k) {
+            const SceneInstance& in = declared[candidates[k].first];
+            const SceneInstance& first = declared[size_t(first_of[size_t(in.mesh)])];
+            matches[k] = is_copy(tv, in.triangle_start, first.triangle_start, in.triangle_count, candidates[k].second,
+                                 cancel, steps);
         }
-        if (!ok) {
+    }, "gridwalk-build");
+    for (size_t k = 0; k < candidates.size(); ++k) {
+        if (!matches[k]) {
             ++refused;
             continue;
         }
+        const SceneInstance& in = declared[candidates[k].first];
+        const size_t m = size_t(in.mesh);
         Copy c;
         c.start = uint32_t(in.triangle_start);
         c.count = uint32_t(in.triangle_count);
-        c.mesh_start = uint32_t(first.triangle_start);
-        c.to_mesh = to_mesh;
-        c.scale = to_mesh.norm();
+        c.to_mesh = candidates[k].second;
+        c.scale = c.to_mesh.norm();
         if (grid_of[m] < 0) grid_of[m] = int32_t(g->meshes_.size()), g->meshes_.push_back(nullptr);
         c.mesh = uint32_t(grid_of[m]);
         g->copies_.push_back(c);
@@ -143,19 +158,25 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     // The copies' boxes: their own triangles' bounds, padded by the map's
     // rounding (a hit is the first copy's triangle mapped back, which may lie
     // beside the copy's own by that much) and as the grids pad their boxes.
-    Bounds all;
-    for (Copy& c : g->copies_) {
-        Bounds b;
-        for (size_t k = 3 * size_t(c.start); k < 3 * (size_t(c.start) + c.count); ++k) b.grow(tv[k]);
-        check_cancel(cancel, step, 3 * uint64_t(c.count));
-        double lo[3], hi[3];
-        padded_box(b, lo, hi);
-        const double mag = std::max(magnitude(Vec3d(b.lo)), magnitude(Vec3d(b.hi)));
-        for (int a = 0; a < 3; ++a) {
-            const double pad = 4 * kCornerTolerance * mag;
-            c.lo[a] = next_down(float(lo[a] - pad));
-            c.hi[a] = next_up(float(hi[a] + pad));
+    for_each_range(g->copies_.size(), p.threads, 256, [&](size_t b, size_t e) {
+        uint64_t steps = 0;
+        for (size_t i = b; i < e; ++i) {
+            Copy& c = g->copies_[i];
+            Bounds box;
+            for (size_t k = 3 * size_t(c.start); k < 3 * (size_t(c.start) + c.count); ++k) box.grow(tv[k]);
+            check_cancel(cancel, steps, 3 * uint64_t(c.count));
+            double lo[3], hi[3];
+            padded_box(box, lo, hi);
+            const double mag = std::max(magnitude(Vec3d(box.lo)), magnitude(Vec3d(box.hi)));
+            for (int a = 0; a < 3; ++a) {
+                const double pad = 4 * kCornerTolerance * mag;
+                c.lo[a] = next_down(float(lo[a] - pad));
+                c.hi[a] = next_up(float(hi[a] + pad));
+            }
         }
+    }, "gridwalk-build");
+    Bounds all;
+    for (const Copy& c : g->copies_) {
         all.grow(c.lo);
         all.grow(c.hi);
     }

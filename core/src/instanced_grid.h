@@ -40,7 +40,6 @@ public:
     struct Copy {
         uint32_t start = 0, count = 0;   // its triangles in the scene
         uint32_t mesh = 0;               // meshes_[mesh]: the grid it walks
-        uint32_t mesh_start = 0;         // the mesh's first copy's first triangle
         Affine to_mesh;                  // this copy's place -> the first copy's
         double scale = 0;                // to_mesh.norm()
         Vec3 lo, hi;                     // its box (padded by the map's rounding)

@@ -187,6 +187,7 @@ def test_a_render_of_copies_matches_the_flat_grids_render():
         return job.image
     a, b = render(INSTANCED), render(FLAT)
     assert scene.grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
+    assert np.array_equal(a, render(INSTANCED.replace(threads=1, tile_size=7)))   # any threads and tiles
     assert a.std() > 0.05                              # a real picture (copies, floor, shadows)
     differ = np.abs(a - b).max(axis=2) > 2 / 255
     assert differ.mean() < 0.002, f"{differ.sum()} pixels differ"

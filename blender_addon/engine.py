@@ -186,7 +186,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
                                    texture_bytes=texture_bytes, uvs=texture_bytes > 0,
                                    tangents=texture_bytes > 0 and uses_normal_maps(depsgraph),
                                    corner_points=corner_point_arrays(depsgraph),
-                                   matte_layers=len(cryptomatte.key_layers(depsgraph.view_layer)))
+                                   matte_layers=len(cryptomatte.key_layers(depsgraph.view_layer)),
+                                   copies=counts["copies"], copied_triangles=counts["copied_triangles"])
         limit, source = memory_limit(scene.gridwalk, memory)
         print(f"Gridwalk: memory estimate {memory.format_bytes(estimate.total)} ({estimate.breakdown()}), "
               f"limit {memory.format_bytes(limit) if limit else 'none'} ({source})")

@@ -202,7 +202,8 @@ class ViewportSession:
                                    texture_bytes=sum(image.memory_bytes for image in images),
                                    uvs=kwargs.get("uvs") is not None, colors=kwargs.get("colors") is not None,
                                    corner_points=sum(kwargs.get(k) is not None for k in ("generated", "object_coords")),
-                                   tangents=any(m.normal_texture >= 0 for m in kwargs["materials"]))
+                                   tangents=any(m.normal_texture >= 0 for m in kwargs["materials"]),
+                                   **memory.declared_copies(kwargs))
         limit, source = memory_limit(scene.gridwalk, memory)
         memory.check(estimate, limit, f"This scene ({len(kwargs['triangles']):,} triangles)", source)
 

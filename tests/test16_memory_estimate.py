@@ -150,3 +150,22 @@ def test_estimate_is_close_to_the_memory_a_render_uses(tmp_path, accel):
     # the adaptive grid's estimate is a measured average; the uniform grid's is
     # the budget its build enforces, an upper bound (2.5x on this sphere)
     assert (0.8 < ratio < 1.6) if accel == "adaptive" else (1.0 < ratio < 3.5), figures
+
+
+def test_declared_copies_are_estimated_as_the_instanced_grid_builds_them():
+    # 3,000 copies of an 80-triangle icosphere: the instanced grid builds over the
+    # copies' boxes, not over their 240,000 triangles; the estimate follows, and stays
+    # above what the structure holds.
+    from meshes import scattered_copies
+    kw = scattered_copies(n=3000)
+    copies = memory.declared_copies(kw)
+    assert copies == {"copies": 2998, "copied_triangles": 2998 * 80}
+    n = len(kw["triangles"])
+    settings = gw.RenderSettings(threads=2)
+    instanced = memory.estimate(n, len(kw["vertices"]), 1, settings=settings, **copies)
+    flat = memory.estimate(n, len(kw["vertices"]), 1, settings=settings.replace(instancing=False), **copies)
+    assert flat.grid == memory.estimate(n, len(kw["vertices"]), 1, settings=settings).grid
+    assert instanced.grid < flat.grid / 4
+    built = gw.Scene(**kw).grid_info(settings)
+    assert built["kind"] == "instanced adaptive grid"
+    assert built["bytes"] < instanced.grid < 4 * built["bytes"], (built["bytes"], instanced.grid)

@@ -815,9 +815,11 @@ def count_geometry(depsgraph) -> dict:
     shared for smooth (POINT) and flat meshes, one per corner otherwise, three
     per triangle for flat meshes in a scene that needs normals (as exported).
     Non-mesh geometry (curves, text, metaballs) is converted to count it.
+    copies / copied_triangles: the instances of a mesh seen before, and their
+    triangles (what the instanced grid does not build over).
     """
     per_mesh, triangles, spheres, cylinders, flat, any_normals = {}, 0, 0, 0, [0, 0], False
-    vertices = 0
+    vertices = copies = copied = 0
     render = getattr(depsgraph, "mode", "RENDER") == "RENDER"
     known = {}          # instance_key -> (particle hair cones, kind or None (not rendered), mesh key)
     for inst in depsgraph.object_instances:
@@ -844,6 +846,9 @@ def count_geometry(depsgraph) -> dict:
             continue
         if key not in per_mesh:
             per_mesh[key] = _mesh_counts(inst.object)
+        else:
+            copies += 1                # (a copy of a mesh seen before: Scene's instance arrays declare it)
+            copied += per_mesh[key][0]
         tris, verts, domain = per_mesh[key]
         triangles += tris
         if domain == "FACE":
@@ -854,7 +859,7 @@ def count_geometry(depsgraph) -> dict:
             any_normals = any_normals or tris > 0
     vertices += 3 * flat[0] if any_normals else flat[1]
     return {"triangles": triangles, "vertices": vertices, "spheres": spheres, "cylinders": cylinders,
-            "normals": any_normals}
+            "normals": any_normals, "copies": copies, "copied_triangles": copied}
 
 
 def _mesh_counts(obj) -> tuple[int, int, str]:

@@ -32,6 +32,10 @@ What is counted (bytes):
                 distribution (long thin triangles across the scene, a box
                 thin along one axis), 1.7 - 70 times the actual structure
                 (core/bench/bench_builds.py).
+                The instanced grid (copies of a mesh declared, accel
+                "adaptive" with instancing): the adaptive grid's figure for
+                the primitives that are not copies, twice (the meshes' own
+                grids are over some of them), and COPY_BYTES per copy.
   mailboxes     one 4-byte stamp per primitive per worker thread (uniform
                 grid with mailboxes on).
   textures      the images textures sample, each once (1 byte per channel
@@ -55,6 +59,8 @@ import math
 import os
 from dataclasses import dataclass
 
+import numpy as np
+
 from . import _core
 
 DEFAULT_FRACTION = 0.75       # default limit: this fraction of physical memory
@@ -72,6 +78,7 @@ ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empt
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4
+COPY_BYTES = 320              # the instanced grid, per copy: its record (map, box) and its cells' lists (245 measured)
 TANGENT_BYTES = 180           # normal maps: the core's tangents (3 corners x 4 floats), and 132 more while they are built
 PIXEL_BYTES = 44 + 36 + 32
 
@@ -120,7 +127,8 @@ def grid_budget(primitives: int, density: float, max_cells: int) -> tuple[int, i
 def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cylinders: int = 0,
              width: int = 1, height: int = 1, settings=None, normals: bool = True,
              texture_bytes: int = 0, uvs: bool = False, colors: bool = False,
-             tangents: bool = False, corner_points: int = 0, matte_layers: int = 1) -> MemoryEstimate:
+             tangents: bool = False, corner_points: int = 0, matte_layers: int = 1, copies: int = 0,
+             copied_triangles: int = 0) -> MemoryEstimate:
     """Bytes needed to render a scene with these counts (see the module docstring).
 
     vertices defaults to 3 per triangle (unshared corners, the worst case).
@@ -130,7 +138,12 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
     of corner points they have (Generated and Object coordinates); tangents: a material has a
     normal map (the core keeps a tangent per corner, 48 bytes a triangle,
     and needs 132 more while it builds them); matte_layers: the layers of
-    matte keys (Scene(matte_keys=...)) when settings.matte_ranks > 0.
+    matte keys (Scene(matte_keys=...)) when settings.matte_ranks > 0;
+    copies, copied_triangles: instances of a mesh beyond its first (Scene's
+    instance arrays) and their triangles. Where the instanced grid is built
+    (settings.instancing, copies making at least half of the primitives) its
+    grid is the adaptive grid's for the other primitives, as much again for
+    the meshes' own grids (at most those primitives), and COPY_BYTES per copy.
     """
     if settings is None:
         from .settings import RenderSettings
@@ -148,10 +161,12 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
     if settings.matte_ranks:
         scene_arrays += 4 * prims * max(1, int(matte_layers))
     grid = mailboxes = 0
-    if settings.accel == "adaptive" and prims:
-        cells = min(ADAPTIVE_MAX_CELLS, math.ceil(ADAPTIVE_CELLS * prims))
-        refs = min(ADAPTIVE_MAX_REFS, math.ceil(ADAPTIVE_REFS * prims))
-        grid = cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
+    copied_triangles = min(max(int(copied_triangles), 0), triangles)
+    if settings.accel == "adaptive" and prims and settings.instancing and 2 * copied_triangles >= prims > 0 \
+            and copies > 0:
+        grid = 2 * _adaptive_grid(prims - copied_triangles) + int(copies) * COPY_BYTES + 4 * prims
+    elif settings.accel == "adaptive" and prims:
+        grid = _adaptive_grid(prims)
     elif settings.accel == "grid" and prims:
         density = float(settings.grid_density)
         cells, refs = grid_budget(prims, density, int(settings.max_cells))
@@ -164,6 +179,27 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
                 + triangles * 2 * ((24 if uvs else 0) + (36 if colors else 0) + 36 * int(corner_points))
                 + (triangles * TANGENT_BYTES if uvs and tangents else 0))
     return MemoryEstimate(scene_arrays, grid, mailboxes, images, textures)
+
+
+def declared_copies(scene_kwargs: dict) -> dict:
+    """estimate()'s copies and copied_triangles for gridwalk.Scene keyword
+    arguments: each declared instance after its mesh's first."""
+    meshes = scene_kwargs.get("instance_meshes")
+    if meshes is None or len(meshes) == 0:
+        return {"copies": 0, "copied_triangles": 0}
+    meshes = np.asarray(meshes)
+    counts = np.asarray(scene_kwargs["instance_triangles"])[:, 1]
+    _, first = np.unique(meshes, return_index=True)
+    later = np.ones(len(meshes), bool)
+    later[first] = False
+    return {"copies": int(later.sum()), "copied_triangles": int(counts[later].sum())}
+
+
+def _adaptive_grid(prims: int) -> int:
+    """The adaptive grid's bytes over `prims` primitives (its build's included)."""
+    cells = min(ADAPTIVE_MAX_CELLS, math.ceil(ADAPTIVE_CELLS * prims))
+    refs = min(ADAPTIVE_MAX_REFS, math.ceil(ADAPTIVE_REFS * prims))
+    return cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
 
 
 def physical_memory() -> int | None:

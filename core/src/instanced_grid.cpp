@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <unordered_map>
 
 #include "bounds.h"
 #include "dda.h"
@@ -19,9 +20,11 @@ namespace {
 // the scale (as for MovedGrid).
 constexpr double kMaxScale = 0x1p20;
 // How far a copy's corners may lie from its mesh's first copy's under the
-// map, relative to their magnitudes: a few float roundings of each
-// (the host rounds both to float), far below any real difference of shape.
-constexpr double kCornerTolerance = 0x1p-18;
+// map, relative to their magnitudes: 8 times the host's rounding of each to
+// float (half a float spacing, 2^-24 of the magnitude), far below any real
+// difference of shape. (2^-18 accepted a 1 mm triangle at 100 with a corner
+// moved by 0.7 mm.)
+constexpr double kCornerTolerance = 0x1p-21;
 // Cells of the grid over the copies, per copy, and the caps on its cells and
 // references (its resolution is lowered past them).
 constexpr double kCellsPerCopy = 2.0;
@@ -38,10 +41,7 @@ bool is_copy(const Vec3* tv, size_t start, size_t mesh_start, size_t count, cons
         check_cancel(cancel, step);
         const Vec3d here(tv[3 * start + k]), there(tv[3 * mesh_start + k]);
         const Vec3d mapped = to_mesh.point(here);
-        const double tol = kCornerTolerance * (magnitude(there) + scale * magnitude(here) +
-                                               std::max(std::abs(to_mesh.m[0][3]), std::max(std::abs(to_mesh.m[1][3]),
-                                                                                            std::abs(to_mesh.m[2][3])))) +
-                           1e-30;
+        const double tol = kCornerTolerance * (magnitude(there) + scale * magnitude(here)) + 1e-30;
         if (!(magnitude(mapped - there) <= tol)) return false;
     }
     return true;
@@ -60,23 +60,18 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
 
     // Each mesh's first copy (in declaration order) stays in the rest; the
     // others that check out become copies (checked on p.threads threads).
-    std::vector<int64_t> first_of;   // per declared mesh id: index into declared, or -1
-    std::vector<int32_t> grid_of;    // per declared mesh id: index into meshes_, or -1
+    // (Mesh ids are any non-negative int32: hashed, not indexed.)
+    std::unordered_map<int32_t, size_t> first_of;   // declared mesh id -> its first copy's index in declared
+    std::unordered_map<int32_t, size_t> grid_of;    // declared mesh id -> index into meshes_
+    std::vector<int32_t> mesh_ids;                  // per meshes_ entry: its declared id
     std::vector<std::pair<size_t, Affine>> candidates;   // (declared index, map to its mesh's first copy)
     size_t copied = 0, refused = 0;
     for (size_t i = 0; i < declared.size(); ++i) {
         const SceneInstance& in = declared[i];
         if (in.triangle_count == 0) continue;
-        const size_t m = size_t(in.mesh);
-        if (m >= first_of.size()) {
-            first_of.resize(m + 1, -1);
-            grid_of.resize(m + 1, -1);
-        }
-        if (first_of[m] < 0) {
-            first_of[m] = int64_t(i);
-            continue;
-        }
-        const SceneInstance& first = declared[size_t(first_of[m])];
+        const auto known = first_of.emplace(in.mesh, i);
+        if (known.second) continue;
+        const SceneInstance& first = declared[known.first->second];
         Affine back, to_mesh, inv;
         if (first.triangle_count == in.triangle_count && Affine::from_rows(in.matrix).inverse(back) &&
             (to_mesh = Affine::from_rows(first.matrix).after(back)).inverse(inv) && to_mesh.norm() <= kMaxScale &&
@@ -90,7 +85,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         uint64_t steps = 0;
         for (size_t k = b; k < e; ++k) {
             const SceneInstance& in = declared[candidates[k].first];
-            const SceneInstance& first = declared[size_t(first_of[size_t(in.mesh)])];
+            const SceneInstance& first = declared[first_of.at(in.mesh)];
             matches[k] = is_copy(tv, in.triangle_start, first.triangle_start, in.triangle_count, candidates[k].second,
                                  cancel, steps);
         }
@@ -101,14 +96,14 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
             continue;
         }
         const SceneInstance& in = declared[candidates[k].first];
-        const size_t m = size_t(in.mesh);
         Copy c;
         c.start = uint32_t(in.triangle_start);
         c.count = uint32_t(in.triangle_count);
         c.to_mesh = candidates[k].second;
         c.scale = c.to_mesh.norm();
-        if (grid_of[m] < 0) grid_of[m] = int32_t(g->meshes_.size()), g->meshes_.push_back(nullptr);
-        c.mesh = uint32_t(grid_of[m]);
+        const auto grid = grid_of.emplace(in.mesh, g->meshes_.size());
+        if (grid.second) g->meshes_.push_back(nullptr), mesh_ids.push_back(in.mesh);
+        c.mesh = uint32_t(grid.first->second);
         g->copies_.push_back(c);
         copied += in.triangle_count;
     }
@@ -128,6 +123,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         for (; at < scene->num_prims(); ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
     }
     AccelInfo sum;
+    size_t part_corners = 0;   // the part scenes' copies of triangle corners
     auto add = [&](const AdaptiveGrid& a) {
         sum.grids += a.info().grids;
         sum.cells += a.info().cells;
@@ -136,24 +132,36 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     };
     if (!g->rest_ids_.empty()) {
         auto rest = std::make_shared<AdaptiveGrid>(scene->part(g->rest_ids_), p, cancel);
+        part_corners += 3 * rest->scene().num_triangles();
         if (rest->too_few_spacings()) return nullptr;
         add(*rest);
         sum.build_threads = rest->info().build_threads;
         g->rest_ = std::move(rest);
     }
     // Each copied mesh's grid, over its first copy's triangles.
-    for (size_t m = 0; m < grid_of.size(); ++m) {
-        if (grid_of[m] < 0) continue;
-        const SceneInstance& first = declared[size_t(first_of[m])];
+    // Each is built around its first copy's centre (shift): the mapped rays'
+    // rounding, and the skip of spawned rays (to_mesh), then scale with the
+    // mesh, not with where its first copy happens to lie.
+    std::vector<Vec3d> shift(g->meshes_.size());
+    for (size_t k = 0; k < g->meshes_.size(); ++k) {
+        const SceneInstance& first = declared[first_of.at(mesh_ids[k])];
         std::vector<uint32_t> ids(first.triangle_count);
-        for (size_t k = 0; k < ids.size(); ++k) ids[k] = uint32_t(first.triangle_start + k);
+        Bounds box;
+        for (size_t j = 0; j < ids.size(); ++j) {
+            ids[j] = uint32_t(first.triangle_start + j);
+            for (int c = 0; c < 3; ++c) box.grow(tv[3 * (first.triangle_start + j) + size_t(c)]);
+        }
+        shift[k] = (Vec3d(box.lo) + Vec3d(box.hi)) * 0.5;
         AdaptiveParams mp = p;
         mp.threads = 1;   // (small grids, one after another)
-        auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids), mp, cancel);
+        auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids, shift[k]), mp, cancel);
         if (grid->too_few_spacings()) return nullptr;
         add(*grid);
-        g->meshes_[size_t(grid_of[m])] = std::move(grid);
+        part_corners += 3 * ids.size();
+        g->meshes_[k] = std::move(grid);
     }
+    for (Copy& c : g->copies_)
+        for (int r = 0; r < 3; ++r) c.to_mesh.m[r][3] -= shift[c.mesh][r];
 
     // The copies' boxes: their own triangles' bounds, padded by the map's
     // rounding (a hit is the first copy's triangle mapped back, which may lie
@@ -240,7 +248,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     info.cells = sum.cells + cells;
     info.refs = sum.refs + g->ids_.size();
     info.bytes = sum.bytes + (g->first_.size() + g->ids_.size() + g->rest_ids_.size()) * sizeof(uint32_t) +
-                 g->copies_.size() * sizeof(Copy);
+                 g->copies_.size() * sizeof(Copy) + part_corners * sizeof(Vec3);
     info.build_threads = std::max(sum.build_threads, 1);
     info.density_requested = p.root_density;
     info.density_used = p.root_density;
@@ -268,12 +276,16 @@ RayPre InstancedGrid::to_mesh(const RayPre& r, const Copy& c) const {
     ray.o = Vec3(float(o.x), float(o.y), float(o.z));
     ray.d = Vec3(float(d.x), float(d.y), float(d.z));
     if (ray.spawned) {
-        // A ray leaving a surface starts a few ulps off it; mapped and rounded
-        // again, and met by the first copy's triangle (rounded elsewhere), the
-        // start may fall on the other side: skip the rounding of both places
-        // along the ray, as MovedGrid does (moved_grid.cpp).
+        // A ray leaving a surface starts a few ulps off it (offset.h); mapped
+        // and rounded again, and met by the first copy's triangle (rounded
+        // elsewhere), the start may fall on the other side. Skip 8 ulps of the
+        // origin's magnitudes here and in the mesh's frame along the ray. (The
+        // spawned triangle test already rejected every re-hit of 37,000 rays
+        // leaving copies at up to 1/1000 of a right angle without it; 64 ulps,
+        // as MovedGrid skips, lost the shadow of a copy 0.5 mm away at 141
+        // units from the origin.)
         const double here = magnitude(Vec3d(r.ray.o));
-        const double err = 64.0 * 0x1p-23 * (magnitude(o) + c.scale * here);
+        const double err = 8.0 * 0x1p-23 * (magnitude(o) + c.scale * here);
         const double len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
         if (len > 0) ray.tmin = std::max(ray.tmin, float(err / len));
     }
@@ -313,7 +325,9 @@ bool InstancedGrid::walk(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     int cell[3], step[3];
     double next[3], delta[3];
     for (int a = 0; a < 3; ++a) {
-        const double x = (w.o[a] + t0 * double(w.dir[a]) - double(lo_[a])) * inv_cell_[a];
+        // (the ray's own direction, as adaptive_walk.inc's locate: a component
+        // dda_d dropped still moves a ray from far away, dda.h)
+        const double x = (w.o[a] + t0 * w.d[a] - double(lo_[a])) * inv_cell_[a];
         cell[a] = std::min(std::max(int(std::floor(x)), 0), n_[a] - 1);
         if (w.dir[a] > 0) {
             step[a] = 1;

@@ -101,11 +101,12 @@ public:
     // moves whole takes the move's matrix, one a move cuts into is dropped.
     void set_instances(std::vector<SceneInstance> instances);
     const std::vector<SceneInstance>& instances() const { return instances_; }
-    // A scene of the primitives `prims` alone (ascending global indices): its
-    // primitive i is prims[i]. Geometry only (one default material; no
-    // lights, camera or textures): what a structure over part of this scene
-    // is built over and walks.
-    std::shared_ptr<const Scene> part(const std::vector<uint32_t>& prims) const;
+    // A scene of the primitives `prims` alone (ascending global indices),
+    // moved by -shift (in double, rounded to float): its primitive i is
+    // prims[i]. Geometry only (one default material; no lights, camera or
+    // textures): what a structure over part of this scene is built over and
+    // walks.
+    std::shared_ptr<const Scene> part(const std::vector<uint32_t>& prims, const Vec3d& shift = Vec3d()) const;
 
     // The triangle arrays as they were given (or moved), for checks.
     struct Geometry {

@@ -36,7 +36,11 @@ void Scene::set_instances(std::vector<SceneInstance> instances) {
     instances_ = std::move(instances);
 }
 
-std::shared_ptr<const Scene> Scene::part(const std::vector<uint32_t>& prims) const {
+std::shared_ptr<const Scene> Scene::part(const std::vector<uint32_t>& prims, const Vec3d& shift) const {
+    const bool moved = shift.x != 0 || shift.y != 0 || shift.z != 0;
+    auto move = [&](const Vec3& v) {
+        return moved ? Vec3(float(double(v.x) - shift.x), float(double(v.y) - shift.y), float(double(v.z) - shift.z)) : v;
+    };
     std::shared_ptr<Scene> out(new Scene(PartTag{}));
     for (size_t i = 0; i < prims.size(); ++i)
         if (prims[i] >= num_prims() || (i > 0 && prims[i] <= prims[i - 1]))
@@ -46,17 +50,19 @@ std::shared_ptr<const Scene> Scene::part(const std::vector<uint32_t>& prims) con
         switch (kind_of(p)) {
         case PrimKind::Triangle:
             for (int c = 0; c < 3; ++c) {
-                out->tri_verts_.push_back(tri_verts_[3 * size_t(p) + size_t(c)]);
+                out->tri_verts_.push_back(move(tri_verts_[3 * size_t(p) + size_t(c)]));
                 tri_bounds.grow(out->tri_verts_.back());
             }
             ++out->nt_;
             break;
         case PrimKind::Sphere:
+            if (moved) throw std::logic_error("Scene::part: only triangles are moved");
             out->centers_.push_back(centers_[local_index(p)]);
             out->radii_.push_back(radii_[local_index(p)]);
             ++out->ns_;
             break;
         default:
+            if (moved) throw std::logic_error("Scene::part: only triangles are moved");
             out->cones_.push_back(cones_[local_index(p)]);
             ++out->nc_;
             break;

@@ -1,7 +1,7 @@
 """Small mesh generators shared by the tests (closed meshes, soups)."""
 import numpy as np
 
-from gridwalk.scenes import icosphere  # noqa: F401  (re-exported for the tests)
+from gridwalk.scenes import icosphere, scattered_copies  # noqa: F401  (re-exported for the tests)
 
 
 def triangle_soup(n, seed=0, extent=10.0, size=1.0):
@@ -65,39 +65,3 @@ def uv_sphere(rings=24, segments=48, radius=1.0, jitter=0.05, center=(0.0, 0.0, 
     c, d = idx[1:, :-1], idx[1:, 1:]
     F = np.concatenate([np.stack([a, c, d], -1).reshape(-1, 3), np.stack([a, d, b], -1).reshape(-1, 3)])
     return V, F.astype(np.int32)
-
-
-def rotation(rng):
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q = q * np.sign(np.diag(r))
-    return q if np.linalg.det(q) > 0 else -q
-
-
-def scattered_copies(n=400, seed=1, mirrored_every=3, extent=20.0):
-    """n copies of an 80-triangle icosphere on a floor (every `mirrored_every`-th one
-    mirrored, its corners reversed as Blender's exporter reverses them), turned and
-    scaled at random, plus a sphere primitive; the scene's kwargs."""
-    rng = np.random.default_rng(seed)
-    mesh_v, mesh_t = icosphere(1, dtype=np.float64)
-    verts, tris, ranges, meshes, matrices = [], [], [], [], []
-    for i in range(n):
-        m = np.eye(4)
-        size = rng.uniform(0.2, 0.8)
-        m[:3, :3] = rotation(rng) * size
-        mirrored = mirrored_every and i % mirrored_every == 0
-        if mirrored:
-            m[:3, 0] *= -1
-        m[:3, 3] = [rng.uniform(-extent, extent), rng.uniform(-extent, extent), size]
-        ranges.append((i * len(mesh_t), len(mesh_t)))
-        tris.append((mesh_t[:, ::-1] if mirrored else mesh_t) + i * len(mesh_v))
-        verts.append((mesh_v @ m[:3, :3].T + m[:3, 3]).astype(np.float32))
-        meshes.append(int(mirrored))
-        matrices.append(m)
-    k = n * len(mesh_v)
-    e = 1.5 * extent
-    floor = np.array([[-e, -e, 0], [e, -e, 0], [e, e, 0], [-e, e, 0]], np.float32)
-    return dict(vertices=np.concatenate(verts + [floor]),
-                triangles=np.concatenate(tris + [np.array([[k, k + 1, k + 2], [k, k + 2, k + 3]], np.int32)]),
-                sphere_centers=[[0.5, 0.5, 2.0]], sphere_radii=[0.7],
-                instance_triangles=np.array(ranges), instance_meshes=np.array(meshes),
-                instance_matrices=np.array(matrices))

@@ -161,10 +161,16 @@ def test_declared_copies_are_estimated_as_the_instanced_grid_builds_them():
     copies = memory.declared_copies(kw)
     assert copies == {"copies": 2998, "copied_triangles": 2998 * 80}
     n = len(kw["triangles"])
-    settings = gw.RenderSettings(threads=2)
+    settings = gw.RenderSettings(threads=2, instancing="on")
     instanced = memory.estimate(n, len(kw["vertices"]), 1, settings=settings, **copies)
-    flat = memory.estimate(n, len(kw["vertices"]), 1, settings=settings.replace(instancing=False), **copies)
+    flat = memory.estimate(n, len(kw["vertices"]), 1, settings=settings.replace(instancing="off"), **copies)
     assert flat.grid == memory.estimate(n, len(kw["vertices"]), 1, settings=settings).grid
+    # "auto" instances only past INSTANCING_AUTO_TRIANGLES copied triangles (240,000 here)
+    auto = settings.replace(instancing="auto")
+    assert memory.estimate(n, len(kw["vertices"]), 1, settings=auto, **copies).grid == flat.grid
+    many = memory.estimate(8 * n, 8 * len(kw["vertices"]), 1, settings=auto, copies=8 * 2998,
+                           copied_triangles=8 * 2998 * 80)
+    assert many.grid < memory.estimate(8 * n, 8 * len(kw["vertices"]), 1, settings=auto).grid / 4
     assert instanced.grid < flat.grid / 4
     built = gw.Scene(**kw).grid_info(settings)
     assert built["kind"] == "instanced adaptive grid"

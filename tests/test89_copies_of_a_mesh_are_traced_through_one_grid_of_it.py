@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from gridwalk import memory
 from meshes import icosphere, random_rays, scattered_copies as scattered
 
-INSTANCED, FLAT = gw.RenderSettings(threads=2), gw.RenderSettings(threads=2, instancing=False)
+INSTANCED, FLAT = gw.RenderSettings(threads=2, instancing="on"), gw.RenderSettings(threads=2, instancing="off")
 
 
 def rays(n=60000, seed=2, extent=20.0):
@@ -114,15 +115,23 @@ def test_a_wrong_matrix_is_refused_not_trusted():
     assert "1 declared instances did not match" in scene.grid_info(INSTANCED)["note"]
 
 
-def test_a_few_copies_keep_the_flat_grid():
-    # Copies that make less than half of the primitives do not pay for a second level.
-    kw = scattered(n=4, mirrored_every=0)
-    v, t = kw["vertices"], kw["triangles"]
+def test_auto_instancing_builds_the_instanced_grid_only_where_it_pays():
+    # "auto" (the default): copies must make at least half of the primitives and over
+    # 2^20 triangles; below, the flat grid builds fast and traces faster. "on": wherever
+    # a copy checks out.
+    auto = gw.RenderSettings(threads=2)
+    assert auto.instancing == "auto"
+    few = scattered(n=400)                                   # 31,840 copied triangles
+    assert gw.Scene(**few).grid_info(auto)["kind"] == "adaptive grid"
+    kw = scattered(n=4, mirrored_every=0)                    # copies beside a bigger mesh
     big_v, big_t = icosphere(4, radius=3.0, center=(0, 0, 10))
-    kw["vertices"] = np.concatenate([v, big_v])
-    kw["triangles"] = np.concatenate([t, big_t + len(v)])
-    scene = gw.Scene(**kw)
-    assert scene.grid_info(INSTANCED)["kind"] == "adaptive grid"
+    kw["triangles"] = np.concatenate([kw["triangles"], big_t + len(kw["vertices"])])
+    kw["vertices"] = np.concatenate([kw["vertices"], big_v])
+    assert gw.Scene(**kw).grid_info(auto)["kind"] == "adaptive grid"
+    assert gw.Scene(**kw).grid_info(INSTANCED)["kind"] == "instanced adaptive grid"
+    many = scattered(n=13200, extent=60.0)                   # 1,055,840 copied triangles
+    assert (13200 - 2) * 80 > memory.INSTANCING_AUTO_TRIANGLES
+    assert gw.Scene(**many).grid_info(auto)["kind"] == "instanced adaptive grid"
 
 
 def test_spawned_rays_leave_a_copy_without_meeting_it_again():

@@ -132,16 +132,16 @@ def scatter_timing(count, threads):
     scene, instances = scatter_scene(count)
     kwargs, export = timed_exports(2)
     builds = {}
-    for instancing in (True, False):
+    for instancing in ("on", "off"):
         t0 = time.perf_counter()
         gridwalk.Scene(**kwargs).grid_info(gridwalk.RenderSettings(threads=threads, instancing=instancing))
         builds[instancing] = time.perf_counter() - t0
     renders = {}
-    runs = (("GRIDWALK", True), ("GRIDWALK", False), ("CYCLES", True))
+    runs = (("GRIDWALK", "on"), ("GRIDWALK", "off"), ("CYCLES", "on"))
     for engine, instancing in runs + runs:
         scene.render.engine, scene.render.threads_mode, scene.render.threads = engine, "FIXED", threads
         scene.gridwalk.aa, scene.gridwalk.aa_samples, scene.gridwalk.threads = "JITTERED", 2, threads
-        scene.gridwalk.instancing = instancing
+        scene.gridwalk.instancing = instancing.upper()
         scene.cycles.device, scene.cycles.samples = "CPU", 4
         scene.cycles.use_adaptive_sampling = scene.cycles.use_denoising = False
         t0 = time.perf_counter()
@@ -164,7 +164,7 @@ def main(argv):
     gw = render_seconds("GRIDWALK", *args.size, args.samples, threads, 5)
     cy = render_seconds("CYCLES", *args.size, args.samples, threads, 5)
     instances, scattered, export, builds, renders = scatter_timing(args.scatter, threads)
-    gw_scatter, gw_flat, cy_scatter = renders["GRIDWALK", True], renders["GRIDWALK", False], renders["CYCLES", True]
+    gw_scatter, gw_flat, cy_scatter = renders["GRIDWALK", "on"], renders["GRIDWALK", "off"], renders["CYCLES", "on"]
     lines = [
         "# Blender benchmark", "",
         f"Blender {bpy.app.version_string}, {platform.processor() or platform.machine()}, "
@@ -182,8 +182,8 @@ def main(argv):
         f"({scattered:,} triangles once flattened), 320x240, 4 samples per pixel, {threads} threads.", "",
         "| measure | value |", "|---|---|",
         f"| export (best of 2) | {export:.2f} s ({export / instances * 1e6:.1f} us per instance) |",
-        f"| GRIDWALK scene and instanced grid build | {builds[True]:.2f} s |",
-        f"| GRIDWALK scene and grid build, instancing off (one grid over every copy) | {builds[False]:.2f} s |",
+        f"| GRIDWALK scene and instanced grid build | {builds["on"]:.2f} s |",
+        f"| GRIDWALK scene and grid build, instancing off (one grid over every copy) | {builds["off"]:.2f} s |",
         f"| GRIDWALK render, all of it (best of 2) | {gw_scatter:.2f} s |",
         f"| GRIDWALK render with instancing off, all of it (best of 2) | {gw_flat:.2f} s |",
         f"| Cycles render, all of it (best of 2) | {cy_scatter:.2f} s |",

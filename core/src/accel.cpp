@@ -35,8 +35,8 @@ std::shared_ptr<const Accel> build_accel(std::shared_ptr<const Scene> scene, con
         ap.leaf_size = s.leaf_size;
         ap.max_depth = s.grid_levels;
         ap.threads = std::min(resolve_threads(s.threads), resolve_threads(0));   // (no more than the cores)
-        if (s.instancing) {
-            if (auto instanced = InstancedGrid::build(scene, ap, cancel)) return instanced;
+        if (s.instancing != Instancing::Off) {
+            if (auto instanced = InstancedGrid::build(scene, ap, cancel, s.instancing == Instancing::On)) return instanced;
         }
         auto adaptive = std::make_shared<AdaptiveGrid>(scene, ap, cancel);
         if (!adaptive->too_few_spacings()) return adaptive;

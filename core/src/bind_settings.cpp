@@ -87,6 +87,7 @@ void bind_settings(nb::module_& m) {
     bind_enum<AAMode>(m);
     bind_enum<ShadowMode>(m);
     bind_enum<PixelFilter>(m);
+    bind_enum<Instancing>(m);
     bind_enum<LightKind>(m);
     bind_enum<Projection>(m);
     bind_enum<Interpolation>(m);

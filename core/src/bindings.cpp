@@ -20,6 +20,7 @@
 #include "ear_clip.h"
 #include "render_job.h"
 #include "adaptive_grid.h"
+#include "instanced_grid.h"
 #include "moved_grid.h"
 #include "uniform_grid.h"
 
@@ -274,6 +275,7 @@ NB_MODULE(_core, m) {
 
     m.attr("ADAPTIVE_MAX_CELLS") = AdaptiveParams{}.max_cells;   // the adaptive grid's caps, for gridwalk.memory
     m.attr("ADAPTIVE_MAX_REFS") = AdaptiveParams{}.max_refs;
+    m.attr("INSTANCING_AUTO_TRIANGLES") = InstancedGrid::kAutoTriangles;   // for gridwalk.memory
 
     m.def("uniform_grid_budget",
           [](uint64_t prims, double density, uint64_t max_cells) {

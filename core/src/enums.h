@@ -60,6 +60,14 @@ GW_ENUM(ShadowMode, GW_SHADOW_MODES)
     X(Gaussian, "gaussian", "Gaussian", "Gaussian pixel filter (filter_width is its standard deviation)")
 GW_ENUM(PixelFilter, GW_PIXEL_FILTERS)
 
+#define GW_INSTANCING_MODES(X)                                                                       \
+    X(Off, "off", "Off", "One grid over every copy's triangles")                                     \
+    X(Auto, "auto", "Auto",                                                                          \
+      "The instanced grid where copies make at least half of the primitives and over 2^20 triangles "\
+      "(below, the flat grid builds fast and traces faster)")                                        \
+    X(On, "on", "On", "The instanced grid wherever a declared copy checks out")
+GW_ENUM(Instancing, GW_INSTANCING_MODES)
+
 #define GW_LIGHT_KINDS(X)                                                                        \
     X(Point, "point", "Point", "A point (a sphere light when its radius is > 0)")                \
     X(Sphere, "sphere", "Sphere", "A sphere of the given radius (soft shadows)")                 \

@@ -50,7 +50,7 @@ bool is_copy(const Vec3* tv, size_t start, size_t mesh_start, size_t count, cons
 }  // namespace
 
 std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,
-                                                  const CancelToken* cancel) {
+                                                  const CancelToken* cancel, bool always) {
     const auto t_start = std::chrono::steady_clock::now();
     const std::vector<SceneInstance>& declared = scene->instances();
     if (declared.size() < 2) return nullptr;
@@ -107,7 +107,8 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         g->copies_.push_back(c);
         copied += in.triangle_count;
     }
-    if (2 * copied < scene->num_prims()) return nullptr;
+    if (g->copies_.empty() || (!always && (2 * copied < scene->num_prims() || copied < kAutoTriangles)))
+        return nullptr;
 
     // The rest: every primitive outside the copies.
     {
@@ -293,10 +294,8 @@ RayPre InstancedGrid::to_mesh(const RayPre& r, const Copy& c) const {
 }
 
 template <bool kAny>
-bool InstancedGrid::test_copy(uint32_t i, const RayPre& r, const DdaRay& w, Hit& hit, TraceContext& ctx) const {
+bool InstancedGrid::test_copy(uint32_t i, const RayPre& r, Hit& hit, TraceContext& ctx) const {
     const Copy& c = copies_[i];
-    double t0 = r.ray.tmin, t1 = reach(hit.t);
-    if (!w.clip(c.lo, c.hi, r.ray, t0, t1)) return false;
     const RayPre m = to_mesh(r, c);
     const AdaptiveGrid& grid = *meshes_[c.mesh];
     if (kAny) return grid.occluded(m, ctx);
@@ -349,7 +348,9 @@ bool InstancedGrid::walk(const RayPre& r, Hit& hit, TraceContext& ctx) const {
         for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
             const uint32_t i = ids_[k];
             if (ctx.copies.seen(i)) continue;
-            if (test_copy<kAny>(i, r, w, hit, ctx)) {
+            double a = ray.tmin, b = reach(hit.t);
+            if (!w.clip(copies_[i].lo, copies_[i].hi, ray, a, b)) continue;
+            if (test_copy<kAny>(i, r, hit, ctx)) {
                 if (kAny) return true;
                 found = true;
             }

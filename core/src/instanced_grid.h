@@ -27,11 +27,18 @@ namespace gw {
 
 class InstancedGrid final : public Accel {
 public:
-    // The structure for `scene`, or null where its declared instances would
-    // not pay: fewer than half of its primitives are copies that check out,
-    // or a part's adaptive grid could not be built finely (too_few_spacings).
+    // The structure for `scene`, or null where it has no copy that checks
+    // out, or a part's adaptive grid could not be built finely
+    // (too_few_spacings); unless `always`, also where it would not pay:
+    // copies that check out make less than half of the primitives, or fewer
+    // than kAutoTriangles triangles (Instancing::Auto).
     static std::shared_ptr<const Accel> build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,
-                                              const CancelToken* cancel);
+                                              const CancelToken* cancel, bool always = false);
+    // Below this many copied triangles the flat adaptive grid builds in under
+    // a few tenths of a second and traces faster: a ray pays each copy's
+    // entry (the ray mapped, its watertight set-up, the mesh grid's entry)
+    // for every copy it reaches (docs/architecture.md).
+    static constexpr size_t kAutoTriangles = size_t(1) << 20;
     bool closest(const RayPre& r, Hit& hit, TraceContext& ctx) const override;
     bool occluded(const RayPre& r, TraceContext& ctx) const override;
     AccelInfo info() const override { return info_; }
@@ -51,7 +58,7 @@ private:
     template <bool kAny>
     bool walk(const RayPre& r, Hit& hit, TraceContext& ctx) const;
     template <bool kAny>
-    bool test_copy(uint32_t c, const RayPre& r, const DdaRay& w, Hit& hit, TraceContext& ctx) const;
+    bool test_copy(uint32_t c, const RayPre& r, Hit& hit, TraceContext& ctx) const;   // its box met
     RayPre to_mesh(const RayPre& r, const Copy& c) const;
     void cell_range(const Copy& c, int c0[3], int c1[3]) const;   // the top grid's cells c's box meets
 

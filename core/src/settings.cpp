@@ -16,25 +16,21 @@ namespace {
 
 template <class T>
 void check(const char* name, T value, double lo, double hi) {
-    if constexpr (std::is_same_v<T, float>) {   // limits in the setting's own precision
-        lo = double(float(lo));
-        hi = double(float(hi));
-    }
-    const double v = double(value);
-    if (!(v >= lo && v <= hi)) {   // NaN fails too
-        std::string range = "[" + format_number(lo) + ", " + (std::isinf(hi) ? std::string("inf") : format_number(hi)) + "]";
-        refuse(name, "must be in " + range + ", got " + format_number(v));
+    if constexpr (std::is_enum_v<T>) {   // a named enumeration (enums.h): one of its values
+        if (!enum_valid(value)) refuse(name, "has no valid value");
+    } else {
+        if constexpr (std::is_same_v<T, float>) {   // limits in the setting's own precision
+            lo = double(float(lo));
+            hi = double(float(hi));
+        }
+        const double v = double(value);
+        if (!(v >= lo && v <= hi)) {   // NaN fails too
+            std::string range = "[" + format_number(lo) + ", " + (std::isinf(hi) ? std::string("inf") : format_number(hi)) + "]";
+            refuse(name, "must be in " + range + ", got " + format_number(v));
+        }
     }
 }
 void check(const char*, bool, double, double) {}
-template <class E>
-void check_enum(const char* name, E value) {
-    if (!enum_valid(value)) refuse(name, "has no valid value");
-}
-void check(const char* name, AccelKind v, double, double) { check_enum(name, v); }
-void check(const char* name, AAMode v, double, double) { check_enum(name, v); }
-void check(const char* name, ShadowMode v, double, double) { check_enum(name, v); }
-void check(const char* name, PixelFilter v, double, double) { check_enum(name, v); }
 void check(const char* name, const Region& r, double, double) {
     if (r.x < 0 || r.y < 0 || r.w < 0 || r.h < 0) refuse(name, "must be (x, y, w, h) with non-negative values");
     if ((r.w == 0) != (r.h == 0)) refuse(name, "must have w and h both >= 1 (or both 0: the whole image)");

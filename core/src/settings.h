@@ -36,7 +36,7 @@ constexpr double kNoLimit = std::numeric_limits<double>::infinity();
       "of its own")                                                                                                 \
     X(int, grid_levels, 2, 0, 4, "acceleration", "accel=adaptive", "Grid Levels",                                   \
       "Adaptive grid: refining levels below the root grid (0: the root grid alone)")                               \
-    X(bool, instancing, true, 0, 1, "acceleration", "accel=adaptive", "Instancing",                                \
+    X(Instancing, instancing, Instancing::Auto, 0, 0, "acceleration", "accel=adaptive", "Instancing",             \
       "Adaptive grid: trace the copies of a mesh (Geometry Nodes and particle instances) through one grid of the " \
       "mesh, placed by a grid over the copies, instead of building over every copy's triangles")                  \
     X(bool, mailboxes, true, 0, 1, "acceleration", "accel=grid", "Mailboxes",                                      \

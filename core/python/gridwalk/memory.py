@@ -78,6 +78,7 @@ ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empt
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 STAMP_BYTES = 4
+INSTANCING_AUTO_TRIANGLES = _core.INSTANCING_AUTO_TRIANGLES   # instancing "auto": the fewest copied triangles
 COPY_BYTES = 320              # the instanced grid, per copy: its record (map, box) and its cells' lists (245 measured)
 TANGENT_BYTES = 180           # normal maps: the core's tangents (3 corners x 4 floats), and 132 more while they are built
 PIXEL_BYTES = 44 + 36 + 32
@@ -141,9 +142,10 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
     matte keys (Scene(matte_keys=...)) when settings.matte_ranks > 0;
     copies, copied_triangles: instances of a mesh beyond its first (Scene's
     instance arrays) and their triangles. Where the instanced grid is built
-    (settings.instancing, copies making at least half of the primitives) its
-    grid is the adaptive grid's for the other primitives, as much again for
-    the meshes' own grids (at most those primitives), and COPY_BYTES per copy.
+    (settings.instancing "on" with a copy, or "auto" with copies making at
+    least half of the primitives and INSTANCING_AUTO_TRIANGLES) its grid is
+    the adaptive grid's for the other primitives, as much again for the
+    meshes' own grids (at most those primitives), and COPY_BYTES per copy.
     """
     if settings is None:
         from .settings import RenderSettings
@@ -162,8 +164,9 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
         scene_arrays += 4 * prims * max(1, int(matte_layers))
     grid = mailboxes = 0
     copied_triangles = min(max(int(copied_triangles), 0), triangles)
-    if settings.accel == "adaptive" and prims and settings.instancing and 2 * copied_triangles >= prims > 0 \
-            and copies > 0:
+    instanced = copies > 0 and (settings.instancing == "on" or settings.instancing == "auto" and (
+        2 * copied_triangles >= prims and copied_triangles >= INSTANCING_AUTO_TRIANGLES))
+    if settings.accel == "adaptive" and prims and instanced:
         grid = 2 * _adaptive_grid(prims - copied_triangles) + int(copies) * COPY_BYTES + 4 * prims
     elif settings.accel == "adaptive" and prims:
         grid = _adaptive_grid(prims)

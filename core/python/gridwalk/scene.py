@@ -213,7 +213,9 @@ class Scene:
         (equal instance_meshes), each the mesh under its matrix, corner for
         corner in the same order as the mesh's first copy; the adaptive grid
         then traces the copies through one grid of the mesh
-        (RenderSettings.instancing). Each copy is checked against the first
+        (RenderSettings.instancing: "auto", the default, where they make at
+        least half of the primitives and over 2^20 triangles; "on" wherever
+        one checks out). Each copy is checked against the first
         on its corners; one that does not match is traced as plain triangles."""
         f32, i32 = np.float32, np.int32
         self.materials = list(materials) if materials else [Material()]

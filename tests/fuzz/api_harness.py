@@ -114,6 +114,10 @@ def draw_settings(inp: Input) -> gw.RenderSettings:
     for _ in range(inp.below(4)):
         s = inp.pick(SCHEMA)
         values[s.name] = draw_value(inp, s)
+    # The scenes' declared copies (with_copies) are far below "auto"'s 2^20 triangles:
+    # mostly "on", so that the instanced grid is what the queries walk.
+    if "instancing" not in values and inp.byte() < 160:
+        values["instancing"] = "on"
     # Keep each input fast: few threads, few samples (the limits are the
     # settings test's business).
     for name, most in (("threads", 4), ("aa_samples", 3), ("shadow_samples", 3), ("dof_samples", 3),

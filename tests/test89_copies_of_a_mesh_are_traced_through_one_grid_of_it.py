@@ -285,3 +285,21 @@ def test_a_ray_from_far_away_with_a_tiny_sideways_step_starts_in_the_right_cell(
     brute = scene.intersect(o, d, settings=gw.RenderSettings(accel="none"))
     assert brute.kind[0] == 1 and brute.prim[0] == 25
     assert scene.intersect(o, d, settings=INSTANCED).prim[0] == 25
+
+
+def test_copies_crowding_into_a_few_cells_get_the_flat_grid():
+    # 2,000 copies within 20 units and one 1e5 away: the grid over the copies, sized by
+    # their whole box, would list the cluster in one cell, which every ray into it would
+    # clip copy by copy (37x the flat grid's time); the flat adaptive grid refines there.
+    kw = scattered(n=2000, extent=10.0, mirrored_every=0)
+    start, count = kw["instance_triangles"][-1]
+    far = np.unique(kw["triangles"][start:start + count])
+    kw["vertices"] = kw["vertices"].copy()
+    kw["vertices"][far] += np.float32(1e5)
+    kw["instance_matrices"] = kw["instance_matrices"].copy()
+    kw["instance_matrices"][-1][:3, 3] += 1e5
+    scene = gw.Scene(**kw)
+    assert scene.grid_info(INSTANCED)["kind"] == "adaptive grid"
+    # (without the far copy the same copies are instanced)
+    kw2 = scattered(n=2000, extent=10.0, mirrored_every=0)
+    assert gw.Scene(**kw2).grid_info(INSTANCED)["kind"] == "instanced adaptive grid"

@@ -29,6 +29,12 @@ constexpr double kCornerTolerance = 0x1p-21;
 // references (its resolution is lowered past them).
 constexpr double kCellsPerCopy = 2.0;
 constexpr uint64_t kMaxTopCells = uint64_t(1) << 22, kMaxTopRefs = uint64_t(1) << 26;
+// A cell of the grid over the copies that lists more than this many is
+// crowded: the copies cluster within a few of its cells (a forest with one
+// tree 1e5 away), every ray into the cluster would clip them all (4,999
+// copies in one cell: 27 us a ray against 0.7 for the flat grid), and the
+// flat adaptive grid, which refines where primitives crowd, is built instead.
+constexpr uint32_t kCrowdedCell = 256;
 
 double magnitude(const Vec3d& v) { return std::max(std::max(std::abs(v.x), std::abs(v.y)), std::abs(v.z)); }
 
@@ -223,6 +229,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     g->first_.assign(cells + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1) {
+            if (*std::max_element(g->first_.begin(), g->first_.end()) > kCrowdedCell) return nullptr;
             for (uint64_t c = 0; c < cells; ++c) g->first_[c + 1] += g->first_[c];
             g->ids_.resize(g->first_[cells]);
         }

@@ -28,8 +28,9 @@ namespace gw {
 class InstancedGrid final : public Accel {
 public:
     // The structure for `scene`, or null where it has no copy that checks
-    // out, or a part's adaptive grid could not be built finely
-    // (too_few_spacings); unless `always`, also where it would not pay:
+    // out, a part's adaptive grid could not be built finely
+    // (too_few_spacings), or the copies crowd into a few cells of the grid
+    // over them (kCrowdedCell); unless `always`, also where it would not pay:
     // copies that check out make less than half of the primitives, or fewer
     // than kAutoTriangles triangles (Instancing::Auto).
     static std::shared_ptr<const Accel> build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,

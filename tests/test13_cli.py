@@ -266,3 +266,15 @@ def test_compare_fails_below_99_999_percent_hit_miss_agreement():
     t[0] = np.inf                                   # one miss in 50000: 99.998%
     result = compare(_hits(t, np.where(np.isfinite(t), 0, -1)), embree)
     assert result["hit_miss_disagreements"] == 1 and not result["passed"]
+
+
+def test_matte_ranks_say_that_they_have_no_effect_on_a_scene_file(tmp_path):
+    """--matte-ranks (every render setting has an option) keys Cryptomatte's mattes, which NFF and PLY
+    scenes cannot give: the render says so instead of silently ignoring it."""
+    mesh = write_ply(tmp_path / "mesh.ply")
+    run = gridwalk("render", mesh, "-o", tmp_path / "m.png", "--width", 16, "--height", 16, "--quiet",
+                   "--matte-ranks", 2)
+    assert run.returncode == 0, run.stderr
+    assert "--matte-ranks 2 has no effect" in run.stderr
+    run = gridwalk("render", mesh, "-o", tmp_path / "m.png", "--width", 16, "--height", 16, "--quiet")
+    assert run.returncode == 0 and "matte" not in run.stderr

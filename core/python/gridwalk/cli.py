@@ -236,6 +236,10 @@ def cmd_render(args) -> int:
     s = settings_from_args(args)
     kwargs = load(args.scene, args.width, args.height)
     warn_zero_area(args.scene, kwargs)
+    if s.matte_ranks and kwargs.get("matte_keys") is None:
+        print(f"gridwalk: warning: --matte-ranks {s.matte_ranks} has no effect: {args.scene} names no objects or "
+              "materials to key (Cryptomatte's mattes come from Blender scenes), and this command writes no "
+              "matte passes", file=sys.stderr)
     check_memory(kwargs, s)
     job = RenderJob(Scene(**kwargs), s)
     image = run_job(job, args.quiet)

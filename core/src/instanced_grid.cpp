@@ -53,6 +53,12 @@ bool is_copy(const Vec3* tv, size_t start, size_t mesh_start, size_t count, cons
     return true;
 }
 
+// Whether copies of `copied` triangles make the instanced grid worth it in a
+// scene of `prims` primitives (InstancedGrid::build).
+bool pays(size_t copied, size_t prims, bool always) {
+    return copied > 0 && (always || (2 * copied >= prims && copied >= InstancedGrid::kAutoTriangles));
+}
+
 }  // namespace
 
 std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,
@@ -86,6 +92,11 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         else
             ++refused;
     }
+    // Copies that pass are among these: a scene that would not pay is known
+    // before any corner is checked.
+    size_t offered = 0;
+    for (const auto& cand : candidates) offered += declared[cand.first].triangle_count;
+    if (!pays(offered, scene->num_prims(), always)) return nullptr;
     std::vector<uint8_t> matches(candidates.size());
     for_each_range(candidates.size(), p.threads, 256, [&](size_t b, size_t e) {
         uint64_t steps = 0;
@@ -113,62 +124,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         g->copies_.push_back(c);
         copied += in.triangle_count;
     }
-    if (g->copies_.empty() || (!always && (2 * copied < scene->num_prims() || copied < kAutoTriangles)))
-        return nullptr;
-
-    // The rest: every primitive outside the copies.
-    {
-        std::vector<std::pair<uint32_t, uint32_t>> ranges;
-        for (const Copy& c : g->copies_) ranges.emplace_back(c.start, c.start + c.count);
-        std::sort(ranges.begin(), ranges.end());
-        g->rest_ids_.reserve(scene->num_prims() - copied);
-        uint32_t at = 0;
-        for (const auto& r : ranges) {
-            for (; at < r.first; ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
-            at = r.second;
-        }
-        for (; at < scene->num_prims(); ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
-    }
-    AccelInfo sum;
-    size_t part_corners = 0;   // the part scenes' copies of triangle corners
-    auto add = [&](const AdaptiveGrid& a) {
-        sum.grids += a.info().grids;
-        sum.cells += a.info().cells;
-        sum.refs += a.info().refs;
-        sum.bytes += a.info().bytes;
-    };
-    if (!g->rest_ids_.empty()) {
-        auto rest = std::make_shared<AdaptiveGrid>(scene->part(g->rest_ids_), p, cancel);
-        part_corners += 3 * rest->scene().num_triangles();
-        if (rest->too_few_spacings()) return nullptr;
-        add(*rest);
-        sum.build_threads = rest->info().build_threads;
-        g->rest_ = std::move(rest);
-    }
-    // Each copied mesh's grid, over its first copy's triangles.
-    // Each is built around its first copy's centre (shift): the mapped rays'
-    // rounding, and the skip of spawned rays (to_mesh), then scale with the
-    // mesh, not with where its first copy happens to lie.
-    std::vector<Vec3d> shift(g->meshes_.size());
-    for (size_t k = 0; k < g->meshes_.size(); ++k) {
-        const SceneInstance& first = declared[first_of.at(mesh_ids[k])];
-        std::vector<uint32_t> ids(first.triangle_count);
-        Bounds box;
-        for (size_t j = 0; j < ids.size(); ++j) {
-            ids[j] = uint32_t(first.triangle_start + j);
-            for (int c = 0; c < 3; ++c) box.grow(tv[3 * (first.triangle_start + j) + size_t(c)]);
-        }
-        shift[k] = (Vec3d(box.lo) + Vec3d(box.hi)) * 0.5;
-        AdaptiveParams mp = p;
-        mp.threads = 1;   // (small grids, one after another)
-        auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids, shift[k]), mp, cancel);
-        if (grid->too_few_spacings()) return nullptr;
-        add(*grid);
-        part_corners += 3 * ids.size();
-        g->meshes_[k] = std::move(grid);
-    }
-    for (Copy& c : g->copies_)
-        for (int r = 0; r < 3; ++r) c.to_mesh.m[r][3] -= shift[c.mesh][r];
+    if (!pays(copied, scene->num_prims(), always)) return nullptr;
 
     // The copies' boxes: their own triangles' bounds, padded by the map's
     // rounding (a hit is the first copy's triangle mapped back, which may lie
@@ -248,6 +204,61 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
                     }
         }
     }
+
+    // The rest: every primitive outside the copies. (Built after the grid over
+    // the copies, which may give up.)
+    {
+        std::vector<std::pair<uint32_t, uint32_t>> ranges;
+        for (const Copy& c : g->copies_) ranges.emplace_back(c.start, c.start + c.count);
+        std::sort(ranges.begin(), ranges.end());
+        g->rest_ids_.reserve(scene->num_prims() - copied);
+        uint32_t at = 0;
+        for (const auto& r : ranges) {
+            for (; at < r.first; ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
+            at = r.second;
+        }
+        for (; at < scene->num_prims(); ++at) g->rest_ids_.push_back(at), check_cancel(cancel, step);
+    }
+    AccelInfo sum;
+    size_t part_corners = 0;   // the part scenes' copies of triangle corners
+    auto add = [&](const AdaptiveGrid& a) {
+        sum.grids += a.info().grids;
+        sum.cells += a.info().cells;
+        sum.refs += a.info().refs;
+        sum.bytes += a.info().bytes;
+    };
+    if (!g->rest_ids_.empty()) {
+        auto rest = std::make_shared<AdaptiveGrid>(scene->part(g->rest_ids_), p, cancel);
+        part_corners += 3 * rest->scene().num_triangles();
+        if (rest->too_few_spacings()) return nullptr;
+        add(*rest);
+        sum.build_threads = rest->info().build_threads;
+        g->rest_ = std::move(rest);
+    }
+    // Each copied mesh's grid, over its first copy's triangles.
+    // Each is built around its first copy's centre (shift): the mapped rays'
+    // rounding, and the skip of spawned rays (to_mesh), then scale with the
+    // mesh, not with where its first copy happens to lie.
+    std::vector<Vec3d> shift(g->meshes_.size());
+    for (size_t k = 0; k < g->meshes_.size(); ++k) {
+        const SceneInstance& first = declared[first_of.at(mesh_ids[k])];
+        std::vector<uint32_t> ids(first.triangle_count);
+        Bounds box;
+        for (size_t j = 0; j < ids.size(); ++j) {
+            ids[j] = uint32_t(first.triangle_start + j);
+            for (int c = 0; c < 3; ++c) box.grow(tv[3 * (first.triangle_start + j) + size_t(c)]);
+        }
+        shift[k] = (Vec3d(box.lo) + Vec3d(box.hi)) * 0.5;
+        AdaptiveParams mp = p;
+        mp.threads = 1;   // (small grids, one after another)
+        auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids, shift[k]), mp, cancel);
+        if (grid->too_few_spacings()) return nullptr;
+        add(*grid);
+        part_corners += 3 * ids.size();
+        g->meshes_[k] = std::move(grid);
+    }
+    for (Copy& c : g->copies_)
+        for (int r = 0; r < 3; ++r) c.to_mesh.m[r][3] -= shift[c.mesh][r];
 
     AccelInfo& info = g->info_;
     info.kind = "instanced adaptive grid";

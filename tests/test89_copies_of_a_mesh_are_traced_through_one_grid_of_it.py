@@ -210,6 +210,7 @@ def test_a_copy_moved_in_the_viewport_stays_a_copy_where_it_now_is():
           instance_matrices=np.eye(4)[None]), ">= 0"),
     (dict(instance_meshes=np.array([-1] * 400)), "instance_meshes"),
     (dict(instance_matrices=np.zeros((400, 3, 4))), "instance_matrices must have shape"),
+    (dict(instance_matrices=np.zeros((400, 4, 4), complex)), "of real numbers"),   # (the API fuzzer's find)
     (dict(instance_triangles=np.zeros((400, 3), np.int64)), "instance_triangles must be"),
 ])
 def test_bad_instances_are_refused_with_a_clear_error(change, message):

@@ -172,11 +172,13 @@ def _declare_instances(native, triangles, meshes, matrices):
         raise ValueError(f"instance_meshes must be an ({len(ranges)},) integer array, got shape {ids.shape} of {ids.dtype}")
     if len(ids) and (ids.min() < 0 or ids.max() > np.iinfo(np.int32).max):
         raise ValueError("instance_meshes must lie in [0, 2^31)")
-    m = np.asarray(matrices, dtype=np.float64)
-    if m.shape != (len(ranges), 4, 4):
-        raise ValueError(f"instance_matrices must have shape ({len(ranges)}, 4, 4), got {m.shape}")
+    m = np.asarray(matrices)
+    if m.shape != (len(ranges), 4, 4) or m.dtype == object or not np.issubdtype(m.dtype, np.number) \
+            or np.issubdtype(m.dtype, np.complexfloating):
+        raise ValueError(f"instance_matrices must have shape ({len(ranges)}, 4, 4) of real numbers, got {m.shape} "
+                         f"of {m.dtype}")
     native.set_instances(np.ascontiguousarray(ranges, dtype=np.int64), np.ascontiguousarray(ids, dtype=np.int32),
-                         np.ascontiguousarray(m))
+                         np.ascontiguousarray(m, dtype=np.float64))
 
 
 class Scene:

@@ -131,18 +131,24 @@ def _corner_values(data, name, flips, fill):
     return _ordered(values, flips).reshape((-1,) + values.shape[1:])
 
 
-def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
+def assemble_triangles(parts, cache, matrices=None) -> tuple[dict, list[Placement]]:
     """(Scene arrays (vertices, triangles, normals, triangle_materials, uvs,
     colours), each part's Placement) of the parts (cache key, MeshData,
     matrix, material lookup); each chunk's world-space arrays come from
-    cache.world_chunk (reused while its matrices are unchanged)."""
+    cache.world_chunk (reused while its matrices are unchanged). matrices:
+    the parts' matrices as one (P, 4, 4) float64 array, if the caller has
+    it (MeshCollector.finish), else stacked here."""
     if not parts:
         return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
                 "normals": None, "triangle_materials": np.zeros(0, np.int32)}, []
-    need_normals = any(data.normals is not None for _, data, _, _ in parts)
-    need_uvs = any(data.uvs is not None for _, data, _, _ in parts)
-    need_colors = any(data.colors is not None for _, data, _, _ in parts)
-    points = [name for name in CORNER_POINTS if any(getattr(data, name) is not None for _, data, _, _ in parts)]
+    if matrices is None:
+        matrices = np.stack([part[2] for part in parts])
+    matrices = np.asarray(matrices, np.float64)
+    meshes = list({id(part[1]): part[1] for part in parts}.values())   # (each MeshData once)
+    need_normals = any(data.normals is not None for data in meshes)
+    need_uvs = any(data.uvs is not None for data in meshes)
+    need_colors = any(data.colors is not None for data in meshes)
+    points = [name for name in CORNER_POINTS if any(getattr(data, name) is not None for data in meshes)]
     vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
     corner_points = {name: [] for name in points}
     layout = [None] * len(parts)
@@ -150,8 +156,7 @@ def assemble_triangles(parts, cache) -> tuple[dict, list[Placement]]:
     for chunk in chunks(parts):
         key, data = parts[chunk[0]][:2]
         flat = need_normals and data.normals is None
-        matrices = np.stack([parts[i][2] for i in chunk]).astype(np.float64, copy=False)
-        world, tris, nrm, flips = cache.world_chunk(key, data, matrices, flat)
+        world, tris, nrm, flips = cache.world_chunk(key, data, matrices[chunk], flat)
         per_vertices, per_triangles = world.shape[0] // len(chunk), len(data.triangles)
         for j, i in enumerate(chunk):
             layout[i] = Placement(offset + j * per_vertices, triangle_offset + j * per_triangles, per_triangles,

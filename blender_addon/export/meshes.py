@@ -403,6 +403,8 @@ class MeshCollector:
         self._flag_cache = {}          # original object address -> (holdout, hidden_from fields)
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
+        self.part_matrices = np.zeros((0, 4, 4))   # after finish(): every part's matrix, (P, 4, 4) (parts' are its rows)
+        self._part_plans = np.zeros(0, np.int64)   # after finish(): each part's plan (InstancePlan.index)
         self.spheres = []          # (centre, radius, material index)
         self.point_sets = []       # point_clouds.PointSet per point cloud instance
         self.cone_sets = []        # hair.ConeSet per hair curves instance
@@ -458,6 +460,16 @@ class MeshCollector:
         finish()), a sphere, or a point or cone set; or why it is skipped."""
         m = inst.matrix_world
         row = m[0][:] + m[1][:] + m[2][:] + m[3][:]
+        if plan.index >= 0 and plan.known[3].finite:
+            # A mesh read already (the ten-thousandth copy of a scattered stone): its
+            # row alone; _flush_rows checks the block's rows are finite, all at once.
+            # (_add_row's lines, inline: this runs once per instance.)
+            self._rows.append(row)
+            self._row_plans.append(plan.index)
+            self._row_seqs.append(self._seq)
+            if len(self._rows) >= ROW_BLOCK:
+                self._flush_rows()
+            return
         if not finite(row):
             self._skip(plan.name, "its transform is not finite (NaN or Inf)")
             return
@@ -473,11 +485,15 @@ class MeshCollector:
         elif plan.kind == "mesh" and not plan.known[3].finite:
             self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
         elif plan.kind == "mesh":
-            self._rows.append(row)
-            self._row_plans.append(plan.index)
-            self._row_seqs.append(self._seq)
-            if len(self._rows) >= ROW_BLOCK:
-                self._flush_rows()
+            self._add_row(row, plan)
+
+    def _add_row(self, row, plan):
+        """A mesh instance's matrix (16 floats) into the rows of the next block."""
+        self._rows.append(row)
+        self._row_plans.append(plan.index)
+        self._row_seqs.append(self._seq)
+        if len(self._rows) >= ROW_BLOCK:
+            self._flush_rows()
 
     def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
@@ -517,11 +533,18 @@ class MeshCollector:
 
     def _flush_rows(self):
         """The matrices read since the last flush, as one block: (K, 4, 4) float64, their
-        plans' indices, their instance numbers."""
+        plans' indices, their instance numbers. A row that is not finite is named in the
+        warnings (as _add_geometry names the first instance of a mesh) and left out."""
         if self._rows:
-            self._blocks.append((np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4),
-                                 np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)))
+            matrices = np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4)
+            which, seqs = np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)
             self._rows, self._row_plans, self._row_seqs = [], [], []
+            finite_rows = np.isfinite(matrices).all(axis=(1, 2))
+            if not finite_rows.all():
+                for k, seq in zip(which[~finite_rows].tolist(), seqs[~finite_rows].tolist()):
+                    self._skip(self._mesh_plans[k].name, "its transform is not finite (NaN or Inf)", (seq, 0))
+                matrices, which, seqs = matrices[finite_rows], which[finite_rows], seqs[finite_rows]
+            self._blocks.append((matrices, which, seqs))
 
     def finish(self, should_stop=None) -> bool:
         """Turns the mesh instances read so far into parts, in the order they came, block by
@@ -533,6 +556,7 @@ class MeshCollector:
         extents = np.array([p.known[3].extent for p in plans], np.float64)
         noted = set()
         blocks, self._blocks = self._blocks, []
+        kept, kept_plans = [], []
         for matrices, which, seqs in blocks:
             if should_stop is not None and should_stop():
                 return False
@@ -541,17 +565,23 @@ class MeshCollector:
             with np.errstate(over="ignore"):
                 linear = np.abs(matrices[:, :3, :3]).sum(axis=2).max(axis=1)
                 inside = linear * extents[which] + np.abs(matrices[:, :3, 3]).max(axis=1) <= MAX_COORDINATE
-            for i, (k, seq, ok) in enumerate(zip(which.tolist(), seqs.tolist(), inside.tolist())):
-                plan = plans[k]
-                if not ok:
-                    self._skip(plan.name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))
-                    continue
-                if k not in noted:
-                    noted.add(k)
-                    self._note_mesh(plan)
-                known = plan.known
-                self.parts.append((known[2], known[3], matrices[i], known[1]))
-                self.part_names.append(plan.names)
+            for k, seq in zip(which[~inside].tolist(), seqs[~inside].tolist()):
+                self._skip(plans[k].name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))
+            kept.append(matrices[inside])
+            kept_plans.append(which[inside])
+        # Every part's matrix is a row of one (P, 4, 4) array (assemble_triangles and
+        # _instances take them from it, not one by one).
+        self.part_matrices = np.concatenate(kept) if kept else np.zeros((0, 4, 4))
+        which = np.concatenate(kept_plans) if kept_plans else np.zeros(0, np.int64)
+        for k in dict.fromkeys(which.tolist()):   # (each mesh once, in the order it first came)
+            if k not in noted:
+                noted.add(k)
+                self._note_mesh(plans[k])
+        self._part_plans = which
+        which = which.tolist()
+        heads = [(p.known[2], p.known[3], p.known[1]) for p in plans]   # (key, MeshData, lookup) per plan
+        self.parts.extend((heads[k][0], heads[k][1], m, heads[k][2]) for k, m in zip(which, self.part_matrices))
+        self.part_names.extend([plans[k].names for k in which])
         return True
 
     def _source(self, obj, flags=(False, ())) -> tuple:
@@ -736,7 +766,7 @@ class MeshCollector:
 
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
-        out, self.layout = assemble_triangles(self.parts, self.cache)
+        out, self.layout = assemble_triangles(self.parts, self.cache, self.part_matrices)
         out.update(self._instances())
         self.cache.prune(self.used)
         sets = self.point_sets
@@ -764,12 +794,18 @@ class MeshCollector:
         assemble_triangles (self.layout)."""
         if len(self.parts) < 2:
             return {}
-        matrices = np.stack([part[2] for part in self.parts]).astype(np.float64, copy=False)
-        ids = {}
-        meshes = np.array([ids.setdefault((part[0], bool(flip)), len(ids))
-                           for part, flip in zip(self.parts, mirror_flags(matrices))], np.int32)
-        if len(ids) == len(self.parts):
+        matrices = self.part_matrices
+        entries = {}
+        entry = np.array([entries.setdefault(key, len(entries)) for key in
+                          (plan.known[2] for plan in self._mesh_plans)] + [0], np.int64)
+        # (each part's mesh entry, from its plan's; numbered below in the order they first come)
+        pairs = entry[self._part_plans] * 2 + mirror_flags(matrices)
+        _, first, inverse = np.unique(pairs, return_index=True, return_inverse=True)
+        if len(first) == len(self.parts):
             return {}
+        rank = np.empty(len(first), np.int32)
+        rank[np.argsort(first, kind="stable")] = np.arange(len(first), dtype=np.int32)
+        meshes = rank[inverse.reshape(-1)]
         triangles = np.array([(p.triangle_start, p.triangle_count) for p in self.layout], np.int64)
         return {"instance_triangles": triangles, "instance_meshes": meshes, "instance_matrices": matrices}
 

@@ -49,7 +49,7 @@ def results(request, tmp_path_factory):
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 27
+    assert len(results.cases()) == 29
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
@@ -191,6 +191,15 @@ def test_nan_transforms_are_skipped_with_a_warning_naming_each_object(results):
         "Warning: Gridwalk: Nothing to render: the scene has no visible object with faces (skipped as invalid: "
         "'NaNCube'): the frame shows the world alone") in results.warnings("nan_only")
     assert not any("SkippedTranslucent" in w for w in results.warnings("nan_only"))   # its material unread
+
+
+def test_a_copy_with_a_nan_transform_is_skipped_and_the_other_copies_render(results):
+    skipped = "Warning: Gridwalk: Skipped object 'NaNInstanced': its transform is not finite (NaN or Inf)"
+    assert results.error("nan_instance") == "" and skipped in results.warnings("nan_instance")
+    assert not any("NaNInstanced" in w for w in results.warnings("nan_instance_removed"))
+    image = results.image("nan_instance")
+    np.testing.assert_array_equal(image, results.image("nan_instance_removed"))
+    assert (image[..., 3] > 0).sum() > (results.image("full_frame")[..., 3] > 0).sum() + 20   # the copies show
 
 
 def test_meshes_without_faces_and_with_zero_area_faces(results):

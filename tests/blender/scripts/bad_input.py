@@ -192,6 +192,25 @@ def case_nan_transforms(bpy, s):
     nan_vertex.data.vertices[0].co = (NAN, 0.0, 0.0)
 
 
+def _vertex_instances(bpy, s, points):
+    """The lit cube, and a small cube instanced on each of `points` (a carrier mesh's vertices)."""
+    _lit_cube_scene(bpy, s)
+    carrier = s.link(mesh_object(bpy, "Carrier", points))
+    carrier.instance_type = "VERTS"
+    stone = s.link(s.cube_object("NaNInstanced"))
+    stone.scale, stone.parent = (0.3, 0.3, 0.3), carrier
+
+
+def case_nan_instance(bpy, s):
+    """Copies of one mesh whose second copy's transform is NaN: the export reads a copy after
+    the first as its matrix alone and checks a block of them at once (MeshCollector)."""
+    _vertex_instances(bpy, s, [(1.6, -1.0, 0.8), (NAN, 0.0, 0.0), (-1.6, -1.0, 0.8)])
+
+
+def case_nan_instance_removed(bpy, s):
+    _vertex_instances(bpy, s, [(1.6, -1.0, 0.8), (-1.6, -1.0, 0.8)])
+
+
 def case_zero_scale_lights(bpy, s):
     """Lights switched off as artists do, by scaling them to zero, and an area light of size 0."""
     _lit_cube_scene(bpy, s)

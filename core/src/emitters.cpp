@@ -11,6 +11,8 @@ double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * 
 
 Emitters::Emitters(const PooledVector<Vec3>& tri_vertices, const PooledVector<int32_t>& tri_materials,
                    const std::vector<Material>& materials) {
+    // (most scenes have no emissive material: no pass over their triangles)
+    if (std::none_of(materials.begin(), materials.end(), [](const Material& m) { return m.emits_light; })) return;
     std::vector<double> weights;
     double total = 0;
     for (size_t i = 0; i < tri_materials.size(); ++i) {

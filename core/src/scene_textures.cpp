@@ -128,6 +128,7 @@ void Scene::check_generated() const {
             uses[i] = reads(m.color_texture) || reads(m.roughness_texture) || reads(m.metallic_texture) ||
                       reads(m.alpha_texture) || reads(m.emission_texture) || reads(m.bump_texture);
         }
+        if (std::find(uses.begin(), uses.end(), uint8_t(1)) == uses.end()) continue;   // (no pass over the primitives)
         const std::string kind = enum_id(coords);
         auto what = [&](int32_t mat) {
             return "materials[" + std::to_string(mat) + "] has a texture at " + kind + " coordinates, ";

@@ -107,6 +107,54 @@ def test_a_declared_copy_that_does_not_match_its_mesh_is_traced_as_its_own_trian
     assert np.array_equal(a.prim[own], brute.prim[own]) and np.array_equal(a.t[own], brute.t[own])
 
 
+def _permute_copy(kw, i, rng):
+    """Copy i's vertices listed in another order (its triangles renumbered to match): the same
+    corners, but not its mesh's first copy's vertex ids plus one offset."""
+    tris = kw["triangles"][i * 80:(i + 1) * 80]
+    lo = tris.min()
+    n = tris.max() + 1 - lo
+    order = rng.permutation(n)
+    block = kw["vertices"][lo:lo + n].copy()
+    kw["vertices"][lo + order] = block
+    kw["triangles"][i * 80:(i + 1) * 80] = lo + order[tris - lo]
+
+
+def test_copies_listing_their_vertices_in_another_order_are_checked_corner_by_corner():
+    # The build checks a copy at one corner per vertex where its vertex ids are its first
+    # copy's shifted (how exporters lay copies out), else at every corner: both find the
+    # same copies, and a moved corner is refused either way.
+    kw = scattered(n=200)
+    kw["vertices"], kw["triangles"] = kw["vertices"].copy(), kw["triangles"].copy()
+    rng = np.random.default_rng(5)
+    before = gw.Scene(**kw).intersect(*rays(8000), settings=INSTANCED)
+    for i in (4, 8, 13, 21):
+        _permute_copy(kw, i, rng)
+    scene = gw.Scene(**kw)
+    info = scene.grid_info(INSTANCED)
+    assert info["note"].startswith("198 copies of 2 meshes") and "did not match" not in info["note"]
+    after = scene.intersect(*rays(8000), settings=INSTANCED)
+    assert np.array_equal(before.prim, after.prim) and np.array_equal(before.t, after.t)
+    # a corner moved in a renumbered copy, and one in a copy laid out as its first copy
+    for i in (8, 30):
+        kw["vertices"][kw["triangles"][i * 80 + 17, 2]] += np.float32(0.05)
+    assert "2 declared instances did not match" in gw.Scene(**kw).grid_info(INSTANCED)["note"]
+
+
+def test_a_copy_with_one_corner_split_off_to_a_vertex_of_its_own_is_refused():
+    # One corner of copy 40 that shared a vertex with earlier corners now has a vertex of its
+    # own, moved: its corners no longer share vertices as its first copy's do, so every
+    # corner is checked (one corner per vertex would only see the earlier ones).
+    kw = scattered(n=200)
+    corners = kw["triangles"][40 * 80:41 * 80].reshape(-1)
+    v = corners[0]
+    later = np.flatnonzero(corners == v)[-1]
+    assert later > 0
+    kw["vertices"] = np.concatenate([kw["vertices"], kw["vertices"][v:v + 1] + np.float32(0.05)])
+    kw["triangles"] = kw["triangles"].copy()
+    kw["triangles"][40 * 80 + later // 3, later % 3] = len(kw["vertices"]) - 1
+    assert "1 declared instances did not match" in gw.Scene(**kw).grid_info(INSTANCED)["note"]
+
+
 def test_a_wrong_matrix_is_refused_not_trusted():
     kw = scattered(n=200)
     kw["instance_matrices"] = kw["instance_matrices"].copy()

@@ -38,17 +38,56 @@ constexpr uint32_t kCrowdedCell = 256;
 
 double magnitude(const Vec3d& v) { return std::max(std::max(std::abs(v.x), std::abs(v.y)), std::abs(v.z)); }
 
+// The corners of triangles [start, start + count) that first show each of
+// their vertices (ids), as offsets from the range's first corner: where a
+// copy's triangles list its vertices as its mesh's first copy lists its own,
+// shifted by one offset, checking these corners checks them all (a corner is
+// its vertex: Scene's triangle_vertices() is vertices[triangles[k]]).
+std::vector<uint32_t> first_corners(const int32_t* ids, size_t start, size_t count) {
+    std::vector<std::pair<int32_t, uint32_t>> seen;
+    seen.reserve(3 * count);
+    for (size_t k = 0; k < 3 * count; ++k) seen.emplace_back(ids[3 * start + k], uint32_t(k));
+    std::sort(seen.begin(), seen.end());
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i < seen.size(); ++i)
+        if (i == 0 || seen[i].first != seen[i - 1].first) out.push_back(seen[i].second);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 // Whether triangles [start, start + count) are, corner for corner, triangles
 // [mesh_start, ...) moved by `to_mesh`'s inverse (to_mesh maps them onto those).
-bool is_copy(const Vec3* tv, size_t start, size_t mesh_start, size_t count, const Affine& to_mesh,
-             const CancelToken* cancel, uint64_t& step) {
+// ids: the scene's vertex ids per corner, or null; corners: first_corners() of
+// the mesh's first copy. A copy whose ids are its mesh's first copy's shifted by
+// one offset (how exporters lay copies out) is checked at those corners alone:
+// the same answer, a sixth of the work for a closed mesh.
+bool is_copy(const Vec3* tv, const int32_t* ids, const std::vector<uint32_t>& corners, size_t start,
+             size_t mesh_start, size_t count, const Affine& to_mesh, const CancelToken* cancel, uint64_t& step) {
     const double scale = to_mesh.norm();
-    for (size_t k = 0; k < 3 * count; ++k) {
-        check_cancel(cancel, step);
+    auto corner_matches = [&](size_t k) {
         const Vec3d here(tv[3 * start + k]), there(tv[3 * mesh_start + k]);
         const Vec3d mapped = to_mesh.point(here);
         const double tol = kCornerTolerance * (magnitude(there) + scale * magnitude(here)) + 1e-30;
-        if (!(magnitude(mapped - there) <= tol)) return false;
+        return magnitude(mapped - there) <= tol;
+    };
+    if (ids) {
+        const int32_t* a = ids + 3 * start;
+        const int32_t* b = ids + 3 * mesh_start;
+        const int64_t offset = int64_t(a[0]) - int64_t(b[0]);
+        bool shifted = true;
+        for (size_t k = 0; k < 3 * count; ++k) shifted &= int64_t(a[k]) - int64_t(b[k]) == offset;
+        check_cancel(cancel, step, 3 * uint64_t(count));
+        if (shifted) {
+            for (uint32_t k : corners) {
+                check_cancel(cancel, step);
+                if (!corner_matches(k)) return false;
+            }
+            return true;
+        }
+    }
+    for (size_t k = 0; k < 3 * count; ++k) {
+        check_cancel(cancel, step);
+        if (!corner_matches(k)) return false;
     }
     return true;
 }
@@ -97,14 +136,30 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
     size_t offered = 0;
     for (const auto& cand : candidates) offered += declared[cand.first].triangle_count;
     if (!pays(offered, scene->num_prims(), always)) return nullptr;
+    // (The vertex ids, where the scene keeps them for every triangle; each mesh's
+    // first copy's corners that first show its vertices.)
+    const Scene::Geometry geometry = scene->geometry();
+    const int32_t* ids = geometry.triangles->size() == 3 * scene->num_triangles() && !geometry.vertices->empty()
+                             ? geometry.triangles->data() : nullptr;
+    std::unordered_map<int32_t, std::vector<uint32_t>> corners_of;
+    if (ids)
+        for (const auto& cand : candidates) {
+            const int32_t mesh = declared[cand.first].mesh;
+            if (corners_of.count(mesh)) continue;
+            const SceneInstance& first = declared[first_of.at(mesh)];
+            corners_of[mesh] = first_corners(ids, first.triangle_start, first.triangle_count);
+            check_cancel(cancel, step, 3 * uint64_t(first.triangle_count));
+        }
+    const std::vector<uint32_t> none;
     std::vector<uint8_t> matches(candidates.size());
     for_each_range(candidates.size(), p.threads, 256, [&](size_t b, size_t e) {
         uint64_t steps = 0;
         for (size_t k = b; k < e; ++k) {
             const SceneInstance& in = declared[candidates[k].first];
             const SceneInstance& first = declared[first_of.at(in.mesh)];
-            matches[k] = is_copy(tv, in.triangle_start, first.triangle_start, in.triangle_count, candidates[k].second,
-                                 cancel, steps);
+            const auto corners = corners_of.find(in.mesh);
+            matches[k] = is_copy(tv, ids, corners == corners_of.end() ? none : corners->second, in.triangle_start,
+                                 first.triangle_start, in.triangle_count, candidates[k].second, cancel, steps);
         }
     }, "gridwalk-build");
     for (size_t k = 0; k < candidates.size(); ++k) {

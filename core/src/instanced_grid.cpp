@@ -39,28 +39,37 @@ constexpr uint32_t kCrowdedCell = 256;
 double magnitude(const Vec3d& v) { return std::max(std::max(std::abs(v.x), std::abs(v.y)), std::abs(v.z)); }
 
 // The corners of triangles [start, start + count) that first show each of
-// their vertices (ids), as offsets from the range's first corner: where a
-// copy's triangles list its vertices as its mesh's first copy lists its own,
-// shifted by one offset, checking these corners checks them all (a corner is
-// its vertex: Scene's triangle_vertices() is vertices[triangles[k]]).
-std::vector<uint32_t> first_corners(const int32_t* ids, size_t start, size_t count) {
-    std::vector<std::pair<int32_t, uint32_t>> seen;
-    seen.reserve(3 * count);
-    for (size_t k = 0; k < 3 * count; ++k) seen.emplace_back(ids[3 * start + k], uint32_t(k));
-    std::sort(seen.begin(), seen.end());
+// their vertices (ids), as offsets from the range's first corner, in order:
+// where a copy's triangles list its vertices as its mesh's first copy lists
+// its own, shifted by one offset, checking these corners checks them all (a
+// corner is its vertex: Scene's triangle_vertices() is vertices[triangles[k]]).
+// One pass with a table over the ids' range; empty where that range is more
+// than a few times the corners (ids spread out: every corner is checked).
+std::vector<uint32_t> first_corners(const int32_t* ids, size_t start, size_t count, const CancelToken* cancel,
+                                    uint64_t& step) {
+    const int32_t* c = ids + 3 * start;
+    const size_t n = 3 * count;
+    int32_t lo = c[0], hi = c[0];
+    for (size_t k = 1; k < n; ++k) lo = std::min(lo, c[k]), hi = std::max(hi, c[k]);
+    check_cancel(cancel, step, n);
+    const uint64_t range = uint64_t(int64_t(hi) - int64_t(lo)) + 1;
     std::vector<uint32_t> out;
-    for (size_t i = 0; i < seen.size(); ++i)
-        if (i == 0 || seen[i].first != seen[i - 1].first) out.push_back(seen[i].second);
-    std::sort(out.begin(), out.end());
+    if (range > 4 * uint64_t(n) + 64) return out;
+    std::vector<uint8_t> seen(range, 0);
+    for (size_t k = 0; k < n; ++k) {
+        check_cancel(cancel, step);
+        uint8_t& s = seen[size_t(int64_t(c[k]) - lo)];
+        if (!s) s = 1, out.push_back(uint32_t(k));
+    }
     return out;
 }
 
 // Whether triangles [start, start + count) are, corner for corner, triangles
 // [mesh_start, ...) moved by `to_mesh`'s inverse (to_mesh maps them onto those).
 // ids: the scene's vertex ids per corner, or null; corners: first_corners() of
-// the mesh's first copy. A copy whose ids are its mesh's first copy's shifted by
-// one offset (how exporters lay copies out) is checked at those corners alone:
-// the same answer, a sixth of the work for a closed mesh.
+// the mesh's first copy (empty: none). A copy whose ids are its mesh's first
+// copy's shifted by one offset (how exporters lay copies out) is checked at
+// those corners alone: the same answer, a sixth of the work for a closed mesh.
 bool is_copy(const Vec3* tv, const int32_t* ids, const std::vector<uint32_t>& corners, size_t start,
              size_t mesh_start, size_t count, const Affine& to_mesh, const CancelToken* cancel, uint64_t& step) {
     const double scale = to_mesh.norm();
@@ -70,7 +79,7 @@ bool is_copy(const Vec3* tv, const int32_t* ids, const std::vector<uint32_t>& co
         const double tol = kCornerTolerance * (magnitude(there) + scale * magnitude(here)) + 1e-30;
         return magnitude(mapped - there) <= tol;
     };
-    if (ids) {
+    if (ids && !corners.empty()) {
         const int32_t* a = ids + 3 * start;
         const int32_t* b = ids + 3 * mesh_start;
         const int64_t offset = int64_t(a[0]) - int64_t(b[0]);
@@ -147,8 +156,7 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
             const int32_t mesh = declared[cand.first].mesh;
             if (corners_of.count(mesh)) continue;
             const SceneInstance& first = declared[first_of.at(mesh)];
-            corners_of[mesh] = first_corners(ids, first.triangle_start, first.triangle_count);
-            check_cancel(cancel, step, 3 * uint64_t(first.triangle_count));
+            corners_of[mesh] = first_corners(ids, first.triangle_start, first.triangle_count, cancel, step);
         }
     const std::vector<uint32_t> none;
     std::vector<uint8_t> matches(candidates.size());

@@ -48,7 +48,9 @@ void check_ids(const Array& ids, size_t limit, int width, const char* name, cons
 
 // The box of n points (x, y, z floats in a row): four points, twelve floats, at
 // a time in three lanes of four (each lane sees every axis in turn), then the
-// lanes gathered per axis. The same extremes as a point-by-point pass.
+// lanes gathered per axis. The same extremes as a point-by-point pass (where
+// +0 and -0 tie for one, either may be kept: they compare equal everywhere the
+// box is used).
 Bounds bounds_of(const Vec3* points, size_t n) {
     typedef float F4 __attribute__((vector_size(16)));
     const float* f = &points[0].x;

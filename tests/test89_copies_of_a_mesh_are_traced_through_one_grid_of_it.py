@@ -155,6 +155,27 @@ def test_a_copy_with_one_corner_split_off_to_a_vertex_of_its_own_is_refused():
     assert "1 declared instances did not match" in gw.Scene(**kw).grid_info(INSTANCED)["note"]
 
 
+def test_copies_whose_vertex_ids_are_spread_out_are_checked_at_every_corner():
+    # Every copy's 42 vertices lie 1,000 ids apart (unused vertices between them): the
+    # one-corner-per-vertex table would span 41,001 ids for 240 corners, so every corner
+    # is checked, and a moved corner is still refused.
+    kw = scattered(n=60, mirrored_every=0)
+    gap = 1000
+    tris = kw["triangles"].copy()
+    copies = tris[:60 * 80]
+    spread = np.zeros((len(kw["vertices"]) - 4 + 60 * 42 * (gap - 1) + 4, 3), np.float32)
+    new_id = np.arange(60 * 42) * gap                   # vertex j of the copies -> id j * gap
+    spread[new_id] = kw["vertices"][:60 * 42]
+    spread[-4:] = kw["vertices"][-4:]                   # the floor's corners, last
+    tris[:60 * 80] = new_id[copies]
+    tris[60 * 80:] += len(spread) - len(kw["vertices"])
+    kw["vertices"], kw["triangles"] = spread, tris
+    info = gw.Scene(**kw).grid_info(INSTANCED)
+    assert info["note"].startswith("59 copies of 1 meshes") and "did not match" not in info["note"]
+    spread[tris[33 * 80 + 5, 1]] += np.float32(0.05)
+    assert "1 declared instances did not match" in gw.Scene(**kw).grid_info(INSTANCED)["note"]
+
+
 def test_a_wrong_matrix_is_refused_not_trusted():
     kw = scattered(n=200)
     kw["instance_matrices"] = kw["instance_matrices"].copy()

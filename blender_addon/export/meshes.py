@@ -463,12 +463,7 @@ class MeshCollector:
         if plan.index >= 0 and plan.known[3].finite:
             # A mesh read already (the ten-thousandth copy of a scattered stone): its
             # row alone; _flush_rows checks the block's rows are finite, all at once.
-            # (_add_row's lines, inline: this runs once per instance.)
-            self._rows.append(row)
-            self._row_plans.append(plan.index)
-            self._row_seqs.append(self._seq)
-            if len(self._rows) >= ROW_BLOCK:
-                self._flush_rows()
+            self._add_row(row, plan)
             return
         if not finite(row):
             self._skip(plan.name, "its transform is not finite (NaN or Inf)")
@@ -796,8 +791,7 @@ class MeshCollector:
             return {}
         matrices = self.part_matrices
         entries = {}
-        entry = np.array([entries.setdefault(key, len(entries)) for key in
-                          (plan.known[2] for plan in self._mesh_plans)] + [0], np.int64)
+        entry = np.array([entries.setdefault(plan.known[2], len(entries)) for plan in self._mesh_plans], np.int64)
         # (each part's mesh entry, from its plan's; numbered below in the order they first come)
         pairs = entry[self._part_plans] * 2 + mirror_flags(matrices)
         _, first, inverse = np.unique(pairs, return_index=True, return_inverse=True)

@@ -3,8 +3,8 @@
 #include "text.h"
 
 #include <algorithm>
-#include <cstring>
 #include <array>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 
@@ -44,35 +44,6 @@ void check_ids(const Array& ids, size_t limit, int width, const char* name, cons
         if (ids[i] < 0 || size_t(ids[i]) >= limit)
             bad(std::string(name) + "[" + std::to_string(i / width) + "] = " + std::to_string(ids[i]) +
                 " is out of range: " + what + " has " + std::to_string(limit) + " entries");
-}
-
-// The box of n points (x, y, z floats in a row): four points, twelve floats, at
-// a time in three lanes of four (each lane sees every axis in turn), then the
-// lanes gathered per axis. The same extremes as a point-by-point pass (where
-// +0 and -0 tie for one, either may be kept: they compare equal everywhere the
-// box is used).
-Bounds bounds_of(const Vec3* points, size_t n) {
-    typedef float F4 __attribute__((vector_size(16)));
-    const float* f = &points[0].x;
-    const size_t groups = n / 4;
-    F4 lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) lo[k] = F4{} + kInf, hi[k] = F4{} - kInf;
-    for (size_t g = 0; g < groups; ++g)
-        for (int k = 0; k < 3; ++k) {
-            F4 v;
-            std::memcpy(&v, f + 12 * g + 4 * k, sizeof v);
-            lo[k] = v < lo[k] ? v : lo[k];
-            hi[k] = v > hi[k] ? v : hi[k];
-        }
-    Bounds b;
-    for (int k = 0; k < 3; ++k)
-        for (int lane = 0; lane < 4; ++lane) {
-            const int axis = (4 * k + lane) % 3;
-            b.lo[axis] = std::min(b.lo[axis], lo[k][lane]);
-            b.hi[axis] = std::max(b.hi[axis], hi[k][lane]);
-        }
-    for (size_t i = 4 * groups; i < n; ++i) b.grow(points[i]);
-    return b;
 }
 
 Vec3 v3(const float* p) { return {p[0], p[1], p[2]}; }
@@ -135,7 +106,7 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
 
     // One padding corner at the end: the SIMD triangle test reads each
     // triangle's 9 floats as three rows of 4 (triangle_simd.inc).
-    // The triangles' bounds are their corners' bounds: gathered in the same pass.
+    // The triangles' bounds are their corners' bounds (bounds_of, bounds.h).
     // (Written by index into a sized array, and boxed in a pass of its own that is
     // vectorised: push_back and Bounds::grow per corner took 3x the instructions.)
     tri_verts_.resize(3 * nt + 1);

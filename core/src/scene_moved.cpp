@@ -139,9 +139,7 @@ std::shared_ptr<Scene> Scene::moved(const std::vector<RigidMove>& moves) const {
         out->apply(moves[i], i);
         out->update_tangents(moves[i].triangle_start, moves[i].triangle_count);
     }
-    Bounds tri_bounds;
-    for (size_t i = 0; i < 3 * nt; ++i) tri_bounds.grow(out->tri_verts_[i]);
-    out->compute_bounds(tri_bounds);
+    out->compute_bounds(bounds_of(out->tri_verts_.data(), 3 * nt));
     // Emissive triangles are picked in proportion to their areas, which a move
     // changes (by rounding if it is rigid): weighed again, as a scene built
     // from these arrays weighs them, so that the two render the same image to

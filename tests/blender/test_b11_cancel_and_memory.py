@@ -70,13 +70,39 @@ def test_fifty_random_cancels_leave_no_thread_and_the_next_render_is_intact(canc
     assert exr.rgba(last, "ViewLayer.Combined.")[..., 3].mean() > 0.05
 
 
+TRIMMED = range(10, 101, 10)     # the frames whose memory is read after the allocator's trim
+
+
+def trend_growth(rss: dict) -> float:
+    """Growth from frame 10 to 100 along the trend of the trimmed samples: the
+    median of the slopes between every two of them (Theil-Sen), times 90 frames,
+    over frame 10's memory. A leak raises every later sample and so the trend;
+    a single sample caught before Blender frees a frame's buffers (+7% at one
+    frame, back to the baseline at the next, seen on Blender 3.4) does not."""
+    frames = np.array(TRIMMED, float)
+    values = np.array([rss[int(f)] for f in frames], float)
+    i, j = np.triu_indices(len(frames), k=1)
+    slope = np.median((values[j] - values[i]) / (frames[j] - frames[i]))
+    return slope * (frames[-1] - frames[0]) / values[0]
+
+
+def test_memory_trend_ignores_one_high_sample_but_not_a_leak():
+    flat = {f: 100.0 for f in TRIMMED}
+    assert trend_growth({**flat, 70: 107.0}) == 0.0
+    assert trend_growth({**flat, 100: 107.0}) == 0.0
+    leak = {f: 100.0 + 0.06 * (f - 10) for f in TRIMMED}          # 5.4% over 90 frames
+    assert trend_growth(leak) == pytest.approx(0.054)
+    assert trend_growth({**leak, 40: 90.0}) == pytest.approx(0.054)
+
+
 def test_hundred_frames_in_one_session_grow_memory_less_than_five_percent(animation):
     out, info = animation
     assert info["finished"] == 100 and not info["traceback"]
     rss = {int(frame): value for frame, value in info["rss"].items()}
     assert sorted(rss) == list(range(1, 101))
-    growth = rss[100] / rss[10] - 1.0
-    assert growth < 0.05, f"resident memory grew {growth:.1%} from frame 10 to 100"
+    growth = trend_growth(rss)
+    trimmed = {f: round(rss[f] / 2**20, 1) for f in TRIMMED}
+    assert growth < 0.05, f"resident memory grew {growth:.1%} from frame 10 to 100 (MiB: {trimmed})"
     tasks = {int(frame): n for frame, n in info["tasks"].items()}          # after each frame
     assert max(tasks[f] for f in range(10, 101)) <= tasks[10] and info["tasks_after"] <= tasks[10]
     first = exr.rgba(exr.read_exr(out / "frame_0001.exr"), "ViewLayer.Combined.")

@@ -192,6 +192,7 @@ class ViewportSession:
         from gridwalk import memory
 
         from .engine import memory_limit
+        from .export.assemble import CORNER_POINTS
         with self.lock:
             view, settings = self.view, self.settings
         width, height = (view[1].width, view[1].height) if view is not None else (1, 1)
@@ -201,7 +202,7 @@ class ViewportSession:
                                    normals=kwargs["normals"] is not None,
                                    texture_bytes=sum(image.memory_bytes for image in images),
                                    uvs=kwargs.get("uvs") is not None, colors=kwargs.get("colors") is not None,
-                                   corner_points=sum(kwargs.get(k) is not None for k in ("generated", "object_coords")),
+                                   corner_points=sum(kwargs.get(k) is not None for k in CORNER_POINTS),
                                    tangents=any(m.normal_texture >= 0 for m in kwargs["materials"]),
                                    **memory.declared_copies(kwargs))
         limit, source = memory_limit(scene.gridwalk, memory)

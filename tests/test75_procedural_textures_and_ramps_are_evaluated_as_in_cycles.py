@@ -301,7 +301,7 @@ def test_unknown_kinds_and_coordinates_are_refused():
     with pytest.raises(ValueError, match="kind must be one of"):
         _scene(textures=[gw.Texture(kind="gabor")])
     with pytest.raises(ValueError, match="coordinates must be one of"):
-        _scene(textures=[gw.Texture(kind="checker", coordinates="normal")])
+        _scene(textures=[gw.Texture(kind="checker", coordinates="tangent")])
     with pytest.raises(ValueError, match="gradient must be one of"):
         _scene(textures=[gw.Texture(kind="gradient", gradient="wavy")])
 

@@ -12,6 +12,7 @@ import time
 import numpy as np
 
 from .camera import CameraError, convert_camera, render_region, resolution
+from .carrier_instances import CarrierInstances
 from .lights import light_from_instance
 from .materials import MaterialTable
 from .mesh_cache import MeshCache
@@ -72,11 +73,8 @@ class Export:
         self.lights = []
         unrendered = {}   # label -> names of objects of a kind the core has no primitive for
         asked = -math.inf
-        for inst in depsgraph.object_instances:
-            if should_stop is not None and time.perf_counter() - asked >= STOP_SECONDS:
-                if should_stop():
-                    raise ExportCancelled()
-                asked = time.perf_counter()
+
+        def visit(inst):
             obj = inst.object
             kind = obj.type
             if kind == "LIGHT":
@@ -88,6 +86,30 @@ class Export:
                     unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(obj.original.name)
             else:
                 self.meshes.add_instance(inst, obj)
+
+        # (a Geometry Nodes carrier's copies are read in bulk where they check out: carrier_instances)
+        carriers = CarrierInstances(self.meshes)
+        for inst in depsgraph.object_instances:
+            if should_stop is not None and time.perf_counter() - asked >= STOP_SECONDS:
+                if should_stop():
+                    raise ExportCancelled()
+                asked = time.perf_counter()
+            if not carriers.take(inst):
+                visit(inst)
+        again = carriers.finish()
+        self.bulk_copies = carriers.copies     # (Geometry Nodes copies read in bulk: tests and benchmarks)
+        if again:       # (carriers whose copies did not check out: read one by one, under their numbers)
+            last = self.meshes.next_seq()
+            for inst in depsgraph.object_instances:
+                if should_stop is not None and time.perf_counter() - asked >= STOP_SECONDS:
+                    if should_stop():
+                        raise ExportCancelled()
+                    asked = time.perf_counter()
+                seq = carriers.read_again(inst, again)
+                if seq is not None:
+                    self.meshes.count_from(seq)
+                    visit(inst)
+            self.meshes.count_from(last + 1)
         if not self.meshes.finish(should_stop):
             raise ExportCancelled()
         self.warnings.extend(f"{label} not rendered: " + ", ".join(f"'{n}'" for n in sorted(names))
@@ -133,6 +155,9 @@ class Export:
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
+            if self.camera.panoramic and any(t.coordinates == "window" for t in self.textures.textures):
+                warnings.append("Window texture coordinates under a panoramic camera are not computed: "
+                                "those textures read the point (0, 0, 0)")
         kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background,
                       world=self.world)
         if self.textures.textures:

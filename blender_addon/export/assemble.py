@@ -120,11 +120,11 @@ def _materials(parts, chunk):
 
 # Per-corner points a texture may read (gridwalk.Scene's arrays), and the value
 # of corners whose mesh has none (a mesh whose materials read none of them).
-CORNER_POINTS = {"generated": 0.5, "object_coords": 0.0}
+CORNER_POINTS = {"generated": 0.5, "object_coords": 0.0, "object_normals": 0.0}
 
 
 def _corner_values(data, name, flips, fill):
-    """The chunk's corner UVs, colours or Generated coordinates in world-space corner order, (K T, 3, C)."""
+    """The chunk's corner UVs, colours or points (CORNER_POINTS) in world-space corner order, (K T, 3, C)."""
     values = getattr(data, name)
     if values is None:
         return np.full((len(flips) * len(data.triangles), 3, fill[1]), fill[0], np.float32)

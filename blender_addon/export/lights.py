@@ -41,6 +41,7 @@ import numpy as np
 from gridwalk.model import Light
 
 from ._matrix import axis, to_numpy, unit
+from .meshes import shown
 
 POINT_FACTOR = 1.0 / (4.0 * math.pi ** 2)
 AREA_FACTOR = 1.0 / math.pi ** 2
@@ -175,9 +176,12 @@ def _convert_light(light, matrix) -> Light:
 
 
 def light_from_instance(inst, warnings: list):
-    """The Light for one depsgraph object instance of a light object, or None."""
+    """The Light for one depsgraph object instance of a light object, or None. An instance
+    shows when its instancer does (meshes.shown): a light scattered by Geometry Nodes or
+    particles, or in an instanced collection, from a source hidden in renders, lights the
+    scene as in Cycles (it was left out)."""
     obj = inst.object
-    if obj.original.hide_render:
+    if not inst.show_self or not shown(inst, obj):
         return None
     matrix = to_numpy(inst.matrix_world)
     if not np.isfinite(matrix).all():

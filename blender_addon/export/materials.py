@@ -70,7 +70,7 @@ from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
 from .color_ramp import ramp_stops
 from .textures import plain_image
-from .uv_mapping import texture_fields
+from .uv_mapping import CORNER_COORDINATES, texture_fields
 from .value_nodes import TEXTURE_NODES, image_through_nodes, is_vector, mix_inputs
 
 # Custom property of a material holding gridwalk.Material fields; when present
@@ -100,7 +100,7 @@ class Links:
         self.fields = {}           # Material field -> value
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
         self.color_layer = None    # likewise for the colour attribute
-        self.points = set()        # "generated", "object", "position": the corner points a texture reads
+        self.points = set()        # "generated", "object", "position", "normal": the corner points a texture reads
         self.textured = []         # "input (node)" left at its default value
         self.unmodelled = []       # "input value" of layers the Whitted model does not have
 
@@ -192,7 +192,7 @@ class Links:
         layer, fields, problems = texture_fields(node, default, image)
         self.textured += problems
         if layer is None:
-            if fields.get("coordinates", "uv") != "uv":
+            if fields.get("coordinates", "uv") in CORNER_COORDINATES:
                 self.points.add(fields["coordinates"])
         else:
             if self.uv_layer and layer and layer != self.uv_layer:
@@ -376,6 +376,9 @@ def _bump(node, links) -> bool:
     height = _source(bump.inputs["Height"])[0]
     if height is None or not links.take(bump.inputs["Height"], "bump_texture", colour=False):
         return mapped                      # (a Height not read is named by take())
+    if links.textures.textures[links.fields["bump_texture"]].coordinates == "window":
+        links.textured.append(f"Height of {bump.name!r} (at Window coordinates: its slope is not computed, "
+                              "the surface is not bumped)")
     for name, field in (("Strength", "bump_strength"), ("Distance", "bump_distance")):
         fed = _source(bump.inputs[name])[0]
         if fed is not None:
@@ -542,8 +545,8 @@ class MaterialTable:
 
     def layers(self, indices) -> tuple:
         """(uv, colour layer, corner points) the materials `indices` (an object's
-        slots) need; the last a sorted tuple of "generated", "object" and "position", those
-        coordinates its textures read.
+        slots) need; the last a sorted tuple of "generated", "object", "position" and "normal",
+        those coordinates its textures read.
         The colour layer: None when none does, "" for the active render layer,
         else the first layer named. The UV layer likewise, or, where the slots'
         materials name different UV maps, a tuple of each slot's (None for a
@@ -562,7 +565,7 @@ class MaterialTable:
         return (named.pop() if named else None), color, tuple(sorted(points))
 
     def shape_material(self, index: int) -> int:
-        """`index`, or where that material's textures read Generated, Object or Position
+        """`index`, or where that material's textures read Generated, Object, Position or Normal
         coordinates, which spheres and cylinders (point clouds, hair) do not have,
         the index of a copy without those textures (their inputs' own values), noted."""
         links = self.links[index]
@@ -573,7 +576,7 @@ class MaterialTable:
             material = self.materials[index]
             fields = {f.name: -1 for f in dataclasses.fields(material)
                       if f.name.endswith("_texture") and getattr(material, f.name) >= 0
-                      and self.textures.textures[getattr(material, f.name)].coordinates in ("generated", "object", "position")}
+                      and self.textures.textures[getattr(material, f.name)].coordinates in CORNER_COORDINATES}
             self._index[key] = len(self.materials)
             self.materials.append(dataclasses.replace(material, **fields))
             self.links.append(None)
@@ -609,7 +612,7 @@ class MaterialTable:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
         if self.shape_notes:
-            out.append("Generated, Object and Position texture coordinates are not read on point clouds and hair "
+            out.append("Generated, Object, Position and Normal texture coordinates are not read on point clouds and hair "
                        f"(their textures' inputs take their own values): {', '.join(sorted(self.shape_notes))}")
         return out
 

@@ -10,7 +10,9 @@ it between updates). Objects hidden for render are skipped, and instances
 whose instancer is (`renders`). What an instance's object, instancer and
 visibility decide is worked out once per kind of instance (`instance_key`,
 `InstancePlan`), so that the tenth thousand Geometry Nodes instance of a mesh
-costs the reading of its matrix, a few microseconds.
+costs the reading of its matrix, a few microseconds. In Blender 4.3 and later a
+Geometry Nodes carrier's copies skip even that: their matrices are read from
+the carrier's instances component in bulk (carrier_instances.py, add_block).
 
 Shading normals come from Blender's normals domain:
   FACE   (all faces flat)            -> no normals (the core uses geometric normals)
@@ -59,6 +61,7 @@ class MeshData:
         self.colors = colors           # (T, 3, 3) corner colours (linear RGB), or None
         self.generated = None          # (T, 3, 3) corner Generated coordinates, or None (not asked for)
         self.object_coords = None      # (T, 3, 3) corner Object coordinates (object space), or None
+        self.object_normals = None     # (T, 3, 3) corner shading normals (object space), or None
         self.triangles = triangles     # (T, 3) indices into co
         self.normals = normals         # (V, 3) shading normals or None (flat)
         self.material_slot = material_slot   # (T,) material slot index
@@ -195,7 +198,8 @@ def texture_space(mesh) -> tuple:
     return tuple(location), tuple(size)
 
 
-def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coords=False) -> MeshData:
+def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coords=False,
+              object_normals=False) -> MeshData:
     """Triangulate an evaluated mesh into numpy arrays (no per-element Python loops).
 
     Uses Blender's own triangulation (loop_triangles) and, where Blender has
@@ -205,7 +209,8 @@ def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coord
     not None; "" = the active render layer; uv_layer may also be a tuple of
     each material slot's layer, MaterialTable.layers); corner Generated
     coordinates where texspace (texture_space) is given, corner Object
-    coordinates (the positions) where object_coords is.
+    coordinates (the positions) where object_coords is, corner normals in
+    object space (Normal coordinates) where object_normals is.
     """
     if hasattr(mesh, "calc_loop_triangles"):
         mesh.calc_loop_triangles()
@@ -244,10 +249,25 @@ def read_mesh(mesh, uv_layer=None, color_layer=None, texspace=None, object_coord
         data.generated = generated_coordinates(orco, texspace)[data.triangles]
     if object_coords:
         data.object_coords = data.co[data.triangles]
+    if object_normals:
+        data.object_normals = corner_normals(data)
     if uvs is not None:
         data.missing_uv_layer = missing
     data.missing_color_layer = missing_colors
     return data
+
+
+def corner_normals(data: MeshData) -> np.ndarray:
+    """(T, 3, 3) float32 each corner's shading normal in object space: its smooth
+    normal where the mesh has them, else its face's (by its winding; 0 for a face
+    of no area, which the core reads as the zero vector)."""
+    if data.normals is not None:
+        return np.ascontiguousarray(data.normals[data.triangles], np.float32)
+    corners = data.co[data.triangles].astype(np.float64)
+    face = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    length = np.linalg.norm(face, axis=1, keepdims=True)
+    face = np.divide(face, length, out=np.zeros_like(face), where=length > 0)
+    return np.repeat(face[:, None, :], 3, axis=1).astype(np.float32)
 
 
 def _slot_uvs(mesh, layers, slots, tri_loops, n_loops):
@@ -277,6 +297,22 @@ def object_key(obj) -> tuple:
     and particle instances through a few temporary objects, which differ from
     one another only in these.)"""
     return obj.as_pointer(), obj.original.as_pointer(), obj.data.as_pointer() if obj.data is not None else 0
+
+
+def _in_order(blocks) -> list:
+    """The blocks of mesh instances (matrices, plans, instance numbers) in the order of their
+    numbers: blocks read in bulk (add_block) and instances read again come after those read
+    first, but take their places among them."""
+    if not blocks:
+        return blocks
+    seqs = np.concatenate([b[2] for b in blocks])
+    if not (np.diff(seqs) < 0).any():
+        return blocks
+    order = np.argsort(seqs, kind="stable")
+    matrices, which = np.concatenate([b[0] for b in blocks])[order], np.concatenate([b[1] for b in blocks])[order]
+    seqs = seqs[order]
+    return [(matrices[i:i + ROW_BLOCK], which[i:i + ROW_BLOCK], seqs[i:i + ROW_BLOCK])
+            for i in range(0, len(seqs), ROW_BLOCK)]
 
 
 def instance_key(inst, obj=None) -> tuple:
@@ -310,6 +346,12 @@ def renders(inst, particles: bool = False) -> bool:
             return False
     elif obj.type not in ("MESH", "POINTCLOUD", "CURVES") or not inst.show_self:
         return False
+    return shown(inst, obj)
+
+
+def shown(inst, obj) -> bool:
+    """Whether the render shows a depsgraph object instance by its object's and instancer's
+    Disable in Renders (renders(); lights too)."""
     if not inst.is_instance or inst.parent is None:
         return not obj.original.hide_render
     parent = inst.parent.original
@@ -347,7 +389,7 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
             return None
         if generated and texspace is None:
             texspace = texture_space(mesh)
-        return read_mesh(mesh, uv, color, texspace, "object" in points)
+        return read_mesh(mesh, uv, color, texspace, "object" in points, "normal" in points)
     finally:
         obj.to_mesh_clear()
 
@@ -445,10 +487,7 @@ class MeshCollector:
         thousands of instances of a few of those. A mesh instance then costs its matrix,
         read as a row into a block; finish() checks the rows' bounds and makes the parts."""
         obj = inst.object if obj is None else obj
-        memo = instance_key(inst, obj)
-        plan = self._plans.get(memo)
-        if plan is None:
-            plan = self._plans[memo] = self._plan(inst, obj)
+        plan = self._memo_plan(inst, obj, instance_key(inst, obj))
         self._seq += 1
         if plan.renders:
             self._add_geometry(plan, inst, obj)
@@ -489,6 +528,35 @@ class MeshCollector:
         self._row_seqs.append(self._seq)
         if len(self._rows) >= ROW_BLOCK:
             self._flush_rows()
+
+    def _memo_plan(self, inst, obj, memo) -> InstancePlan:
+        plan = self._plans.get(memo)
+        if plan is None:
+            plan = self._plans[memo] = self._plan(inst, obj)
+        return plan
+
+    def plan_of(self, inst, obj, memo) -> InstancePlan:
+        """The plan of the instances whose instance_key is memo (add_instance's), its object
+        read where it renders (carrier_instances: a carrier's first copy of a reference)."""
+        plan = self._memo_plan(inst, obj, memo)
+        if plan.renders and plan.known is None:
+            self._resolve(plan, obj)
+        return plan
+
+    def next_seq(self) -> int:
+        """An instance number for an instance read elsewhere (carrier_instances), as add_instance counts."""
+        self._seq += 1
+        return self._seq
+
+    def count_from(self, seq: int):
+        """Numbers the next instance `seq` (one read again under the number it had first)."""
+        self._seq = seq - 1
+
+    def add_block(self, matrices, which, seqs):
+        """Mesh instances read elsewhere (carrier_instances), after those read so far: their
+        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved) and instance numbers."""
+        self._flush_rows()
+        self._append_block(matrices, which, seqs)
 
     def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
@@ -534,11 +602,15 @@ class MeshCollector:
             matrices = np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4)
             which, seqs = np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)
             self._rows, self._row_plans, self._row_seqs = [], [], []
-            finite_rows = np.isfinite(matrices).all(axis=(1, 2))
-            if not finite_rows.all():
-                for k, seq in zip(which[~finite_rows].tolist(), seqs[~finite_rows].tolist()):
-                    self._skip(self._mesh_plans[k].name, "its transform is not finite (NaN or Inf)", (seq, 0))
-                matrices, which, seqs = matrices[finite_rows], which[finite_rows], seqs[finite_rows]
+            self._append_block(matrices, which, seqs)
+
+    def _append_block(self, matrices, which, seqs):
+        finite_rows = np.isfinite(matrices).all(axis=(1, 2))
+        if not finite_rows.all():
+            for k, seq in zip(which[~finite_rows].tolist(), seqs[~finite_rows].tolist()):
+                self._skip(self._mesh_plans[k].name, "its transform is not finite (NaN or Inf)", (seq, 0))
+            matrices, which, seqs = matrices[finite_rows], which[finite_rows], seqs[finite_rows]
+        if len(matrices):
             self._blocks.append((matrices, which, seqs))
 
     def finish(self, should_stop=None) -> bool:
@@ -550,7 +622,7 @@ class MeshCollector:
         plans = self._mesh_plans
         extents = np.array([p.known[3].extent for p in plans], np.float64)
         noted = set()
-        blocks, self._blocks = self._blocks, []
+        blocks, self._blocks = _in_order(self._blocks), []
         kept, kept_plans = [], []
         for matrices, which, seqs in blocks:
             if should_stop is not None and should_stop():

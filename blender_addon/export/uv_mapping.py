@@ -5,7 +5,11 @@ that vector is the mesh's active render UV map, (u, v, 0) (a procedural
 texture's: the object's Generated coordinates); a UV Map node gives a named
 layer, a Texture Coordinate node's UV output the active render one, its
 Generated and Object outputs those coordinates (gridwalk.Texture.coordinates),
-and a Geometry node's Position output the world point ("position"). Where the
+its Normal, Camera, Window and Reflection outputs those the core computes at
+each hit (from the object-space normals, the camera that renders and the ray;
+in the viewport, the view's camera, as in Cycles), and a Geometry node's
+Position output the world point ("position"), its Normal, True Normal and
+Incoming outputs those vectors at the hit, in world space. Where the
 Texture Coordinate node names another object, its Object output is the world
 point in that object's space: "position" under the inverse of the object's
 world matrix (read at each export: in the viewport, moving that object
@@ -27,8 +31,8 @@ Not read, each named in the material's warning: the Normal type (it
 normalises, which is not affine: the node is passed over), Location,
 Rotation or Scale inputs fed by other nodes (their own values are used), any
 other source of coordinates (a Vector Math node...: the node's own
-default, the UV map or Generated, is used: the Camera, Window, Normal and
-Reflection outputs among them, and the Object output of an object whose
+default, the UV map or Generated, is used: the Texture Coordinate node's
+From Instancer among them, and the Object output of an object whose
 transform has no inverse), and a map beyond float range
 (likewise).
 """
@@ -42,6 +46,13 @@ from .node_links import _source, input_value
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
 FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
 UV_SOURCES = {"UVMAP": None, "TEX_COORD": "UV"}   # node type -> the output that is a UV map (None: any)
+# The Texture Coordinate node's outputs the core computes at each hit from its normal, the ray
+# and the camera (gridwalk.Texture.coordinates "normal", "camera", "window", "reflection")
+VIEW_OUTPUTS = ("Normal", "Camera", "Window", "Reflection")
+# ... and the Geometry node's outputs it computes likewise (its Position is "position")
+GEOMETRY_OUTPUTS = {"Normal": "geometry_normal", "True Normal": "true_normal", "Incoming": "incoming"}
+# The coordinates read from per-corner arrays of the triangles (spheres and cylinders have none)
+CORNER_COORDINATES = ("generated", "object", "position", "normal")
 VECTOR_IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)
 
 
@@ -90,7 +101,8 @@ ZERO_VECTOR_NODES = ("TEX_WHITE_NOISE",)
 
 
 def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list[str]]:
-    """(coordinates "uv" | "generated" | "object" | "position" | "constant", UV layer ("" the active render
+    """(coordinates "uv" | "generated" | "object" | "position" | "normal" | "camera" | "window" |
+    "reflection" | "geometry_normal" | "true_normal" | "incoming" | "constant", UV layer ("" the active render
     one), the Mapping nodes' 4 x 4 affine map, problems to warn about) of a texture node's
     Vector input; unlinked, the `default` coordinates (the zero vector for ZERO_VECTOR_NODES).
     "constant": the map's translation is the point everywhere (an unlinked Vector at the
@@ -130,10 +142,14 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
             mappings.append(np.linalg.inv(world))
         elif src.type == "NEW_GEOMETRY" and out.name == "Position":
             coordinates = "position"
+        elif src.type == "TEX_COORD" and out.name in VIEW_OUTPUTS:
+            coordinates = out.name.lower()
+        elif src.type == "NEW_GEOMETRY" and out.name in GEOMETRY_OUTPUTS:
+            coordinates = GEOMETRY_OUTPUTS[out.name]
         else:
-            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, Generated "
-                            f"and Object coordinates and the Geometry node's Position, through Mapping nodes, "
-                            f"are read; {_NAMES[default]} is used)")
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname} {out.name}: only UV maps, the Texture "
+                            f"Coordinate node's outputs and the Geometry node's Position, Normal, True Normal "
+                            f"and Incoming, through Mapping nodes, are read; {_NAMES[default]} is used)")
             mappings = []
         break
     # (Cycles evaluates Mappings of constants as they are, and folds a Scale of 0 to zero elsewhere)

@@ -107,14 +107,14 @@ NB_MODULE(_core, m) {
                 In<float> car, In<int32_t> cmat, std::vector<Material> materials, std::vector<Light> lights,
                 const CameraDesc& camera, Vec3 background, In<float> uvs, In<float> colors,
                 std::vector<std::shared_ptr<Image>> images, std::vector<Texture> textures, const World& world,
-                In<float> generated, In<float> object_coords) {
+                In<float> generated, In<float> object_coords, In<float> object_normals) {
                  std::vector<std::shared_ptr<const Image>> shared(images.begin(), images.end());
                  new (self) Scene(pooled(vertices), pooled(triangles), pooled(normals), pooled(tri_mat), vec(centers),
                                   vec(radii),
                                   vec(sph_mat), vec(cb), vec(ca), vec(cbr), vec(car), vec(cmat), std::move(materials),
                                   std::move(lights), camera, background, pooled(uvs), pooled(colors), std::move(shared),
                                   std::move(textures), world, pooled(generated),
-                                  pooled(object_coords));
+                                  pooled(object_coords), pooled(object_normals));
              })
         .def("set_matte_keys", [](Scene& s, In<int32_t> keys, int layers) { s.set_matte_keys(vec(keys), layers); },
              "keys"_a, "layers"_a,

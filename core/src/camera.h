@@ -8,6 +8,7 @@
 #include "enums.h"
 #include "ray.h"
 #include "sampler.h"
+#include "texture_view.h"
 
 namespace gw {
 
@@ -131,6 +132,21 @@ public:
             if (yon_ < kInf) r.tmax = yon_ / dot(r.d, fwd_);
         }
         return r;
+    }
+    // The frame that Camera and Window texture coordinates are taken in (texture_view.h).
+    ViewFrame frame() const {
+        ViewFrame f;
+        f.eye = eye_;
+        f.right = right_;
+        f.up = up_;
+        f.fwd = fwd_;
+        f.half_w = half_w_;
+        f.half_h = half_h_;
+        f.shift_x = shift_x_;
+        f.shift_y = shift_y_;
+        f.orthographic = projection_ == Projection::Orthographic;
+        f.panorama = panorama_;
+        return f;
     }
     // Whether generate() gave no ray (a fisheye's corner).
     static bool none(const Ray& r) { return r.d.x == 0 && r.d.y == 0 && r.d.z == 0; }

@@ -193,7 +193,21 @@ GW_ENUM(RampInterpolation, GW_RAMP_INTERPOLATIONS)
     X(Object, "object", "Object", "Blender's Object coordinates: the point in its object's own space")       \
     X(Position, "position", "Position",                                                                     \
       "The point in world space (Blender's Geometry Position; through vector_transform, another object's "  \
-      "Object coordinates)")
+      "Object coordinates)")                                                                                \
+    X(Normal, "normal", "Normal",                                                                           \
+      "Blender's Normal coordinates: the shading normal in its object's own space, from Scene(object_normals=...)") \
+    X(Camera, "camera", "Camera",                                                                           \
+      "Blender's Camera coordinates: the point in the rendering camera's space (x right, y up, z forward)")  \
+    X(Window, "window", "Window",                                                                           \
+      "Blender's Window coordinates: the point's place in the image, 0..1 from its bottom-left corner")      \
+    X(Reflection, "reflection", "Reflection",                                                               \
+      "Blender's Reflection coordinates: the view direction mirrored about the shading normal, world space") \
+    X(GeometryNormal, "geometry_normal", "Geometry Normal",                                                 \
+      "Blender's Geometry node's Normal: the shading normal in world space, turned over on a back face")     \
+    X(TrueNormal, "true_normal", "True Normal",                                                             \
+      "Blender's Geometry node's True Normal: the geometric normal in world space, turned over on a back face") \
+    X(Incoming, "incoming", "Incoming",                                                                     \
+      "Blender's Geometry node's Incoming: the unit direction back along the ray, world space")
 GW_ENUM(TextureCoords, GW_TEXTURE_COORDS)
 
 }  // namespace gw

@@ -249,7 +249,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
         ++(m.visible_shadow ? crossings : passed_by);
         if (m.visible_shadow) {   // (a surface that casts no shadow passes it all)
-            const float alpha = scene_.alpha_at(m, hit);
+            const float alpha = scene_.alpha_at(m, hit, TextureView::at(sp, r.d, frame()));
             float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
             if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
                 // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
@@ -537,7 +537,13 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
         const float cos_l = std::abs(dot(area_normal, wi));   // (x 2 A)
         const Material& em = scene_.materials()[size_t(scene_.triangle_material(tri))];
         // (what an emitter's alpha leaves uncovered emits nothing, as the camera sees it)
-        const Material e = em.varies() ? scene_.shade(em, at) : em;
+        Material e = em;
+        if (em.varies()) {   // (the point as a ray from sp along wi meets it: its normals as shading sees them)
+            Ray toward;
+            toward.o = sp.p;
+            toward.d = wi;
+            e = scene_.shade(em, at, TextureView::at(scene_.surface(RayPre(toward), at), wi, frame()));
+        }
         const Vec3 radiance = emitted(e) * e.alpha;
         // (in double: a point nearer than ~1e-19 would square to 0 in float)
         const double scale = 0.5 * double(cos_l) / (kPi * double(dist) * double(dist) * double(probability));
@@ -809,13 +815,14 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     }
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
+    const TextureView view = TextureView::at(sp, ray.d, frame());
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;
-        sp.ns = scene_.mapped_normal(stored, hit, sp, -normalize(ray.d));
+        sp.ns = scene_.mapped_normal(stored, hit, sp, view);
         sp.mapped = true;
     }
     Material textured;
-    if (stored.varies()) textured = scene_.shade(stored, hit);
+    if (stored.varies()) textured = scene_.shade(stored, hit, view);
     const Material& m = stored.varies() ? textured : stored;
     if (fh) {
         fh->hit = true;

@@ -10,7 +10,9 @@ Vec3 non_negative(const Vec3& c) { return Vec3(std::max(c.x, 0.0f), std::max(c.y
 }  // namespace
 
 PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera)
-    : s_(s), scene_(accel.scene()), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {}
+    : s_(s), scene_(accel.scene()), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {
+    integrator_.set_frame(camera_.frame());
+}
 
 void PixelEstimator::add_mattes(MatteCoverage& mc, const SampleMattes& sm, float weight) const {
     const int layers = scene_.matte_layers();

@@ -58,13 +58,13 @@ Scene::Scene(PooledVector<float> vertices, PooledVector<int32_t> triangles, Pool
              std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
              Vec3 background, PooledVector<float> uvs, PooledVector<float> colors,
              std::vector<std::shared_ptr<const Image>> images, std::vector<Texture> textures, const World& world,
-             PooledVector<float> generated, PooledVector<float> object_coords)
+             PooledVector<float> generated, PooledVector<float> object_coords, PooledVector<float> object_normals)
     : verts_(std::move(vertices)), normals_(std::move(normals)), tris_(std::move(triangles)),
       tri_mat_(std::move(tri_materials)), radii_(std::move(sphere_radii)),
       sphere_mat_(std::move(sphere_materials)), cone_mat_(std::move(cone_materials)),
       materials_(std::move(materials)), lights_(std::move(lights)), camera_(camera), background_(background),
       uvs_(std::move(uvs)), colors_(std::move(colors)), generated_(std::move(generated)),
-      object_coords_(std::move(object_coords)), images_(std::move(images)), textures_(std::move(textures)),
+      object_coords_(std::move(object_coords)), object_normals_(std::move(object_normals)), images_(std::move(images)), textures_(std::move(textures)),
       world_(world) {
     // --- shapes -------------------------------------------------------------
     if (verts_.size() % 3) bad("vertices must have shape (N, 3)");
@@ -200,8 +200,10 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
         if (!normals_.empty()) {
             const int32_t* f = &tris_[3 * prim];
             if (triangle_shading_normal(normal(f[0]), normal(f[1]), normal(f[2]), hit.u, hit.v, sp.ns) &&
-                dot(sp.ns, sp.ng) < 0)
+                dot(sp.ns, sp.ng) < 0) {
                 sp.ng = -sp.ng;   // the vertex normals define the outside
+                sp.turned = true;
+            }
         }
         break;
     }
@@ -218,7 +220,7 @@ SurfacePoint Scene::surface(const RayPre& r, const Hit& hit) const {
 }
 
 size_t Scene::memory_bytes() const {
-    return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + generated_.size() * 4 + object_coords_.size() * 4 + tangents_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
+    return texture_bytes() + uvs_.size() * 4 + colors_.size() * 4 + generated_.size() * 4 + object_coords_.size() * 4 + object_normals_.size() * 4 + tangents_.size() * 4 + verts_.size() * 4 + tri_verts_.size() * 12 + normals_.size() * 4 + tris_.size() * 4 + tri_mat_.size() * 4 +
            centers_.size() * 12 + radii_.size() * 4 + sphere_mat_.size() * 4 + cones_.size() * sizeof(ConeData) +
            cone_mat_.size() * 4 + matte_class_.size() * 4 + class_keys_.size() * 4;
 }

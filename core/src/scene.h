@@ -18,6 +18,7 @@
 #include "ray.h"
 #include "sphere.h"
 #include "surface_point.h"
+#include "texture_view.h"
 #include "texture.h"
 #include "triangle.h"
 #include "world.h"
@@ -82,7 +83,8 @@ public:
           std::vector<Material> materials, std::vector<Light> lights, const CameraDesc& camera,
           Vec3 background, PooledVector<float> uvs = {}, PooledVector<float> colors = {},
           std::vector<std::shared_ptr<const Image>> images = {}, std::vector<Texture> textures = {},
-          const World& world = World(), PooledVector<float> generated = {}, PooledVector<float> object_coords = {});
+          const World& world = World(), PooledVector<float> generated = {}, PooledVector<float> object_coords = {},
+          PooledVector<float> object_normals = {});
 
     // A copy of this scene with the instances `moves` name moved: their
     // vertices become matrix x positions (in double, rounded to float), their
@@ -237,15 +239,16 @@ public:
     // Whether a material is hidden from some kind of ray (Material::seen_by).
     bool hides_from_rays() const { return hides_from_rays_; }
     // The material at a hit with its textures and colour attribute applied
-    // (call only when materials()[sp.material].varies()).
-    Material shade(const Material& m, const Hit& hit) const;
+    // (call only when materials()[sp.material].varies()); view: the ray's side
+    // of the hit, for textures at Normal, Camera, Window or Reflection coordinates.
+    Material shade(const Material& m, const Hit& hit, const TextureView& view) const;
     // The shading normal at a hit with the material's normal map, then its
     // bump map applied (sp.ns where it has none, or the triangle has no UVs or
-    // no UV area). wo: the unit direction back along the ray (a normal map's
+    // no UV area). view.wi: the unit direction back along the ray (a normal map's
     // normal is kept from reflecting it into the surface, as Cycles keeps it).
-    Vec3 mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const;
+    Vec3 mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const TextureView& view) const;
     // The material's alpha at a hit (its alpha texture applied).
-    float alpha_at(const Material& m, const Hit& hit) const;
+    float alpha_at(const Material& m, const Hit& hit, const TextureView& view) const;
     size_t memory_bytes() const;
     size_t texture_bytes() const;   // the images, each counted once
 
@@ -276,7 +279,7 @@ private:
     Vec3 background_;
     PooledVector<float> uvs_, colors_;   // 6 / 9 floats per triangle (corner UVs / RGB), or empty
     // 9 floats per triangle (corner Generated / Object coordinates), or empty
-    PooledVector<float> generated_, object_coords_;
+    PooledVector<float> generated_, object_coords_, object_normals_;
     // 12 floats per triangle (tangents.h) where a material has a normal map
     // and the triangles have UVs, else empty.
     std::vector<float> tangents_;
@@ -305,19 +308,25 @@ private:
     static uint64_t next_id();
 
     // The texture at a hit whose UV map gives (u, v) (hit_uv).
-    Rgba lookup(int32_t texture, const Hit& hit, float u, float v) const {
+    Rgba lookup(int32_t texture, const Hit& hit, float u, float v, const TextureView& view) const {
         const Texture& t = textures_[size_t(texture)];
-        if (!plain_image(t)) return lookup_vector(t, hit, u, v);
+        if (!plain_image(t)) return lookup_vector(t, hit, u, v, view);
         if (uv_mapped(t)) map_uv(t, u, v);
         return sample_image(*images_[size_t(t.image)], t, u, v);
     }
     // A procedural texture, or an image at other coordinates or mapped in 3D (see Texture).
-    Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v) const;
+    Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const;
+    // The texture's point at the hit, before vector_transform: (u, v, 0) of its UV map, or
+    // its coordinates there (hit_point, or those view gives).
+    Vec3 texture_point(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const;
     // Such a texture at the point p of its coordinates, after vector_transform.
     Rgba pattern_at(const Texture& t, const Vec3& p) const;
     // The texture point (before vector_transform) of each corner of triangle prim
-    // for t's coordinates; false where the scene has no such array.
-    bool corner_points(const Texture& t, size_t prim, Vec3 c[3]) const;
+    // for t's coordinates; false where the scene has no such array, and for
+    // coordinates that do not move with the point along the triangle as an
+    // affine map of it (the normals, Reflection and Incoming: Cycles' bump takes
+    // them as fixed, so they bend nothing; Window: a perspective division).
+    bool corner_points(const Texture& t, size_t prim, const TextureView& view, Vec3 c[3]) const;
     // The bump map's slopes on triangle prim at the hit: the height's change per
     // unit of the triangle's parameters (hu, hv) along which the surface moves by
     // T and B. An image at the UV map: per unit of u and v, from its texels; any
@@ -325,19 +334,23 @@ private:
     // differences of the pattern. False where there are none (no UVs, UVs or
     // corners of no area).
     bool image_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const;
-    bool pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const;
-    // The hit's point in the per-corner array of those coordinates (Generated or Object).
-    Vec3 hit_point(const Hit& hit, TextureCoords coords) const;
+    bool pattern_slopes(const Texture& t, const Hit& hit, const TextureView& view, Vec3& T, Vec3& B, float& hu,
+                        float& hv) const;
+    // The hit's point in the per-corner array of those coordinates (Generated, Object or
+    // Normal: that one normalised, on view's side) or in world space (Position).
+    Vec3 hit_point(const Hit& hit, TextureCoords coords, bool backfacing = false) const;
+    // The per-corner array of Generated, Object or Normal coordinates.
+    const PooledVector<float>& corner_array(TextureCoords coords) const;
     void hit_uv(const Hit& hit, float& u, float& v) const;
     // sp.ns with the material's normal map applied (sp.ns where it has none),
     // kept from reflecting wo into the surface, as Cycles' Normal Map node
     // keeps it (its Bump node does not).
-    Vec3 normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const;
+    Vec3 normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const TextureView& view) const;
     // n bent by the material's bump map (Blender's Bump node): normalize(n -
     // bump_distance x the height's gradient along the surface, its part along
     // n removed along the geometric normal), blended with n by bump_strength
     // (n where it has none).
-    Vec3 bumped(const Material& m, const Hit& hit, const Vec3& n) const;
+    Vec3 bumped(const Material& m, const Hit& hit, const Vec3& n, const TextureView& view) const;
     void check_textures();   // scene_textures.cpp
     void check_generated() const;
     void compute_bounds(const Bounds& tri_bounds);   // bounds_ (and the +-1e30 check), given the triangles'

@@ -37,7 +37,8 @@ void Scene::check_textures() {
         if (!std::isfinite(uvs_[i])) bad("uvs[" + std::to_string(i / 6) + "] has a non-finite value");
     for (size_t i = 0; i < colors_.size(); ++i)
         if (!std::isfinite(colors_[i])) bad("colors[" + std::to_string(i / 9) + "] has a non-finite value");
-    for (const auto& [values, name] : {std::pair{&generated_, "generated"}, std::pair{&object_coords_, "object_coords"}}) {
+    for (const auto& [values, name] : {std::pair{&generated_, "generated"}, std::pair{&object_coords_, "object_coords"},
+                                       std::pair{&object_normals_, "object_normals"}}) {
         if (!values->empty() && values->size() != 9 * nt)
             bad(std::string(name) + " must have shape (M, 3, 3): one point per triangle corner, got " +
                 std::to_string(values->size()) + " values for " + std::to_string(nt) + " triangles");
@@ -115,12 +116,15 @@ void Scene::check_textures() {
     }
 }
 
-// Generated, Object and Position coordinates exist on triangles only
-// (Scene(generated=...), Scene(object_coords=...); a triangle's world corners):
-// a material whose textures take them may not be on a sphere or a cone, and
-// triangles using the first two need the array.
+// Generated, Object, Normal and Position coordinates exist on triangles only
+// (Scene(generated=...), Scene(object_coords=...), Scene(object_normals=...);
+// a triangle's world corners): a material whose textures take them may not be
+// on a sphere or a cone, and triangles using the first three need the array.
+// (Camera, Window and Reflection coordinates come from the hit's point and
+// normal and the ray: any primitive has them.)
 void Scene::check_generated() const {
-    for (const TextureCoords coords : {TextureCoords::Generated, TextureCoords::Object, TextureCoords::Position}) {
+    for (const TextureCoords coords :
+         {TextureCoords::Generated, TextureCoords::Object, TextureCoords::Normal, TextureCoords::Position}) {
         auto reads = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].coordinates == coords; };
         std::vector<uint8_t> uses(materials_.size(), 0);
         for (size_t i = 0; i < materials_.size(); ++i) {
@@ -142,8 +146,10 @@ void Scene::check_generated() const {
                 bad(what(cone_mat_[i]) + "which cylinders do not have: cylinder_materials[" + std::to_string(i) +
                     "] uses it");
         if (coords == TextureCoords::Position) continue;   // (the triangles' own corners)
-        const bool given = !(coords == TextureCoords::Generated ? generated_ : object_coords_).empty();
-        const std::string array = coords == TextureCoords::Generated ? "generated" : "object_coords";
+        const bool given = !corner_array(coords).empty();
+        const std::string array = coords == TextureCoords::Generated ? "generated"
+                                  : coords == TextureCoords::Object  ? "object_coords"
+                                                                     : "object_normals";
         if (!given)
             for (size_t i = 0; i < tri_mat_.size(); ++i)
                 if (uses[size_t(tri_mat_[i])])
@@ -152,21 +158,44 @@ void Scene::check_generated() const {
     }
 }
 
-Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords) const {
+const PooledVector<float>& Scene::corner_array(TextureCoords coords) const {
+    return coords == TextureCoords::Generated ? generated_ : coords == TextureCoords::Object ? object_coords_ : object_normals_;
+}
+
+Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords, bool backfacing) const {
     if (coords == TextureCoords::Position) {
         if (size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
         const Vec3* c = &tri_verts_[3 * size_t(hit.prim)];
         return c[0] * (1.0f - hit.u - hit.v) + c[1] * hit.u + c[2] * hit.v;
     }
-    const PooledVector<float>& values = coords == TextureCoords::Generated ? generated_ : object_coords_;
+    const PooledVector<float>& values = corner_array(coords);
     if (values.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_generated)
     const float* c = &values[9 * size_t(hit.prim)];
     const float b0 = 1.0f - hit.u - hit.v;
-    return Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+    const Vec3 p = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+    if (coords != TextureCoords::Normal) return p;
+    // (Cycles: the world normal under the transpose of the object's matrix, normalised,
+    // which is the object's own normal, interpolated and normalised)
+    const float len = length(p);
+    if (!(len > 0) || !std::isfinite(len)) return Vec3(0, 0, 0);
+    return p * ((backfacing ? -1.0f : 1.0f) / len);
 }
 
-Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v) const {
-    Vec3 p = t.coordinates == TextureCoords::UV ? Vec3(u, v, 0) : hit_point(hit, t.coordinates);
+Vec3 Scene::texture_point(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const {
+    switch (t.coordinates) {
+    case TextureCoords::UV: return Vec3(u, v, 0);
+    case TextureCoords::Camera: return view.frame ? view.frame->camera_point(view.p) : Vec3(0, 0, 0);
+    case TextureCoords::Window: return view.frame ? view.frame->window_point(view.p) : Vec3(0, 0, 0);
+    case TextureCoords::Reflection: return view.reflection();
+    case TextureCoords::GeometryNormal: return view.n;
+    case TextureCoords::TrueNormal: return view.ng;
+    case TextureCoords::Incoming: return view.wi;
+    default: return hit_point(hit, t.coordinates, view.backfacing);
+    }
+}
+
+Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const {
+    Vec3 p = texture_point(t, hit, u, v, view);
     if (vector_mapped(t)) p = map_vector(t, p);
     return pattern_at(t, p);
 }
@@ -194,12 +223,12 @@ void Scene::hit_uv(const Hit& hit, float& u, float& v) const {
     v = b0 * t[1] + hit.u * t[3] + hit.v * t[5];
 }
 
-Material Scene::shade(const Material& m, const Hit& hit) const {
+Material Scene::shade(const Material& m, const Hit& hit, const TextureView& view) const {
     Material out = m;
     float u, v;
     hit_uv(hit, u, v);
     if (m.color_texture >= 0)
-        out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, hit, u, v));
+        out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, hit, u, v, view));
     if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
         const float* c = &colors_[9 * size_t(hit.prim)];
         const float b0 = 1.0f - hit.u - hit.v;
@@ -208,14 +237,14 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         out.color = m.color_texture >= 0 ? out.color * corner : corner;
     }
     if (m.roughness_texture >= 0) {
-        const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, hit, u, v)));
+        const float r = clamp01(scalar_of(textures_[size_t(m.roughness_texture)], lookup(m.roughness_texture, hit, u, v, view)));
         out.shininess = shininess_of(r);
         out.ks = m.ks * (out.shininess + 8.0f) / (m.shininess + 8.0f);   // same specular weight, new lobe
         out.roughness = r;
     }
     if (m.metallic_texture >= 0) {
         // The record holds the non-metal (metallic = 0) mapping; blend towards the metal.
-        const float mt = clamp01(scalar_of(textures_[size_t(m.metallic_texture)], lookup(m.metallic_texture, hit, u, v)));
+        const float mt = clamp01(scalar_of(textures_[size_t(m.metallic_texture)], lookup(m.metallic_texture, hit, u, v, view)));
         const float norm = (out.shininess + 8.0f) / 8.0f, f0 = out.ks / norm;
         out.kd = m.kd * (1 - mt);
         out.transmittance = m.transmittance * (1 - mt);
@@ -223,10 +252,10 @@ Material Scene::shade(const Material& m, const Hit& hit) const {
         out.metallic = mt;
         out.ks = ((1 - mt) * f0 + mt) * norm;
     }
-    if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit);
+    if (m.alpha_texture >= 0) out.alpha = alpha_at(m, hit, view);
     if (m.emission_texture >= 0) {
         out.emission_color =
-            color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, hit, u, v)) * m.emission_color;
+            color_of(textures_[size_t(m.emission_texture)], lookup(m.emission_texture, hit, u, v, view)) * m.emission_color;
     }
     return out;
 }
@@ -281,8 +310,9 @@ Vec3 reflecting_above(const Vec3& ng, const Vec3& wo, const Vec3& n) {
 
 }  // namespace
 
-Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
+Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint& sp, const TextureView& view) const {
     const Vec3 n = sp.ns;
+    const Vec3& wo = view.wi;
     if (m.normal_texture < 0 || tangents_.empty()) return n;
     // The corners' tangents and signs interpolated, as Cycles interpolates
     // its tangent attribute; the tangent made orthogonal to the shading normal.
@@ -297,7 +327,7 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
     const Vec3 B = cross(n, T) * sign;
     float u, v;
     hit_uv(hit, u, v);
-    const Vec3 rgb = color_of(textures_[size_t(m.normal_texture)], lookup(m.normal_texture, hit, u, v));
+    const Vec3 rgb = color_of(textures_[size_t(m.normal_texture)], lookup(m.normal_texture, hit, u, v, view));
     Vec3 mapped = T * (2 * rgb.x - 1) + B * (2 * rgb.y - 1) + n * (2 * rgb.z - 1);
     if (m.normal_strength != 1) mapped = n + (normalize(mapped) - n) * m.normal_strength;
     const float ml = length(mapped);
@@ -308,27 +338,33 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
     return reflecting_above(sp.ng * side, wo, mapped * side) * side;
 }
 
-bool Scene::corner_points(const Texture& t, size_t prim, Vec3 c[3]) const {
+bool Scene::corner_points(const Texture& t, size_t prim, const TextureView& view, Vec3 c[3]) const {
     if (t.coordinates == TextureCoords::UV) {
         if (uvs_.empty()) return false;
         for (int k = 0; k < 3; ++k) c[k] = Vec3(uvs_[6 * prim + 2 * k], uvs_[6 * prim + 2 * k + 1], 0);
         return true;
     }
-    if (t.coordinates == TextureCoords::Position) {
+    if (t.coordinates == TextureCoords::Position || t.coordinates == TextureCoords::Camera) {
         if (prim >= num_triangles()) return false;
-        for (int k = 0; k < 3; ++k) c[k] = tri_verts_[3 * prim + size_t(k)];
+        if (t.coordinates == TextureCoords::Camera && !view.frame) return false;
+        for (int k = 0; k < 3; ++k) {
+            c[k] = tri_verts_[3 * prim + size_t(k)];
+            if (t.coordinates == TextureCoords::Camera) c[k] = view.frame->camera_point(c[k]);
+        }
         return true;
     }
-    const PooledVector<float>& values = t.coordinates == TextureCoords::Generated ? generated_ : object_coords_;
+    if (t.coordinates != TextureCoords::Generated && t.coordinates != TextureCoords::Object) return false;
+    const PooledVector<float>& values = corner_array(t.coordinates);
     if (values.empty()) return false;   // (check_generated refuses such a scene)
     for (int k = 0; k < 3; ++k) c[k] = Vec3(values[9 * prim + 3 * k], values[9 * prim + 3 * k + 1], values[9 * prim + 3 * k + 2]);
     return true;
 }
 
-bool Scene::pattern_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, float& hu, float& hv) const {
+bool Scene::pattern_slopes(const Texture& t, const Hit& hit, const TextureView& view, Vec3& T, Vec3& B, float& hu,
+                           float& hv) const {
     const size_t prim = size_t(hit.prim);
     Vec3 c[3];
-    if (!corner_points(t, prim, c)) return false;
+    if (!corner_points(t, prim, view, c)) return false;
     const Vec3* p = &tri_verts_[3 * prim];
     T = p[1] - p[0];
     B = p[2] - p[0];
@@ -406,12 +442,12 @@ bool Scene::image_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, flo
     return true;
 }
 
-Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
+Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n, const TextureView& view) const {
     if (m.bump_texture < 0) return n;
     const Texture& tex = textures_[size_t(m.bump_texture)];
     Vec3 T, B;
     float hu, hv;
-    if (!(plain_image(tex) ? image_slopes(tex, hit, T, B, hu, hv) : pattern_slopes(tex, hit, T, B, hu, hv))) return n;
+    if (!(plain_image(tex) ? image_slopes(tex, hit, T, B, hu, hv) : pattern_slopes(tex, hit, view, T, B, hu, hv))) return n;
     // The gradients of the two parameters along the triangle (the dual basis
     // of T and B in its plane: Mikkelsen's surface gradient) weighted by the slopes.
     const Vec3* p = &tri_verts_[3 * size_t(hit.prim)];
@@ -432,16 +468,16 @@ Vec3 Scene::bumped(const Material& m, const Hit& hit, const Vec3& n) const {
     return bent;
 }
 
-Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const Vec3& wo) const {
+Vec3 Scene::mapped_normal(const Material& m, const Hit& hit, const SurfacePoint& sp, const TextureView& view) const {
     if (size_t(hit.prim) >= num_triangles()) return sp.ns;
-    return bumped(m, hit, normal_mapped(m, hit, sp, wo));
+    return bumped(m, hit, normal_mapped(m, hit, sp, view), view);
 }
 
-float Scene::alpha_at(const Material& m, const Hit& hit) const {
+float Scene::alpha_at(const Material& m, const Hit& hit, const TextureView& view) const {
     if (m.alpha_texture < 0) return m.alpha;
     float u, v;
     hit_uv(hit, u, v);
-    return clamp01(scalar_of(textures_[size_t(m.alpha_texture)], lookup(m.alpha_texture, hit, u, v)));
+    return clamp01(scalar_of(textures_[size_t(m.alpha_texture)], lookup(m.alpha_texture, hit, u, v, view)));
 }
 
 size_t Scene::texture_bytes() const {

@@ -128,3 +128,14 @@ def test_camera_depth_of_field(export):
 def test_no_camera_is_a_clear_error(export):
     out = export("no_camera")
     assert "no active camera" in out.error
+
+
+def test_lights_scattered_from_a_hidden_source_light_the_scene(export):
+    # (Geometry Nodes scatter 50 copies of a point light hidden in renders, as Cycles renders
+    # them; they were left out: the scene had only its sun)
+    out = export("carrier", variant="light", count=50)
+    points = [light for light in out.lights if light["kind"] != "sun"]     # (a point, or a sphere of its radius)
+    assert len(points) == 50 and len(out.lights) == 51
+    positions = np.array([light["position"] for light in points])
+    assert len(np.unique(np.round(positions, 4), axis=0)) == 50              # each at its own point
+    np.testing.assert_allclose(positions[:, 2], 0.0, atol=1e-5)              # the carrier's Mesh Line lies at z = 0

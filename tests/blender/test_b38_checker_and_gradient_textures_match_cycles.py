@@ -108,11 +108,12 @@ def test_object_coordinates_of_an_object_scaled_to_zero_are_named_in_a_warning(e
     assert any("'Empty', whose transform cannot be inverted" in w for w in out.warnings), out.warnings
 
 
-def test_a_texture_coordinate_output_not_read_is_named_in_a_warning(export):
-    out = export("procedural_checker", variant="cube", coordinates="Reflection")
+def test_a_coordinate_source_not_read_is_named_in_a_warning(export):
+    # (the Texture Coordinate node's outputs are all read: test_b47)
+    out = export("procedural_checker", variant="cube", coordinates="Geometry:Parametric")
     (texture,) = out.textures
     assert texture["coordinates"] == "generated"                      # the Checker's own default
-    assert any("ShaderNodeTexCoord Reflection" in w for w in out.warnings), out.warnings
+    assert any("ShaderNodeNewGeometry Parametric" in w for w in out.warnings), out.warnings
 
 
 def test_shapes_without_generated_coordinates_are_exported_with_a_warning(export):

@@ -136,7 +136,7 @@ def estimate(triangles: int, vertices: int | None = None, spheres: int = 0, cyli
     settings is a gridwalk.RenderSettings (defaults when None); its accel,
     grid_density, max_cells, mailboxes and threads are used. uvs, colors:
     the triangles have corner UVs / colours; corner_points: how many arrays
-    of corner points they have (Generated and Object coordinates); tangents: a material has a
+    of corner points they have (Generated and Object coordinates, object normals); tangents: a material has a
     normal map (the core keeps a tangent per corner, 48 bytes a triangle,
     and needs 132 more while it builds them); matte_layers: the layers of
     matte keys (Scene(matte_keys=...)) when settings.matte_ranks > 0;

@@ -281,7 +281,19 @@ class Texture(Record):
     Scene(generated=...)) | object (Blender's Object coordinates from
     Scene(object_coords=...)) | position (the point in world space: Blender's
     Geometry Position, and through vector_transform another object's Object
-    coordinates); the last three on triangles only. vector_transform: 12 numbers, a
+    coordinates) | normal (Blender's Normal coordinates: the shading normal in
+    its object's space, from Scene(object_normals=...), turned over on a back
+    face) | camera (the point in the rendering camera's space: x right, y up, z
+    forward) | window (the point's place in the image, (0, 0) at its
+    bottom-left corner and (1, 1) at its top-right, z 0; a panoramic camera's
+    (0, 0, 0)) | reflection (the view direction mirrored about the shading
+    normal, world space) | geometry_normal, true_normal (Blender's Geometry
+    node's Normal and True Normal: the shading and the geometric normal in
+    world space, turned over on a back face) | incoming (its Incoming: the unit
+    direction back along the ray); generated, object, normal and position on
+    triangles only. A bump map at any of the normals, reflection or incoming
+    bends nothing (as in Cycles, whose bump takes them as fixed), nor does one
+    at window coordinates (not computed). vector_transform: 12 numbers, a
     row-major 3 x 4 affine map applied to that point (Blender's Mapping node;
     the identity by default); an image then takes the point's (x, y) as its
     (u, v), mapped on by uv_transform. Normal maps and the world's

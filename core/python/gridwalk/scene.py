@@ -190,7 +190,7 @@ class Scene:
                  cylinder_apex_radius=None, cylinder_materials=None,
                  materials=None, lights=None, camera=None, background=(0.0, 0.0, 0.0),
                  uvs=None, colors=None, images=None, textures=None, world=None, generated=None,
-                 object_coords=None, matte_keys=None, instance_triangles=None, instance_meshes=None,
+                 object_coords=None, object_normals=None, matte_keys=None, instance_triangles=None, instance_meshes=None,
                  instance_matrices=None):
         """uvs: (M, 3, 2) texture coordinates per triangle corner; colors:
         (M, 3, 3) RGB per triangle corner (Material.vertex_color); generated:
@@ -198,7 +198,9 @@ class Scene:
         textures with coordinates="generated" take (needed where a triangle's
         material has one; spheres and cylinders have none); object_coords:
         likewise Blender's Object coordinates (each corner in its object's
-        own space), for coordinates="object"; images:
+        own space), for coordinates="object"; object_normals: likewise each
+        corner's shading normal in its object's own space (a flat face's
+        normal at all three), for coordinates="normal"; images:
         gridwalk.Image list that textures may refer to by index; textures:
         gridwalk.Texture list that materials and the world refer to by index
         (a Texture's image may also be a gridwalk.Image: each distinct Image
@@ -250,7 +252,8 @@ class Scene:
             [m.to_core() for m in self.materials], [l.to_core() for l in self.lights], self.camera.to_core(),
             self.background, _corners(uvs, "uvs", 2, n_tris), _corners(colors, "colors", 3, n_tris),
             [image._native for image in self.images], core_textures, self.world.to_core(),
-            _corners(generated, "generated", 3, n_tris), _corners(object_coords, "object_coords", 3, n_tris))
+            _corners(generated, "generated", 3, n_tris), _corners(object_coords, "object_coords", 3, n_tris),
+            _corners(object_normals, "object_normals", 3, n_tris))
         if matte_keys is not None:
             keys = np.asarray(matte_keys)
             layers = keys.shape[1] if keys.ndim == 2 else 1

@@ -30,12 +30,14 @@ SCALE = 3.7          # cube edges do not fall on pixel centres
 TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # location, rotation, scale
 
 
-def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None, flat_empty=False):
+def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None, flat_empty=False,
+                             smooth=False):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
     a black world (coordinates: the Texture Coordinate node's output to read instead,
-    such as "Reflection"; flat_empty: "other_object"'s empty scaled to 0 along z). Returns the
-    Checker's settings, the empty's location and the Mapping's."""
+    such as "Reflection", or "Geometry:" and a Geometry node's output; flat_empty:
+    "other_object"'s empty scaled to 0 along z; smooth: the object's faces shaded smooth).
+    Returns the Checker's settings, the empty's location and the Mapping's."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac", "valued"):
         bpy.ops.mesh.primitive_plane_add(size=7.0, rotation=(math.pi / 2, 0, 0))
@@ -81,9 +83,11 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=N
     if variant in ("cube", "image", "uv", "object", "position", "other_object"):
         coords = nodes.new("ShaderNodeTexCoord")
         named = coordinates or {"uv": "UV", "object": "Object", "other_object": "Object"}.get(variant, "Generated")
-        source = coords.outputs[named]
+        source = None if named.startswith("Geometry:") else coords.outputs[named]
         if variant == "position":
             source = nodes.new("ShaderNodeNewGeometry").outputs["Position"]
+        elif named.startswith("Geometry:"):
+            source = nodes.new("ShaderNodeNewGeometry").outputs[named.split(":", 1)[1]]
         if variant == "other_object":
             empty = coords.object = link(bpy.data.objects.new("Empty", None))
             empty.location, empty.rotation_euler, empty.scale = EMPTY_PLACE
@@ -98,6 +102,9 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=N
             source = mapping.outputs["Vector"]
         links.new(source, texture.inputs["Vector"])
     obj.data.materials.append(mat)
+    if smooth:
+        obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
+        obj.data.update()
     plain_world("World", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {"colors": COLORS, "scale": SCALE, "value_scale": VALUE_SCALE, "rgb": RGB_COLOR,

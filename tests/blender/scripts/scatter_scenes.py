@@ -11,20 +11,31 @@ import bpy
 from scenes import cube_object, link, reset
 
 
-def _scatter_group(name, source, count, seed):
+def _scatter_group(name, source, count, seed, variant="object"):
+    """Instances of `source` (an object; a collection for the variants "collection" and
+    "picked") on `count` points, turned and scaled at random (see carrier_scene)."""
     group = bpy.data.node_groups.new(name, "GeometryNodeTree")
     if bpy.app.version >= (4, 0, 0):
         group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+        if variant == "mixed":
+            group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
     else:
         group.outputs.new("NodeSocketGeometry", "Geometry")
+        if variant == "mixed":
+            group.inputs.new("NodeSocketGeometry", "Geometry")
     nodes, links = group.nodes, group.links
     output = nodes.new("NodeGroupOutput")
     points = nodes.new("GeometryNodeMeshLine")
     points.inputs["Count"].default_value = count
     points.inputs["Offset"].default_value = (0.01, 0.003, 0.0)
-    info = nodes.new("GeometryNodeObjectInfo")
-    info.inputs["Object"].default_value = source
-    info.inputs["As Instance"].default_value = True
+    if variant in ("collection", "picked"):
+        info = nodes.new("GeometryNodeCollectionInfo")
+        info.inputs["Collection"].default_value = source
+        info.inputs["Separate Children"].default_value = variant == "picked"
+    else:
+        info = nodes.new("GeometryNodeObjectInfo")
+        info.inputs["Object"].default_value = source
+        info.inputs["As Instance"].default_value = True
     turn = nodes.new("FunctionNodeRandomValue")
     turn.data_type = "FLOAT_VECTOR"
     turn.inputs["Max"].default_value = (3.0, 3.0, 3.0)
@@ -34,10 +45,23 @@ def _scatter_group(name, source, count, seed):
     size.inputs["Seed"].default_value = seed + 1
     on_points = nodes.new("GeometryNodeInstanceOnPoints")
     links.new(points.outputs["Mesh"], on_points.inputs["Points"])
-    links.new(info.outputs["Geometry"], on_points.inputs["Instance"])
+    made = info.outputs.get("Instances") or info.outputs["Geometry"]     # (Collection Info's, 4.0 and later)
+    links.new(made, on_points.inputs["Instance"])
     links.new(turn.outputs[0], on_points.inputs["Rotation"])
     links.new(size.outputs[1], on_points.inputs["Scale"])
-    links.new(on_points.outputs["Instances"], output.inputs[0])
+    if variant == "picked":
+        pick = nodes.new("FunctionNodeRandomValue")
+        pick.data_type = "INT"
+        pick.inputs[5].default_value, pick.inputs["Seed"].default_value = 1, seed + 2     # (the INT Max)
+        on_points.inputs["Pick Instance"].default_value = True
+        links.new(pick.outputs["Value"], on_points.inputs["Instance Index"])
+    result = on_points.outputs["Instances"]
+    if variant == "mixed":      # the carrier's own mesh beside the copies
+        join = nodes.new("GeometryNodeJoinGeometry")
+        links.new(nodes.new("NodeGroupInput").outputs[0], join.inputs[0])
+        links.new(result, join.inputs[0])
+        result = join.outputs[0]
+    links.new(result, output.inputs[0])
     return group
 
 
@@ -62,3 +86,49 @@ def scatter_scene(count=6000):
             sampled.append([list(matrix @ v.co) for v in inst.object.data.vertices])
         instances += 1
     return {"triangles": 12 * instances, "instances": instances, "sampled_corners": sampled}
+
+
+CARRIER_VARIANTS = ("object", "collection", "picked", "light", "hidden", "far", "mixed")
+
+
+def carrier_scene(variant="object", count=2000):
+    """One Geometry Nodes carrier with `count` copies, each turned and scaled at random, of:
+    object      a hidden cube (Object Info, As Instance)
+    collection  a hidden collection of two cubes (each point lists two instances)
+    picked      one of a collection's two cubes at random (Separate Children, Pick Instance)
+    light       a point light
+    hidden      the cube, the carrier hidden from renders
+    far         the cube, the carrier scaled 1e29 (copies beyond 1e30 in world space)
+    mixed       the cube, beside the carrier's own mesh (a cube too)
+    and a lit plane below, a cube made after the carrier. Returns the variant."""
+    from scenes import add_light
+    reset()
+    floor = link(cube_object("Floor", size=1.0))
+    floor.scale, floor.location = (40.0, 40.0, 0.01), (0.0, 0.0, -1.0)
+    add_light("Sun", "SUN", (0.0, 0.0, 10.0), energy=2.0)
+    if variant in ("collection", "picked"):
+        source = bpy.data.collections.new("Sources")
+        bpy.context.scene.collection.children.link(source)
+        for k, size in enumerate((0.2, 0.1)):
+            cube = cube_object(f"Source{k}", size=size)
+            cube.location = (0.0, 0.3 * k, 0.0)
+            source.objects.link(cube)
+        source.hide_render = True
+    elif variant == "light":
+        source = link(bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT")))
+        source.data.energy = 5.0
+        source.hide_render = True
+    else:
+        source = link(cube_object("Source", size=0.2))
+        source.hide_render = True
+    data = cube_object("CarrierMesh", size=0.5).data if variant == "mixed" else bpy.data.meshes.new("CarrierMesh")
+    carrier = link(bpy.data.objects.new("Carrier", data))
+    carrier.location = (-10.0, -3.0, 0.0)
+    if variant == "far":
+        carrier.scale = (1e29, 1e29, 1e29)
+    carrier.hide_render = variant == "hidden"
+    carrier.modifiers.new("Scatter", "NODES").node_group = _scatter_group("Scatter", source, count, 3, variant)
+    after = link(cube_object("After", size=0.3))       # (an object made after the carrier)
+    after.location = (2.0, 2.0, 0.0)
+    bpy.context.view_layer.update()
+    return {"variant": variant}

@@ -17,8 +17,9 @@ So a carrier's copies are taken here instead of one by one (MeshCollector.add_in
     object, or Object Info's As Instance of one: one_mesh_copy) and it has no point
     cloud, curves or volume of its own (each listed as an instance too);
   * every SAMPLE-th copy, the last, and the first of each reference, is checked: its
-    instance_key must be its reference's and its matrix_world the carrier's matrix
-    times its transform (to float32 rounding);
+    instance_key must be its reference's, or one whose plan exports alike (same_outcome:
+    a geometry set's copies come through temporary objects that take turns), and its
+    matrix_world the carrier's matrix times its transform (to float32 rounding);
   * when the depsgraph has listed them all, the copies go to MeshCollector as one
     block of matrices (add_block), in their order.
 Whatever does not check out (a copy count other than the points', a reference that
@@ -102,6 +103,17 @@ def carrier_transforms(carrier):
     return transforms.reshape(n, 4, 4).transpose(0, 2, 1).astype(np.float64), indices, count
 
 
+def same_outcome(plan, other) -> bool:
+    """Whether instances of two plans export alike: shown or not, the same mesh entry
+    (MeshCache key), materials, flags and Cryptomatte names, neither with particle hair."""
+    if plan.renders != other.renders or plan.hair or other.hair:
+        return False
+    if not plan.renders:
+        return True
+    return (plan.kind == other.kind == "mesh" and plan.flags == other.flags and plan.names == other.names
+            and plan.known[2] == other.known[2] and np.array_equal(plan.known[1], other.known[1]))
+
+
 class CarrierRun:
     """One carrier's copies as the depsgraph lists them (CarrierInstances.take)."""
 
@@ -136,7 +148,9 @@ class CarrierRun:
                 self.failed = True
                 return
             self.plans[r], self.keys[r] = plan, key
-        elif key != self.keys[r]:
+        elif key != self.keys[r] and not same_outcome(meshes.plan_of(inst, obj, key), plan):
+            # (copies of a geometry set come through temporary objects, which take turns:
+            # another key, the same mesh, materials, flags and names)
             self.failed = True
             return
         matrix = to_numpy(inst.matrix_world)

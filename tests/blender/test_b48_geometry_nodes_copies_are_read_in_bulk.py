@@ -1,12 +1,14 @@
 """A Geometry Nodes carrier's copies are read from its instances component in bulk
 (export/carrier_instances.py; Blender 4.3 and later) and export exactly as when each is
 read from the depsgraph one by one: the same arrays (to float32 rounding), warnings and
-lights, for a carrier scattering a cube, one picking either of two cubes per point, one
-hidden from renders, one scaled 1e29 (copies beyond 1e30 skipped and named), and one
-whose own mesh lies beside its copies. A carrier whose copies do not map one to one onto
-its points (a collection of two cubes on each) or are not meshes (a light) is read one by
-one, and so is one whose copy checked against the depsgraph differs from what the bulk
-read gives ("tampered": that copy's transform moved by a unit in the bulk read). Debian's Blender 3.4, without the API, reads every copy one by one.
+lights, for carriers scattering a cube, an icosphere their node tree makes (a geometry
+set, whose copies come through temporary objects that take turns), either of two cubes
+per point, a cube while hidden from renders, a cube scaled 1e29 (copies beyond 1e30
+skipped and named), and a cube beside the carrier's own mesh. A carrier whose copies do
+not map one to one onto its points (a collection of two cubes on each) or are not meshes
+(a light) is read one by one, and so is one whose copy checked against the depsgraph
+differs from what the bulk read gives ("tampered": that copy's transform moved by a unit
+in the bulk read). Debian's Blender 3.4, without the API, reads every copy one by one.
 Scene: scatter_scenes.carrier_scene; script: scripts/carrier_bulk.py."""
 import json
 
@@ -14,8 +16,8 @@ import pytest
 
 from runner import script_output
 
-VARIANTS = ("object", "collection", "picked", "light", "hidden", "far", "mixed", "tampered")
-IN_BULK = ("object", "picked", "hidden", "far", "mixed")
+VARIANTS = ("object", "primitive", "collection", "picked", "light", "hidden", "far", "mixed", "tampered")
+IN_BULK = ("object", "primitive", "picked", "hidden", "far", "mixed")
 COPIES = 2000          # carrier_scene's default count
 
 

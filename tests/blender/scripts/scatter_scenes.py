@@ -32,6 +32,9 @@ def _scatter_group(name, source, count, seed, variant="object"):
         info = nodes.new("GeometryNodeCollectionInfo")
         info.inputs["Collection"].default_value = source
         info.inputs["Separate Children"].default_value = variant == "picked"
+    elif variant == "primitive":
+        info = nodes.new("GeometryNodeMeshIcoSphere")
+        info.inputs["Radius"].default_value, info.inputs["Subdivisions"].default_value = 0.1, 2
     else:
         info = nodes.new("GeometryNodeObjectInfo")
         info.inputs["Object"].default_value = source
@@ -45,7 +48,7 @@ def _scatter_group(name, source, count, seed, variant="object"):
     size.inputs["Seed"].default_value = seed + 1
     on_points = nodes.new("GeometryNodeInstanceOnPoints")
     links.new(points.outputs["Mesh"], on_points.inputs["Points"])
-    made = info.outputs.get("Instances") or info.outputs["Geometry"]     # (Collection Info's, 4.0 and later)
+    made = info.outputs.get("Instances") or info.outputs.get("Mesh") or info.outputs["Geometry"]
     links.new(made, on_points.inputs["Instance"])
     links.new(turn.outputs[0], on_points.inputs["Rotation"])
     links.new(size.outputs[1], on_points.inputs["Scale"])
@@ -88,12 +91,13 @@ def scatter_scene(count=6000):
     return {"triangles": 12 * instances, "instances": instances, "sampled_corners": sampled}
 
 
-CARRIER_VARIANTS = ("object", "collection", "picked", "light", "hidden", "far", "mixed")
+CARRIER_VARIANTS = ("object", "primitive", "collection", "picked", "light", "hidden", "far", "mixed")
 
 
 def carrier_scene(variant="object", count=2000):
     """One Geometry Nodes carrier with `count` copies, each turned and scaled at random, of:
     object      a hidden cube (Object Info, As Instance)
+    primitive   an icosphere the node tree makes (Ico Sphere: a geometry set, no object)
     collection  a hidden collection of two cubes (each point lists two instances)
     picked      one of a collection's two cubes at random (Separate Children, Pick Instance)
     light       a point light

@@ -1,4 +1,4 @@
-"""Panels: render settings, the object's "Render as sphere" option, lights.
+"""Panels: render settings, the object's "Render as sphere", Ray Visibility and Shadow Catcher, lights.
 
 Blender's own panels (camera, lens, depth of field, material slots and surface,
 world, output, colour management, ...) are shown for GRIDWALK by adding
@@ -16,6 +16,10 @@ EXTRA_BUILTIN_PANELS = (
 )
 # Generic panels that would duplicate ours.
 EXCLUDED_BUILTIN_PANELS = ("DATA_PT_light",)
+# The object types whose Ray Visibility and Shadow Catcher the object panel shows.
+GEOMETRY_TYPES = ("MESH", "CURVE", "SURFACE", "FONT", "META", "POINTCLOUD", "CURVES", "EMPTY")
+RAY_VISIBILITY = (("visible_camera", "Camera"), ("visible_glossy", "Glossy"),
+                  ("visible_transmission", "Transmission"), ("visible_shadow", "Shadow"))
 
 
 class GridwalkPanel:
@@ -102,7 +106,17 @@ class GRIDWALK_OBJECT_PT_settings(GridwalkPanel, bpy.types.Panel):
         return super().poll(context) and context.object is not None
 
     def draw(self, context):
-        self.layout.prop(context.object.gridwalk, "render_as_sphere")
+        layout, ob = self.layout, context.object
+        layout.prop(ob.gridwalk, "render_as_sphere")
+        # (Blender's own Visibility panel shows these for Cycles and EEVEE only; GRIDWALK renders them)
+        if ob.type in GEOMETRY_TYPES:
+            layout.use_property_split = True
+            col = layout.column(heading="Ray Visibility")
+            for prop, text in RAY_VISIBILITY:
+                if hasattr(ob, prop):
+                    col.prop(ob, prop, text=text, toggle=False)
+            if hasattr(ob, "is_shadow_catcher"):
+                layout.column(heading="Mask").prop(ob, "is_shadow_catcher", toggle=False)
 
 
 class GRIDWALK_LIGHT_PT_light(GridwalkPanel, bpy.types.Panel):

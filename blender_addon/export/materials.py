@@ -584,15 +584,17 @@ class MaterialTable:
             self.shape_notes.add(self._names.get(index, "?"))
         return self._index[key]
 
-    def slot_indices(self, obj, holdout: bool = False, hidden: tuple = ()):
+    def slot_indices(self, obj, holdout: bool = False, hidden: tuple = (), catcher: bool = False):
         """Global material index for each material slot of `obj` (at least one entry);
         holdout: the object is a holdout (each slot a copy held out from camera rays); hidden:
-        the Material visibility fields the object turns off (each slot a copy with them off)."""
+        the Material visibility fields the object turns off (each slot a copy with them off);
+        catcher: the object is a Shadow Catcher (each slot a copy that is one)."""
         if self.override is not None:
             slots = [self.index_of(self.override)] * max(len(obj.material_slots), 1)
         else:
             slots = [self.index_of(slot.material) for slot in obj.material_slots] or [0]
-        changes = tuple((field, False) for field in hidden) + ((("holdout_camera", True),) if holdout else ())
+        changes = tuple((field, False) for field in hidden) + ((("holdout_camera", True),) if holdout else ()) + \
+            ((("shadow_catcher", True),) if catcher else ())
         return [self._variant(i, changes) for i in slots] if changes else slots
 
     def _variant(self, index: int, changes: tuple) -> int:

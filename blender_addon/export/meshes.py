@@ -364,7 +364,8 @@ def shown(inst, obj) -> bool:
 
 # Object settings the Whitted core does not model (every ray sees every
 # object): (property, the value that asks for something else, what it is called).
-IGNORED_VISIBILITY = (("is_shadow_catcher", True, "Shadow Catcher"),)
+# (Shadow Catcher was one: it is rendered now, Material.shadow_catcher.)
+IGNORED_VISIBILITY = ()
 # An object's Visibility that its materials carry (gridwalk.Material's fields of the same names).
 RAY_VISIBILITY = ("visible_camera", "visible_glossy", "visible_transmission", "visible_shadow")
 
@@ -418,7 +419,7 @@ ROW_BLOCK = 8192    # mesh instances' matrices gathered as Python rows before th
 class InstancePlan:
     """What every instance of one instance_key (object, original, data, instancer, show
     flags) becomes. Set when the plan is made: renders (whether the render shows it),
-    flags (holdout, hidden_from fields), name (the object's name in warnings), hair
+    flags (holdout, hidden_from fields, shadow catcher), name (the object's name in warnings), hair
     (whether its particle hair renders). Set at its first instance with a finite matrix
     (as the export read objects before: none of a skipped object's materials, mesh or
     warnings): kind ("mesh", "sphere", "shapes" or "none", a mesh without triangles),
@@ -442,7 +443,7 @@ class MeshCollector:
         self.cache = cache
         self.render = render           # a final render's depsgraph (else the viewport's): which hair shows
         self.view_layer = view_layer   # (whose collections may set objects to Holdout)
-        self._flag_cache = {}          # original object address -> (holdout, hidden_from fields)
+        self._flag_cache = {}          # original object address -> (holdout, hidden_from fields, catcher)
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.part_matrices = np.zeros((0, 4, 4))   # after finish(): every part's matrix, (P, 4, 4) (parts' are its rows)
@@ -651,7 +652,7 @@ class MeshCollector:
         self.part_names.extend([plans[k].names for k in which])
         return True
 
-    def _source(self, obj, flags=(False, ())) -> tuple:
+    def _source(self, obj, flags=(False, (), False)) -> tuple:
         """(kind, material lookup, ...) of an evaluated object: "shapes" (a point cloud or
         hair curves), "sphere" (+ (its local bounds' centre, half size, whether it is
         textured)), "mesh" (+ cache key, MeshData, uv/colour layers, whether it is a mesh
@@ -693,19 +694,21 @@ class MeshCollector:
         return "mesh", lookup, key, data, layers, obj.original.type == "MESH", [False]
 
     def _flags(self, inst) -> tuple:
-        """(holdout, hidden_from fields) of an instance: its object's; for an instance (Geometry Nodes,
-        particles, a collection instance) the instancer's Holdout, and the visibility both turn off,
-        as Cycles takes them."""
-        holdout, hidden = self._object_flags(inst.object)
+        """(holdout, hidden_from fields, shadow catcher) of an instance: its object's; for an instance
+        (Geometry Nodes, particles, a collection instance) the instancer's Holdout, the visibility
+        both turn off and a Shadow Catcher either sets, as Cycles takes them."""
+        holdout, hidden, catcher = self._object_flags(inst.object)
         parent = inst.parent if inst.is_instance else None
         if parent is not None:
-            parent_holdout, parent_hidden = self._object_flags(parent)
+            parent_holdout, parent_hidden, parent_catcher = self._object_flags(parent)
             holdout, hidden = parent_holdout, tuple(sorted(set(hidden) | set(parent_hidden)))
-        return holdout, hidden
+            catcher = catcher or parent_catcher
+        return holdout, hidden, catcher
 
     def _object_flags(self, obj) -> tuple:
         """(whether the object is a holdout: its own Visibility > Holdout, or a collection's in the
-        view layer; the visibility fields it turns off), read once per object."""
+        view layer; the visibility fields it turns off; whether it is a Shadow Catcher), read once
+        per object."""
         key = obj.original.as_pointer()   # (the depsgraph lists instances through reused temporary objects)
         found = self._flag_cache.get(key)
         if found is None:
@@ -715,7 +718,8 @@ class MeshCollector:
                     else bool(getattr(source, "is_holdout", False))
             except (AttributeError, TypeError, RuntimeError):
                 holdout = bool(getattr(source, "is_holdout", False))
-            found = self._flag_cache[key] = (holdout, tuple(sorted(hidden_from(obj))))
+            catcher = bool(getattr(source, "is_shadow_catcher", False))
+            found = self._flag_cache[key] = (holdout, tuple(sorted(hidden_from(obj))), catcher)
         return found
 
     def _add_sphere(self, name, bounds, flat, lookup, names):

@@ -53,6 +53,7 @@ void bind_records(nb::module_& m) {
         .def_rw("emits_light", &Material::emits_light)
         .def_rw("holdout", &Material::holdout)
         .def_rw("holdout_camera", &Material::holdout_camera)
+        .def_rw("shadow_catcher", &Material::shadow_catcher)
         .def_rw("visible_camera", &Material::visible_camera)
         .def_rw("visible_glossy", &Material::visible_glossy)
         .def_rw("visible_transmission", &Material::visible_transmission)

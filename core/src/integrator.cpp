@@ -213,6 +213,7 @@ Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
     // Stop just short of the light's sampled point (relative, so scale-free).
     r.tmax = std::isinf(dist) ? kInf : dist * (1.0f - 1e-5f);
     r.spawned = true;
+    if (ctx.unshadowed) return Vec3(1, 1, 1);
     ++ctx.stats.rays[int(RayType::Shadow)];
     if (scene_.transparent_shadows()) return transmission(r, dist, ctx, glass_blocks);
     return accel_.occluded(RayPre(r), ctx) ? Vec3(0, 0, 0) : Vec3(1, 1, 1);
@@ -842,6 +843,20 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         if (fh) *fh = FirstHit(), fh->holdout = 1;
         return Vec3();
     }
+    if (fh && m.shadow_catcher && !held && m.alpha >= 1) {
+        // A shadow catcher on the camera's path (Material::shadow_catcher): the passes keep it;
+        // the colour and coverage are what lies behind, under its shadow.
+        const Vec3 kept = kept_light(sp, ray, depth, split, st, ctx);
+        const FirstHit front = *fh;
+        FirstHit beyond;
+        const Vec3 behind = continue_through(sp, ray, depth, weight, split, RayType::Secondary, st, ctx, &beyond,
+                                             view_axis, ray_in.o);
+        *fh = front;
+        const float shadow = 1.0f - (kept.x + kept.y + kept.z) * (1.0f / 3.0f);
+        fh->alpha = beyond.alpha + (1 - beyond.alpha) * shadow;
+        fh->holdout = beyond.holdout;
+        return behind * kept;
+    }
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
             if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
@@ -877,6 +892,48 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         return front * m.alpha + behind * (1 - m.alpha);
     }
     return shade_hit(sp, ray, m, depth, weight, split, st, ctx, emitter_weight(ray, hit, sp));
+}
+
+// The world's light on a diffuse point by its normal ns, less what the scene
+// blocks of it (world shadows), / pi.
+Vec3 Integrator::world_light_at(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
+                                SampleState& st, TraceContext& ctx) const {
+    Vec3 a = scene_.ambient(ns);
+    // (unclamped: a shading point's estimate may dip below 0 where a sun is
+    // blocked; the pixel's mean is the estimate, clamped once, in pixel())
+    if (s_.world_shadows) {
+        a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
+        if (!scene_.sun_map().empty()) a = a - scene_.sun_ambient(ns) + sun_seen(sp, ng, ns, depth, split, st, ctx);
+    }
+    return a;
+}
+
+// A shadow catcher's share of its light (Material::shadow_catcher): the light a
+// white diffuse surface there gets from the lights, emitters and world with
+// shadows, over the light it gets without them (the same light points: st is
+// replayed), per channel in [0, 1]; 1 where it gets none.
+Vec3 Integrator::kept_light(const SurfacePoint& sp, const Ray& ray, int depth, bool split, SampleState& st,
+                            TraceContext& ctx) const {
+    const Vec3 wo = -ray.d;
+    const bool entering = dot(ray.d, sp.ng) < 0;
+    const Vec3 ng = entering ? sp.ng : -sp.ng;
+    const Vec3 ns_lit = entering ? sp.ns : -sp.ns;
+    const Vec3 ns = dot(ns_lit, wo) <= 0 ? ng : ns_lit;
+    Material white;
+    white.color = Vec3(1, 1, 1);
+    white.kd = 1;
+    auto light = [&](SampleState& s) {
+        Vec3 l = direct(sp, ng, ns_lit, wo, white, depth, split, s, ctx);
+        if (scene_.has_ambient()) l += world_light_at(sp, ng, ns, depth, split, s, ctx);
+        return l;
+    };
+    SampleState replay = st;
+    const Vec3 shadowed = light(st);
+    ctx.unshadowed = true;
+    const Vec3 open = light(replay);
+    ctx.unshadowed = false;
+    auto share = [](float a, float b) { return b > 0 ? std::min(std::max(a / b, 0.0f), 1.0f) : 1.0f; };
+    return Vec3(share(shadowed.x, open.x), share(shadowed.y, open.y), share(shadowed.z, open.z));
 }
 
 // Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
@@ -947,16 +1004,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
                  direct(sp, ng, ns_lit, wo, lit, depth, split, st, ctx, traced ? &*traced : nullptr);
     if (m.emission_color.x > 0 || m.emission_color.y > 0 || m.emission_color.z > 0)
         color += m.emission_color * emission_weight;
-    if (scene_.has_ambient() && lit.kd > 0) {
-        Vec3 a = scene_.ambient(ns);
-        // (unclamped: a shading point's estimate may dip below 0 where a sun is
-        // blocked; the pixel's mean is the estimate, clamped once, in pixel())
-        if (s_.world_shadows) {
-            a = a - world_blocked(sp, ng, ns, depth, split, st, ctx);
-            if (!scene_.sun_map().empty()) a = a - scene_.sun_ambient(ns) + sun_seen(sp, ng, ns, depth, split, st, ctx);
-        }
-        color += m.color * a * lit.kd;
-    }
+    if (scene_.has_ambient() && lit.kd > 0) color += m.color * world_light_at(sp, ng, ns, depth, split, st, ctx) * lit.kd;
     if (depth >= s_.max_depth) return color;
 
     float refl = m.mirror, trans = 0;

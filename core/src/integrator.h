@@ -101,6 +101,12 @@ private:
     Vec3 rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Material& m,
                      float n1, float n2, int depth, float weight, bool split, SampleState& st,
                      TraceContext& ctx) const;
+    // The world's light on a diffuse point by its normal, less what the scene blocks (world shadows).
+    Vec3 world_light_at(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, int depth, bool split,
+                        SampleState& st, TraceContext& ctx) const;
+    // A shadow catcher's share of its light, with shadows over without, per channel (Material::shadow_catcher).
+    Vec3 kept_light(const SurfacePoint& sp, const Ray& ray, int depth, bool split, SampleState& st,
+                    TraceContext& ctx) const;
     // The light L as a glossy lobe far narrower than it reflects it: its
     // radiance in the mirror direction, if unblocked, times the lobe's albedo.
     Vec3 mirrored_light(const Light& L, const SurfacePoint& sp, const Vec3& ng, const GgxView& lobe, float radius,

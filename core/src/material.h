@@ -74,6 +74,13 @@ struct Material {
     // Held out from camera rays only (an object or collection set to Holdout in
     // Blender): other rays see the material, and its alpha cut-outs stay.
     bool holdout_camera = false;
+    // A shadow catcher (an object's Shadow Catcher in Blender): camera rays see
+    // what lies behind it (the world, or what it hides) darkened by the share of
+    // light the scene keeps from it, its diffuse light with shadows over its light
+    // without them, per channel; on a transparent film, that shadow is coverage
+    // (alpha 1 - the share, black), for compositing over footage. Other rays see
+    // the material, and it casts shadows.
+    bool shadow_catcher = false;
     // Which rays see it (an object's Visibility in Blender): camera rays (and
     // what continues them through see-through surfaces), glossy reflection
     // and transmission (refraction) rays pass through a surface hidden from

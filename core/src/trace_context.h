@@ -11,6 +11,7 @@ struct TraceContext {
     Mailbox copies;   // the instanced grid's: copies this ray already walked (instanced_grid.h)
     Stats stats;
     bool skip_empty = true;   // grid: jump across blocks of empty cells (empty_space.h)
+    bool unshadowed = false;  // Integrator::visible sees every light unblocked (a shadow catcher's light without shadows)
 };
 
 }  // namespace gw

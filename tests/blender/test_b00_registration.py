@@ -69,7 +69,7 @@ def test_every_settings_group_has_a_panel(registration):
     assert shown == {s.group for s in SCHEMA} - {"host"}
 
 
-def test_the_panorama_and_cast_shadow_settings_are_drawn(any_blender, tmp_path):
+def test_the_panorama_cast_shadow_and_ray_visibility_settings_are_drawn(any_blender, tmp_path):
     # Blender's Lens panel draws a panoramic camera's type and settings for Cycles only;
     # Cast Shadow, which the export reads, was not drawn either. Every panorama type
     # this Blender has is drawn with the settings the export reads for it.
@@ -93,3 +93,9 @@ def test_the_panorama_and_cast_shadow_settings_are_drawn(any_blender, tmp_path):
     for kind in ("POINT", "SPOT", "SUN", "AREA"):
         drawn = info[f"light {kind}"]
         assert "use_shadow" in props(drawn) and all(item["real"] for item in drawn if "prop" in item), drawn
+    # Blender's Visibility panel draws Ray Visibility and Shadow Catcher for Cycles and EEVEE only;
+    # the export reads them (test_b46, test_b49)
+    drawn = info["object"]
+    assert props(drawn) == ["render_as_sphere", "visible_camera", "visible_glossy", "visible_transmission",
+                            "visible_shadow", "is_shadow_catcher"]
+    assert all(item["real"] for item in drawn), drawn

@@ -169,6 +169,11 @@ class Material(Record):
     each pixel; alpha excludes it); other rays see it black; it casts shadows.
     holdout_camera: held out from camera rays only (Blender's object and
     collection Holdout): other rays see the material, and its cut-outs stay.
+    shadow_catcher: Blender's object Shadow Catcher: camera rays see what lies
+    behind the surface darkened by the share of light the scene keeps from it
+    (a white diffuse surface's light there with shadows over without, per
+    channel); on a transparent film that shadow is black coverage (alpha 1 -
+    the share), for compositing over footage; other rays see the material.
     visible_camera, visible_glossy, visible_transmission: camera rays,
     glossy reflection rays and refraction rays see the surface (off: they
     pass through it, as through an alpha cut-out); visible_shadow: it casts
@@ -204,6 +209,7 @@ class Material(Record):
     layered_diffuse: bool = _MAT.layered_diffuse
     holdout: bool = _MAT.holdout
     holdout_camera: bool = _MAT.holdout_camera
+    shadow_catcher: bool = _MAT.shadow_catcher
     visible_camera: bool = _MAT.visible_camera
     visible_glossy: bool = _MAT.visible_glossy
     visible_transmission: bool = _MAT.visible_transmission

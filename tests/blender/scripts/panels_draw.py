@@ -1,5 +1,5 @@
-"""Draw Gridwalk's camera and light panels with a recording layout, on real
-cameras and lights: which properties each panel shows, and whether each is a
+"""Draw Gridwalk's camera, light and object panels with a recording layout, on real
+cameras, lights and a mesh object: which properties each panel shows, and whether each is a
 real property of the datablock it is drawn from in this Blender.
 
 usage: <python with bpy> panels_draw.py OUT_DIR   (writes OUT_DIR/panels.json)
@@ -63,6 +63,8 @@ def main(out_dir):
     for kind in ("POINT", "SPOT", "SUN", "AREA"):
         light = bpy.data.lights.new(kind, kind)
         out[f"light {kind}"] = draw(ui.GRIDWALK_LIGHT_PT_light, SimpleNamespace(engine="GRIDWALK", light=light))
+    cube = scenes.link(scenes.cube_object())
+    out["object"] = draw(ui.GRIDWALK_OBJECT_PT_settings, SimpleNamespace(engine="GRIDWALK", object=cube))
     with open(os.path.join(out_dir, "panels.json"), "w") as f:
         json.dump(out, f, indent=1)
 

@@ -4,7 +4,9 @@ light with shadows over its light without them); on a transparent film that shad
 coverage. Checked against the shadow a sphere casts, worked out pixel by pixel (a floor point
 is in shadow where its ray towards the sun meets the sphere): full shadow is alpha 1 and
 black, light is alpha 0 (or the background, on an opaque film); world light fills the shadow
-part way; rays other than the camera's see the floor as its material. Blender's side:
+by exactly its share of the floor's light (and, with world shadows, the sphere hides some of
+it); a catcher covering half (alpha 0.5) darkens by half; rays other than the camera's see
+the floor as its material; the image is the same on one thread and two. Blender's side:
 tests/blender/test_b49."""
 import numpy as np
 
@@ -18,15 +20,17 @@ TO_SUN = np.array([1.0, 0.3, 1.0]) / np.linalg.norm([1.0, 0.3, 1.0])
 BACKGROUND = (0.2, 0.3, 0.4)
 
 
-def _render(transparent=True, ambient=(0.0, 0.0, 0.0), catcher=True, ball_mirror=0.0):
+def _render(transparent=True, ambient=(0.0, 0.0, 0.0), catcher=True, ball_mirror=0.0, alpha=1.0, world_shadows=False,
+            threads=1):
     cam = gw.Camera(eye=(0, 0, 10), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic", ortho_height=8.0,
                     width=N, height=N)
     s = gw.Scene(FLOOR, TRIS, sphere_centers=[tuple(CENTRE)], sphere_radii=[RADIUS], sphere_materials=[1],
                  camera=cam, background=BACKGROUND, world=gw.World(transparent=transparent, ambient=ambient),
-                 materials=[gw.Material(color=(0.5, 0.5, 0.5), shadow_catcher=catcher),
+                 materials=[gw.Material(color=(0.5, 0.5, 0.5), shadow_catcher=catcher, alpha=alpha),
                             gw.Material(color=(0.8, 0.2, 0.2), kd=0.2 if ball_mirror else 0.8, mirror=ball_mirror)],
                  lights=[gw.Light(kind="sun", direction=tuple(-TO_SUN), color=(1, 1, 1))])
-    return gw.RenderJob(s, gw.RenderSettings(threads=1)).start().wait()
+    return gw.RenderJob(s, gw.RenderSettings(threads=threads, world_shadows=world_shadows, shadow_samples=16,
+                                             tile_size=16)).start().wait()
 
 
 def _regions():
@@ -62,12 +66,30 @@ def test_on_an_opaque_film_the_floor_shows_the_background_darkened_by_the_shadow
 
 
 def test_world_light_fills_the_shadow_part_way():
+    # the floor's light: the world's 0.3 against the sun's cosine; in the shadow only the world's
     image = _render(ambient=(0.3, 0.3, 0.3))
     shadow, light = _regions()
-    # the floor's light: the world's 0.3 (less what the sphere hides of it) against the sun's cosine
-    alpha = image[shadow][:, 3]
-    assert 0.5 < alpha.min() and alpha.max() < 0.95
-    assert image[light][:, 3].max() < 0.05                # (where the sphere hides a little of the world)
+    np.testing.assert_allclose(image[shadow][:, 3], 1 - 0.3 / (0.3 + TO_SUN[2]), atol=1e-5)
+    np.testing.assert_allclose(image[light][:, 3], 0.0, atol=1e-6)
+    # with world shadows the sphere hides part of the world too: deeper in its shadow, and a
+    # faint shadow of the world's light around it
+    hidden = _render(ambient=(0.3, 0.3, 0.3), world_shadows=True)
+    assert hidden[shadow][:, 3].mean() > image[shadow][:, 3].mean() + 0.01
+    assert 0.005 < hidden[light][:, 3].max() < 0.5 and hidden[light][:, 3].mean() < 0.05
+
+
+def test_a_partly_covering_catcher_darkens_by_its_share():
+    half, full = _render(alpha=0.5), _render()
+    shadow, light = _regions()
+    np.testing.assert_allclose(half[shadow][:, 3], 0.5, atol=1e-6)
+    np.testing.assert_allclose(half[light][:, 3], 0.0, atol=1e-6)
+    np.testing.assert_allclose(full[shadow][:, 3], 1.0, atol=1e-6)
+
+
+def test_the_image_does_not_depend_on_the_thread_count():
+    one = _render(ambient=(0.3, 0.3, 0.3), world_shadows=True)
+    two = _render(ambient=(0.3, 0.3, 0.3), world_shadows=True, threads=2)
+    np.testing.assert_array_equal(one, two)
 
 
 def test_without_the_flag_the_floor_is_a_surface():

@@ -843,14 +843,15 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         if (fh) *fh = FirstHit(), fh->holdout = 1;
         return Vec3();
     }
-    if (fh && m.shadow_catcher && !held && m.alpha >= 1) {
+    if (fh && m.shadow_catcher && !held && m.alpha > 0) {
         // A shadow catcher on the camera's path (Material::shadow_catcher): the passes keep it;
-        // the colour and coverage are what lies behind, under its shadow.
-        const Vec3 kept = kept_light(sp, ray, depth, split, st, ctx);
+        // the colour and coverage are what lies behind, under its shadow where it covers (alpha).
+        const float a = std::min(m.alpha, 1.0f);
+        const Vec3 kept = kept_light(sp, ray, depth, split, st, ctx) * a + Vec3(1, 1, 1) * (1 - a);
         const FirstHit front = *fh;
         FirstHit beyond;
-        const Vec3 behind = continue_through(sp, ray, depth, weight, split, RayType::Secondary, st, ctx, &beyond,
-                                             view_axis, ray_in.o);
+        const Vec3 behind =
+            continue_through(sp, ray, depth, weight, split, type, st, ctx, &beyond, view_axis, ray_in.o);
         *fh = front;
         const float shadow = 1.0f - (kept.x + kept.y + kept.z) * (1.0f / 3.0f);
         fh->alpha = beyond.alpha + (1 - beyond.alpha) * shadow;
@@ -911,7 +912,10 @@ Vec3 Integrator::world_light_at(const SurfacePoint& sp, const Vec3& ng, const Ve
 // A shadow catcher's share of its light (Material::shadow_catcher): the light a
 // white diffuse surface there gets from the lights, emitters and world with
 // shadows, over the light it gets without them (the same light points: st is
-// replayed), per channel in [0, 1]; 1 where it gets none.
+// replayed), per channel in [0, 1]; 1 where it gets none. (Each camera sample's
+// share, averaged over the pixel's samples; Cycles divides the pixel's sums.
+// A sample's estimate with world shadows may dip below 0 where a sun is
+// blocked: its share is clamped at 0.)
 Vec3 Integrator::kept_light(const SurfacePoint& sp, const Ray& ray, int depth, bool split, SampleState& st,
                             TraceContext& ctx) const {
     const Vec3 wo = -ray.d;
@@ -929,9 +933,16 @@ Vec3 Integrator::kept_light(const SurfacePoint& sp, const Ray& ray, int depth, b
     };
     SampleState replay = st;
     const Vec3 shadowed = light(st);
-    ctx.unshadowed = true;
-    const Vec3 open = light(replay);
-    ctx.unshadowed = false;
+    struct Unshadowed {   // (set while the light without shadows is taken, whatever happens)
+        TraceContext& c;
+        explicit Unshadowed(TraceContext& c) : c(c) { c.unshadowed = true; }
+        ~Unshadowed() { c.unshadowed = false; }
+    };
+    Vec3 open;
+    {
+        const Unshadowed guard(ctx);
+        open = light(replay);
+    }
     auto share = [](float a, float b) { return b > 0 ? std::min(std::max(a / b, 0.0f), 1.0f) : 1.0f; };
     return Vec3(share(shadowed.x, open.x), share(shadowed.y, open.y), share(shadowed.z, open.z));
 }

@@ -71,13 +71,30 @@ def test_window_coordinates_are_each_pixels_place_in_the_image(camera):
     assert _emitting(_gradient("window", _pick(2, offset=0.5)), camera=cam)[..., 0] == pytest.approx(0.5)
 
 
-def test_window_coordinates_of_a_panorama_are_zero():
-    cam = gw.Camera(eye=(0, 0, 1), target=(0, 1, 1), up=(0, 0, 1), projection="equirectangular", width=W, height=H)
-    verts = np.array([[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]], np.float32)
-    image = _emitting(_gradient("window", _pick(0, offset=0.25)), verts=verts, camera=cam)
-    seen = image[..., 3] > 0.99                                          # the floor, below the horizon
-    assert seen.sum() > W * H // 4
-    np.testing.assert_allclose(image[seen, 0], 0.25, atol=1e-6)
+PANORAMAS = [dict(projection="equirectangular"),
+             dict(projection="equirectangular", longitude=(-1.0, 2.0), latitude=(-0.5, 1.2)),
+             dict(projection="fisheye_equidistant", fisheye_fov=3.0),
+             dict(projection="fisheye_equisolid", fisheye_lens=8.0, fisheye_fov=3.4, sensor=(30.0, 20.0)),
+             dict(projection="fisheye_polynomial", fisheye_fov=3.0, sensor=(36.0, 24.0)),
+             dict(projection="mirror_ball"), dict(projection="cubemap_face"),
+             dict(projection="central_cylindrical", longitude=(-2.0, 2.0), cylinder_height=(-1.5, 1.0))]
+
+
+@pytest.mark.parametrize("projection", PANORAMAS, ids=lambda p: "-".join(str(v) for v in p.values())[:40])
+def test_window_coordinates_of_a_panorama_are_where_its_direction_lies_in_the_image(projection):
+    # the camera inside a sphere: each pixel centre's ray meets it, and its point's direction
+    # from the eye maps back to the pixel (Cycles' direction_to_panorama; a final render's image
+    # spans the projection's unit square)
+    cam = gw.Camera(eye=(0.2, -0.1, 0.3), target=(1.2, 0.4, 0.5), up=(0, 0, 1), width=W, height=H, **projection)
+    x, y = _pixel_centres()
+    for axis, expected in ((0, x), (1, y)):
+        texture = _gradient("window", _pick(axis, 0.5, 0.25))          # (0.25 + u / 2: never clamped)
+        s = gw.Scene(sphere_centers=[(0.0, 0.0, 0.0)], sphere_radii=[50.0], sphere_materials=[0], camera=cam,
+                     materials=[gw.Material(kd=0, emission=1.0, color_texture=0)], textures=[texture])
+        image = gw.RenderJob(s, gw.RenderSettings(threads=1)).start().wait()
+        seen = image[..., 0] > 0                   # (a fisheye's corners get no ray: black, and opaque as in Cycles)
+        assert seen.sum() > W * H // 3
+        np.testing.assert_allclose(image[..., 0][seen], 0.25 + 0.5 * expected[seen], atol=3e-4)
 
 
 def _hits_on_the_plane_z0(camera):

@@ -155,9 +155,6 @@ class Export:
         warnings.extend(self.world_warnings)
         if self.camera is not None:
             kwargs["camera"] = self.camera
-            if self.camera.panoramic and any(t.coordinates == "window" for t in self.textures.textures):
-                warnings.append("Window texture coordinates under a panoramic camera are not computed: "
-                                "those textures read the point (0, 0, 0)")
         kwargs.update(materials=self.materials.materials, lights=self.lights, background=self.background,
                       world=self.world)
         if self.textures.textures:

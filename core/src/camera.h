@@ -8,7 +8,6 @@
 #include "enums.h"
 #include "ray.h"
 #include "sampler.h"
-#include "texture_view.h"
 
 namespace gw {
 
@@ -133,20 +132,90 @@ public:
         }
         return r;
     }
-    // The frame that Camera and Window texture coordinates are taken in (texture_view.h).
-    ViewFrame frame() const {
-        ViewFrame f;
-        f.eye = eye_;
-        f.right = right_;
-        f.up = up_;
-        f.fwd = fwd_;
-        f.half_w = half_w_;
-        f.half_h = half_h_;
-        f.shift_x = shift_x_;
-        f.shift_y = shift_y_;
-        f.orthographic = projection_ == Projection::Orthographic;
-        f.panorama = panorama_;
-        return f;
+    // Cycles' Camera texture coordinates: the point in camera space, x right, y
+    // up, z forward along the view axis (the camera's axes without its scale), from the eye.
+    Vec3 camera_point(const Vec3& p) const {
+        const Vec3 d = p - eye_;
+        return Vec3(dot(d, right_), dot(d, up_), dot(d, fwd_));
+    }
+    // Cycles' Window texture coordinates: the point's place in the image, (0, 0)
+    // its bottom-left corner and (1, 1) its top-right, z = 0; through the
+    // perspective division as Cycles divides (a point behind the eye lands
+    // mirrored, one on the eye's plane at infinity). A panorama's: where its
+    // direction from the eye lies in the projection's unit square (panorama_uv),
+    // as Cycles' direction_to_panorama gives it.
+    Vec3 window_point(const Vec3& p) const {
+        const Vec3 c = camera_point(p);
+        if (panorama_) {
+            float u, v;
+            panorama_uv(Vec3(c.z, -c.x, c.y), u, v);   // (panorama space: x forward, y left, z up)
+            return Vec3(u, v, 0.0f);
+        }
+        const bool ortho = projection_ == Projection::Orthographic;
+        const float x = ortho ? c.x : c.x / c.z, y = ortho ? c.y : c.y / c.z;
+        return Vec3(0.5f + 0.5f * (x - shift_x_) / half_w_, 0.5f + 0.5f * (y - shift_y_) / half_h_, 0.0f);
+    }
+    // Where the direction p (panorama space, any length) lies in the projection's
+    // unit square: the inverse of panorama_direction, extended past the edges
+    // (a fisheye's angle beyond its field of view, a cube face's sides).
+    void panorama_uv(const Vec3& p, float& u, float& v) const {
+        const float len = length(p);
+        if (!(len > 0) || !std::isfinite(len)) {
+            u = v = 0;
+            return;
+        }
+        const Vec3 d = p * (1.0f / len);
+        const float across = std::sqrt(d.y * d.y + d.z * d.z);   // sin of the angle from the view axis
+        switch (projection_) {
+        case Projection::Equirectangular:
+            u = (std::atan2(-d.y, d.x) - lon_.start) / lon_.size;
+            v = (std::atan2(d.z, std::sqrt(d.x * d.x + d.y * d.y)) - lat_.start) / lat_.size;
+            return;
+        case Projection::CentralCylindrical:
+            u = (std::atan2(-d.y, d.x) - lon_.start) / lon_.size;
+            v = (d.z / std::sqrt(d.x * d.x + d.y * d.y) - cylinder_.start) / cylinder_.size;
+            return;
+        case Projection::CubemapFace:
+            u = 0.5f - std::atan2(d.y, d.x) * float(2 / kPi);
+            v = 0.5f + std::atan2(d.z, d.x) * float(2 / kPi);
+            return;
+        case Projection::MirrorBall: {
+            // The ball's normal halves the turn from the view (ball y: back) to the ray:
+            // n ~ ball - (0, 1, 0), with ball = (-d.y, -d.x, d.z).
+            Vec3 n(-d.y, -d.x - 1.0f, d.z);
+            const float nl = length(n);
+            n = nl > 0 ? n * (1.0f / nl) : Vec3(0, -1, 0);
+            u = 0.5f * (n.x + 1.0f);
+            v = 0.5f * (n.z + 1.0f);
+            return;
+        }
+        default: {   // the fisheyes: the radius in the image for the angle theta from the view axis
+            const float theta = std::atan2(across, d.x);
+            const float cx = across > 0 ? -d.y / across : 0.0f, sy = across > 0 ? d.z / across : 0.0f;
+            if (projection_ == Projection::FisheyeEquidistant) {
+                const float r = theta / (fisheye_fov_ * 0.5f);
+                u = 0.5f * (r * cx + 1.0f);
+                v = 0.5f * (r * sy + 1.0f);
+                return;
+            }
+            float r;
+            if (projection_ == Projection::FisheyeEquisolid) {
+                r = 2.0f * fisheye_lens_ * std::sin(theta * 0.5f);
+            } else {   // the polynomial's radius for theta, by Newton's method from its linear term
+                auto angle = [&](float x) { return -(poly_[0] + x * (poly_[1] + x * (poly_[2] + x * (poly_[3] + x * poly_[4])))); };
+                auto slope = [&](float x) { return -(poly_[1] + x * (2 * poly_[2] + x * (3 * poly_[3] + x * 4 * poly_[4]))); };
+                r = poly_[1] != 0 ? -(theta + poly_[0]) / poly_[1] : 0.0f;
+                for (int i = 0; i < 16 && std::isfinite(r); ++i) {
+                    const float s = slope(r);
+                    if (!(std::abs(s) > 0)) break;
+                    r -= (angle(r) - theta) / s;
+                }
+            }
+            u = r * cx / sensor_[0] + 0.5f;
+            v = r * sy / sensor_[1] + 0.5f;
+            return;
+        }
+        }
     }
     // Whether generate() gave no ray (a fisheye's corner).
     static bool none(const Ray& r) { return r.d.x == 0 && r.d.y == 0 && r.d.z == 0; }

@@ -250,7 +250,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
         ++(m.visible_shadow ? crossings : passed_by);
         if (m.visible_shadow) {   // (a surface that casts no shadow passes it all)
-            const float alpha = scene_.alpha_at(m, hit, TextureView::at(sp, r.d, frame()));
+            const float alpha = scene_.alpha_at(m, hit, TextureView::at(sp, r.d, camera_));
             float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
             if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
                 // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
@@ -543,7 +543,7 @@ Vec3 Integrator::from_emitters(const SurfacePoint& sp, const Vec3& ng, const Vec
             Ray toward;
             toward.o = sp.p;
             toward.d = wi;
-            e = scene_.shade(em, at, TextureView::at(scene_.surface(RayPre(toward), at), wi, frame()));
+            e = scene_.shade(em, at, TextureView::at(scene_.surface(RayPre(toward), at), wi, camera_));
         }
         const Vec3 radiance = emitted(e) * e.alpha;
         // (in double: a point nearer than ~1e-19 would square to 0 in float)
@@ -816,7 +816,7 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     }
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
-    const TextureView view = TextureView::at(sp, ray.d, frame());
+    const TextureView view = TextureView::at(sp, ray.d, camera_);
     if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
         sp.unmapped = sp.ns;
         sp.ns = scene_.mapped_normal(stored, hit, sp, view);

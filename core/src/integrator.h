@@ -36,9 +36,9 @@ struct FirstHit {
 class Integrator {
 public:
     Integrator(const Accel& accel, const RenderSettings& s);
-    // The rendering camera's frame, for textures at Camera and Window coordinates
-    // (without it, those read 0).
-    void set_frame(const ViewFrame& frame) { frame_ = frame, has_frame_ = true; }
+    // The camera that renders, for textures at Camera and Window coordinates
+    // (without one, those read 0); it must outlive the integrator's use.
+    void set_camera(const Camera* camera) { camera_ = camera; }
     Vec3 camera_ray(const Ray& ray, const Vec3& view_axis, SampleState& st, TraceContext& ctx, FirstHit* fh) const;
 
 private:
@@ -142,9 +142,7 @@ private:
     const Accel& accel_;
     const Scene& scene_;
     const RenderSettings& s_;
-    ViewFrame frame_;
-    bool has_frame_ = false;
-    const ViewFrame* frame() const { return has_frame_ ? &frame_ : nullptr; }
+    const Camera* camera_ = nullptr;
     bool shaped_lights_ = false;   // a light has a shape that mirror rays see (lights_seen)
     float sun_radius_ = kInf;      // the environment's sun's angular radius (none: infinite)
 };

@@ -11,7 +11,7 @@ Vec3 non_negative(const Vec3& c) { return Vec3(std::max(c.x, 0.0f), std::max(c.y
 
 PixelEstimator::PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera)
     : s_(s), scene_(accel.scene()), integrator_(accel, s), camera_(camera), lens_(camera.aperture > 0) {
-    integrator_.set_frame(camera_.frame());
+    integrator_.set_camera(&camera_);
 }
 
 void PixelEstimator::add_mattes(MatteCoverage& mc, const SampleMattes& sm, float weight) const {

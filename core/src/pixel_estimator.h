@@ -38,6 +38,9 @@ struct PixelScratch {
 class PixelEstimator {
 public:
     PixelEstimator(const Accel& accel, const RenderSettings& s, const CameraDesc& camera);
+    // (not copied or moved: the integrator keeps a pointer to camera_)
+    PixelEstimator(const PixelEstimator&) = delete;
+    PixelEstimator& operator=(const PixelEstimator&) = delete;
     // Call before the pixels of a tile (traces the shared corners in adaptive mode).
     void begin_tile(int x0, int y0, int w, int h, TraceContext& ctx, PixelScratch& sc) const;
     PixelValue pixel(int x, int y, TraceContext& ctx, PixelScratch& sc) const;

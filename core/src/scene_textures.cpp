@@ -184,8 +184,8 @@ Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords, bool backfacing) con
 Vec3 Scene::texture_point(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const {
     switch (t.coordinates) {
     case TextureCoords::UV: return Vec3(u, v, 0);
-    case TextureCoords::Camera: return view.frame ? view.frame->camera_point(view.p) : Vec3(0, 0, 0);
-    case TextureCoords::Window: return view.frame ? view.frame->window_point(view.p) : Vec3(0, 0, 0);
+    case TextureCoords::Camera: return view.camera ? view.camera->camera_point(view.p) : Vec3(0, 0, 0);
+    case TextureCoords::Window: return view.camera ? view.camera->window_point(view.p) : Vec3(0, 0, 0);
     case TextureCoords::Reflection: return view.reflection();
     case TextureCoords::GeometryNormal: return view.n;
     case TextureCoords::TrueNormal: return view.ng;
@@ -346,10 +346,10 @@ bool Scene::corner_points(const Texture& t, size_t prim, const TextureView& view
     }
     if (t.coordinates == TextureCoords::Position || t.coordinates == TextureCoords::Camera) {
         if (prim >= num_triangles()) return false;
-        if (t.coordinates == TextureCoords::Camera && !view.frame) return false;
+        if (t.coordinates == TextureCoords::Camera && !view.camera) return false;
         for (int k = 0; k < 3; ++k) {
             c[k] = tri_verts_[3 * prim + size_t(k)];
-            if (t.coordinates == TextureCoords::Camera) c[k] = view.frame->camera_point(c[k]);
+            if (t.coordinates == TextureCoords::Camera) c[k] = view.camera->camera_point(c[k]);
         }
         return true;
     }

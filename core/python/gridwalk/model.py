@@ -291,8 +291,8 @@ class Texture(Record):
     its object's space, from Scene(object_normals=...), turned over on a back
     face) | camera (the point in the rendering camera's space: x right, y up, z
     forward) | window (the point's place in the image, (0, 0) at its
-    bottom-left corner and (1, 1) at its top-right, z 0; a panoramic camera's
-    (0, 0, 0)) | reflection (the view direction mirrored about the shading
+    bottom-left corner and (1, 1) at its top-right, z 0; under a panoramic
+    camera where its direction lies in the projection's square) | reflection (the view direction mirrored about the shading
     normal, world space) | geometry_normal, true_normal (Blender's Geometry
     node's Normal and True Normal: the shading and the geometric normal in
     world space, turned over on a back face) | incoming (its Incoming: the unit

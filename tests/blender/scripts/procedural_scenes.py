@@ -31,12 +31,14 @@ TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # l
 
 
 def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None, flat_empty=False,
-                             smooth=False):
+                             smooth=False, panorama=None):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
     a black world (coordinates: the Texture Coordinate node's output to read instead,
     such as "Reflection", or "Geometry:" and a Geometry node's output; flat_empty:
-    "other_object"'s empty scaled to 0 along z; smooth: the object's faces shaded smooth).
+    "other_object"'s empty scaled to 0 along z; smooth: the object's faces shaded smooth;
+    panorama: a panoramic camera kind of scenes.PANORAMA_KINDS, or "equirectangular", 3.2 units
+    from the object).
     Returns the Checker's settings, the empty's location and the Mapping's."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac", "valued"):
@@ -102,6 +104,18 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=N
             source = mapping.outputs["Vector"]
         links.new(source, texture.inputs["Vector"])
     obj.data.materials.append(mat)
+    if panorama:
+        from scenes import PANORAMA_KINDS
+        cam = bpy.context.scene.camera
+        cam.location.y = -3.2
+        cam.data.type = "PANO"
+        pano = cam.data if hasattr(cam.data, "panorama_type") else cam.data.cycles      # Blender 4.x / 3.x
+        pano_type, settings, lens = PANORAMA_KINDS.get(panorama, ("EQUIRECTANGULAR", {}, {}))
+        pano.panorama_type = pano_type
+        for name, value in settings.items():
+            setattr(pano, name, value)
+        for name, value in lens.items():
+            setattr(cam.data, name, value)
     if smooth:
         obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
         obj.data.update()

@@ -2,8 +2,9 @@
 
 A Geometry Nodes carrier that scatters a mesh lists each copy in
 depsgraph.object_instances, and reading a copy there (its object, what
-decides its plan, its matrix) costs about 14 microseconds of Python: 1.2 s of
-a 90,000-copy scene's 1.8 s render. Blender 4.3 and later give the carrier's
+decides its plan, its matrix) costs about 8 microseconds of Python: 0.72 s for
+the 90,000 copies of core/bench/blender_bench.py, where the depsgraph's own
+listing of them takes 0.07 s. Blender 4.3 and later give the carrier's
 evaluated geometry (Object.evaluated_geometry()), whose instances component
 holds every copy's transform and reference in two arrays that foreach_get
 reads at once (2 ms for 45,000 copies).
@@ -38,8 +39,6 @@ from .meshes import instance_key
 MIN_POINTS = 64      # smaller carriers are read one by one (nothing to gain)
 SAMPLE = 1024        # every SAMPLE-th copy is checked against the depsgraph's own
 MISSING = object()
-
-
 REALIZED = ("pointcloud", "curves", "volume", "grease_pencil")   # a geometry set's components besides mesh and instances
 
 

@@ -268,3 +268,31 @@ def test_normal_coordinates_are_refused_on_a_sphere_but_the_others_are_not():
         _one_texture_scene("normal", **sphere)
     for coordinates in ("camera", "window", "reflection", "geometry_normal", "true_normal", "incoming"):
         _one_texture_scene(coordinates, **sphere)
+
+
+VIEW_COORDINATES = ("normal", "camera", "window", "reflection", "geometry_normal", "true_normal", "incoming")
+
+
+@pytest.mark.parametrize("projection", ["perspective", "orthographic", "equirectangular", "fisheye_polynomial"])
+def test_every_texture_at_every_view_coordinate_renders_finite_pixels(projection):
+    # a mirror floor through the eye's height sends rays to a wall behind the camera: points on
+    # the eye's plane (Window divides by 0 there) and behind it, seen by reflection rays
+    from gridwalk.model import TEXTURE_KINDS
+    floor = np.array([[-9, -9, 0], [9, -9, 0], [9, 9, 0], [-9, 9, 0]], np.float32)
+    wall = np.array([[-9, -3, -9], [9, -3, -9], [9, -3, 9], [-9, -3, 9]], np.float32)
+    verts = np.concatenate([floor, wall])
+    tris = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]])
+    normals = np.tile([0.0, 0.0, 1.0], (4, 3, 1)).astype(np.float32)
+    image = gw.Image(np.random.default_rng(1).random((4, 4, 3)).astype(np.float32))
+    cam = gw.Camera(eye=(0, 0, 0), target=(0, 1, -0.4), up=(0, 0, 1), width=6, height=6, projection=projection)
+    for kind in TEXTURE_KINDS:
+        for coordinates in VIEW_COORDINATES:
+            texture = gw.Texture(kind=kind, coordinates=coordinates, image=image if kind == "image" else None)
+            # (a sphere too, but not at Normal coordinates: spheres have no object-space normals)
+            ball = {} if coordinates == "normal" else dict(sphere_centers=[(0, 4, 0)], sphere_radii=[1.0],
+                                                              sphere_materials=[0])
+            s = gw.Scene(verts, tris, object_normals=normals, camera=cam, textures=[texture],
+                         materials=[gw.Material(kd=0.3, mirror=0.5, emission=1.0, color_texture=0, bump_texture=0)],
+                         **ball)
+            out = gw.RenderJob(s, gw.RenderSettings(threads=1, max_depth=3)).start().wait()
+            assert np.isfinite(out).all() and out.min() >= 0, (kind, coordinates)

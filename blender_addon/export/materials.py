@@ -184,7 +184,12 @@ class Links:
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)
-        return self.textures.texture(node, output, self._coords(node, "uv", True), adjust)
+        # (a projected image reads its point in 3D, not (x, y) alone: the vector path; a box
+        # projection the object-space normals too)
+        flat = getattr(node, "projection", "FLAT") not in ("BOX", "SPHERE", "TUBE")
+        if getattr(node, "projection", "FLAT") == "BOX":
+            self.points.add("normal")
+        return self.textures.texture(node, output, self._coords(node, "uv", flat), adjust)
 
     def _coords(self, node, default, image) -> dict:
         """The node's coordinate fields (uv_mapping.texture_fields); notes the UV

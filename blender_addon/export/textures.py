@@ -34,6 +34,8 @@ MAGENTA = (1.0, 0.0, 1.0)
 # The largest image read: foreach_get needs a float32 copy of every channel
 # (4 bytes per value) besides the stored image. 16k x 16k RGBA is 4 GiB.
 MAX_IMAGE_BYTES = 2 << 30
+# The Image Texture node's projections the core has (gridwalk.Texture.projection)
+PROJECTIONS = {"FLAT": "flat", "BOX": "box", "SPHERE": "sphere", "TUBE": "tube"}
 INTERPOLATION = {"Closest": "closest"}
 EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip", "MIRROR": "mirror"}
 
@@ -373,8 +375,11 @@ class TextureTable:
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
         if getattr(node, "extension", "REPEAT") not in EXTENSION:
             self.notes.add(f"image extension {node.extension} is read as Repeat")
-        if getattr(node, "projection", "FLAT") not in ("FLAT", "EQUIRECTANGULAR"):
-            self.notes.add(f"image projection {node.projection} is read as Flat (the UV map)")
+        projection = getattr(node, "projection", "FLAT") if node.type == "TEX_IMAGE" else "FLAT"
+        if projection not in PROJECTIONS:
+            self.notes.add(f"image projection {node.projection} is read as Flat")
+        shape = {} if projection not in PROJECTIONS else \
+            dict(projection=PROJECTIONS[projection], projection_blend=float(getattr(node, "projection_blend", 0.0)))
         # Cycles' Color output is associated (premultiplied); where the node's
         # Alpha output is used, Cycles divides the filtered colour by alpha again.
         # Data images and channel-packed alpha stay as stored. (Blender holds
@@ -386,7 +391,7 @@ class TextureTable:
         unassociate = has_alpha and _alpha_used(node)
         return self._add(dict(image=image, interpolation=interpolation, extension=extension,
                               use_alpha=output == "Alpha", premultiply=premultiply, unassociate=unassociate,
-                              **(coords or {}), **(adjust or {})))
+                              **shape, **(coords or {}), **(adjust or {})))
 
     def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
                    problems: list | None = None) -> int:

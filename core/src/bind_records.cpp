@@ -108,6 +108,8 @@ void bind_records(nb::module_& m) {
         .def_rw("ramp_interpolation", &Texture::ramp_interpolation)
         .def_rw("interpolation", &Texture::interpolation)
         .def_rw("extension", &Texture::extension)
+        .def_rw("projection", &Texture::projection)
+        .def_rw("projection_blend", &Texture::projection_blend)
         .def_rw("use_alpha", &Texture::use_alpha)
         .def_rw("premultiply", &Texture::premultiply)
         .def_rw("unassociate", &Texture::unassociate)

@@ -94,6 +94,7 @@ void bind_settings(nb::module_& m) {
     bind_enum<Extension>(m);
     bind_enum<TextureKind>(m);
     bind_enum<TextureCoords>(m);
+    bind_enum<ImageProjection>(m);
     bind_enum<Gradient>(m);
     bind_enum<NoiseType>(m);
     bind_enum<VoronoiFeature>(m);
@@ -109,6 +110,7 @@ void bind_settings(nb::module_& m) {
     m.def("extensions", &enum_items<Extension>);
     m.def("texture_kinds", &enum_items<TextureKind>);
     m.def("texture_coords", &enum_items<TextureCoords>);
+    m.def("image_projections", &enum_items<ImageProjection>);
     m.def("gradients", &enum_items<Gradient>);
     m.def("noise_types", &enum_items<NoiseType>);
     m.def("voronoi_features", &enum_items<VoronoiFeature>);

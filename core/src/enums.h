@@ -108,6 +108,13 @@ GW_ENUM(Interpolation, GW_INTERPOLATIONS)
     X(Mirror, "mirror", "Mirror", "Tile the image, every other tile mirrored")
 GW_ENUM(Extension, GW_EXTENSIONS)
 
+#define GW_IMAGE_PROJECTIONS(X)                                                                         \
+    X(Flat, "flat", "Flat", "The point's (x, y)")                                                       \
+    X(Box, "box", "Box", "Three flat projections along the object's axes, blended by its normal")       \
+    X(Sphere, "sphere", "Sphere", "Longitude and latitude of the point about the centre of its unit box") \
+    X(Tube, "tube", "Tube", "Angle about the unit box's z axis, and height along it")
+GW_ENUM(ImageProjection, GW_IMAGE_PROJECTIONS)
+
 #define GW_TEXTURE_KINDS(X)                                                                              \
     X(Image, "image", "Image", "An image, looked up at the texture coordinates")                           \
     X(Checker, "checker", "Checker", "Blender's Checker Texture: color1 and color2 in alternating cubes of 1 / scale") \

@@ -321,11 +321,16 @@ private:
     Vec3 texture_point(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const;
     // Such a texture at the point p of its coordinates, after vector_transform.
     Rgba pattern_at(const Texture& t, const Vec3& p) const;
+    // An image texture at (x, y), mapped on by uv_transform.
+    Rgba image_at(const Texture& t, float x, float y) const;
+    // A box-projected image (Texture::projection) at the point p, for the object-space normal n.
+    Rgba box_projected(const Texture& t, const Vec3& p, const Vec3& n) const;
     // The texture point (before vector_transform) of each corner of triangle prim
     // for t's coordinates; false where the scene has no such array, and for
     // coordinates that do not move with the point along the triangle as an
     // affine map of it (the normals, Reflection and Incoming: Cycles' bump takes
-    // them as fixed, so they bend nothing; Window: a perspective division).
+    // them as fixed, so they bend nothing; Window: a perspective division), and
+    // for a box-projected image (its blend turns with the normal: not bumped).
     bool corner_points(const Texture& t, size_t prim, const TextureView& view, Vec3 c[3]) const;
     // The bump map's slopes on triangle prim at the hit: the height's change per
     // unit of the triangle's parameters (hu, hv) along which the surface moves by

@@ -125,7 +125,13 @@ void Scene::check_textures() {
 void Scene::check_generated() const {
     for (const TextureCoords coords :
          {TextureCoords::Generated, TextureCoords::Object, TextureCoords::Normal, TextureCoords::Position}) {
-        auto reads = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].coordinates == coords; };
+        // (a box-projected image reads the object-space normals, whatever its coordinates)
+        auto reads = [&](int32_t k) {
+            if (k < 0) return false;
+            const Texture& t = textures_[size_t(k)];
+            return t.coordinates == coords || (coords == TextureCoords::Normal && t.kind == TextureKind::Image &&
+                                               t.projection == ImageProjection::Box);
+        };
         std::vector<uint8_t> uses(materials_.size(), 0);
         for (size_t i = 0; i < materials_.size(); ++i) {
             const Material& m = materials_[i];
@@ -197,7 +203,64 @@ Vec3 Scene::texture_point(const Texture& t, const Hit& hit, float u, float v, co
 Rgba Scene::lookup_vector(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const {
     Vec3 p = texture_point(t, hit, u, v, view);
     if (vector_mapped(t)) p = map_vector(t, p);
+    if (t.kind == TextureKind::Image && t.projection == ImageProjection::Box)
+        return box_projected(t, p, hit_point(hit, TextureCoords::Normal, view.backfacing));
     return pattern_at(t, p);
+}
+
+namespace {
+
+// Cycles' weights of a box projection's three lookups (along x, y and z) for the
+// object-space normal n: one axis alone where n leans to it by more than the
+// blend's limit, two or three blended between.
+Vec3 box_weights(Vec3 n, float blend) {
+    n = Vec3(std::abs(n.x), std::abs(n.y), std::abs(n.z));
+    const float sum = n.x + n.y + n.z;
+    if (!(sum > 0) || !std::isfinite(sum)) return Vec3(1, 0, 0);
+    n = n * (1.0f / sum);
+    const float limit = 0.5f * (1.0f + blend);
+    auto sat = [](float x) { return std::min(std::max(x, 0.0f), 1.0f); };
+    if (n.x > limit * (n.x + n.y) && n.x > limit * (n.x + n.z)) return Vec3(1, 0, 0);
+    if (n.y > limit * (n.x + n.y) && n.y > limit * (n.y + n.z)) return Vec3(0, 1, 0);
+    if (n.z > limit * (n.x + n.z) && n.z > limit * (n.y + n.z)) return Vec3(0, 0, 1);
+    if (!(blend > 0)) return Vec3(1, 0, 0);
+    if (n.z < (1 - limit) * (n.y + n.x)) {
+        const float wx = sat((n.x / (n.x + n.y) - 0.5f * (1 - blend)) / blend);
+        return Vec3(wx, 1 - wx, 0);
+    }
+    if (n.x < (1 - limit) * (n.y + n.z)) {
+        const float wy = sat((n.y / (n.y + n.z) - 0.5f * (1 - blend)) / blend);
+        return Vec3(0, wy, 1 - wy);
+    }
+    if (n.y < (1 - limit) * (n.x + n.z)) {
+        const float wx = sat((n.x / (n.x + n.z) - 0.5f * (1 - blend)) / blend);
+        return Vec3(wx, 0, 1 - wx);
+    }
+    const float d = 2 * limit - 1;
+    return Vec3(((2 - limit) * n.x + (limit - 1)) / d, ((2 - limit) * n.y + (limit - 1)) / d,
+                ((2 - limit) * n.z + (limit - 1)) / d);
+}
+
+}  // namespace
+
+Rgba Scene::box_projected(const Texture& t, const Vec3& p, const Vec3& n) const {
+    const Vec3 w = box_weights(n, std::min(std::max(t.projection_blend, 0.0f), 1.0f));
+    Rgba out{Vec3(), 0};
+    // (each face's image the right way round, as Cycles turns them)
+    const float uv[3][2] = {{n.x < 0 ? 1 - p.y : p.y, p.z}, {n.y > 0 ? 1 - p.x : p.x, p.z}, {n.z > 0 ? 1 - p.y : p.y, p.x}};
+    const float weights[3] = {w.x, w.y, w.z};
+    for (int a = 0; a < 3; ++a) {
+        if (!(weights[a] > 0)) continue;
+        const Rgba f = image_at(t, uv[a][0], uv[a][1]);
+        out.rgb = out.rgb + f.rgb * weights[a];
+        out.a += f.a * weights[a];
+    }
+    return out;
+}
+
+Rgba Scene::image_at(const Texture& t, float x, float y) const {
+    if (uv_mapped(t)) map_uv(t, x, y);
+    return sample_image(*images_[size_t(t.image)], t, x, y);
 }
 
 Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
@@ -209,9 +272,26 @@ Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     if (t.kind == TextureKind::Magic) return magic_color(t, p);
     if (t.kind == TextureKind::WhiteNoise) return white_noise_color(t, p);
     if (t.kind == TextureKind::Brick) return brick_color(t, p);
-    float x = p.x, y = p.y;
-    if (uv_mapped(t)) map_uv(t, x, y);
-    return sample_image(*images_[size_t(t.image)], t, x, y);
+    if (t.projection == ImageProjection::Sphere || t.projection == ImageProjection::Tube) {
+        // (Cycles: the point moved from the unit box to [-1, 1]^3, then its angles)
+        const Vec3 q = (p - Vec3(0.5f, 0.5f, 0.5f)) * 2.0f;
+        float x = 0, y = 0;
+        if (t.projection == ImageProjection::Sphere) {
+            const float l2 = dot(q, q);
+            if (l2 > 0) {
+                x = q.x == 0 && q.y == 0 ? 0.0f : 0.5f - std::atan2(q.x, q.y) * float(0.5 / kPi);
+                y = 1.0f - std::acos(std::min(std::max(q.z / std::sqrt(l2), -1.0f), 1.0f)) * float(1 / kPi);
+            }
+        } else {
+            const float len = std::sqrt(q.x * q.x + q.y * q.y);
+            if (len > 0) {
+                x = (1.0f - std::atan2(q.x / len, q.y / len) * float(1 / kPi)) * 0.5f;
+                y = (q.z + 1.0f) * 0.5f;
+            }
+        }
+        return image_at(t, x, y);
+    }
+    return image_at(t, p.x, p.y);
 }
 
 void Scene::hit_uv(const Hit& hit, float& u, float& v) const {
@@ -339,6 +419,7 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
 }
 
 bool Scene::corner_points(const Texture& t, size_t prim, const TextureView& view, Vec3 c[3]) const {
+    if (t.kind == TextureKind::Image && t.projection == ImageProjection::Box) return false;   // (scene.h)
     if (t.coordinates == TextureCoords::UV) {
         if (uvs_.empty()) return false;
         for (int k = 0; k < 3; ++k) c[k] = Vec3(uvs_[6 * prim + 2 * k], uvs_[6 * prim + 2 * k + 1], 0);

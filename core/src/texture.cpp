@@ -122,6 +122,8 @@ void validate_texture(const Texture& t, const std::string& where) {
                                     "ramp_clamp) but has no ramp");
     if (!enum_valid(t.kind)) throw std::invalid_argument(where + ".kind is not a texture kind");
     if (!enum_valid(t.coordinates)) throw std::invalid_argument(where + ".coordinates is not a texture coordinate");
+    if (!enum_valid(t.projection)) throw std::invalid_argument(where + ".projection is not an image projection");
+    if (!std::isfinite(t.projection_blend)) throw std::invalid_argument(where + ".projection_blend is not finite");
     for (float x : t.vector_transform)
         if (!std::isfinite(x)) throw std::invalid_argument(where + ".vector_transform has a non-finite value");
     for (float x : t.color1)

@@ -68,6 +68,14 @@ struct Texture {
     // mapped on by uv_transform. The identity changes nothing, to the bit.
     TextureCoords coordinates = TextureCoords::UV;
     std::array<float, 12> vector_transform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    // An image's projection of that point (Blender's Image Texture node's
+    // Projection, as Cycles projects): Flat takes its (x, y); Sphere and Tube
+    // the point's angles about the centre of the unit box (map_to_sphere /
+    // map_to_tube of 2 (p - 0.5)); Box three flat lookups along the object's
+    // axes, blended by the object-space normal (Scene(object_normals=...)),
+    // projection_blend wide (0: the dominant axis alone).
+    ImageProjection projection = ImageProjection::Flat;
+    float projection_blend = 0;
     // Checker: color1 where the cubes of side 1 / scale have an even parity
     // as Cycles counts it (checker_color), color2 elsewhere; scale as Blender's Scale.
     std::array<float, 3> color1 = {0.8f, 0.8f, 0.8f}, color2 = {0.2f, 0.2f, 0.2f};
@@ -193,7 +201,8 @@ inline bool vector_mapped(const Texture& t) {
 // was before procedural textures and other coordinates: what a normal map
 // and the world's environment take (a bump map of one takes its texels' slopes).
 inline bool plain_image(const Texture& t) {
-    return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t) && t.ramp.empty();
+    return t.kind == TextureKind::Image && t.coordinates == TextureCoords::UV && !vector_mapped(t) && t.ramp.empty() &&
+           t.projection == ImageProjection::Flat;
 }
 
 // The ramp's colour at f (see Texture::ramp; t.ramp not empty): Blender's

@@ -23,6 +23,7 @@ INTERPOLATIONS = tuple(kind for kind, _, _ in _core.interpolations())
 EXTENSIONS = tuple(kind for kind, _, _ in _core.extensions())
 TEXTURE_KINDS = tuple(kind for kind, _, _ in _core.texture_kinds())
 TEXTURE_COORDS = tuple(kind for kind, _, _ in _core.texture_coords())
+IMAGE_PROJECTIONS = tuple(kind for kind, _, _ in _core.image_projections())
 GRADIENTS = tuple(kind for kind, _, _ in _core.gradients())
 RAMP_INTERPOLATIONS = tuple(kind for kind, _, _ in _core.ramp_interpolations())
 NOISE_TYPES = tuple(kind for kind, _, _ in _core.noise_types())
@@ -303,7 +304,11 @@ class Texture(Record):
     row-major 3 x 4 affine map applied to that point (Blender's Mapping node;
     the identity by default); an image then takes the point's (x, y) as its
     (u, v), mapped on by uv_transform. Normal maps and the world's
-    environment take images at the UV map only. interpolation: linear | closest. extension: repeat | extend
+    environment take images at the UV map only. projection (an image's, Blender's Image Texture
+    Projection, as Cycles projects): flat (the point's x and y) | box (three flat lookups along the
+    object's axes blended by its object-space normal, Scene(object_normals=...), projection_blend
+    wide; not bumped) | sphere | tube (the angles of 2 (point - 0.5) about the origin, or about z
+    and the height along it). interpolation: linear | closest. extension: repeat | extend
     | clip (transparent black outside) | mirror (every other tile flipped). use_alpha: the image's alpha channel
     (Blender's Alpha output): a scalar input takes it instead of the colour's
     luminance, a colour input as grey. premultiply: the colour is multiplied by
@@ -370,6 +375,8 @@ class Texture(Record):
     ramp_interpolation: str = RAMP_INTERPOLATIONS[0]
     interpolation: str = INTERPOLATIONS[0]
     extension: str = EXTENSIONS[0]
+    projection: str = IMAGE_PROJECTIONS[0]
+    projection_blend: float = _f32(_TEX.projection_blend)
     use_alpha: bool = _TEX.use_alpha
     premultiply: bool = _TEX.premultiply
     unassociate: bool = _TEX.unassociate
@@ -405,6 +412,7 @@ class Texture(Record):
         return {"image": image, "ramp": ramp, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
                 "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
                 "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
+                "projection": _choice(IMAGE_PROJECTIONS, _core.ImageProjection),
                 "gradient": _choice(GRADIENTS, _core.Gradient),
                 "noise_type": _choice(NOISE_TYPES, _core.NoiseType),
                 "voronoi_feature": _choice(VORONOI_FEATURES, _core.VoronoiFeature),

@@ -701,7 +701,7 @@ def texture_links_scene(resolution=(32, 24)):
 
 def unread_settings_scene(override=False):
     """Settings the export reads or warns about (found by an exploration
-    against Cycles): a Box-projected image, an object whose two materials
+    against Cycles): a Box-projected image (read since: test_b50), an object whose two materials
     name different UV maps (the second the first shrunk to [0.25, 0.75]), a plane with a NaN UV (one loop: a corner of both its triangles), a Principled
     BSDF with a coat and a sheen, a world hidden from camera rays; with override, the view layer's Material Override (grey)."""
     reset(resolution=(32, 24))

@@ -31,14 +31,15 @@ TURN = ((0.2, -0.1, 0.3), (0.3, 0.2, math.radians(25.0)), (1.3, 0.8, 1.1))   # l
 
 
 def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=None, flat_empty=False,
-                             smooth=False, panorama=None):
+                             smooth=False, panorama=None, projection=None, blend=0.0):
     """One object seen by the camera at (0, -10, 0), its material's colour a Checker
     Texture (or an image at Generated coordinates) as CHECKER_VARIANTS describes;
     a black world (coordinates: the Texture Coordinate node's output to read instead,
     such as "Reflection", or "Geometry:" and a Geometry node's output; flat_empty:
     "other_object"'s empty scaled to 0 along z; smooth: the object's faces shaded smooth;
     panorama: a panoramic camera kind of scenes.PANORAMA_KINDS, or "equirectangular", 3.2 units
-    from the object).
+    from the object; projection, blend: the "image" variant's Image Texture Projection and its
+    Blend).
     Returns the Checker's settings, the empty's location and the Mapping's."""
     reset(resolution=tuple(resolution))
     if variant in ("plane", "uv", "fac", "valued"):
@@ -72,6 +73,8 @@ def procedural_checker_scene(variant="plane", resolution=(96, 72), coordinates=N
         pixels = np.random.default_rng(7).integers(0, 256, (8, 8, 4)) / 255.0
         pixels[..., 3] = 1.0
         texture.image, texture.interpolation = _filled_image("Random", pixels, float_buffer=False), "Closest"
+        if projection:
+            texture.projection, texture.projection_blend = projection, blend
     else:
         texture = nodes.new("ShaderNodeTexChecker")
         texture.inputs["Color1"].default_value, texture.inputs["Color2"].default_value = COLORS

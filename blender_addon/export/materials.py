@@ -133,6 +133,12 @@ class Links:
             self.fields["vertex_color"] = True
             self.color_layer = getattr(node, "layer_name", "") or ""
             return True
+        if colour and field == "color_texture" and node.type == "ATTRIBUTE" and out.name in ("Color", "Vector") \
+                and getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and node.attribute_name:
+            # (a mesh attribute by name: a colour, a number on all three channels, a vector)
+            self.fields["vertex_color"] = True
+            self.color_layer = node.attribute_name
+            return True
         image, output, adjust, ramp = (image_through_nodes(socket) if self.textures is not None
                                        else (None, None, "", None))
         if image is not None:
@@ -330,8 +336,10 @@ def _from_other_bsdf(node, textured):
     if kind == "EMISSION":
         strength = _value(node, "Strength", 1.0, textured)
         color = tuple(max(float(c), 0.0) for c in color)   # (the core refuses negative light)
-        if "color_texture" in textured.fields:
-            return Material(color=color, kd=0.0, ks=0.0, emission=max(strength, 0.0))   # texture x strength
+        if "color_texture" in textured.fields or textured.fields.get("vertex_color"):
+            # (texture or colour attribute x strength: a colour attribute alone was lost, the
+            # emission its own white)
+            return Material(color=color, kd=0.0, ks=0.0, emission=max(strength, 0.0))
         return Material(color=color, kd=0.0, ks=0.0, emission_color=tuple(max(c * strength, 0.0) for c in color))
     return None
 

@@ -160,9 +160,19 @@ def _corner_uvs(mesh, layer_name: str, n_loops):
     return _get(layer.data, "uv", n_loops, 2, np.float32)
 
 
+# A generic attribute's data type -> (its foreach_get field, values per element): what the
+# Attribute node's Color output gives of it, as Cycles does (a number on all three channels,
+# a 2D vector with 0 for z)
+ATTRIBUTE_VALUES = {"FLOAT": ("value", 1, np.float32), "INT": ("value", 1, np.int32), "BOOLEAN": ("value", 1, bool),
+                    "FLOAT_VECTOR": ("vector", 3, np.float32), "FLOAT2": ("vector", 2, np.float32),
+                    "FLOAT_COLOR": ("color", 4, np.float32), "BYTE_COLOR": ("color", 4, np.float32)}
+
+
 def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
     """((corners, 3) linear RGB, missing): the named colour attribute ("": the
-    render one). Where the mesh has no such attribute, black, as Cycles reads a
+    render one), or a generic attribute of that name (an Attribute node's: a
+    number, vector or colour on points, faces or corners, as its Color output
+    reads it). Where the mesh has no such attribute, black, as Cycles reads a
     missing attribute, and `missing` is the name asked for ("" for the render
     one); else missing is None. (None, None) where Blender has no colour
     attributes API."""
@@ -173,13 +183,24 @@ def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
     if attr is None and not layer_name and len(attributes):
         index = getattr(attributes, "render_color_index", 0)
         attr = attributes[index] if 0 <= index < len(attributes) else attributes[0]
-    count = n_verts if attr is not None and attr.domain == "POINT" else n_loops
-    if attr is None or attr.domain not in ("POINT", "CORNER") or len(attr.data) != count:
+    if attr is None and layer_name:
+        attr = mesh.attributes.get(layer_name)
+    field, width, dtype = ATTRIBUTE_VALUES.get(getattr(attr, "data_type", ""), (None, 0, None))
+    sizes = {"POINT": n_verts, "CORNER": n_loops, "FACE": len(mesh.polygons)}
+    domain = getattr(attr, "domain", "")
+    if field is None or domain not in sizes or len(attr.data) != sizes[domain]:
         return np.zeros((n_loops, 3), np.float32), layer_name
-    rgba = _get(attr.data, "color", count, 4, np.float32)
-    if attr.domain == "POINT":
-        rgba = rgba[_corner_verts(mesh, n_loops)]
-    return rgba[:, :3], None
+    count = sizes[domain]
+    values = _get(attr.data, field, count, width, dtype).reshape(count, width).astype(np.float32)
+    rgb = np.repeat(values, 3, axis=1) if width == 1 else np.zeros((count, 3), np.float32)
+    if width > 1:
+        rgb[:, :min(width, 3)] = values[:, :3]
+    if domain == "POINT":
+        rgb = rgb[_corner_verts(mesh, n_loops)]
+    elif domain == "FACE":
+        loop_totals = _get(mesh.polygons, "loop_total", count, 1, np.int32).reshape(-1)
+        rgb = np.repeat(rgb, loop_totals, axis=0)
+    return np.ascontiguousarray(rgb, np.float32), None
 
 
 def generated_coordinates(co, texspace):

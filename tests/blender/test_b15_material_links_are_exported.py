@@ -75,7 +75,8 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
     assert name(node["color_texture"]) == "Shared"
     # (the image straight into the input: no map of its coordinates, no adjustment of its value)
     assert textures[node["color_texture"]] == {"image": textures[node["color_texture"]]["image"],
-                                               "interpolation": "closest", "extension": "clip", "use_alpha": False,
+                                               "interpolation": "closest", "extension": "clip", "projection": "flat",
+                                               "projection_blend": 0.0, "use_alpha": False,
                                                "premultiply": True,   # its Alpha output is not linked: associated
                                                "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
                                                "channel": -1, "gain": [1.0, 1.0, 1.0], "bias": [0.0, 0.0, 0.0],

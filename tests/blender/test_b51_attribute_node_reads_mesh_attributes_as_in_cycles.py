@@ -1,0 +1,43 @@
+"""An Attribute node (Geometry type) into a colour reads the mesh's attribute of that name as
+Cycles reads it, in bpy 4.5, bpy 5.0 and Debian's 3.4: a number on faces (all three channels),
+a whole number on faces, a vector on points (interpolated across each face), a byte colour on
+corners; a name the mesh lacks reads black, with a warning. Before, the node was named in a
+warning and the input kept its own colour. Scene: attribute_scenes.attribute_scene."""
+import numpy as np
+import pytest
+
+from runner import luminance_by_engine
+
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+NAMES = ("face_value", "face_int", "point_vector", "corner_colour", "missing")
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"attributes_{module_blender}")
+    return luminance_by_engine(module_blender, out, "attribute", ENGINES, {n: {"attribute": n} for n in NAMES})
+
+
+@pytest.mark.parametrize("name", NAMES[:4])
+def test_the_attribute_shows_as_in_cycles(renders, name):
+    ours, cycles = renders[("GRIDWALK", name)], renders[("CYCLES", name)]
+    assert cycles.std() > 0.05                                           # the values vary over the grid
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.98
+    assert np.abs(ours - cycles).mean() < 0.02
+
+
+def test_a_missing_attribute_reads_black_as_in_cycles(renders):
+    ours, cycles = renders[("GRIDWALK", "missing")], renders[("CYCLES", "missing")]
+    assert cycles.max() < 0.01 and ours.max() < 0.01
+
+
+def test_the_export_reads_the_attribute_by_name(export):
+    out = export("attribute", attribute="face_value")
+    (material,) = [m for m in out.materials if m["vertex_color"]]
+    assert not out.warnings, out.warnings
+    colours = out.colors.reshape(-1, 3, 3)
+    np.testing.assert_array_equal(colours[..., 0], colours[..., 1])      # a number: grey
+    # a face's value at all its corners (each face two triangles)
+    assert np.all(colours[:, 0, 0] == colours[:, 1, 0]) and np.all(colours[:, 0, 0] == colours[:, 2, 0])
+    missing = export("attribute", attribute="missing")
+    assert any("missing" in w for w in missing.warnings), missing.warnings

@@ -16,13 +16,15 @@ from gridwalk.model import TEXTURE_KINDS
 VERTS = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
 TRIS = np.array([[0, 1, 2], [0, 2, 3]])
 GENERATED = np.array([[-3.0, -2.0, 0.4], [5.0, -2.0, 0.4], [5.0, 6.0, 0.4], [-3.0, 6.0, 0.4]], np.float32)[TRIS]
+# corner colours, which an attribute texture reads (the other kinds none)
+COLORS = np.array([[0.9, 0.1, 0.3], [0.2, 0.7, 0.4], [0.5, 0.5, 1.0], [0.0, 0.3, 0.8]], np.float32)[TRIS]
 REALS = (float("inf"), float("-inf"), float("nan"), 1e30, -1e30, 0.0, -0.0, 1e-40, -7.5)
 INTS = (0, -1, 2**31 - 1, -2**31, 11)
 KINDS = [k for k in TEXTURE_KINDS if k != "image"]
 
 
 def render(texture):
-    scene = gw.Scene(VERTS, TRIS, generated=GENERATED, textures=[texture],
+    scene = gw.Scene(VERTS, TRIS, generated=GENERATED, colors=COLORS, textures=[texture],
                      camera=gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic",
                                       ortho_height=2.0, width=6, height=6),
                      materials=[gw.Material(kd=0, emission=1.0, color_texture=0)])

@@ -291,7 +291,7 @@ def test_every_texture_at_every_view_coordinate_renders_finite_pixels(projection
             # (a sphere too, but not at Normal coordinates: spheres have no object-space normals)
             ball = {} if coordinates == "normal" else dict(sphere_centers=[(0, 4, 0)], sphere_radii=[1.0],
                                                               sphere_materials=[0])
-            s = gw.Scene(verts, tris, object_normals=normals, camera=cam, textures=[texture],
+            s = gw.Scene(verts, tris, object_normals=normals, colors=normals * 0.5 + 0.5, camera=cam, textures=[texture],
                          materials=[gw.Material(kd=0.3, mirror=0.5, emission=1.0, color_texture=0, bump_texture=0)],
                          **ball)
             out = gw.RenderJob(s, gw.RenderSettings(threads=1, max_depth=3)).start().wait()

@@ -133,12 +133,6 @@ class Links:
             self.fields["vertex_color"] = True
             self.color_layer = getattr(node, "layer_name", "") or ""
             return True
-        if colour and field == "color_texture" and node.type == "ATTRIBUTE" and out.name in ("Color", "Vector") \
-                and getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and node.attribute_name:
-            # (a mesh attribute by name: a colour, a number on all three channels, a vector)
-            self.fields["vertex_color"] = True
-            self.color_layer = node.attribute_name
-            return True
         image, output, adjust, ramp = (image_through_nodes(socket) if self.textures is not None
                                        else (None, None, "", None))
         if image is not None:
@@ -187,6 +181,8 @@ class Links:
 
     def _texture(self, node, output, adjust=None) -> int:
         """The texture index of an image or procedural texture node (value_nodes.TEXTURE_NODES)'s output."""
+        if node.type == "ATTRIBUTE":
+            return self._attribute(node, output, adjust)
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)
@@ -196,6 +192,23 @@ class Links:
         if getattr(node, "projection", "FLAT") == "BOX":
             self.points.add("normal")
         return self.textures.texture(node, output, self._coords(node, "uv", flat), adjust)
+
+    def _attribute(self, node, output, adjust=None) -> int:
+        """An Attribute node's output as a texture of the mesh attribute it names (kind "attribute":
+        the corner colours the export reads from that attribute; its Fac their mean, as Cycles
+        averages a colour). A material reads one such attribute; others, and attributes of the
+        object or its instancer, are named in the warning."""
+        name = node.attribute_name
+        if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
+            self.textured.append(f"{node.name!r} ({node.attribute_type.title()} attribute {name!r}: the mesh's "
+                                 "attribute of that name is read)")
+        fac = output in ("Fac", "Factor")        # (5.0 names it Factor)
+        if output not in ("Color", "Vector") and not fac:
+            self.textured.append(f"the {output} output of {node.name!r} (its Color is read)")
+        if self.color_layer and self.color_layer != name:
+            self.textured.append(f"attribute {name!r} (the material already reads {self.color_layer!r})")
+        self.color_layer = self.color_layer or name or " "      # (no name: none the mesh has, black as in Cycles)
+        return self.textures.attribute(fac, adjust)
 
     def _coords(self, node, default, image) -> dict:
         """The node's coordinate fields (uv_mapping.texture_fields); notes the UV

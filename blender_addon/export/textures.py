@@ -393,6 +393,11 @@ class TextureTable:
                               use_alpha=output == "Alpha", premultiply=premultiply, unassociate=unassociate,
                               **shape, **(coords or {}), **(adjust or {})))
 
+    def attribute(self, fac: bool, adjust: dict | None = None) -> int:
+        """Index of a texture of the mesh attribute the material reads (gridwalk.Texture kind
+        "attribute": the corner colours at the hit; fac: their mean, an Attribute node's Fac)."""
+        return self._add(dict(kind="attribute", use_alpha=fac, **(adjust or {})))
+
     def procedural(self, node, output: str = "Color", coords: dict | None = None, adjust: dict | None = None,
                    problems: list | None = None) -> int:
         """Index of the texture a procedural texture node's `output` (PROCEDURAL_NODES)

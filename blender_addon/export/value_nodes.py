@@ -190,17 +190,17 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE",) + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE", "ATTRIBUTE") + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
 # The outputs that are one number (the texture's alpha, Texture.use_alpha), by node type;
 # 5.0 names a Fac output Factor.
 SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W", "Radius"),
                   "TEX_WAVE": ("Fac", "Factor"), "TEX_MAGIC": ("Fac", "Factor"), "TEX_BRICK": ("Fac", "Factor"),
-                  "TEX_WHITE_NOISE": ("Value",), "TEX_MUSGRAVE": ("Fac",)}
+                  "TEX_WHITE_NOISE": ("Value",), "TEX_MUSGRAVE": ("Fac",), "ATTRIBUTE": ("Fac", "Factor")}
 
 
 def is_vector(node, output: str) -> bool:
     """Whether the texture node's output is a vector (Cycles reads it as a number by its average)."""
-    return node.type == "TEX_VORONOI" and output == "Position"
+    return (node.type == "TEX_VORONOI" and output == "Position") or (node.type == "ATTRIBUTE" and output == "Vector")
 
 
 def image_through_nodes(socket):

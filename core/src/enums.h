@@ -124,7 +124,9 @@ GW_ENUM(ImageProjection, GW_IMAGE_PROJECTIONS)
     X(Wave, "wave", "Wave", "Blender's Wave Texture: bands or rings (wave_type), distorted by noise")        \
     X(Magic, "magic", "Magic", "Blender's Magic Texture: nested sines and cosines of the point (depth)")     \
     X(WhiteNoise, "white_noise", "White Noise", "Blender's White Noise Texture: a hashed value per point")   \
-    X(Brick, "brick", "Brick", "Blender's Brick Texture: rows of bricks of two tinted colours in mortar")
+    X(Brick, "brick", "Brick", "Blender's Brick Texture: rows of bricks of two tinted colours in mortar") \
+    X(Attribute, "attribute", "Attribute",                                                                 \
+      "Blender's Attribute node: the triangles' corner colours (Scene(colors=...)) at the hit, alpha their mean")
 GW_ENUM(TextureKind, GW_TEXTURE_KINDS)
 
 #define GW_WAVE_TYPES(X)                                                                                   \

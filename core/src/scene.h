@@ -347,6 +347,8 @@ private:
     // The per-corner array of Generated, Object or Normal coordinates.
     const PooledVector<float>& corner_array(TextureCoords coords) const;
     void hit_uv(const Hit& hit, float& u, float& v) const;
+    // The hit's corner colours (Scene(colors=...)) interpolated; 0 where it has none.
+    Vec3 corner_colour(const Hit& hit) const;
     // sp.ns with the material's normal map applied (sp.ns where it has none),
     // kept from reflecting wo into the surface, as Cycles' Normal Map node
     // keeps it (its Bump node does not).

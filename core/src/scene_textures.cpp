@@ -162,6 +162,21 @@ void Scene::check_generated() const {
                     bad(what(tri_mat_[i]) + "and triangle_materials[" + std::to_string(i) +
                         "] uses it, but the scene has none (Scene(" + array + "=...))");
     }
+    // An attribute texture reads the triangles' corner colours (spheres and cones read none: black).
+    if (!colors_.empty()) return;
+    auto attribute = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].kind == TextureKind::Attribute; };
+    std::vector<uint8_t> reads(materials_.size(), 0);
+    for (size_t i = 0; i < materials_.size(); ++i) {
+        const Material& m = materials_[i];
+        reads[i] = attribute(m.color_texture) || attribute(m.roughness_texture) || attribute(m.metallic_texture) ||
+                   attribute(m.alpha_texture) || attribute(m.emission_texture) || attribute(m.bump_texture);
+    }
+    if (std::find(reads.begin(), reads.end(), uint8_t(1)) == reads.end()) return;   // (no pass over the triangles)
+    for (size_t i = 0; i < tri_mat_.size(); ++i) {
+        if (reads[size_t(tri_mat_[i])])
+            bad("materials[" + std::to_string(tri_mat_[i]) + "] has an attribute texture, and triangle_materials[" +
+                std::to_string(i) + "] uses it, but the scene has no corner colours (Scene(colors=...))");
+    }
 }
 
 const PooledVector<float>& Scene::corner_array(TextureCoords coords) const {
@@ -188,6 +203,7 @@ Vec3 Scene::hit_point(const Hit& hit, TextureCoords coords, bool backfacing) con
 }
 
 Vec3 Scene::texture_point(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const {
+    if (t.kind == TextureKind::Attribute) return corner_colour(hit);   // (its "point" is the attribute's value)
     switch (t.coordinates) {
     case TextureCoords::UV: return Vec3(u, v, 0);
     case TextureCoords::Camera: return view.camera ? view.camera->camera_point(view.p) : Vec3(0, 0, 0);
@@ -272,6 +288,7 @@ Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     if (t.kind == TextureKind::Magic) return magic_color(t, p);
     if (t.kind == TextureKind::WhiteNoise) return white_noise_color(t, p);
     if (t.kind == TextureKind::Brick) return brick_color(t, p);
+    if (t.kind == TextureKind::Attribute) return Rgba{p, (p.x + p.y + p.z) * (1.0f / 3.0f)};   // (Fac: the mean)
     if (t.projection == ImageProjection::Sphere || t.projection == ImageProjection::Tube) {
         // (Cycles: the point moved from the unit box to [-1, 1]^3, then its angles)
         const Vec3 q = (p - Vec3(0.5f, 0.5f, 0.5f)) * 2.0f;
@@ -294,6 +311,13 @@ Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
     return image_at(t, p.x, p.y);
 }
 
+Vec3 Scene::corner_colour(const Hit& hit) const {
+    if (colors_.empty() || size_t(hit.prim) >= num_triangles()) return Vec3(0, 0, 0);   // (check_attributes)
+    const float* c = &colors_[9 * size_t(hit.prim)];
+    const float b0 = 1.0f - hit.u - hit.v;
+    return Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+}
+
 void Scene::hit_uv(const Hit& hit, float& u, float& v) const {
     u = v = 0;
     if (uvs_.empty() || size_t(hit.prim) >= num_triangles()) return;
@@ -310,9 +334,7 @@ Material Scene::shade(const Material& m, const Hit& hit, const TextureView& view
     if (m.color_texture >= 0)
         out.color = color_of(textures_[size_t(m.color_texture)], lookup(m.color_texture, hit, u, v, view));
     if (m.vertex_color && !colors_.empty() && size_t(hit.prim) < num_triangles()) {
-        const float* c = &colors_[9 * size_t(hit.prim)];
-        const float b0 = 1.0f - hit.u - hit.v;
-        const Vec3 corner = Vec3(c[0], c[1], c[2]) * b0 + Vec3(c[3], c[4], c[5]) * hit.u + Vec3(c[6], c[7], c[8]) * hit.v;
+        const Vec3 corner = corner_colour(hit);
         // (with a colour texture: their product, a Mix node multiplying the image by the attribute)
         out.color = m.color_texture >= 0 ? out.color * corner : corner;
     }
@@ -419,6 +441,11 @@ Vec3 Scene::normal_mapped(const Material& m, const Hit& hit, const SurfacePoint&
 }
 
 bool Scene::corner_points(const Texture& t, size_t prim, const TextureView& view, Vec3 c[3]) const {
+    if (t.kind == TextureKind::Attribute) {   // (the corners' values: the slope of their interpolation)
+        if (colors_.empty() || prim >= num_triangles()) return false;
+        for (int k = 0; k < 3; ++k) c[k] = Vec3(colors_[9 * prim + 3 * k], colors_[9 * prim + 3 * k + 1], colors_[9 * prim + 3 * k + 2]);
+        return true;
+    }
     if (t.kind == TextureKind::Image && t.projection == ImageProjection::Box) return false;   // (scene.h)
     if (t.coordinates == TextureCoords::UV) {
         if (uvs_.empty()) return false;
@@ -464,7 +491,8 @@ bool Scene::pattern_slopes(const Texture& t, const Hit& hit, const TextureView& 
     }
     // (a White Noise is unscaled: its slopes are as rough as the step is small)
     const float cell = t.kind == TextureKind::Image ? 1.0f / float(std::max(images_[size_t(t.image)]->width(), 1))
-                       : t.kind == TextureKind::Gradient || t.kind == TextureKind::WhiteNoise
+                       : t.kind == TextureKind::Gradient || t.kind == TextureKind::WhiteNoise ||
+                               t.kind == TextureKind::Attribute
                            ? 1.0f
                            : 1.0f / std::max(std::abs(t.scale), 1e-6f);
     // (a fractal's finest octave is lacunarity^detail times finer)

@@ -1,7 +1,8 @@
 """An Attribute node (Geometry type) into a colour reads the mesh's attribute of that name as
 Cycles reads it, in bpy 4.5, bpy 5.0 and Debian's 3.4: a number on faces (all three channels),
 a whole number on faces, a vector on points (interpolated across each face), a byte colour on
-corners; a name the mesh lacks reads black, with a warning. Before, the node was named in a
+corners, and the Fac of a number and of a colour (its mean) through a Color Ramp; a name the
+mesh lacks reads black, with a warning. Before, the node was named in a
 warning and the input kept its own colour. Scene: attribute_scenes.attribute_scene."""
 import numpy as np
 import pytest
@@ -10,15 +11,19 @@ from runner import luminance_by_engine
 
 ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
 NAMES = ("face_value", "face_int", "point_vector", "corner_colour", "missing")
+VARIANTS = {**{n: {"attribute": n} for n in NAMES},
+            # a number's Fac and a colour's Fac (its mean) through a Color Ramp
+            "value_ramp": {"attribute": "face_value", "output": "Fac", "ramp": True},
+            "colour_ramp": {"attribute": "corner_colour", "output": "Fac", "ramp": True}}
 
 
 @pytest.fixture(scope="module")
 def renders(module_blender, tmp_path_factory):
     out = tmp_path_factory.mktemp(f"attributes_{module_blender}")
-    return luminance_by_engine(module_blender, out, "attribute", ENGINES, {n: {"attribute": n} for n in NAMES})
+    return luminance_by_engine(module_blender, out, "attribute", ENGINES, VARIANTS)
 
 
-@pytest.mark.parametrize("name", NAMES[:4])
+@pytest.mark.parametrize("name", NAMES[:4] + ("value_ramp", "colour_ramp"))
 def test_the_attribute_shows_as_in_cycles(renders, name):
     ours, cycles = renders[("GRIDWALK", name)], renders[("CYCLES", name)]
     assert cycles.std() > 0.05                                           # the values vary over the grid
@@ -33,8 +38,8 @@ def test_a_missing_attribute_reads_black_as_in_cycles(renders):
 
 def test_the_export_reads_the_attribute_by_name(export):
     out = export("attribute", attribute="face_value")
-    (material,) = [m for m in out.materials if m["vertex_color"]]
-    assert not out.warnings, out.warnings
+    (texture,) = out.textures
+    assert texture["kind"] == "attribute" and not out.warnings, out.warnings
     colours = out.colors.reshape(-1, 3, 3)
     np.testing.assert_array_equal(colours[..., 0], colours[..., 1])      # a number: grey
     # a face's value at all its corners (each face two triangles)

@@ -229,7 +229,9 @@ def _choice(choices, enum):
 @dataclass
 class Texture(Record):
     """How a material (or the world) samples an image or a procedural pattern.
-    kind: image | checker (Blender's Checker Texture: color1 and color2, RGB,
+    kind: image | attribute (Blender's Attribute node: the triangles' corner colours,
+    Scene(colors=...), at the hit; use_alpha: their mean, its Fac; no image) |
+    checker (Blender's Checker Texture: color1 and color2, RGB,
     in alternating cubes of side 1 / scale, as Cycles lays them; no image) |
     gradient (Blender's Gradient Texture, grey: gradient = linear | quadratic
     | easing | diagonal | spherical | quadratic_sphere | radial; no image) |

@@ -12,9 +12,10 @@ ATTRIBUTES = {   # name -> (data type, domain)
 }
 
 
-def attribute_scene(attribute="face_value", output="Color", resolution=(96, 72)):
+def attribute_scene(attribute="face_value", output="Color", ramp=False, resolution=(96, 72)):
     """A 6 x 6-face grid filling the view, its Emission Color an Attribute node's `output` of the
-    generic attribute `attribute` (ATTRIBUTES), filled with values from a seeded generator."""
+    generic attribute `attribute` (ATTRIBUTES), filled with values from a seeded generator;
+    ramp: through a Color Ramp of three stops (blue, green, orange)."""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=7, y_subdivisions=7, size=7.0, rotation=(math.pi / 2, 0, 0))
     grid = bpy.context.object
@@ -38,7 +39,16 @@ def attribute_scene(attribute="face_value", output="Color", resolution=(96, 72))
     mat = shader_material("ByAttribute", "ShaderNodeEmission", [("Strength", 1.0)])
     node = mat.node_tree.nodes.new("ShaderNodeAttribute")
     node.attribute_name = name
-    mat.node_tree.links.new(node.outputs[output], mat.node_tree.nodes["Emission"].inputs["Color"])
+    source = node.outputs[output]
+    if ramp:
+        colour_ramp = mat.node_tree.nodes.new("ShaderNodeValToRGB")
+        stops = colour_ramp.color_ramp.elements
+        stops[0].position, stops[0].color = 0.2, (0.1, 0.2, 0.9, 1.0)
+        stops[1].position, stops[1].color = 0.8, (0.9, 0.5, 0.1, 1.0)
+        stops.new(0.5).color = (0.2, 0.8, 0.3, 1.0)
+        mat.node_tree.links.new(source, colour_ramp.inputs["Fac"])
+        source = colour_ramp.outputs["Color"]
+    mat.node_tree.links.new(source, mat.node_tree.nodes["Emission"].inputs["Color"])
     mesh.materials.append(mat)
     bpy.context.view_layer.update()
     return {"name": name}

@@ -111,12 +111,12 @@ class Links:
         if node is None:
             return False
         if field == "normal_texture":
-            before = set(self.points), self.uv_layer
+            before = set(self.points), self.uv_layer, self.color_layer
             taken = self._take(socket, node, out, field, colour)
             texture = self.textures.textures[self.fields[field]] if taken else None
             if texture is not None and not plain_image(texture):
                 del self.fields[field]
-                self.points, self.uv_layer = before     # (nothing reads what it would have read)
+                self.points, self.uv_layer, self.color_layer = before     # (nothing reads what it would have read)
                 self.textured.append(f"{socket.name} ({node.bl_idname}: normal maps read images "
                                      "at the UV map only)")
                 return False
@@ -131,7 +131,7 @@ class Links:
             return True
         if colour and field == "color_texture" and node.type == "VERTEX_COLOR":
             self.fields["vertex_color"] = True
-            self.color_layer = getattr(node, "layer_name", "") or ""
+            self._read_colours(getattr(node, "layer_name", "") or "", "colour attribute")
             return True
         image, output, adjust, ramp = (image_through_nodes(socket) if self.textures is not None
                                        else (None, None, "", None))
@@ -163,7 +163,7 @@ class Links:
                 return False
             self.fields["color_texture"] = self._ramped(image, output, adjust, ramp)
             self.fields["vertex_color"] = True
-            self.color_layer = getattr(attribute, "layer_name", "") or ""
+            self._read_colours(getattr(attribute, "layer_name", "") or "", "colour attribute")
             return True
         return False
 
@@ -205,10 +205,17 @@ class Links:
         fac = output in ("Fac", "Factor")        # (5.0 names it Factor)
         if output not in ("Color", "Vector") and not fac:
             self.textured.append(f"the {output} output of {node.name!r} (its Color is read)")
-        if self.color_layer and self.color_layer != name:
-            self.textured.append(f"attribute {name!r} (the material already reads {self.color_layer!r})")
-        self.color_layer = self.color_layer or name or " "      # (no name: none the mesh has, black as in Cycles)
+        self._read_colours(name or " ", "attribute")      # (no name: none the mesh has, black as in Cycles)
         return self.textures.attribute(fac, adjust)
+
+    def _read_colours(self, layer: str, what: str):
+        """The corner colours the material reads: the named attribute ("": the render colour
+        attribute). One per material: a second, different one is named in the warning."""
+        if self.color_layer is not None and self.color_layer != layer:
+            self.textured.append(f"{what} {layer!r} (the material already reads "
+                                 f"{self.color_layer or 'the render colour attribute'!r})")
+            return
+        self.color_layer = layer
 
     def _coords(self, node, default, image) -> dict:
         """The node's coordinate fields (uv_mapping.texture_fields); notes the UV
@@ -402,8 +409,10 @@ def _bump(node, links) -> bool:
     height = _source(bump.inputs["Height"])[0]
     if height is None or not links.take(bump.inputs["Height"], "bump_texture", colour=False):
         return mapped                      # (a Height not read is named by take())
-    if links.textures.textures[links.fields["bump_texture"]].coordinates == "window":
-        links.textured.append(f"Height of {bump.name!r} (at Window coordinates: its slope is not computed, "
+    height_texture = links.textures.textures[links.fields["bump_texture"]]
+    if height_texture.coordinates == "window" or height_texture.projection == "box":
+        how = "at Window coordinates" if height_texture.coordinates == "window" else "a Box projection"
+        links.textured.append(f"Height of {bump.name!r} ({how}: its slope is not computed, "
                               "the surface is not bumped)")
     for name, field in (("Strength", "bump_strength"), ("Distance", "bump_distance")):
         fed = _source(bump.inputs[name])[0]
@@ -602,7 +611,8 @@ class MaterialTable:
             material = self.materials[index]
             fields = {f.name: -1 for f in dataclasses.fields(material)
                       if f.name.endswith("_texture") and getattr(material, f.name) >= 0
-                      and self.textures.textures[getattr(material, f.name)].coordinates in CORNER_COORDINATES}
+                      and (self.textures.textures[getattr(material, f.name)].coordinates in CORNER_COORDINATES
+                           or self.textures.textures[getattr(material, f.name)].projection == "box")}
             self._index[key] = len(self.materials)
             self.materials.append(dataclasses.replace(material, **fields))
             self.links.append(None)

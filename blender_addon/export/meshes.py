@@ -197,9 +197,14 @@ def _corner_colors(mesh, layer_name: str, n_loops, n_verts):
         rgb[:, :min(width, 3)] = values[:, :3]
     if domain == "POINT":
         rgb = rgb[_corner_verts(mesh, n_loops)]
-    elif domain == "FACE":
-        loop_totals = _get(mesh.polygons, "loop_total", count, 1, np.int32).reshape(-1)
-        rgb = np.repeat(rgb, loop_totals, axis=0)
+    elif domain == "FACE":     # (each corner its face's value, wherever Blender keeps its loops)
+        starts = _get(mesh.polygons, "loop_start", count, 1, np.int32).reshape(-1)
+        totals = _get(mesh.polygons, "loop_total", count, 1, np.int32).reshape(-1)
+        face = np.repeat(np.arange(count), totals)
+        offsets = np.arange(len(face)) - np.repeat(np.cumsum(totals) - totals, totals)
+        per_loop = np.zeros((n_loops, 3), np.float32)
+        per_loop[np.repeat(starts, totals) + offsets] = rgb[face]
+        rgb = per_loop
     return np.ascontiguousarray(rgb, np.float32), None
 
 

@@ -187,7 +187,7 @@ def plain_image(texture) -> bool:
     """Whether a gridwalk.Texture is an image read at the UV map, unmapped in 3-space and
     without a ramp: what the core's normal maps and environments take (texture.h's plain_image)."""
     return (texture.kind == "image" and texture.coordinates == "uv" and not texture.ramp
-            and tuple(texture.vector_transform) == VECTOR_IDENTITY)
+            and tuple(texture.vector_transform) == VECTOR_IDENTITY and texture.projection == "flat")
 
 
 def corner_point_arrays(depsgraph) -> int:
@@ -204,6 +204,8 @@ def corner_point_arrays(depsgraph) -> int:
                 reads.add("Generated")
             elif node.type == "TEX_COORD":
                 reads |= {name for name in ("Generated", "Object", "Normal") if node.outputs[name].is_linked}
+            elif node.type == "TEX_IMAGE" and getattr(node, "projection", "FLAT") == "BOX":
+                reads.add("Normal")        # (a box projection blends by the object-space normals)
     return len(reads)
 
 

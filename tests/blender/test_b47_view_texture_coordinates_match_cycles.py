@@ -53,7 +53,7 @@ def test_the_checker_lands_where_cycles_puts_it(renders, name, module_blender):
 def test_the_export_names_the_coordinates_without_a_warning(export, name):
     out = export("procedural_checker", **VARIANTS[name])
     (texture,) = out.textures
-    assert texture["coordinates"] == name.split("_")[0] if name.startswith("window") else name
+    assert texture["coordinates"] == ("window" if name.startswith("window") else name)
     assert not out.warnings, out.warnings
     assert ("object_normals" in out.arrays) == (name == "normal")
     if name == "normal":

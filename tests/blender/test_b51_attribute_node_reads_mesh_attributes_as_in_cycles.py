@@ -42,7 +42,9 @@ def test_the_export_reads_the_attribute_by_name(export):
     assert texture["kind"] == "attribute" and not out.warnings, out.warnings
     colours = out.colors.reshape(-1, 3, 3)
     np.testing.assert_array_equal(colours[..., 0], colours[..., 1])      # a number: grey
-    # a face's value at all its corners (each face two triangles)
+    # a face's value at all its corners: the grid's triangles take its quads' values, each twice
     assert np.all(colours[:, 0, 0] == colours[:, 1, 0]) and np.all(colours[:, 0, 0] == colours[:, 2, 0])
+    values, counts = np.unique(colours[:, 0, 0], return_counts=True)
+    assert len(values) == len(colours) // 2 and np.all(counts == 2)
     missing = export("attribute", attribute="missing")
     assert any("missing" in w for w in missing.warnings), missing.warnings

@@ -164,6 +164,7 @@ def _corner_uvs(mesh, layer_name: str, n_loops):
 # Attribute node's Color output gives of it, as Cycles does (a number on all three channels,
 # a 2D vector with 0 for z)
 ATTRIBUTE_VALUES = {"FLOAT": ("value", 1, np.float32), "INT": ("value", 1, np.int32), "BOOLEAN": ("value", 1, bool),
+                    "INT8": ("value", 1, np.int32),    # (Blender 4.x; Cycles reads a 2D whole number as nothing)
                     "FLOAT_VECTOR": ("vector", 3, np.float32), "FLOAT2": ("vector", 2, np.float32),
                     "FLOAT_COLOR": ("color", 4, np.float32), "BYTE_COLOR": ("color", 4, np.float32)}
 

@@ -9,6 +9,7 @@ from scenes import reset, shader_material
 ATTRIBUTES = {   # name -> (data type, domain)
     "face_value": ("FLOAT", "FACE"), "point_vector": ("FLOAT_VECTOR", "POINT"),
     "corner_colour": ("BYTE_COLOR", "CORNER"), "face_int": ("INT", "FACE"), "missing": (None, None),
+    "face_int8": ("INT8", "FACE"), "point_int2": ("INT32_2D", "POINT"),     # (Blender 4.x+)
 }
 
 
@@ -28,8 +29,10 @@ def attribute_scene(attribute="face_value", output="Color", ramp=False, resoluti
         n = len(attr.data)
         if data_type == "FLOAT":
             attr.data.foreach_set("value", rng.random(n).astype(np.float32))
-        elif data_type == "INT":
+        elif data_type in ("INT", "INT8"):
             attr.data.foreach_set("value", rng.integers(0, 2, n).astype(np.int32))
+        elif data_type == "INT32_2D":
+            attr.data.foreach_set("value", rng.integers(0, 2, 2 * n).astype(np.int32))
         elif data_type == "FLOAT_VECTOR":
             attr.data.foreach_set("vector", rng.random(3 * n).astype(np.float32))
         else:

@@ -1,9 +1,10 @@
 """An Attribute node (Geometry type) into a colour reads the mesh's attribute of that name as
 Cycles reads it, in bpy 4.5, bpy 5.0 and Debian's 3.4: a number on faces (all three channels),
 a whole number on faces, a vector on points (interpolated across each face), a byte colour on
-corners, an 8-bit whole number on faces (4.5 and 5.0), and the Fac of a number and of a colour (its mean) through a Color Ramp; a name the
-mesh lacks reads black, with a warning, and so does a 2D whole number, as in Cycles. Before, the node was named in a
-warning and the input kept its own colour. Scene: attribute_scenes.attribute_scene."""
+corners, an 8-bit whole number on faces (4.5 and 5.0), and the Fac of a number and of a colour
+(its mean) through a Color Ramp; a name the mesh lacks reads black, with a warning, and so does
+a 2D whole number, as in Cycles. Before, the node was named in a warning and the input kept its
+own colour. Scene: attribute_scenes.attribute_scene."""
 import numpy as np
 import pytest
 

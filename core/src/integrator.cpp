@@ -250,7 +250,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
         if (!m.lets_light_through()) return Vec3(0, 0, 0);
         ++(m.visible_shadow ? crossings : passed_by);
         if (m.visible_shadow) {   // (a surface that casts no shadow passes it all)
-            const float alpha = scene_.alpha_at(m, hit, TextureView::at(sp, r.d, camera_));
+            const float alpha = m.alpha_texture >= 0 ? scene_.alpha_at(m, hit, TextureView::at(sp, r.d, camera_)) : m.alpha;
             float passed = glass_blocks ? 0.0f : std::min(std::max(m.transmittance, 0.0f), 1.0f);
             if (passed > 0 && m.ior != 1.0f) {   // less what the surface reflects: the exact Fresnel at the
                 // ray's angle, taken on the rarer side (the ray is not bent, so both crossings are alike and
@@ -816,8 +816,10 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     }
     SurfacePoint sp = scene_.surface(r, hit);
     const Material& stored = scene_.materials()[size_t(sp.material)];
-    const TextureView view = TextureView::at(sp, ray.d, camera_);
-    if (stored.normal_texture >= 0 || stored.bump_texture >= 0) {
+    // (the ray's side of the hit, for the textures: only where the material has some)
+    const bool mapped = stored.normal_texture >= 0 || stored.bump_texture >= 0;
+    const TextureView view = mapped || stored.varies() ? TextureView::at(sp, ray.d, camera_) : TextureView();
+    if (mapped) {
         sp.unmapped = sp.ns;
         sp.ns = scene_.mapped_normal(stored, hit, sp, view);
         sp.mapped = true;

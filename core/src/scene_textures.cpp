@@ -122,6 +122,25 @@ void Scene::check_textures() {
 // on a sphere or a cone, and triangles using the first three need the array.
 // (Camera, Window and Reflection coordinates come from the hit's point and
 // normal and the ray: any primitive has them.)
+namespace {
+
+// Per material, whether one of its textures (colour, roughness, metallic, alpha,
+// emission, bump) is one that `reads` says yes to.
+template <class Reads>
+std::vector<uint8_t> materials_reading(const std::vector<Material>& materials, Reads reads) {
+    std::vector<uint8_t> out(materials.size(), 0);
+    for (size_t i = 0; i < materials.size(); ++i) {
+        const Material& m = materials[i];
+        out[i] = reads(m.color_texture) || reads(m.roughness_texture) || reads(m.metallic_texture) ||
+                 reads(m.alpha_texture) || reads(m.emission_texture) || reads(m.bump_texture);
+    }
+    return out;
+}
+
+bool any_reads(const std::vector<uint8_t>& reads) { return std::find(reads.begin(), reads.end(), uint8_t(1)) != reads.end(); }
+
+}  // namespace
+
 void Scene::check_generated() const {
     for (const TextureCoords coords :
          {TextureCoords::Generated, TextureCoords::Object, TextureCoords::Normal, TextureCoords::Position}) {
@@ -132,13 +151,8 @@ void Scene::check_generated() const {
             return t.coordinates == coords || (coords == TextureCoords::Normal && t.kind == TextureKind::Image &&
                                                t.projection == ImageProjection::Box);
         };
-        std::vector<uint8_t> uses(materials_.size(), 0);
-        for (size_t i = 0; i < materials_.size(); ++i) {
-            const Material& m = materials_[i];
-            uses[i] = reads(m.color_texture) || reads(m.roughness_texture) || reads(m.metallic_texture) ||
-                      reads(m.alpha_texture) || reads(m.emission_texture) || reads(m.bump_texture);
-        }
-        if (std::find(uses.begin(), uses.end(), uint8_t(1)) == uses.end()) continue;   // (no pass over the primitives)
+        const std::vector<uint8_t> uses = materials_reading(materials_, reads);
+        if (!any_reads(uses)) continue;   // (no pass over the primitives)
         const std::string kind = enum_id(coords);
         auto what = [&](int32_t mat) {
             return "materials[" + std::to_string(mat) + "] has a texture at " + kind + " coordinates, ";
@@ -164,14 +178,9 @@ void Scene::check_generated() const {
     }
     // An attribute texture reads the triangles' corner colours (spheres and cones read none: black).
     if (!colors_.empty()) return;
-    auto attribute = [&](int32_t k) { return k >= 0 && textures_[size_t(k)].kind == TextureKind::Attribute; };
-    std::vector<uint8_t> reads(materials_.size(), 0);
-    for (size_t i = 0; i < materials_.size(); ++i) {
-        const Material& m = materials_[i];
-        reads[i] = attribute(m.color_texture) || attribute(m.roughness_texture) || attribute(m.metallic_texture) ||
-                   attribute(m.alpha_texture) || attribute(m.emission_texture) || attribute(m.bump_texture);
-    }
-    if (std::find(reads.begin(), reads.end(), uint8_t(1)) == reads.end()) return;   // (no pass over the triangles)
+    const std::vector<uint8_t> reads = materials_reading(
+        materials_, [&](int32_t k) { return k >= 0 && textures_[size_t(k)].kind == TextureKind::Attribute; });
+    if (!any_reads(reads)) return;   // (no pass over the triangles)
     for (size_t i = 0; i < tri_mat_.size(); ++i) {
         if (reads[size_t(tri_mat_[i])])
             bad("materials[" + std::to_string(tri_mat_[i]) + "] has an attribute texture, and triangle_materials[" +

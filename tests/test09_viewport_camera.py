@@ -58,6 +58,10 @@ def test_orthographic_view_moves_the_eye_to_the_near_plane():
     np.testing.assert_allclose(o, [[-4, -10, 2], [4, -10, -1]], atol=1e-5)
     np.testing.assert_allclose(tmax, 20.0, rtol=1e-6)
     assert cam.pixel_aspect == pytest.approx(1.0)
+    # Camera texture coordinates stay measured from the view point, as Cycles measures them
+    ahead = np.asarray(cam.eye) + np.subtract(cam.target, cam.eye) * cam.origin_ahead
+    np.testing.assert_allclose(ahead, [0, 0, 0], atol=1e-6)
+    assert cam.origin_ahead == pytest.approx(10.0)
 
 
 def test_non_square_pixels_follow_from_the_frustum():

@@ -126,6 +126,21 @@ def test_camera_coordinates_are_the_hit_point_in_camera_space():
         np.testing.assert_allclose(image, value * scale + offset, atol=2e-4)
 
 
+def test_camera_coordinates_are_measured_from_origin_ahead_along_the_view_axis():
+    # the orthographic viewport moves its eye back to its near plane and measures Camera
+    # coordinates from the view point: depth less origin_ahead, x and y unchanged
+    scale, offset = 0.1, 0.2
+    images = {ahead: _emitting(_gradient("camera", _pick(axis, scale, offset)),
+                               camera=gw.Camera(**ORTHOGRAPHIC, origin_ahead=ahead))[..., 0]
+              for axis in (2,) for ahead in (0.0, 2.5, -1.0)}
+    assert 0.05 < images[0.0].min() and images[0.0].max() < 0.95         # the plane's depths, not clamped
+    np.testing.assert_allclose(images[2.5], images[0.0] - 2.5 * scale, atol=2e-5)
+    np.testing.assert_allclose(images[-1.0], images[0.0] + 1.0 * scale, atol=2e-5)
+    across = [_emitting(_gradient("camera", _pick(0, scale, 0.5)), camera=gw.Camera(**ORTHOGRAPHIC, origin_ahead=a))
+              for a in (0.0, 2.5)]
+    np.testing.assert_array_equal(across[0], across[1])
+
+
 def test_reflection_coordinates_mirror_the_view_about_a_spheres_normal():
     n = 48
     cam = gw.Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic", ortho_height=2.2,

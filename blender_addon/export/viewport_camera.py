@@ -11,7 +11,8 @@ size in pixels. Every view is one of:
 - orthographic (the numpad views, and orthographic cameras): half extents
   1 / P[0][0], 1 / P[1][1], centre -P[0][3] / P[0][0], -P[1][3] / P[1][1];
   Blender puts the near plane behind the view point, so the eye moves back
-  to it;
+  to it, and origin_ahead keeps Camera texture coordinates measured from
+  the view point, as Cycles measures them;
 - a panoramic camera seen through: Blender draws its frame with the lens'
   perspective; the panorama's unit square is stretched linearly from the
   camera's frame to the whole region (Camera.window), as Cycles stretches
@@ -65,7 +66,7 @@ def view_camera(view_matrix, window_matrix, width: int, height: int, clip=None, 
     else:
         eye = eye + forward * near          # the near plane may lie behind the view point
         fields.update(projection="orthographic", ortho_height=float(2.0 * half_h), hither=0.0,
-                      yon=float(far - near))
+                      yon=float(far - near), origin_ahead=float(-near))   # (Camera coordinates: from the view point)
         if extra.get("aperture", 0) > 0 and extra.get("focus_distance"):   # measured from the moved eye
             extra = dict(extra, focus_distance=max(float(extra["focus_distance"] - near), 1e-6))
     fields.update(extra)

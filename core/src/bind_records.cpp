@@ -185,6 +185,7 @@ void bind_records(nb::module_& m) {
         .def_rw("polynomial", &CameraDesc::polynomial)
         .def_rw("cylinder_height", &CameraDesc::cylinder_height)
         .def_rw("hither", &CameraDesc::hither)
+        .def_rw("origin_ahead", &CameraDesc::origin_ahead)
         .def_rw("yon", &CameraDesc::yon)
         .def_rw("mirror", &CameraDesc::mirror)
         .def("validate", &validate_camera);

@@ -42,6 +42,10 @@ struct CameraDesc {
     std::array<float, 5> polynomial{-1.1735e-5f, -0.0199887f, -3.3525e-6f, 3.0993e-6f, -2.6065e-8f};   // k0..k4
     std::array<float, 2> cylinder_height{-1, 1};   // central cylindrical: bottom, top edge at distance 1
     float hither = 0;                     // near clip: rays start this far along the view axis
+    // Camera texture coordinates are measured from the point this far along
+    // the view axis from the eye (0: the eye). An orthographic viewport view
+    // moves its eye back to its near plane and sets this to the view point.
+    float origin_ahead = 0;
     float yon = kInf;                     // far clip: rays end this far along the view axis
     bool mirror = false;                  // mirrored image (a camera with negative scale)
 };
@@ -72,6 +76,7 @@ public:
         blade_rotation_ = c.blade_rotation;
         inv_ratio_ = 1.0f / c.aperture_ratio;
         hither_ = c.hither;
+        origin_ahead_ = c.origin_ahead;
         yon_ = c.yon;
         panorama_ = projection_ != Projection::Perspective && projection_ != Projection::Orthographic;
         pano_shift_ = c.shift;
@@ -133,10 +138,11 @@ public:
         return r;
     }
     // Cycles' Camera texture coordinates: the point in camera space, x right, y
-    // up, z forward along the view axis (the camera's axes without its scale), from the eye.
+    // up, z forward along the view axis (the camera's axes without its scale),
+    // from the eye, or from origin_ahead along the view axis.
     Vec3 camera_point(const Vec3& p) const {
         const Vec3 d = p - eye_;
-        return Vec3(dot(d, right_), dot(d, up_), dot(d, fwd_));
+        return Vec3(dot(d, right_), dot(d, up_), dot(d, fwd_) - origin_ahead_);
     }
     // Cycles' Window texture coordinates: the point's place in the image, (0, 0)
     // its bottom-left corner and (1, 1) its top-right, z = 0; through the
@@ -332,6 +338,7 @@ private:
     Vec3d eye_d_;
     Vec3 fwd_, right_, up_;
     float half_h_, half_w_, shift_x_, shift_y_, aperture_, focus_, hither_, yon_, blade_rotation_, inv_ratio_;
+    float origin_ahead_;
     int blades_;
     Span lon_, lat_, window_u_, window_v_, cylinder_;
     bool panorama_ = false;

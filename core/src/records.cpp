@@ -207,6 +207,7 @@ void validate_camera(const CameraDesc& c) {
     need_finite(where, "shift", c.shift[0]);
     need_finite(where, "shift", c.shift[1]);
     need_at_least(where, "hither", c.hither, 0);
+    need_finite(where, "origin_ahead", c.origin_ahead);
     if (std::isnan(c.yon) || !(c.yon > c.hither))
         refuse(where, "yon", "must be greater than Camera.hither (" + show(c.hither) + "), got " + show(c.yon));
 }

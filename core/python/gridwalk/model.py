@@ -559,6 +559,9 @@ class Camera(Record):
     aperture_ratio > 1 narrows the aperture across by 1 / ratio (anamorphic
     bokeh), all as Cycles samples its aperture. hither, yon: rays start and end this far along the view
     axis (near and far clipping; a panorama clips by distance from the eye).
+    origin_ahead: Camera texture coordinates are measured from the point this
+    far along the view axis from the eye (0: the eye; an orthographic viewport
+    view, whose eye moves back to its near plane, sets the view point).
     mirror: flip the image left to right (a camera with a negative scale).
     """
     eye: tuple = _CAM.eye
@@ -574,6 +577,7 @@ class Camera(Record):
     aperture_ratio: float = _CAM.aperture_ratio
     shift: tuple = tuple(_CAM.shift)
     hither: float = _CAM.hither
+    origin_ahead: float = _CAM.origin_ahead
     projection: str = PROJECTIONS[0]
     ortho_height: float = _CAM.ortho_height
     pixel_aspect: float = _CAM.pixel_aspect

@@ -176,15 +176,16 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         from gridwalk import memory
 
         from .export import count_geometry, resolution
-        from .export.textures import corner_point_arrays, scene_texture_bytes, uses_normal_maps
+        from .export.textures import corner_arrays_read, corner_point_arrays, scene_texture_bytes, uses_normal_maps
         scene = depsgraph.scene
         counts = count_geometry(depsgraph)
         width, height = resolution(scene.render)
         texture_bytes = scene_texture_bytes(depsgraph)
+        corners = corner_arrays_read(depsgraph)
         estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"], counts["cylinders"],
                                    width=width, height=height, settings=settings, normals=counts["normals"],
-                                   texture_bytes=texture_bytes, uvs=texture_bytes > 0,
-                                   tangents=texture_bytes > 0 and uses_normal_maps(depsgraph),
+                                   texture_bytes=texture_bytes, uvs=corners["uvs"], colors=corners["colors"],
+                                   tangents=corners["uvs"] and uses_normal_maps(depsgraph),
                                    corner_points=corner_point_arrays(depsgraph),
                                    matte_layers=len(cryptomatte.key_layers(depsgraph.view_layer)),
                                    copies=counts["copies"], copied_triangles=counts["copied_triangles"])

@@ -209,6 +209,24 @@ def corner_point_arrays(depsgraph) -> int:
     return len(reads)
 
 
+def corner_arrays_read(depsgraph) -> dict:
+    """Which per-corner arrays the export may write besides the points, from the materials'
+    nodes: "uvs" (an image, a UV Map node, a Texture Coordinate node's linked UV output or a
+    Normal Map, whose tangents follow the UVs) and "colors" (a Color Attribute or Attribute
+    node: corner colours): for the memory estimate, which counts both per triangle."""
+    reads = {"uvs": False, "colors": False}
+    for id_ in depsgraph.ids:
+        if type(id_).__name__ != "Material" or getattr(id_, "node_tree", None) is None:
+            continue
+        for node in id_.node_tree.nodes:
+            if node.type in ("TEX_IMAGE", "UVMAP", "NORMAL_MAP") or (
+                    node.type == "TEX_COORD" and node.outputs["UV"].is_linked):
+                reads["uvs"] = True
+            elif node.type in ("VERTEX_COLOR", "ATTRIBUTE"):
+                reads["colors"] = True
+    return reads
+
+
 PROCEDURAL_NODES = ("TEX_CHECKER", "TEX_GRADIENT", "TEX_NOISE", "TEX_VORONOI", "TEX_WAVE", "TEX_MAGIC",
                     "TEX_WHITE_NOISE", "TEX_BRICK", "TEX_MUSGRAVE")   # the patterns gridwalk.Texture models
 

@@ -68,6 +68,7 @@ def test_the_export_names_generated_coordinates_and_the_checker(export):
     assert out.generated.min() == pytest.approx(0.0, abs=1e-6) and out.generated.max() == pytest.approx(1.0, abs=1e-6)
     assert not out.warnings, out.warnings
     assert out.corner_point_arrays == 1                   # what the memory estimate counts before the export
+    assert out.corner_arrays_read == {"uvs": False, "colors": False}
 
 
 def test_object_coordinates_are_the_corners_in_object_space(export):
@@ -78,6 +79,13 @@ def test_object_coordinates_are_the_corners_in_object_space(export):
     np.testing.assert_allclose(np.abs(corners), 1.5, atol=1e-6)      # cube_object of size 3, before its scale
     assert "generated" not in out.arrays
     assert out.corner_point_arrays == 2                   # (the estimate counts Generated too: a checker's default)
+
+
+def test_the_memory_estimate_counts_the_uvs_a_checker_reads(export):
+    out = export("procedural_checker", variant="uv")
+    (texture,) = out.textures
+    assert texture["coordinates"] == "uv" and out.uvs.shape == (len(out.triangles), 3, 2)
+    assert out.corner_arrays_read == {"uvs": True, "colors": False}   # no image: counted by the nodes
 
 
 def test_constant_nodes_into_the_checker_give_their_values(export):

@@ -55,5 +55,7 @@ def test_the_export_reads_the_attribute_by_name(export):
     assert np.all(colours[:, 0, 0] == colours[:, 1, 0]) and np.all(colours[:, 0, 0] == colours[:, 2, 0])
     values, counts = np.unique(colours[:, 0, 0], return_counts=True)
     assert len(values) == len(colours) // 2 and np.all(counts == 2)
+    # what the memory estimate counts before the export: the corner colours, and no UVs
+    assert out.corner_arrays_read == {"uvs": False, "colors": True}
     missing = export("attribute", attribute="missing")
     assert any("missing" in w for w in missing.warnings), missing.warnings

@@ -26,7 +26,7 @@ def main(argv):
     import blender_addon
     import scenes
     from blender_addon.export import ExportError, export_scene
-    from blender_addon.export.textures import corner_point_arrays, scene_texture_bytes
+    from blender_addon.export.textures import corner_arrays_read, corner_point_arrays, scene_texture_bytes
 
     name, out_dir, *options = argv
     kwargs = dict(option.split("=", 1) for option in options)
@@ -56,6 +56,7 @@ def main(argv):
         result["textures"] = [dataclasses.asdict(t) for t in scene_kwargs.get("textures", [])]
         result["texture_bytes"] = scene_texture_bytes(depsgraph)
         result["corner_point_arrays"] = corner_point_arrays(depsgraph)
+        result["corner_arrays_read"] = corner_arrays_read(depsgraph)
     with open(os.path.join(out_dir, "export.json"), "w") as f:
         json.dump(result, f, indent=1)
 

@@ -627,7 +627,14 @@ private:
             nd.cell[a] = float(box.hi[a] - box.lo[a]) / float(n[a]);
             nd.inv_cell[a] = float(n[a]) / float(box.hi[a] - box.lo[a]);
             nd.n[a] = n[a];
+            nd.lo_d[a] = double(nd.lo[a]);
+            nd.cell_d[a] = double(nd.cell[a]);
+            nd.inv_cell_d[a] = double(nd.inv_cell[a]);
+            nd.last_d[a] = double(n[a] - 1);
         }
+        nd.stride[0] = 1;
+        nd.stride[1] = n[0];
+        nd.stride[2] = int64_t(n[0]) * n[1];
         nd.first = uint32_t(g_.cells.size());
         nd.big = nd.big_count = 0;
         nd.big_lo = nd.big_hi = Vec3(0, 0, 0);

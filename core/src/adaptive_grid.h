@@ -37,6 +37,11 @@ struct AdaptiveGridData {
         Vec3 lo, hi;          // the node's box
         Vec3 cell, inv_cell;  // cell size and its reciprocal (float, as the DDA uses them)
         int n[3];             // resolution
+        // What the walk reads of these in double, converted once: lo, cell and
+        // inv_cell, and each axis's last cell index, n - 1 (random rays 1.035x
+        // as fast, primary and shadow rays alike; docs/architecture.md).
+        double lo_d[3], cell_d[3], inv_cell_d[3], last_d[3];
+        int64_t stride[3];    // how far apart neighbouring cells along each axis lie in cells: 1, n[0], n[0] n[1]
         uint32_t first;       // index of the node's cell (0, 0, 0) in cells
         // The node's large primitives (refs[big] = number of triangles, then
         // the ids; big_count == 0: none): primitives that would cover many of

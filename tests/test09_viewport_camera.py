@@ -47,6 +47,7 @@ def test_perspective_view_gives_the_frustums_rays_and_clipping():
     np.testing.assert_allclose(tmax * d[:, 1], 40.0, rtol=1e-4)
     exact = view_camera(look_from((1, -5, 2)), p.astype(np.float32), 160, 70, clip=(0.5, 40.0))
     assert (exact.hither, exact.yon) == (0.5, 40.0)
+    assert cam.origin_ahead == 0.0 and exact.origin_ahead == 0.0   # (the eye is the view point)
 
 
 def test_orthographic_view_moves_the_eye_to_the_near_plane():

@@ -139,6 +139,12 @@ def test_camera_coordinates_are_measured_from_origin_ahead_along_the_view_axis()
     across = [_emitting(_gradient("camera", _pick(0, scale, 0.5)), camera=gw.Camera(**ORTHOGRAPHIC, origin_ahead=a))
               for a in (0.0, 2.5)]
     np.testing.assert_array_equal(across[0], across[1])
+    # Window coordinates are projected from the eye whatever origin_ahead says (a perspective
+    # camera divides by the depth from the eye)
+    for axis in (0, 1):
+        window = [_emitting(_gradient("window", _pick(axis, 0.9, 0.05)), camera=gw.Camera(**PERSPECTIVE, origin_ahead=a))
+                  for a in (0.0, 1.5)]
+        np.testing.assert_array_equal(window[0], window[1])
 
 
 def test_reflection_coordinates_mirror_the_view_about_a_spheres_normal():

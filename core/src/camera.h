@@ -141,8 +141,13 @@ public:
     // up, z forward along the view axis (the camera's axes without its scale),
     // from the eye, or from origin_ahead along the view axis.
     Vec3 camera_point(const Vec3& p) const {
+        const Vec3 c = eye_point(p);
+        return Vec3(c.x, c.y, c.z - origin_ahead_);
+    }
+    // The point in camera space from the eye itself, whatever origin_ahead says.
+    Vec3 eye_point(const Vec3& p) const {
         const Vec3 d = p - eye_;
-        return Vec3(dot(d, right_), dot(d, up_), dot(d, fwd_) - origin_ahead_);
+        return Vec3(dot(d, right_), dot(d, up_), dot(d, fwd_));
     }
     // Cycles' Window texture coordinates: the point's place in the image, (0, 0)
     // its bottom-left corner and (1, 1) its top-right, z = 0; through the
@@ -151,7 +156,7 @@ public:
     // direction from the eye lies in the projection's unit square (panorama_uv),
     // as Cycles' direction_to_panorama gives it.
     Vec3 window_point(const Vec3& p) const {
-        const Vec3 c = camera_point(p);
+        const Vec3 c = eye_point(p);   // (projected from the eye: origin_ahead moves Camera coordinates only)
         if (panorama_) {
             float u, v;
             panorama_uv(Vec3(c.z, -c.x, c.y), u, v);   // (panorama space: x forward, y left, z up)

@@ -115,3 +115,4 @@ def test_an_image_times_a_colour_attribute_exports_both(export):
     assert material["vertex_color"]
     assert out.colors.shape[1:] == (3, 3) and np.ptp(out.colors[..., 0]) > 0.5      # the "Tint" corners
     assert not out.warnings, out.warnings
+    assert out.corner_arrays_read == {"uvs": True, "colors": True}    # what the memory estimate counts

@@ -176,11 +176,18 @@ def scene_texture_bytes(depsgraph) -> int:
     return stored + largest
 
 
+def _material_nodes(depsgraph):
+    """Every node of the depsgraph's materials' node trees (what the memory estimate's
+    questions below look at before the export)."""
+    for id_ in depsgraph.ids:
+        if type(id_).__name__ == "Material" and getattr(id_, "node_tree", None) is not None:
+            yield from id_.node_tree.nodes
+
+
 def uses_normal_maps(depsgraph) -> bool:
     """Whether a material of the depsgraph has a Normal Map node (the core then
     keeps a tangent per triangle corner): for the memory estimate."""
-    return any(node.type == "NORMAL_MAP" for id_ in depsgraph.ids if type(id_).__name__ == "Material"
-               and getattr(id_, "node_tree", None) is not None for node in id_.node_tree.nodes)
+    return any(node.type == "NORMAL_MAP" for node in _material_nodes(depsgraph))
 
 
 def plain_image(texture) -> bool:
@@ -196,16 +203,13 @@ def corner_point_arrays(depsgraph) -> int:
     default; a Texture Coordinate node's linked Generated, Object or Normal output): for the
     memory estimate."""
     reads = set()
-    for id_ in depsgraph.ids:
-        if type(id_).__name__ != "Material" or getattr(id_, "node_tree", None) is None:
-            continue
-        for node in id_.node_tree.nodes:
-            if node.type in PROCEDURAL_NODES:
-                reads.add("Generated")
-            elif node.type == "TEX_COORD":
-                reads |= {name for name in ("Generated", "Object", "Normal") if node.outputs[name].is_linked}
-            elif node.type == "TEX_IMAGE" and getattr(node, "projection", "FLAT") == "BOX":
-                reads.add("Normal")        # (a box projection blends by the object-space normals)
+    for node in _material_nodes(depsgraph):
+        if node.type in PROCEDURAL_NODES:
+            reads.add("Generated")
+        elif node.type == "TEX_COORD":
+            reads |= {name for name in ("Generated", "Object", "Normal") if node.outputs[name].is_linked}
+        elif node.type == "TEX_IMAGE" and getattr(node, "projection", "FLAT") == "BOX":
+            reads.add("Normal")        # (a box projection blends by the object-space normals)
     return len(reads)
 
 
@@ -215,15 +219,12 @@ def corner_arrays_read(depsgraph) -> dict:
     Normal Map, whose tangents follow the UVs) and "colors" (a Color Attribute or Attribute
     node: corner colours): for the memory estimate, which counts both per triangle."""
     reads = {"uvs": False, "colors": False}
-    for id_ in depsgraph.ids:
-        if type(id_).__name__ != "Material" or getattr(id_, "node_tree", None) is None:
-            continue
-        for node in id_.node_tree.nodes:
-            if node.type in ("TEX_IMAGE", "UVMAP", "NORMAL_MAP") or (
-                    node.type == "TEX_COORD" and node.outputs["UV"].is_linked):
-                reads["uvs"] = True
-            elif node.type in ("VERTEX_COLOR", "ATTRIBUTE"):
-                reads["colors"] = True
+    for node in _material_nodes(depsgraph):
+        if node.type in ("TEX_IMAGE", "UVMAP", "NORMAL_MAP") or (
+                node.type == "TEX_COORD" and node.outputs["UV"].is_linked):
+            reads["uvs"] = True
+        elif node.type in ("VERTEX_COLOR", "ATTRIBUTE"):
+            reads["colors"] = True
     return reads
 
 

@@ -121,12 +121,14 @@ class Export:
 
     def signature(self) -> tuple:
         """What the scene arrays and records are made of: each instance's mesh
-        entry, matrix and materials, the spheres (point clouds and hair by a hash), materials, lights, background."""
+        entry, matrix and materials, the spheres (point clouds and hair by a hash), materials, lights, background,
+        the instances' Object Info values."""
         parts = tuple((key, matrix.tobytes(), lookup.tobytes()) for key, _, matrix, lookup in self.meshes.parts)
         spheres = tuple((tuple(c), r, m) for c, r, m in self.meshes.spheres)
         points = tuple(p.digest() for p in self.meshes.point_sets + self.meshes.cone_sets)
         return (parts, spheres, points, repr(self.materials.materials), repr(self.lights), self.background,
-                repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images))
+                repr(self.world), repr(self.textures.textures), tuple(image.name for image in self.textures.images),
+                None if self.meshes.part_values is None else self.meshes.part_values.tobytes())
 
     def kwargs(self, world_only: bool = False, mattes: tuple = ()) -> tuple[dict, list[str]]:
         """(scene_kwargs, warnings): `gridwalk.Scene(**scene_kwargs)` builds the scene.

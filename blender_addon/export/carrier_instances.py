@@ -25,7 +25,8 @@ So a carrier's copies are taken here instead of one by one (MeshCollector.add_in
     block of matrices (add_block), in their order.
 Whatever does not check out (a copy count other than the points', a reference that
 becomes several instances or something other than a mesh with finite vertices, a
-plan with particle hair, a key or matrix that differs) sends the carrier back to the
+plan with particle hair or whose materials read Object Info's Random, which is each
+copy's own, a key or matrix that differs) sends the carrier back to the
 one-by-one path: its copies are read again from the depsgraph, by read_again().
 Blender before 4.3 has no evaluated_geometry: every copy is read one by one there.
 """
@@ -143,7 +144,8 @@ class CarrierRun:
                 self.failed = True
                 return
             plan = meshes.plan_of(inst, obj, key)
-            if plan.hair or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
+            # (Object Info's Random is each copy's depsgraph random_id: read one by one)
+            if plan.hair or plan.info == "Random" or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
                 self.failed = True
                 return
             self.plans[r], self.keys[r] = plan, key

@@ -15,6 +15,9 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
       (uv_mapping.py: Texture.uv_transform);
   Color Attribute -> Base Color (the named layer, or the active render one),
       also multiplied (a Mix, Multiply, factor 1) by an image: both are read;
+  Attribute (a mesh attribute by name) and Object Info (Random, Color, Alpha,
+      Object Index: object_info.py) like an image, each instance's value in the
+      corner colours; one such colour source per material;
   an Image Texture through Separate Color, Math, Mix and Invert nodes with
       constant other inputs (value_nodes.py: Texture.channel, gain, bias, clamp);
   Bump fed by an Image Texture (its Height) -> the shader's Normal
@@ -68,6 +71,7 @@ from gridwalk.model import Material
 
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
+from .object_info import OUTPUTS as OBJECT_INFO_OUTPUTS, ObjectInfo
 from .color_ramp import ramp_stops
 from .textures import plain_image
 from .uv_mapping import CORNER_COORDINATES, texture_fields
@@ -124,7 +128,8 @@ class Links:
         return self._take(socket, node, out, field, colour)
 
     def _take(self, socket, node, out, field, colour) -> bool:
-        if node.type in TEXTURE_NODES and self.textures is not None:
+        if node.type in TEXTURE_NODES and self.textures is not None and \
+                (node.type != "OBJECT_INFO" or out.name in OBJECT_INFO_OUTPUTS):
             # (a vector straight into a number: its average, as Cycles converts it)
             average = {"channel": 4} if is_vector(node, out.name) and socket.type == "VALUE" else None
             self.fields[field] = self._texture(node, out.name, average)
@@ -183,6 +188,8 @@ class Links:
         """The texture index of an image or procedural texture node (value_nodes.TEXTURE_NODES)'s output."""
         if node.type == "ATTRIBUTE":
             return self._attribute(node, output, adjust)
+        if node.type == "OBJECT_INFO":
+            return self._object_info(output, adjust)
         if node.type != "TEX_IMAGE":
             return self.textures.procedural(node, output, self._coords(node, "generated", False), adjust,
                                             self.textured)
@@ -208,11 +215,19 @@ class Links:
         self._read_colours(name or " ", "attribute")      # (no name: none the mesh has, black as in Cycles)
         return self.textures.attribute(fac, adjust)
 
-    def _read_colours(self, layer: str, what: str):
+    def _object_info(self, output, adjust=None) -> int:
+        """An Object Info output (object_info.OUTPUTS) as a texture of the corner colours the
+        export fills with each instance's value (object_info.py); like an attribute, one per material."""
+        self._read_colours(ObjectInfo(output), "")
+        return self.textures.attribute(output != "Color", adjust)
+
+    def _read_colours(self, layer, what: str):
         """The corner colours the material reads: the named attribute ("": the render colour
-        attribute). One per material: a second, different one is named in the warning."""
+        attribute), or an Object Info output (object_info.ObjectInfo). One per material: a second,
+        different one is named in the warning."""
         if self.color_layer is not None and self.color_layer != layer:
-            self.textured.append(f"{what} {layer!r} (the material already reads "
+            named = repr(layer) if isinstance(layer, ObjectInfo) else f"{what} {layer!r}"
+            self.textured.append(f"{named} (the material already reads "
                                  f"{self.color_layer or 'the render colour attribute'!r})")
             return
         self.color_layer = layer

@@ -46,6 +46,7 @@ from gridwalk.mesh_checks import zero_area_count
 from .assemble import assemble_triangles, mirror_flags
 from ._matrix import finite, to_numpy
 from .hair import cone_set, segment_count
+from .object_info import ObjectInfo, display_color, per_object, random_of, values as object_info_values
 from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
 from .point_clouds import point_count, point_set
 
@@ -327,19 +328,17 @@ def object_key(obj) -> tuple:
 
 
 def _in_order(blocks) -> list:
-    """The blocks of mesh instances (matrices, plans, instance numbers) in the order of their
-    numbers: blocks read in bulk (add_block) and instances read again come after those read
-    first, but take their places among them."""
+    """The blocks of mesh instances (matrices, plans, instance numbers, Object Info randoms) in
+    the order of their numbers: blocks read in bulk (add_block) and instances read again come
+    after those read first, but take their places among them."""
     if not blocks:
         return blocks
     seqs = np.concatenate([b[2] for b in blocks])
     if not (np.diff(seqs) < 0).any():
         return blocks
     order = np.argsort(seqs, kind="stable")
-    matrices, which = np.concatenate([b[0] for b in blocks])[order], np.concatenate([b[1] for b in blocks])[order]
-    seqs = seqs[order]
-    return [(matrices[i:i + ROW_BLOCK], which[i:i + ROW_BLOCK], seqs[i:i + ROW_BLOCK])
-            for i in range(0, len(seqs), ROW_BLOCK)]
+    columns = [np.concatenate([b[k] for b in blocks])[order] for k in range(4)]
+    return [tuple(c[i:i + ROW_BLOCK] for c in columns) for i in range(0, len(seqs), ROW_BLOCK)]
 
 
 def instance_key(inst, obj=None) -> tuple:
@@ -409,6 +408,7 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     object's mesh before its modifiers and its undeformed positions, as Cycles
     does (read_mesh)."""
     uv, color, points = (tuple(layers) + ((),))[:3]
+    color = None if isinstance(color, ObjectInfo) else color   # (filled per instance: assemble_triangles)
     generated = "generated" in points
     texspace = texture_space(obj.data) if generated and getattr(obj, "type", "") == "MESH" else None
     mesh = obj.to_mesh()
@@ -451,12 +451,17 @@ class InstancePlan:
     (as the export read objects before: none of a skipped object's materials, mesh or
     warnings): kind ("mesh", "sphere", "shapes" or "none", a mesh without triangles),
     known (what MeshCollector._source read, with matte_names() last), names (its
-    Cryptomatte names), index (its place among the mesh plans, -1 for other kinds)."""
-    __slots__ = ("renders", "flags", "name", "hair", "kind", "known", "names", "index")
+    Cryptomatte names), index (its place among the mesh plans, -1 for other kinds), info (the
+    Object Info output its materials read, object_info.py, or None) and info_value (that
+    output's value for every instance, where it is not Random); color: the Viewport Display
+    colour Object Info gives its instances (object_info.display_color)."""
+    __slots__ = ("renders", "flags", "name", "hair", "kind", "known", "names", "index", "info", "info_value",
+                 "color")
 
-    def __init__(self, renders, flags, name, hair):
+    def __init__(self, renders, flags, name, hair, color=(1.0, 1.0, 1.0, 1.0)):
         self.renders, self.flags, self.name, self.hair = renders, flags, name, hair
         self.kind, self.known, self.names, self.index = None, None, None, -1
+        self.info, self.info_value, self.color = None, (0.0, 0.0, 0.0), color
 
 
 class MeshCollector:
@@ -474,6 +479,7 @@ class MeshCollector:
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.part_matrices = np.zeros((0, 4, 4))   # after finish(): every part's matrix, (P, 4, 4) (parts' are its rows)
+        self.part_values = None    # after finish(): each part's Object Info value, (P, 3) float32, where a material reads one
         self._part_plans = np.zeros(0, np.int64)   # after finish(): each part's plan (InstancePlan.index)
         self.spheres = []          # (centre, radius, material index)
         self.point_sets = []       # point_clouds.PointSet per point cloud instance
@@ -490,8 +496,9 @@ class MeshCollector:
         self.missing_color_layers = {}  # object name -> the colour attribute its material reads and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
-        self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated
+        self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated or Object Info
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
+        self.info_shapes = set()       # point clouds and hair whose material reads Object Info (they read black)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
         # Cryptomatte's names (object, its top parent: the asset) of each part, sphere and point or cone set
         self.part_names, self.sphere_names, self.set_names = [], [], {}
@@ -501,8 +508,10 @@ class MeshCollector:
         self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
         self._plans = {}           # add_instance's memo -> InstancePlan
         self._mesh_plans = []      # the plans of mesh kind, by InstancePlan.index
-        self._rows, self._row_plans, self._row_seqs = [], [], []   # mesh instances' rows since the last block
-        self._blocks = []          # ((K, 4, 4) matrices, plan indices, instance numbers) of mesh instances, in order
+        # mesh instances' rows since the last block, their plans, numbers and Object Info randoms
+        self._rows, self._row_plans, self._row_seqs, self._row_randoms = [], [], [], []
+        # ((K, 4, 4) matrices, plan indices, instance numbers, Object Info randoms) of mesh instances, in order
+        self._blocks = []
         self._seq = 0              # add_instance calls so far (the order _skip keeps)
         self._skip_rank = {}       # object name -> the rank of the reason `invalid` holds
 
@@ -530,7 +539,7 @@ class MeshCollector:
         if plan.index >= 0 and plan.known[3].finite:
             # A mesh read already (the ten-thousandth copy of a scattered stone): its
             # row alone; _flush_rows checks the block's rows are finite, all at once.
-            self._add_row(row, plan)
+            self._add_row(row, plan, random_of(inst, obj) if plan.info == "Random" else 0.0)
             return
         if not finite(row):
             self._skip(plan.name, "its transform is not finite (NaN or Inf)")
@@ -547,13 +556,15 @@ class MeshCollector:
         elif plan.kind == "mesh" and not plan.known[3].finite:
             self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
         elif plan.kind == "mesh":
-            self._add_row(row, plan)
+            self._add_row(row, plan, random_of(inst, obj) if plan.info == "Random" else 0.0)
 
-    def _add_row(self, row, plan):
-        """A mesh instance's matrix (16 floats) into the rows of the next block."""
+    def _add_row(self, row, plan, random):
+        """A mesh instance's matrix (16 floats) into the rows of the next block, with its
+        Object Info Random (0 where its plan does not read it)."""
         self._rows.append(row)
         self._row_plans.append(plan.index)
         self._row_seqs.append(self._seq)
+        self._row_randoms.append(random)
         if len(self._rows) >= ROW_BLOCK:
             self._flush_rows()
 
@@ -582,9 +593,10 @@ class MeshCollector:
 
     def add_block(self, matrices, which, seqs):
         """Mesh instances read elsewhere (carrier_instances), after those read so far: their
-        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved) and instance numbers."""
+        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved; none reading Object
+        Info's Random, which is per instance) and instance numbers."""
         self._flush_rows()
-        self._append_block(matrices, which, seqs)
+        self._append_block(matrices, which, seqs, np.zeros(len(seqs)))
 
     def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
@@ -599,7 +611,7 @@ class MeshCollector:
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        return InstancePlan(True, self._flags(inst), obj.name, hair)
+        return InstancePlan(True, self._flags(inst), obj.name, hair, display_color(inst, obj))
 
     def _resolve(self, plan, obj):
         """Reads what the plan's object becomes (its materials, mesh or shape), at its first
@@ -609,6 +621,10 @@ class MeshCollector:
         if known is None:
             known = self._sources[memo] = (*self._source(obj, plan.flags), matte_names(obj))
         plan.kind, plan.known, plan.names = known[0], known, known[-1]
+        if plan.kind == "mesh" and isinstance(known[4][1], ObjectInfo):
+            plan.info = known[4][1].output
+            if plan.info != "Random":
+                plan.info_value = per_object(obj, plan.info, plan.color)
         if plan.kind == "mesh":
             plan.index = len(self._mesh_plans)
             self._mesh_plans.append(plan)
@@ -629,17 +645,19 @@ class MeshCollector:
         if self._rows:
             matrices = np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4)
             which, seqs = np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)
-            self._rows, self._row_plans, self._row_seqs = [], [], []
-            self._append_block(matrices, which, seqs)
+            randoms = np.array(self._row_randoms, dtype=np.float64)
+            self._rows, self._row_plans, self._row_seqs, self._row_randoms = [], [], [], []
+            self._append_block(matrices, which, seqs, randoms)
 
-    def _append_block(self, matrices, which, seqs):
+    def _append_block(self, matrices, which, seqs, randoms):
         finite_rows = np.isfinite(matrices).all(axis=(1, 2))
         if not finite_rows.all():
             for k, seq in zip(which[~finite_rows].tolist(), seqs[~finite_rows].tolist()):
                 self._skip(self._mesh_plans[k].name, "its transform is not finite (NaN or Inf)", (seq, 0))
             matrices, which, seqs = matrices[finite_rows], which[finite_rows], seqs[finite_rows]
+            randoms = randoms[finite_rows]
         if len(matrices):
-            self._blocks.append((matrices, which, seqs))
+            self._blocks.append((matrices, which, seqs, randoms))
 
     def finish(self, should_stop=None) -> bool:
         """Turns the mesh instances read so far into parts, in the order they came, block by
@@ -651,8 +669,8 @@ class MeshCollector:
         extents = np.array([p.known[3].extent for p in plans], np.float64)
         noted = set()
         blocks, self._blocks = _in_order(self._blocks), []
-        kept, kept_plans = [], []
-        for matrices, which, seqs in blocks:
+        kept, kept_plans, kept_randoms = [], [], []
+        for matrices, which, seqs, randoms in blocks:
             if should_stop is not None and should_stop():
                 return False
             # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
@@ -664,6 +682,7 @@ class MeshCollector:
                 self._skip(plans[k].name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))
             kept.append(matrices[inside])
             kept_plans.append(which[inside])
+            kept_randoms.append(randoms[inside])
         # Every part's matrix is a row of one (P, 4, 4) array (assemble_triangles and
         # _instances take them from it, not one by one).
         self.part_matrices = np.concatenate(kept) if kept else np.zeros((0, 4, 4))
@@ -673,6 +692,10 @@ class MeshCollector:
                 noted.add(k)
                 self._note_mesh(plans[k])
         self._part_plans = which
+        if any(p.info is not None for p in plans):
+            outputs, constants = [p.info for p in plans], np.array([p.info_value for p in plans], np.float32)
+            self.part_values = object_info_values([outputs[k] for k in which.tolist()], constants[which].reshape(-1, 3),
+                                                  np.concatenate(kept_randoms) if kept_randoms else np.zeros(0))
         which = which.tolist()
         heads = [(p.known[2], p.known[3], p.known[1]) for p in plans]   # (key, MeshData, lookup) per plan
         self.parts.extend((heads[k][0], heads[k][1], m, heads[k][2]) for k, m in zip(which, self.part_matrices))
@@ -692,9 +715,11 @@ class MeshCollector:
                 any(self.materials.materials[i].emits_light for i in set(lookup.tolist())):
             self.emissive_shapes.add(obj.name)
         if kind in ("POINTCLOUD", "CURVES"):
+            if isinstance(self.materials.layers(lookup)[1], ObjectInfo):
+                self.info_shapes.add(obj.name)
             return "shapes", lookup
         layers = self.materials.layers(lookup)
-        if sphere and layers[2]:
+        if sphere and (layers[2] or isinstance(layers[1], ObjectInfo)):
             sphere = False                 # (an analytic sphere has no Generated coordinates)
             self.mesh_spheres.add(obj.name)
         if sphere:
@@ -854,8 +879,11 @@ class MeshCollector:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.mesh_spheres:
-            out.append("'Render as sphere' objects whose textures read Generated, Object or Position coordinates are "
-                       "rendered as their meshes: " + _quoted(self.mesh_spheres))
+            out.append("'Render as sphere' objects whose textures read Generated, Object or Position coordinates or "
+                       "Object Info are rendered as their meshes: " + _quoted(self.mesh_spheres))
+        if self.info_shapes:
+            out.append("Object Info is not read on point clouds and hair (its value reads black): "
+                       + _quoted(self.info_shapes))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "
@@ -864,7 +892,7 @@ class MeshCollector:
 
     def arrays(self) -> dict:
         """Scene keyword arrays: vertices, triangles, normals, triangle_materials, spheres."""
-        out, self.layout = assemble_triangles(self.parts, self.cache, self.part_matrices)
+        out, self.layout = assemble_triangles(self.parts, self.cache, self.part_matrices, self.part_values)
         out.update(self._instances())
         self.cache.prune(self.used)
         sets = self.point_sets

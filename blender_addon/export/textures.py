@@ -217,13 +217,15 @@ def corner_arrays_read(depsgraph) -> dict:
     """Which per-corner arrays the export may write besides the points, from the materials'
     nodes: "uvs" (an image, a UV Map node, a Texture Coordinate node's linked UV output or a
     Normal Map, whose tangents follow the UVs) and "colors" (a Color Attribute or Attribute
-    node: corner colours): for the memory estimate, which counts both per triangle."""
+    node, or an Object Info node's output: corner colours): for the memory estimate, which
+    counts both per triangle."""
     reads = {"uvs": False, "colors": False}
     for node in _material_nodes(depsgraph):
         if node.type in ("TEX_IMAGE", "UVMAP", "NORMAL_MAP") or (
                 node.type == "TEX_COORD" and node.outputs["UV"].is_linked):
             reads["uvs"] = True
-        elif node.type in ("VERTEX_COLOR", "ATTRIBUTE"):
+        elif node.type in ("VERTEX_COLOR", "ATTRIBUTE") or (
+                node.type == "OBJECT_INFO" and any(out.is_linked for out in node.outputs)):
             reads["colors"] = True
     return reads
 

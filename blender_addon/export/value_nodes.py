@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from .node_links import _source, input_value
+from .object_info import OUTPUTS as OBJECT_INFO_OUTPUTS
 from .textures import PROCEDURAL_NODES
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -190,12 +191,13 @@ def _mix(blend, slot, f, k, what):
     raise Unread(f"{what} ({blend.replace('_', ' ').title()})")
 
 
-TEXTURE_NODES = ("TEX_IMAGE", "ATTRIBUTE") + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
+TEXTURE_NODES = ("TEX_IMAGE", "ATTRIBUTE", "OBJECT_INFO") + PROCEDURAL_NODES   # the nodes gridwalk.Texture models
 # The outputs that are one number (the texture's alpha, Texture.use_alpha), by node type;
 # 5.0 names a Fac output Factor.
 SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_VORONOI": ("Distance", "W", "Radius"),
                   "TEX_WAVE": ("Fac", "Factor"), "TEX_MAGIC": ("Fac", "Factor"), "TEX_BRICK": ("Fac", "Factor"),
-                  "TEX_WHITE_NOISE": ("Value",), "TEX_MUSGRAVE": ("Fac",), "ATTRIBUTE": ("Fac", "Factor")}
+                  "TEX_WHITE_NOISE": ("Value",), "TEX_MUSGRAVE": ("Fac",), "ATTRIBUTE": ("Fac", "Factor"),
+                  "OBJECT_INFO": ("Random", "Alpha", "Object Index")}
 
 
 def is_vector(node, output: str) -> bool:
@@ -225,6 +227,9 @@ def image_through_nodes(socket):
         if node is None:
             last = steps[-1][0].name if steps else ramp.name if ramp is not None else None
             raise Unread(f"{last!r} fed by no image" if last else "no node")
+        if node.type == "OBJECT_INFO" and out.name not in OBJECT_INFO_OUTPUTS:
+            raise Unread(f"the {out.name} output of {node.name!r} (Object Info's "
+                         f"{', '.join(OBJECT_INFO_OUTPUTS)} are read)")
         value = Value(out.name in SINGLE_OUTPUTS.get(node.type, ()), vector=is_vector(node, out.name))
         for step in reversed(steps):
             _apply(value, *step)

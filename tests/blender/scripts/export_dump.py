@@ -25,7 +25,7 @@ def main(argv):
 
     import blender_addon
     import scenes
-    from blender_addon.export import ExportError, export_scene
+    from blender_addon.export import Export, ExportError
     from blender_addon.export.textures import corner_arrays_read, corner_point_arrays, scene_texture_bytes
 
     name, out_dir, *options = argv
@@ -36,7 +36,9 @@ def main(argv):
     result = {"expected": expected, "blender": list(bpy.app.version)}
     depsgraph = bpy.context.evaluated_depsgraph_get()
     try:
-        scene_kwargs, warnings = export_scene(depsgraph)
+        export = Export(depsgraph)
+        scene_kwargs, warnings = export.kwargs()
+        result["bulk_copies"] = export.bulk_copies
     except ExportError as exc:
         result["error"] = str(exc)
     else:

@@ -1,0 +1,139 @@
+"""Tiles whose material reads the Object Info node (test_b52; render_scene.py and
+export_dump.py build them by name)."""
+import math
+
+import bpy
+import numpy as np
+
+from scenes import link, reset, shader_material
+
+# Tile names: ASCII, a numbered duplicate's and UTF-8 (Cycles hashes a name's bytes for Random)
+NAMES = ("Tile", "Tile.001", "Stone", "Brick", "Ünïcode", "Zebra", "Moss", "Tile.002", "Ash", "Oak", "Pine", "Élan")
+
+
+def _tile_mesh():
+    mesh = bpy.data.meshes.new("TileMesh")
+    mesh.from_pydata([(-0.6, -0.6, 0.0), (0.6, -0.6, 0.0), (0.6, 0.6, 0.0), (-0.6, 0.6, 0.0)], [], [(0, 1, 2, 3)])
+    return mesh
+
+
+def _material(output, ramp, divide):
+    """Emission whose Color is Object Info's `output` (divided by `divide` when given, through a
+    three-stop Color Ramp with ramp)."""
+    mat = shader_material("ByObject", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    source = nodes.new("ShaderNodeObjectInfo").outputs[output]
+    if divide:
+        math_node = nodes.new("ShaderNodeMath")
+        math_node.operation = "DIVIDE"
+        math_node.inputs[1].default_value = divide
+        links.new(source, math_node.inputs[0])
+        source = math_node.outputs[0]
+    if ramp:
+        colour_ramp = nodes.new("ShaderNodeValToRGB")
+        stops = colour_ramp.color_ramp.elements
+        stops[0].position, stops[0].color = 0.2, (0.1, 0.2, 0.9, 1.0)
+        stops[1].position, stops[1].color = 0.8, (0.9, 0.5, 0.1, 1.0)
+        stops.new(0.5).color = (0.2, 0.8, 0.3, 1.0)
+        links.new(source, colour_ramp.inputs["Fac"])
+        source = colour_ramp.outputs["Color"]
+    links.new(source, nodes["Emission"].inputs["Color"])
+    return mat
+
+
+def _group(name):
+    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
+    if bpy.app.version >= (4, 0, 0):
+        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        group.inputs.new("NodeSocketGeometry", "Geometry")
+        group.outputs.new("NodeSocketGeometry", "Geometry")
+    return group
+
+
+def _points(mat):
+    """A point cloud (Geometry Nodes' Mesh to Points of a tile's corners) of material `mat`."""
+    group = _group("ToPoints")
+    nodes, links = group.nodes, group.links
+    to_points = nodes.new("GeometryNodeMeshToPoints")
+    to_points.inputs["Radius"].default_value = 0.1
+    links.new(nodes.new("NodeGroupInput").outputs[0], to_points.inputs["Mesh"])
+    setter = nodes.new("GeometryNodeSetMaterial")
+    setter.inputs["Material"].default_value = mat
+    links.new(to_points.outputs[0], setter.inputs["Geometry"])
+    links.new(setter.outputs[0], nodes.new("NodeGroupOutput").inputs[0])
+    dots = link(bpy.data.objects.new("Dots", _tile_mesh()))
+    dots.location = (0.0, -2.0, -2.0)
+    dots.modifiers.new("ToPoints", "NODES").node_group = group
+
+
+def _carrier(source, rows, columns, spacing):
+    """A Geometry Nodes carrier: `source` (as an instance, half its size) on the points of a
+    rows x columns grid, facing the camera."""
+    group = _group("Tiles")
+    nodes, links = group.nodes, group.links
+    grid = nodes.new("GeometryNodeMeshGrid")
+    grid.inputs["Size X"].default_value, grid.inputs["Size Y"].default_value = spacing * (columns - 1), \
+        spacing * (rows - 1)
+    grid.inputs["Vertices X"].default_value, grid.inputs["Vertices Y"].default_value = columns, rows
+    info = nodes.new("GeometryNodeObjectInfo")
+    info.inputs["Object"].default_value = source
+    info.inputs["As Instance"].default_value = True
+    on_points = nodes.new("GeometryNodeInstanceOnPoints")
+    on_points.inputs["Scale"].default_value = (0.5, 0.5, 0.5)
+    links.new(grid.outputs["Mesh"], on_points.inputs["Points"])
+    links.new(info.outputs.get("Instances") or info.outputs["Geometry"], on_points.inputs["Instance"])
+    links.new(on_points.outputs["Instances"], nodes.new("NodeGroupOutput").inputs[0])
+    carrier = link(bpy.data.objects.new("Carrier", bpy.data.meshes.new("CarrierMesh")))
+    carrier.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    carrier.modifiers.new("Tiles", "NODES").node_group = group
+    return carrier
+
+
+def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0, sphere=False, points=False,
+                      resolution=(96, 72)):
+    """Square tiles facing the camera, their Emission Color Object Info's `output` (Random,
+    Color, Alpha, Object Index; `divide`: through a Math Divide by it; ramp: a Color Ramp):
+      objects     12 tile objects sharing one mesh (NAMES), 4 x 3, each with its own Viewport
+                  Display colour (Color, Alpha) and Pass Index
+      collection  6 such tiles in a collection outside the scene, shown twice, side by side, by
+                  two Empties instancing it
+      copies      8 x 8 Geometry Nodes copies of one hidden tile (the bulk path's 64)
+    sphere: the tiles are 'Render as sphere' (a sphere has no corner colours: rendered as meshes);
+    points: a point cloud of the same material below them."""
+    reset(resolution=tuple(resolution))
+    mat = _material(output, ramp, divide)
+    mesh = _tile_mesh()
+    mesh.materials.append(mat)
+    rng = np.random.default_rng(5)
+
+    def tile(name, location, collection=None, index=0):
+        obj = link(bpy.data.objects.new(name, mesh), collection)
+        obj.location, obj.rotation_euler = location, (math.pi / 2, 0.0, 0.0)
+        obj.color = (*rng.uniform(0.05, 1.0, 3), rng.uniform(0.1, 1.0))
+        obj.pass_index = index
+        if sphere:
+            obj.gridwalk.render_as_sphere = True
+        return obj
+
+    if layout == "objects":
+        for k, name in enumerate(NAMES):
+            tile(name, (-2.25 + 1.5 * (k % 4), 0.0, 1.5 - 1.5 * (k // 4)), index=k + 1)
+    elif layout == "collection":
+        tiles = bpy.data.collections.new("Tiles")           # (not in the scene: shown by its instances)
+        for k, name in enumerate(NAMES[:6]):
+            tile(name, (-0.75 + 1.5 * (k % 2), 0.0, 1.5 - 1.5 * (k // 2)), tiles, index=k + 1)
+        for x in (-1.5, 1.5):
+            empty = link(bpy.data.objects.new(f"Shelf{x:+.0f}", None))
+            empty.instance_type, empty.instance_collection = "COLLECTION", tiles
+            empty.location = (x, 0.0, 0.0)
+    else:
+        source = tile("Tile", (0.0, 0.0, 0.0), index=3)
+        source.rotation_euler = (0.0, 0.0, 0.0)
+        source.hide_render = True
+        _carrier(source, 8, 8, 0.7)
+    if points:
+        _points(mat)
+    bpy.context.view_layer.update()
+    return {"output": output, "layout": layout}

@@ -1,0 +1,80 @@
+"""The Object Info node's Random, Color, Alpha and Object Index, into an Emission colour, give
+each object instance its own value as Cycles does, in bpy 4.5, bpy 5.0 and Debian's 3.4:
+twelve objects of one mesh (ASCII and UTF-8 names: Random hashes a name), a collection shown
+by two instancing Empties (Random: each instance's own), 64 Geometry Nodes copies of one tile,
+Random through a Color Ramp, and Object Index through a Math Divide. Before, the node was
+named in a warning and every tile kept the Emission's own colour.
+Scene: object_info_scenes.object_info_scene."""
+import numpy as np
+import pytest
+
+from runner import luminance_by_engine
+
+ENGINES = {"GRIDWALK": 'settings={"aa": "JITTERED", "aa_samples": 4}', "CYCLES": "samples=16"}
+VARIANTS = {
+    "random_objects": {"output": "Random"},
+    "random_collection": {"output": "Random", "layout": "collection"},
+    "random_copies": {"output": "Random", "layout": "copies"},
+    "random_ramp": {"output": "Random", "ramp": True},
+    "color_objects": {"output": "Color"},
+    "alpha_collection": {"output": "Alpha", "layout": "collection"},
+    "index_objects": {"output": "Object Index", "divide": 12.0},
+    "index_collection": {"output": "Object Index", "divide": 6.0, "layout": "collection"},
+    "color_copies": {"output": "Color", "layout": "copies"},
+}
+
+
+@pytest.fixture(scope="module")
+def renders(module_blender, tmp_path_factory):
+    out = tmp_path_factory.mktemp(f"object_info_{module_blender}")
+    return luminance_by_engine(module_blender, out, "object_info", ENGINES, VARIANTS)
+
+
+def _away_from_edges(image):
+    """Pixels whose 3 x 3 neighbourhood is one value (a tile's inside, or the background):
+    there the two engines' pixel filters agree, and each tile's value is compared exactly."""
+    h, w = image.shape
+    padded = np.pad(image, 1, mode="edge")
+    around = np.stack([padded[y:y + h, x:x + w] for y in range(3) for x in range(3)])
+    return np.ptp(around, axis=0) < 0.005
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+def test_each_instance_shows_its_value_as_in_cycles(renders, name):
+    ours, cycles = renders[("GRIDWALK", name)], renders[("CYCLES", name)]
+    assert cycles.std() > 0.05                                            # the tiles differ from the background
+    assert np.corrcoef(ours.reshape(-1), cycles.reshape(-1))[0, 1] > 0.98
+    inside = _away_from_edges(cycles) & (cycles > 0.01)
+    assert inside.mean() > 0.1
+    assert np.abs(ours - cycles)[inside].max() < 0.01
+
+
+def test_random_copies_are_read_one_by_one_and_each_gets_its_own_value(export):
+    out = export("object_info", output="Random", layout="copies")
+    assert not out.warnings, out.warnings
+    assert out.bulk_copies == 0                    # (a copy's random_id is only in the depsgraph's listing)
+    colours = out.colors.reshape(-1, 2, 3, 3)      # (each copy: two triangles, three corners)
+    assert np.all(colours == colours[:, :1, :1])   # one value over each copy
+    assert len(np.unique(colours[:, 0, 0, 0])) == 64
+    assert out.corner_arrays_read == {"uvs": False, "colors": True}
+
+
+def test_a_colour_for_every_copy_keeps_the_bulk_path(export):
+    out = export("object_info", output="Color", layout="copies")
+    colours = out.colors.reshape(-1, 3)
+    assert len(np.unique(colours, axis=0)) == 1
+    if out.blender >= [4, 3, 0]:
+        assert out.bulk_copies == 64
+
+
+def test_unread_outputs_and_spheres_are_named(export):
+    location = export("object_info", output="Location")
+    assert any("Location output" in w for w in location.warnings), location.warnings
+    assert "colors" not in location.arrays
+    spheres = export("object_info", output="Random", sphere=True)
+    assert any("Object Info are rendered as their meshes" in w for w in spheres.warnings), spheres.warnings
+    assert len(spheres.arrays["sphere_radii"]) == 0 and len(np.unique(spheres.colors[:, 0, 0])) == 12
+    points = export("object_info", output="Random", points=True)
+    assert len(points.arrays["sphere_radii"]) == 4
+    assert any("Object Info is not read on point clouds" in w and "'Dots'" in w for w in points.warnings), \
+        points.warnings

@@ -21,7 +21,7 @@ import zlib
 import numpy as np
 
 from ._matrix import cross, normalized, transform_normals, transform_points
-from .object_info import ObjectInfo
+from .instance_values import is_instance_layer
 
 CHUNK_VERTICES = 1 << 18    # vertices per chunk at most (float64 temporaries of 6 MiB, up to 6 times that for flat corners)
 CHUNK_INSTANCES = 256       # instances per chunk on average (chunks())
@@ -132,10 +132,11 @@ def _corner_values(data, name, flips, fill):
     return _ordered(values, flips).reshape((-1,) + values.shape[1:])
 
 
-def _reads_object_info(key) -> bool:
-    """Whether the parts of mesh cache key `key` (MeshCache.key: its last item the layers) read Object Info."""
+def _reads_instance_values(key) -> bool:
+    """Whether the parts of mesh cache key `key` (MeshCache.key: its last item the layers) read a value
+    per instance (instance_values.py)."""
     layers = key[-1] if isinstance(key, tuple) and key and isinstance(key[-1], tuple) else ()
-    return len(layers) > 1 and isinstance(layers[1], ObjectInfo)
+    return len(layers) > 1 and is_instance_layer(layers[1])
 
 
 def assemble_triangles(parts, cache, matrices=None, values=None) -> tuple[dict, list[Placement]]:
@@ -144,9 +145,9 @@ def assemble_triangles(parts, cache, matrices=None, values=None) -> tuple[dict, 
     matrix, material lookup); each chunk's world-space arrays come from
     cache.world_chunk (reused while its matrices are unchanged). matrices:
     the parts' matrices as one (P, 4, 4) float64 array, if the caller has
-    it (MeshCollector.finish), else stacked here. values: each part's Object
-    Info value ((P, 3), MeshCollector.part_values), the corner colours of the
-    parts whose materials read Object Info, or None."""
+    it (MeshCollector.finish), else stacked here. values: each part's value
+    ((P, 3), MeshCollector.part_values), the corner colours of the parts whose
+    materials read one value per instance (instance_values.py), or None."""
     if not parts:
         return {"vertices": np.zeros((0, 3), np.float32), "triangles": np.zeros((0, 3), np.int32),
                 "normals": None, "triangle_materials": np.zeros(0, np.int32)}, []
@@ -156,7 +157,7 @@ def assemble_triangles(parts, cache, matrices=None, values=None) -> tuple[dict, 
     meshes = list({id(part[1]): part[1] for part in parts}.values())   # (each MeshData once)
     need_normals = any(data.normals is not None for data in meshes)
     need_uvs = any(data.uvs is not None for data in meshes)
-    info = values is not None and any(_reads_object_info(part[0]) for part in parts)
+    info = values is not None and any(_reads_instance_values(part[0]) for part in parts)
     need_colors = info or any(data.colors is not None for data in meshes)
     points = [name for name in CORNER_POINTS if any(getattr(data, name) is not None for data in meshes)]
     vertices, triangles, normals, materials, uvs, colors = [], [], [], [], [], []
@@ -179,7 +180,7 @@ def assemble_triangles(parts, cache, matrices=None, values=None) -> tuple[dict, 
         materials.append(_materials(parts, chunk))
         if need_uvs:
             uvs.append(_corner_values(data, "uvs", flips, (0.0, 2)))
-        if info and _reads_object_info(key):        # (each part's triangles its own value at every corner)
+        if info and _reads_instance_values(key):        # (each part's triangles its own value at every corner)
             per_part = np.asarray(values, np.float32)[chunk]
             colors.append(np.repeat(per_part, per_triangles * 3, axis=0).reshape(-1, 3, 3))
         elif need_colors:

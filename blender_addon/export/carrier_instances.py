@@ -114,10 +114,31 @@ def same_outcome(plan, other) -> bool:
             and plan.known[2] == other.known[2] and np.array_equal(plan.known[1], other.known[1]))
 
 
+def copy_values(carrier, references, plans):
+    """(N, 3) each copy's own value, NaN where its plan's applies (instance_values.py): the
+    Geometry Nodes instance attributes its plan's layer reads (instance_column); None for none."""
+    layers = {r: plan.info for r, plan in enumerate(plans) if plan is not None and plan.info is not None}
+    if not layers:
+        return None
+    references = np.asarray(references)
+    values = np.full((len(references), 3), np.nan)
+    try:
+        geometry = carrier.evaluated_geometry()      # (kept while its points are read)
+        points = geometry.instances_pointcloud()
+        for r, layer in layers.items():
+            column = layer.instance_column(points)
+            if column is not None and len(column) == len(references):
+                values[references == r] = column[references == r]
+    except (AttributeError, RuntimeError, TypeError):
+        return None
+    return values
+
+
 class CarrierRun:
     """One carrier's copies as the depsgraph lists them (CarrierInstances.take)."""
 
-    def __init__(self, world, transforms, references, count):
+    def __init__(self, carrier, world, transforms, references, count):
+        self.carrier = carrier                     # the evaluated carrier object
         self.world = world @ transforms            # (N, 4, 4) each copy's world matrix
         self.references = references.tolist()
         self.plans = [None] * count                # InstancePlan per reference, from its first copy
@@ -145,7 +166,8 @@ class CarrierRun:
                 return
             plan = meshes.plan_of(inst, obj, key)
             # (Object Info's Random is each copy's depsgraph random_id: read one by one)
-            if plan.hair or plan.info == "Random" or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
+            per_instance = plan.info is not None and plan.info.per_instance
+            if plan.hair or per_instance or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
                 self.failed = True
                 return
             self.plans[r], self.keys[r] = plan, key
@@ -181,7 +203,8 @@ class CarrierInstances:
         run = self.runs.get(address, MISSING)
         if run is MISSING:
             found = carrier_transforms(parent)
-            run = self.runs[address] = None if found is None else CarrierRun(to_numpy(parent.matrix_world), *found)
+            run = self.runs[address] = None if found is None else CarrierRun(parent, to_numpy(parent.matrix_world),
+                                                                            *found)
         if run is None:
             return False
         run.take(inst, self.meshes)
@@ -200,7 +223,9 @@ class CarrierInstances:
             plans = [plan if plan is not None and plan.renders else None for plan in run.plans]
             which = np.array([-1 if plans[r] is None else plans[r].index for r in run.references], np.int64)
             shown = which >= 0
-            self.meshes.add_block(run.world[shown], which[shown], np.array(run.seqs, np.int64)[shown])
+            values = copy_values(run.carrier, run.references, plans)
+            self.meshes.add_block(run.world[shown], which[shown], np.array(run.seqs, np.int64)[shown],
+                                  None if values is None else values[shown])
             self.copies += len(run.seqs)
         return again
 

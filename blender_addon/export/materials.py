@@ -15,9 +15,10 @@ Linked inputs the core evaluates per hit (textures.py reads the images):
       (uv_mapping.py: Texture.uv_transform);
   Color Attribute -> Base Color (the named layer, or the active render one),
       also multiplied (a Mix, Multiply, factor 1) by an image: both are read;
-  Attribute (a mesh attribute by name) and Object Info (Random, Color, Alpha,
+  Attribute (a mesh attribute by name; of the Object and Instancer types a value
+      per instance: object_attributes.py) and Object Info (Random, Color, Alpha,
       Object Index: object_info.py) like an image, each instance's value in the
-      corner colours; one such colour source per material;
+      corner colours (instance_values.py); one such colour source per material;
   an Image Texture through Separate Color, Math, Mix and Invert nodes with
       constant other inputs (value_nodes.py: Texture.channel, gain, bias, clamp);
   Bump fed by an Image Texture (its Height) -> the shader's Normal
@@ -71,6 +72,7 @@ from gridwalk.model import Material
 
 from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
+from .object_attributes import ObjectAttribute
 from .object_info import OUTPUTS as OBJECT_INFO_OUTPUTS, ObjectInfo
 from .color_ramp import ramp_stops
 from .textures import plain_image
@@ -164,7 +166,7 @@ class Links:
             if attribute is None or attribute.type != "VERTEX_COLOR":
                 continue
             image, output, adjust, ramp = image_through_nodes(image_side)
-            if image is None:
+            if image is None or image.type in ("ATTRIBUTE", "OBJECT_INFO"):   # (a colour source of its own)
                 return False
             self.fields["color_texture"] = self._ramped(image, output, adjust, ramp)
             self.fields["vertex_color"] = True
@@ -203,16 +205,21 @@ class Links:
     def _attribute(self, node, output, adjust=None) -> int:
         """An Attribute node's output as a texture of the mesh attribute it names (kind "attribute":
         the corner colours the export reads from that attribute; its Fac their mean, as Cycles
-        averages a colour). A material reads one such attribute; others, and attributes of the
-        object or its instancer, are named in the warning."""
+        averages a colour), or for the Object and Instancer types of the value each instance's
+        object (or instancer) gives that name (object_attributes.py). A material reads one such
+        attribute; others, and View Layer attributes, are named in the warning."""
         name = node.attribute_name
-        if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
-            self.textured.append(f"{node.name!r} ({node.attribute_type.title()} attribute {name!r}: the mesh's "
+        kind = getattr(node, "attribute_type", "GEOMETRY")
+        if kind not in ("GEOMETRY", "OBJECT", "INSTANCER"):
+            self.textured.append(f"{node.name!r} ({kind.replace('_', ' ').title()} attribute {name!r}: the mesh's "
                                  "attribute of that name is read)")
         fac = output in ("Fac", "Factor")        # (5.0 names it Factor)
         if output not in ("Color", "Vector") and not fac:
             self.textured.append(f"the {output} output of {node.name!r} (its Color is read)")
-        self._read_colours(name or " ", "attribute")      # (no name: none the mesh has, black as in Cycles)
+        if kind in ("OBJECT", "INSTANCER"):
+            self._read_colours(ObjectAttribute(kind, name), "")
+        else:
+            self._read_colours(name or " ", "attribute")      # (no name: none the mesh has, black as in Cycles)
         return self.textures.attribute(fac, adjust)
 
     def _object_info(self, output, adjust=None) -> int:
@@ -226,7 +233,7 @@ class Links:
         attribute), or an Object Info output (object_info.ObjectInfo). One per material: a second,
         different one is named in the warning."""
         if self.color_layer is not None and self.color_layer != layer:
-            named = repr(layer) if isinstance(layer, ObjectInfo) else f"{what} {layer!r}"
+            named = repr(layer) if isinstance(layer, (ObjectInfo, ObjectAttribute)) else f"{what} {layer!r}"
             self.textured.append(f"{named} (the material already reads "
                                  f"{self.color_layer or 'the render colour attribute'!r})")
             return
@@ -574,6 +581,7 @@ class MaterialTable:
         # Cycles names its default shader) and Pass Index
         self.matte_names = [("default_surface", 0)]
         self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
+        self.colour_conflicts = set()  # (colour sources an object's materials read, the one read) (layers())
 
     def index_of(self, mat) -> int:
         key = None if mat is None else mat.original.name_full
@@ -602,13 +610,17 @@ class MaterialTable:
         materials name different UV maps, a tuple of each slot's (None for a
         material without textures): meshes.read_mesh then reads each
         triangle's corners from its own material's map."""
-        uvs, color, points = [], None, set()
+        uvs, color, points, colours = [], None, set(), []
         for i in indices:
             links = self.links[i]
             uvs.append(None if links is None else links.uv_layer)
             if links is not None:
                 color = color if color else links.color_layer if links.color_layer is not None else color
                 points |= links.points
+                if links.color_layer is not None and links.color_layer not in colours:
+                    colours.append(links.color_layer)
+        if len(colours) > 1:          # (one set of corner colours per mesh: the others read it too)
+            self.colour_conflicts.add(tuple(sorted(_colour_source(c) for c in colours)) + (_colour_source(color),))
         named = {uv for uv in uvs if uv is not None}
         if len(named) > 1:
             return tuple(uvs), color, tuple(sorted(points))
@@ -664,10 +676,20 @@ class MaterialTable:
         if self._problems:
             items = "; ".join(f"{name}: {why}" for name, why in sorted(self._problems.items()))
             out.append(f"{len(self._problems)} material(s) only partly supported ({items})")
+        for *sources, read in sorted(self.colour_conflicts):
+            out.append(f"An object's materials read different corner colours ({', '.join(sources)}); a mesh "
+                       f"has one set, and all of them read {read}")
         if self.shape_notes:
             out.append("Generated, Object, Position and Normal texture coordinates are not read on point clouds and hair "
                        f"(their textures' inputs take their own values): {', '.join(sorted(self.shape_notes))}")
         return out
+
+
+def _colour_source(layer) -> str:
+    """A colour layer (MaterialTable.layers) in words."""
+    if isinstance(layer, (ObjectInfo, ObjectAttribute)):
+        return repr(layer)
+    return f"colour attribute {layer!r}" if layer else "the render colour attribute"
 
 
 def _emits(material) -> bool:

@@ -46,7 +46,8 @@ from gridwalk.mesh_checks import zero_area_count
 from .assemble import assemble_triangles, mirror_flags
 from ._matrix import finite, to_numpy
 from .hair import cone_set, segment_count
-from .object_info import ObjectInfo, display_color, per_object, random_of, values as object_info_values
+from .instance_values import is_instance_layer, part_values, row_value
+from .object_info import display_color
 from .particle_hair import hair_systems, particle_cone_sets, particle_segment_count
 from .point_clouds import point_count, point_set
 
@@ -328,7 +329,7 @@ def object_key(obj) -> tuple:
 
 
 def _in_order(blocks) -> list:
-    """The blocks of mesh instances (matrices, plans, instance numbers, Object Info randoms) in
+    """The blocks of mesh instances (matrices, plans, instance numbers, own values) in
     the order of their numbers: blocks read in bulk (add_block) and instances read again come
     after those read first, but take their places among them."""
     if not blocks:
@@ -408,7 +409,7 @@ def read_object_mesh(obj, layers=(None, None)) -> MeshData | None:
     object's mesh before its modifiers and its undeformed positions, as Cycles
     does (read_mesh)."""
     uv, color, points = (tuple(layers) + ((),))[:3]
-    color = None if isinstance(color, ObjectInfo) else color   # (filled per instance: assemble_triangles)
+    color = None if is_instance_layer(color) else color   # (filled per instance: instance_values.py)
     generated = "generated" in points
     texspace = texture_space(obj.data) if generated and getattr(obj, "type", "") == "MESH" else None
     mesh = obj.to_mesh()
@@ -441,6 +442,7 @@ def matte_names(obj) -> tuple[str, str, int]:
 
 
 ROW_BLOCK = 8192    # mesh instances' matrices gathered as Python rows before they become one numpy block
+NO_VALUE = (math.nan,) * 3   # a row's own value where its plan's applies (instance_values.py)
 
 
 class InstancePlan:
@@ -452,16 +454,17 @@ class InstancePlan:
     warnings): kind ("mesh", "sphere", "shapes" or "none", a mesh without triangles),
     known (what MeshCollector._source read, with matte_names() last), names (its
     Cryptomatte names), index (its place among the mesh plans, -1 for other kinds), info (the
-    Object Info output its materials read, object_info.py, or None) and info_value (that
-    output's value for every instance, where it is not Random); color: the Viewport Display
-    colour Object Info gives its instances (object_info.display_color)."""
+    colour layer of one value per instance its materials read, instance_values.py, or None)
+    and info_value (that layer's value for every instance, where not their own); unread:
+    whether instances read one by one miss their copy's own value (a Geometry Nodes instance
+    attribute); parent: the instancer (None: the object itself is no instance)."""
     __slots__ = ("renders", "flags", "name", "hair", "kind", "known", "names", "index", "info", "info_value",
-                 "color")
+                 "unread", "parent")
 
-    def __init__(self, renders, flags, name, hair, color=(1.0, 1.0, 1.0, 1.0)):
+    def __init__(self, renders, flags, name, hair, parent=None):
         self.renders, self.flags, self.name, self.hair = renders, flags, name, hair
         self.kind, self.known, self.names, self.index = None, None, None, -1
-        self.info, self.info_value, self.color = None, (0.0, 0.0, 0.0), color
+        self.info, self.info_value, self.unread, self.parent = None, (0.0, 0.0, 0.0), False, parent
 
 
 class MeshCollector:
@@ -479,7 +482,9 @@ class MeshCollector:
         self.used = set()          # the cache entries this export used
         self.parts = []            # (cache key, MeshData, matrix, slot->material lookup)
         self.part_matrices = np.zeros((0, 4, 4))   # after finish(): every part's matrix, (P, 4, 4) (parts' are its rows)
-        self.part_values = None    # after finish(): each part's Object Info value, (P, 3) float32, where a material reads one
+        self.part_values = None    # after finish(): each part's value (instance_values.py), (P, 3) float32, where a material reads one
+        # (carrier, attribute) Geometry Nodes instance attributes that copies read one by one did not read
+        self.unread_instance_attributes = set()
         self._part_plans = np.zeros(0, np.int64)   # after finish(): each part's plan (InstancePlan.index)
         self.spheres = []          # (centre, radius, material index)
         self.point_sets = []       # point_clouds.PointSet per point cloud instance
@@ -496,9 +501,9 @@ class MeshCollector:
         self.missing_color_layers = {}  # object name -> the colour attribute its material reads and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
-        self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated or Object Info
+        self.mesh_spheres = set()      # 'Render as sphere' objects rendered as meshes: a texture reads Generated or per instance
         self.emissive_shapes = set()   # spheres, point clouds and hair with an emissive material (they light nothing)
-        self.info_shapes = set()       # point clouds and hair whose material reads Object Info (they read black)
+        self.info_shapes = set()       # point clouds and hair whose material reads a value per instance (black)
         self.layout = None         # after arrays(): per part, where its vertices and triangles went (Placement)
         # Cryptomatte's names (object, its top parent: the asset) of each part, sphere and point or cone set
         self.part_names, self.sphere_names, self.set_names = [], [], {}
@@ -508,9 +513,9 @@ class MeshCollector:
         self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
         self._plans = {}           # add_instance's memo -> InstancePlan
         self._mesh_plans = []      # the plans of mesh kind, by InstancePlan.index
-        # mesh instances' rows since the last block, their plans, numbers and Object Info randoms
-        self._rows, self._row_plans, self._row_seqs, self._row_randoms = [], [], [], []
-        # ((K, 4, 4) matrices, plan indices, instance numbers, Object Info randoms) of mesh instances, in order
+        # mesh instances' rows since the last block, their plans, numbers and own values (instance_values.py)
+        self._rows, self._row_plans, self._row_seqs, self._row_values = [], [], [], []
+        # ((K, 4, 4) matrices, plan indices, instance numbers, (K, 3) own values) of mesh instances, in order
         self._blocks = []
         self._seq = 0              # add_instance calls so far (the order _skip keeps)
         self._skip_rank = {}       # object name -> the rank of the reason `invalid` holds
@@ -539,7 +544,7 @@ class MeshCollector:
         if plan.index >= 0 and plan.known[3].finite:
             # A mesh read already (the ten-thousandth copy of a scattered stone): its
             # row alone; _flush_rows checks the block's rows are finite, all at once.
-            self._add_row(row, plan, random_of(inst, obj) if plan.info == "Random" else 0.0)
+            self._add_row(row, plan, row_value(plan, inst, obj))
             return
         if not finite(row):
             self._skip(plan.name, "its transform is not finite (NaN or Inf)")
@@ -556,15 +561,17 @@ class MeshCollector:
         elif plan.kind == "mesh" and not plan.known[3].finite:
             self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
         elif plan.kind == "mesh":
-            self._add_row(row, plan, random_of(inst, obj) if plan.info == "Random" else 0.0)
+            self._add_row(row, plan, row_value(plan, inst, obj))
 
-    def _add_row(self, row, plan, random):
-        """A mesh instance's matrix (16 floats) into the rows of the next block, with its
-        Object Info Random (0 where its plan does not read it)."""
+    def _add_row(self, row, plan, value):
+        """A mesh instance's matrix (16 floats) into the rows of the next block, with its own
+        value (instance_values.row_value; None: its plan's)."""
         self._rows.append(row)
         self._row_plans.append(plan.index)
         self._row_seqs.append(self._seq)
-        self._row_randoms.append(random)
+        self._row_values.append(NO_VALUE if value is None else value)
+        if plan.unread:
+            self.unread_instance_attributes.add((plan.parent.name, plan.info.name))
         if len(self._rows) >= ROW_BLOCK:
             self._flush_rows()
 
@@ -591,12 +598,13 @@ class MeshCollector:
         """Numbers the next instance `seq` (one read again under the number it had first)."""
         self._seq = seq - 1
 
-    def add_block(self, matrices, which, seqs):
+    def add_block(self, matrices, which, seqs, values=None):
         """Mesh instances read elsewhere (carrier_instances), after those read so far: their
-        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved; none reading Object
-        Info's Random, which is per instance) and instance numbers."""
+        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved; none whose layer is
+        per instance) and instance numbers; values: (K, 3) each copy's own value, NaN where
+        its plan's applies (instance_values.py), or None for none."""
         self._flush_rows()
-        self._append_block(matrices, which, seqs, np.zeros(len(seqs)))
+        self._append_block(matrices, which, seqs, np.full((len(seqs), 3), np.nan) if values is None else values)
 
     def _plan(self, inst, obj) -> InstancePlan:
         """What an instance of this object, instancer and visibility becomes (add_instance)."""
@@ -611,7 +619,7 @@ class MeshCollector:
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        return InstancePlan(True, self._flags(inst), obj.name, hair, display_color(inst, obj))
+        return InstancePlan(True, self._flags(inst), obj.name, hair, inst.parent if inst.is_instance else None)
 
     def _resolve(self, plan, obj):
         """Reads what the plan's object becomes (its materials, mesh or shape), at its first
@@ -621,10 +629,10 @@ class MeshCollector:
         if known is None:
             known = self._sources[memo] = (*self._source(obj, plan.flags), matte_names(obj))
         plan.kind, plan.known, plan.names = known[0], known, known[-1]
-        if plan.kind == "mesh" and isinstance(known[4][1], ObjectInfo):
-            plan.info = known[4][1].output
-            if plan.info != "Random":
-                plan.info_value = per_object(obj, plan.info, plan.color)
+        if plan.kind == "mesh" and is_instance_layer(known[4][1]):
+            plan.info = known[4][1]
+            plan.info_value = plan.info.plan_value(plan.parent, obj, display_color(plan.parent, obj))
+            plan.unread = plan.info.unread_by_rows(plan.parent)
         if plan.kind == "mesh":
             plan.index = len(self._mesh_plans)
             self._mesh_plans.append(plan)
@@ -645,19 +653,19 @@ class MeshCollector:
         if self._rows:
             matrices = np.array(self._rows, dtype=np.float64).reshape(-1, 4, 4)
             which, seqs = np.array(self._row_plans, dtype=np.int64), np.array(self._row_seqs, dtype=np.int64)
-            randoms = np.array(self._row_randoms, dtype=np.float64)
-            self._rows, self._row_plans, self._row_seqs, self._row_randoms = [], [], [], []
-            self._append_block(matrices, which, seqs, randoms)
+            values = np.array(self._row_values, dtype=np.float64).reshape(-1, 3)
+            self._rows, self._row_plans, self._row_seqs, self._row_values = [], [], [], []
+            self._append_block(matrices, which, seqs, values)
 
-    def _append_block(self, matrices, which, seqs, randoms):
+    def _append_block(self, matrices, which, seqs, values):
         finite_rows = np.isfinite(matrices).all(axis=(1, 2))
         if not finite_rows.all():
             for k, seq in zip(which[~finite_rows].tolist(), seqs[~finite_rows].tolist()):
                 self._skip(self._mesh_plans[k].name, "its transform is not finite (NaN or Inf)", (seq, 0))
             matrices, which, seqs = matrices[finite_rows], which[finite_rows], seqs[finite_rows]
-            randoms = randoms[finite_rows]
+            values = values[finite_rows]
         if len(matrices):
-            self._blocks.append((matrices, which, seqs, randoms))
+            self._blocks.append((matrices, which, seqs, values))
 
     def finish(self, should_stop=None) -> bool:
         """Turns the mesh instances read so far into parts, in the order they came, block by
@@ -669,8 +677,8 @@ class MeshCollector:
         extents = np.array([p.known[3].extent for p in plans], np.float64)
         noted = set()
         blocks, self._blocks = _in_order(self._blocks), []
-        kept, kept_plans, kept_randoms = [], [], []
-        for matrices, which, seqs, randoms in blocks:
+        kept, kept_plans, kept_values = [], [], []
+        for matrices, which, seqs, values in blocks:
             if should_stop is not None and should_stop():
                 return False
             # |matrix @ p| <= (largest row sum of |linear part|) * extent + largest |translation|
@@ -682,7 +690,7 @@ class MeshCollector:
                 self._skip(plans[k].name, f"its vertices lie beyond +-{MAX_COORDINATE:g} in world space", (seq, 0))
             kept.append(matrices[inside])
             kept_plans.append(which[inside])
-            kept_randoms.append(randoms[inside])
+            kept_values.append(values[inside])
         # Every part's matrix is a row of one (P, 4, 4) array (assemble_triangles and
         # _instances take them from it, not one by one).
         self.part_matrices = np.concatenate(kept) if kept else np.zeros((0, 4, 4))
@@ -692,10 +700,7 @@ class MeshCollector:
                 noted.add(k)
                 self._note_mesh(plans[k])
         self._part_plans = which
-        if any(p.info is not None for p in plans):
-            outputs, constants = [p.info for p in plans], np.array([p.info_value for p in plans], np.float32)
-            self.part_values = object_info_values([outputs[k] for k in which.tolist()], constants[which].reshape(-1, 3),
-                                                  np.concatenate(kept_randoms) if kept_randoms else np.zeros(0))
+        self.part_values = part_values(plans, which, np.concatenate(kept_values) if kept_values else np.zeros((0, 3)))
         which = which.tolist()
         heads = [(p.known[2], p.known[3], p.known[1]) for p in plans]   # (key, MeshData, lookup) per plan
         self.parts.extend((heads[k][0], heads[k][1], m, heads[k][2]) for k, m in zip(which, self.part_matrices))
@@ -711,18 +716,15 @@ class MeshCollector:
         lookup = self._lookups.setdefault(lookup.tobytes(), lookup)   # one array per lookup: chunks compare by `is`
         kind = obj.type
         sphere = kind not in ("POINTCLOUD", "CURVES") and as_sphere(obj)
-        if (sphere or kind in ("POINTCLOUD", "CURVES")) and \
-                any(self.materials.materials[i].emits_light for i in set(lookup.tolist())):
-            self.emissive_shapes.add(obj.name)
-        if kind in ("POINTCLOUD", "CURVES"):
-            if isinstance(self.materials.layers(lookup)[1], ObjectInfo):
-                self.info_shapes.add(obj.name)
-            return "shapes", lookup
         layers = self.materials.layers(lookup)
-        if sphere and (layers[2] or isinstance(layers[1], ObjectInfo)):
-            sphere = False                 # (an analytic sphere has no Generated coordinates)
+        if sphere and (layers[2] or is_instance_layer(layers[1])):
+            sphere = False                 # (an analytic sphere has no Generated coordinates nor corner colours)
             self.mesh_spheres.add(obj.name)
+        if kind in ("POINTCLOUD", "CURVES"):
+            self._note_shapes(obj.name, lookup)
+            return "shapes", lookup
         if sphere:
+            self._note_shapes(obj.name, lookup)
             # (objects sharing one evaluated mesh share its local bounds: read once, not per
             # object; 820 balls of one mesh spent most of their export here)
             data_key = obj.data.as_pointer() if obj.data is not None else None
@@ -820,14 +822,22 @@ class MeshCollector:
             self._hair[memo] = bool(hair_systems(obj, self.render))
         return self._hair[memo]
 
+    def _note_shapes(self, name, lookup):
+        """What the warnings say of a sphere, point cloud or hair of the materials `lookup`: that
+        it emits light yet lights nothing, that a value per instance reads black on it (spheres
+        read it as meshes: _source)."""
+        if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
+            self.emissive_shapes.add(name)
+        if is_instance_layer(self.materials.layers(lookup)[1]):
+            self.info_shapes.add(name)
+
     def _add_particle_hair(self, inst, obj):
         """The instance's hair particle systems as cones (its emitter shows them: renders(particles=True))."""
         if not np.isfinite(to_numpy(inst.matrix_world)).all():
             self._skip(obj.name, "its transform is not finite (NaN or Inf)", (self._seq, 1))
             return
         lookup = np.asarray(self.materials.slot_indices(obj, *self._flags(inst)), dtype=np.int32)
-        if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
-            self.emissive_shapes.add(obj.name)
+        self._note_shapes(obj.name, lookup)
         names = matte_names(obj)
         for found in particle_cone_sets(inst, lookup, MAX_COORDINATE, self.render):
             self._add_shapes(obj.name, lookup, *found, self.cone_sets, names, phase=1)
@@ -879,11 +889,17 @@ class MeshCollector:
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) have no UV map, "
                        "so each image texture shows one texel: " + _quoted(self.textured_spheres))
         if self.mesh_spheres:
-            out.append("'Render as sphere' objects whose textures read Generated, Object or Position coordinates or "
-                       "Object Info are rendered as their meshes: " + _quoted(self.mesh_spheres))
+            out.append("'Render as sphere' objects whose textures read Generated, Object or Position coordinates, "
+                       "Object Info or an Object or Instancer attribute are rendered as their meshes: "
+                       + _quoted(self.mesh_spheres))
         if self.info_shapes:
-            out.append("Object Info is not read on point clouds and hair (its value reads black): "
-                       + _quoted(self.info_shapes))
+            out.append("Object Info and Object or Instancer attributes are not read on point clouds and hair "
+                       "(they read black): " + _quoted(self.info_shapes))
+        if self.unread_instance_attributes:
+            out.append("Geometry Nodes instance attributes were not read for copies read one by one (their "
+                       "instancer's and object's properties were; Blender 4.3+ reads a carrier's copies in bulk, "
+                       "with their attributes): " + ", ".join(f"{a!r} of {c!r}" for c, a in
+                                                             sorted(self.unread_instance_attributes)))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "

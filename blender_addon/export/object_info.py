@@ -22,20 +22,38 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
 OUTPUTS = ("Random", "Color", "Alpha", "Object Index")   # the outputs read
 MASK = 0xFFFFFFFF
+BLACK = (0.0, 0.0, 0.0)
 
 
 @dataclasses.dataclass(frozen=True)
 class ObjectInfo:
     """The colour layer (MaterialTable.layers) of a material reading Object Info's `output`:
-    no mesh attribute, the instance's value (values())."""
+    no mesh attribute, the instance's value. (object_attributes.ObjectAttribute is the other
+    such layer: both give plan_value, per_instance, instance_value and instance_column.)"""
     output: str
 
     def __repr__(self) -> str:
         return f"Object Info's {self.output}"
+
+    @property
+    def per_instance(self) -> bool:
+        """Whether each instance has its own value (Random), read by instance_value."""
+        return self.output == "Random"
+
+    def plan_value(self, parent, obj, color) -> tuple:
+        """The value every instance of `obj` instanced by `parent` gets (color: display_color's)."""
+        return BLACK if self.per_instance else per_object(obj, self.output, color)
+
+    def instance_value(self, inst, obj) -> tuple:
+        return (random_of(inst, obj),) * 3
+
+    def instance_column(self, points):
+        return None
+
+    def unread_by_rows(self, parent) -> bool:
+        return False
 
 
 def _rotate(x: int, k: int) -> int:
@@ -70,10 +88,10 @@ def random_of(inst, obj) -> float:
     return random_id / MASK
 
 
-def display_color(inst, obj) -> tuple:
-    """The Viewport Display colour (RGBA) Object Info gives a depsgraph instance (the module's note)."""
-    source = inst.parent if inst.is_instance and inst.parent is not None else obj
-    return tuple(float(c) for c in source.color)
+def display_color(parent, obj) -> tuple:
+    """The Viewport Display colour (RGBA) Object Info gives an instance of `obj` by `parent`
+    (None: no instance; the module's note)."""
+    return tuple(float(c) for c in (parent if parent is not None else obj).color)
 
 
 def per_object(obj, output: str, color: tuple) -> tuple:
@@ -83,13 +101,3 @@ def per_object(obj, output: str, color: tuple) -> tuple:
     if output == "Alpha":
         return (color[3],) * 3
     return (float(obj.original.pass_index),) * 3           # Object Index
-
-
-def values(outputs: list, constants: np.ndarray, randoms: np.ndarray) -> np.ndarray:
-    """(P, 3) float32 each part's value: its plan's per_object() constant, or its own random
-    number where its plan reads Random. outputs: per part its plan's ObjectInfo output or None."""
-    out = np.array(constants, np.float32).reshape(-1, 3)
-    random = np.array([o == "Random" for o in outputs], bool)
-    if random.any():
-        out[random] = np.asarray(randoms, np.float32)[random, None]
-    return out

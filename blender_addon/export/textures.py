@@ -27,6 +27,7 @@ import numpy as np
 from gridwalk import Image, Texture
 
 from .node_links import _source, input_value
+from .object_info import OUTPUTS as INFO_OUTPUTS
 from .uv_mapping import VECTOR_IDENTITY
 
 
@@ -225,7 +226,7 @@ def corner_arrays_read(depsgraph) -> dict:
                 node.type == "TEX_COORD" and node.outputs["UV"].is_linked):
             reads["uvs"] = True
         elif node.type in ("VERTEX_COLOR", "ATTRIBUTE") or (
-                node.type == "OBJECT_INFO" and any(out.is_linked for out in node.outputs)):
+                node.type == "OBJECT_INFO" and any(out.is_linked for out in node.outputs if out.name in INFO_OUTPUTS)):
             reads["colors"] = True
     return reads
 

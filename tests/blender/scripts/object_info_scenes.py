@@ -17,12 +17,17 @@ def _tile_mesh():
     return mesh
 
 
-def _material(output, ramp, divide):
-    """Emission whose Color is Object Info's `output` (divided by `divide` when given, through a
-    three-stop Color Ramp with ramp)."""
+def _material(output, ramp, divide, attribute):
+    """Emission whose Color is Object Info's `output` (with attribute, an Attribute node's of that
+    type named "tint"), divided by `divide` when given, through a three-stop Color Ramp with ramp."""
     mat = shader_material("ByObject", "ShaderNodeEmission", [("Strength", 1.0)])
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    source = nodes.new("ShaderNodeObjectInfo").outputs[output]
+    if attribute:
+        node = nodes.new("ShaderNodeAttribute")
+        node.attribute_type, node.attribute_name = attribute, "tint"
+    else:
+        node = nodes.new("ShaderNodeObjectInfo")
+    source = node.outputs[output]
     if divide:
         math_node = nodes.new("ShaderNodeMath")
         math_node.operation = "DIVIDE"
@@ -68,9 +73,9 @@ def _points(mat):
     dots.modifiers.new("ToPoints", "NODES").node_group = group
 
 
-def _carrier(source, rows, columns, spacing):
+def _carrier(source, rows, columns, spacing, tint):
     """A Geometry Nodes carrier: `source` (as an instance, half its size) on the points of a
-    rows x columns grid, facing the camera."""
+    rows x columns grid, facing the camera; tint: with a random colour "tint" stored on each."""
     group = _group("Tiles")
     nodes, links = group.nodes, group.links
     grid = nodes.new("GeometryNodeMeshGrid")
@@ -84,15 +89,31 @@ def _carrier(source, rows, columns, spacing):
     on_points.inputs["Scale"].default_value = (0.5, 0.5, 0.5)
     links.new(grid.outputs["Mesh"], on_points.inputs["Points"])
     links.new(info.outputs.get("Instances") or info.outputs["Geometry"], on_points.inputs["Instance"])
-    links.new(on_points.outputs["Instances"], nodes.new("NodeGroupOutput").inputs[0])
+    result = on_points.outputs["Instances"]
+    if tint:
+        colour = nodes.new("FunctionNodeRandomValue")
+        colour.data_type = "FLOAT_VECTOR"
+        store = nodes.new("GeometryNodeStoreNamedAttribute")
+        store.data_type, store.domain = "FLOAT_VECTOR", "INSTANCE"
+        store.inputs["Name"].default_value = "tint"
+        links.new(result, store.inputs["Geometry"])
+        links.new(colour.outputs[0], store.inputs["Value"] if "Value" in store.inputs else store.inputs[3])
+        result = store.outputs[0]
+    links.new(result, nodes.new("NodeGroupOutput").inputs[0])
     carrier = link(bpy.data.objects.new("Carrier", bpy.data.meshes.new("CarrierMesh")))
     carrier.rotation_euler = (math.pi / 2, 0.0, 0.0)
     carrier.modifiers.new("Tiles", "NODES").node_group = group
     return carrier
 
 
+# Each tile's custom property "tint" (an Attribute node of the Object or Instancer type reads it),
+# by k % 5: a colour, a number, a whole number, none (black), a boolean
+TINTS = (lambda rng: tuple(rng.uniform(0.05, 1.0, 3)), lambda rng: float(rng.uniform(0.1, 0.9)), lambda rng: 1,
+         None, lambda rng: True)
+
+
 def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0, sphere=False, points=False,
-                      resolution=(96, 72)):
+                      attribute="", second="", resolution=(96, 72)):
     """Square tiles facing the camera, their Emission Color Object Info's `output` (Random,
     Color, Alpha, Object Index; `divide`: through a Math Divide by it; ramp: a Color Ramp):
       objects     12 tile objects sharing one mesh (NAMES), 4 x 3, each with its own Viewport
@@ -101,11 +122,20 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
                   two Empties instancing it
       copies      8 x 8 Geometry Nodes copies of one hidden tile (the bulk path's 64)
     sphere: the tiles are 'Render as sphere' (a sphere has no corner colours: rendered as meshes);
-    points: a point cloud of the same material below them."""
+    points: a point cloud of the same material below them. attribute ("OBJECT", "INSTANCER"): an
+    Attribute node of that type named "tint" in Object Info's place (output: Color or Fac), each
+    tile with a "tint" property (TINTS), the left Empty with one of its own, the copies with a
+    random "tint" stored on each (Geometry Nodes' instance domain). second="attribute": the tiles'
+    mesh has a second material slot reading the render Color Attribute."""
     reset(resolution=tuple(resolution))
-    mat = _material(output, ramp, divide)
+    mat = _material(output, ramp, divide, attribute)
     mesh = _tile_mesh()
     mesh.materials.append(mat)
+    if second == "attribute":
+        other = shader_material("ByColour", "ShaderNodeEmission", [("Strength", 1.0)])
+        colours = other.node_tree.nodes.new("ShaderNodeVertexColor")
+        other.node_tree.links.new(colours.outputs["Color"], other.node_tree.nodes["Emission"].inputs["Color"])
+        mesh.materials.append(other)
     rng = np.random.default_rng(5)
 
     def tile(name, location, collection=None, index=0):
@@ -113,6 +143,9 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
         obj.location, obj.rotation_euler = location, (math.pi / 2, 0.0, 0.0)
         obj.color = (*rng.uniform(0.05, 1.0, 3), rng.uniform(0.1, 1.0))
         obj.pass_index = index
+        tint = TINTS[index % len(TINTS)]
+        if tint is not None:
+            obj["tint"] = tint(rng)
         if sphere:
             obj.gridwalk.render_as_sphere = True
         return obj
@@ -128,11 +161,13 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
             empty = link(bpy.data.objects.new(f"Shelf{x:+.0f}", None))
             empty.instance_type, empty.instance_collection = "COLLECTION", tiles
             empty.location = (x, 0.0, 0.0)
+            if x < 0:
+                empty["tint"] = (0.7, 0.7, 0.1)
     else:
         source = tile("Tile", (0.0, 0.0, 0.0), index=3)
         source.rotation_euler = (0.0, 0.0, 0.0)
         source.hide_render = True
-        _carrier(source, 8, 8, 0.7)
+        _carrier(source, 8, 8, 0.7, bool(attribute))
     if points:
         _points(mat)
     bpy.context.view_layer.update()

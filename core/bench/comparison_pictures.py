@@ -1,7 +1,8 @@
 """Pictures for docs/blender.md: test scenes rendered by GRIDWALK and by Cycles in bpy 4.5,
 side by side, with the normalized cross-correlation of their luminance. One sheet per
 feature: "texture_coordinates" (a Checker Texture at each output of the Texture Coordinate
-and Geometry nodes that depends on the view; test_b47's scenes) and "shadow_catcher" (a
+and Geometry nodes that depends on the view; test_b47's scenes), "per_instance" (Object Info
+and Instancer attributes, a value per object instance; test_b52's scenes) and "shadow_catcher" (a
 floor set to Shadow Catcher under a cube and a sun; test_b49's scene, the transparent film
 shown over green). A script that writes docs, not a test:
 
@@ -28,6 +29,13 @@ SHEETS = {   # sheet -> rows of (scene, scene options, transparent film, label)
         (CHECKER, {"variant": "cube", "coordinates": "Window"}, False, "Window: the point's place in the image"),
         (CHECKER, {"variant": "object", "coordinates": "Reflection", "smooth": True}, False,
          "Reflection: the view mirrored about the smooth normal"),
+    ),
+    "per_instance": (
+        ("object_info", {"output": "Random", "ramp": True}, False,
+         "Object Info Random through a Color Ramp: twelve objects of one mesh"),
+        ("object_info", {"output": "Color"}, False, "Object Info Color: each object's Viewport Display colour"),
+        ("object_info", {"output": "Color", "attribute": "INSTANCER", "layout": "copies"}, False,
+         "Attribute (Instancer) 'tint': a colour stored on each of 64 Geometry Nodes copies"),
     ),
     "shadow_catcher": (
         ("shadow_catcher", {"world": 0.0}, True, "Shadow Catcher, transparent film, black world (over green)"),

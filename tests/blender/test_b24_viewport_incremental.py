@@ -4,7 +4,7 @@ scripts/viewport_session.py drives a viewport session with real depsgraph
 updates. Moving an object reads no mesh and transforms one instance, in the
 core (Scene.moved); editing
 a mesh shared by two objects reads it once; a modifier change reads that
-object only; a material, light, world (a Sky Texture's too) or render-setting change, or moving
+object only; a material, light, world (a Sky Texture's too), object colour (read by Object Info) or render-setting change, or moving
 an empty whose Object coordinates a texture reads, restarts
 without touching geometry; a colour-management edit does not restart; a resize waits until it settles.
 Instances of one mesh are transformed together, in chunks (blender_addon/export/assemble.py),
@@ -29,6 +29,7 @@ EDITS = {   # edit: (meshes read, instances transformed)
     "edit_shared_mesh": (1, 2),
     "change_modifier": (1, 1),
     "change_material": (0, 0),
+    "change_object_colour": (0, 0),    # Twin's Viewport Display colour, which its Object Info reads
     "change_light": (0, 0),
     "change_world": (0, 0),
     "sky_world": (0, 0),         # a Sky Texture linked into the world (its image baked in the session)

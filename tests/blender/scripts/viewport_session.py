@@ -39,6 +39,12 @@ def build(bpy, scenes):
     mod = smooth.modifiers.new("Subdivision", "SUBSURF")
     mod.levels = 1
     red = scenes.principled_material("Red", (0.8, 0.1, 0.1))
+    # a glow of each object's Viewport Display colour (Object Info: one value per instance)
+    nodes = red.node_tree.nodes
+    red.node_tree.links.new(nodes.new("ShaderNodeObjectInfo").outputs["Color"],
+                            nodes["Principled BSDF"].inputs["Emission Color" if bpy.app.version >= (4, 0, 0)
+                                                            else "Emission"])
+    nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 0.2
     a.data.materials.append(red)
     # half the shared mesh's faces: a Checker at Generated coordinates into a Principled BSDF's
     # Base Color, which the instances' moves in the core carry along
@@ -149,6 +155,9 @@ def main(out_dir):
     bpy.data.materials["Red"].node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.1, 0.1, 0.9, 1)
     bpy.context.view_layer.update()
     check("change_material")
+    bpy.data.objects["Twin"].color = (0.2, 0.9, 0.3, 1.0)     # (what its Object Info gives it)
+    bpy.context.view_layer.update()
+    check("change_object_colour")
     # (after a full export: a move in the core, the edits before, leaves its chunk to transform again)
     bpy.data.objects["Frame"].location.x += 0.3
     bpy.context.view_layer.update()

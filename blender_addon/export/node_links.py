@@ -1,6 +1,16 @@
 """Following a node input to what feeds it, as Cycles reads a node tree:
-through reroutes and muted nodes, to the node and output linked into it, or
-to the value the input takes when nothing the export reads feeds it."""
+through reroutes, muted nodes and node groups, to the node and output linked
+into it, or to the value the input takes when nothing the export reads feeds it.
+
+Node groups are read as Cycles reads them, as if their nodes stood in the
+material's tree: a group node's output leads to what feeds the matching input
+of the group's active Group Output inside it, and a Group Input node's output
+back to what feeds the matching input of the group node that holds it. A node
+found inside a group comes wrapped (InGroup): the node itself for every
+attribute, its inputs and outputs wrapped too, so that following one of its
+inputs to a Group Input leaves through the right group node (a group used twice
+is two places in the tree).
+"""
 from __future__ import annotations
 
 
@@ -24,6 +34,85 @@ def _through(node, out):
 
 
 CONSTANT_NODES = ("RGB", "VALUE")   # nodes whose output is a value set on it
+MAX_GROUP_DEPTH = 32                # group nodes nested deeper are read as unlinked (a group cannot hold itself)
+
+
+class InGroup:
+    """A node or socket inside node groups: `item` (the Blender node or socket; every other
+    attribute is its own) and `groups`, the group nodes it sits in, outermost first."""
+    __slots__ = ("item", "groups")
+
+    def __init__(self, item, groups):
+        self.item, self.groups = item, groups
+
+    def __getattr__(self, name):
+        value = getattr(self.item, name)
+        if name in ("inputs", "outputs"):
+            return _Sockets(value, self.groups)
+        if name == "node":
+            return _wrap(value, self.groups)
+        return value
+
+    def __eq__(self, other):
+        return isinstance(other, InGroup) and self.item == other.item and self.groups == other.groups
+
+    def __hash__(self):
+        return hash(self.item.as_pointer())
+
+
+class _Sockets:
+    """A wrapped node's inputs or outputs: each socket wrapped (InGroup)."""
+    __slots__ = ("sockets", "groups")
+
+    def __init__(self, sockets, groups):
+        self.sockets, self.groups = sockets, groups
+
+    def __getitem__(self, key):
+        found = self.sockets[key]
+        return [_wrap(s, self.groups) for s in found] if isinstance(key, slice) else _wrap(found, self.groups)
+
+    def get(self, name, default=None):
+        found = self.sockets.get(name)
+        return default if found is None else _wrap(found, self.groups)
+
+    def __iter__(self):
+        return (_wrap(s, self.groups) for s in self.sockets)
+
+    def __len__(self):
+        return len(self.sockets)
+
+
+def tree_nodes(tree):
+    """Every node of `tree` and of the node groups it uses, however deep (each group's tree once)."""
+    seen, todo = {tree.as_pointer()}, [tree]
+    while todo:
+        for node in todo.pop().nodes:
+            yield node
+            inner = getattr(node, "node_tree", None) if node.type == "GROUP" else None
+            if inner is not None and inner.as_pointer() not in seen:
+                seen.add(inner.as_pointer())
+                todo.append(inner)
+
+
+def _wrap(item, groups):
+    return InGroup(item, groups) if groups else item
+
+
+def _unwrap(item):
+    return (item.item, item.groups) if isinstance(item, InGroup) else (item, ())
+
+
+def _group_output_input(group, out):
+    """The input of the active Group Output inside `group` (a group node) that its output
+    `out` gives, or None (no tree, no such output)."""
+    tree = getattr(group, "node_tree", None)
+    if tree is None:
+        return None
+    outputs = [n for n in tree.nodes if n.type == "GROUP_OUTPUT"]
+    node = next((n for n in outputs if getattr(n, "is_active_output", False)), outputs[0] if outputs else None)
+    if node is None:
+        return None
+    return next((s for s in node.inputs if s.identifier == out.identifier), None)
 
 
 class _Computed:
@@ -46,35 +135,54 @@ def _constant_ramp(node, out):
 
 def _follow(socket):
     """(node, output socket, value) for the input `socket`: the node and output
-    linked into it, through reroutes and muted nodes as Blender passes them;
-    else node None, and `value` the socket whose value the input takes:
+    linked into it, through reroutes, muted nodes and node groups as Blender
+    passes them (InGroup-wrapped inside a group); else node None, and `value`
+    the socket whose value the input takes:
       - the input itself when it is unlinked, when its link or what reaches
         it is muted, or when a muted node passes nothing to that output;
+      - a group node's input, or a Group Output's, where the chain ends there unlinked;
       - the output of an RGB or Value node linked to it (not a shader or
         vector input: a constant texture coordinate is not read), or of a
         Color Ramp whose Fac is such a constant (its colour there);
       - None (the value 0, as Cycles reads it) when the chain ends at an
         unlinked input of a reroute or muted node, not that input's value."""
-    first, seen = socket, set()
+    socket, groups = _unwrap(socket)
+    first, holder, seen = socket, socket, set()
     while socket is not None and socket.is_linked:
         link = socket.links[0]
-        if link.is_muted or not link.is_valid or socket.as_pointer() in seen:   # (invalid: red; a reroute loop)
+        key = (socket.as_pointer(), len(groups))
+        if link.is_muted or not link.is_valid or key in seen:   # (invalid: red; a reroute loop)
             break
-        seen.add(socket.as_pointer())
+        seen.add(key)
         node, out = link.from_node, link.from_socket
         if node.type in CONSTANT_NODES and not node.mute and first.type not in ("SHADER", "VECTOR"):
             return None, None, out
         if node.type == "VALTORGB" and not node.mute and first.type not in ("SHADER", "VECTOR"):
-            computed = _constant_ramp(node, out)
+            computed = _constant_ramp(_wrap(node, groups), out)
             if computed is not None:
                 return None, None, computed
+        if node.type == "GROUP" and not node.mute:          # into the group, at its output
+            inner = _group_output_input(node, out) if len(groups) < MAX_GROUP_DEPTH else None
+            if inner is None:
+                return None, None, None
+            groups, socket = groups + (node,), inner
+            holder = socket
+            continue
+        if node.type == "GROUP_INPUT":                      # out of the group, at the group node's input
+            if not groups:
+                return None, None, None
+            group, groups = groups[-1], groups[:-1]
+            socket = next((s for s in group.inputs if s.identifier == out.identifier), None)
+            holder = socket
+            continue
         if node.type != "REROUTE" and not node.mute:
-            return node, out, None
+            return _wrap(node, groups), _wrap(out, groups), None
         fed, socket = socket, _through(node, out)
         if socket is None:                 # a muted node passing nothing: the input it fed
             socket = fed                   # stays unlinked (a reroute's gives 0)
             break
-    return None, None, first if socket is first else None
+        holder = None
+    return None, None, holder if socket is holder else None
 
 
 def _source(socket):

@@ -26,7 +26,7 @@ import numpy as np
 
 from gridwalk import Image, Texture
 
-from .node_links import _source, input_value
+from .node_links import _source, input_value, tree_nodes
 from .object_info import OUTPUTS as INFO_OUTPUTS
 from .uv_mapping import VECTOR_IDENTITY
 
@@ -166,7 +166,7 @@ def scene_texture_bytes(depsgraph) -> int:
         tree = getattr(id_, "node_tree", None)
         if tree is None or type(id_).__name__ not in ("Material", "World"):
             continue
-        for node in tree.nodes:
+        for node in tree_nodes(tree):
             img = getattr(node, "image", None) if node.type in ("TEX_IMAGE", "TEX_ENVIRONMENT") else None
             if img is None or img.name_full in seen:
                 continue
@@ -178,11 +178,11 @@ def scene_texture_bytes(depsgraph) -> int:
 
 
 def _material_nodes(depsgraph):
-    """Every node of the depsgraph's materials' node trees (what the memory estimate's
-    questions below look at before the export)."""
+    """Every node of the depsgraph's materials' node trees and their node groups (what the
+    memory estimate's questions below look at before the export)."""
     for id_ in depsgraph.ids:
         if type(id_).__name__ == "Material" and getattr(id_, "node_tree", None) is not None:
-            yield from id_.node_tree.nodes
+            yield from tree_nodes(id_.node_tree)
 
 
 def uses_normal_maps(depsgraph) -> bool:

@@ -21,12 +21,15 @@ So a carrier's copies are taken here instead of one by one (MeshCollector.add_in
     instance_key must be its reference's, or one whose plan exports alike (same_outcome:
     a geometry set's copies come through temporary objects that take turns), and its
     matrix_world the carrier's matrix times its transform (to float32 rounding);
+  * where a copy's plan reads a value of its own (Object Info's Random: the copy's
+    random_id), it is read with the copy; a Geometry Nodes instance attribute an
+    Instancer attribute reads comes from the instances component with the matrices
+    (instance_values.py);
   * when the depsgraph has listed them all, the copies go to MeshCollector as one
     block of matrices (add_block), in their order.
 Whatever does not check out (a copy count other than the points', a reference that
 becomes several instances or something other than a mesh with finite vertices, a
-plan with particle hair or whose materials read Object Info's Random, which is each
-copy's own, a key or matrix that differs) sends the carrier back to the
+plan with particle hair, a key or matrix that differs) sends the carrier back to the
 one-by-one path: its copies are read again from the depsgraph, by read_again().
 Blender before 4.3 has no evaluated_geometry: every copy is read one by one there.
 """
@@ -35,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._matrix import to_numpy
+from .instance_values import row_value
 from .meshes import instance_key
 
 MIN_POINTS = 64      # smaller carriers are read one by one (nothing to gain)
@@ -114,14 +118,15 @@ def same_outcome(plan, other) -> bool:
             and plan.known[2] == other.known[2] and np.array_equal(plan.known[1], other.known[1]))
 
 
-def copy_values(carrier, references, plans):
-    """(N, 3) each copy's own value, NaN where its plan's applies (instance_values.py): the
-    Geometry Nodes instance attributes its plan's layer reads (instance_column); None for none."""
+def copy_values(carrier, references, plans, own=None):
+    """(N, 3) each copy's own value, NaN where its plan's applies (instance_values.py): `own`
+    (those read with each copy: CarrierRun.own), and the Geometry Nodes instance attributes its
+    plan's layer reads (instance_column); None for none."""
     layers = {r: plan.info for r, plan in enumerate(plans) if plan is not None and plan.info is not None}
     if not layers:
-        return None
+        return own
     references = np.asarray(references)
-    values = np.full((len(references), 3), np.nan)
+    values = np.full((len(references), 3), np.nan) if own is None else own
     try:
         geometry = carrier.evaluated_geometry()      # (kept while its points are read)
         points = geometry.instances_pointcloud()
@@ -144,7 +149,16 @@ class CarrierRun:
         self.plans = [None] * count                # InstancePlan per reference, from its first copy
         self.keys = [None] * count                 # instance_key per reference
         self.seqs = []                             # each copy's instance number (MeshCollector.next_seq)
+        self.own = None                            # (N, 3) the copies' own values (Object Info's Random), or None
         self.failed = False
+
+    def _read_own(self, k, plan, inst):
+        """Copy k's own value where its plan's layer is per instance (instance_values.row_value)."""
+        value = row_value(plan, inst, None)        # (a copy is an instance: its random_id, not its name)
+        if value is not None:
+            if self.own is None:
+                self.own = np.full((len(self.references), 3), np.nan)
+            self.own[k] = value
 
     def take(self, inst, meshes):
         k = len(self.seqs)
@@ -156,6 +170,8 @@ class CarrierRun:
             return
         r = self.references[k]
         plan = self.plans[r]
+        if plan is not None:
+            self._read_own(k, plan, inst)
         if plan is not None and k % SAMPLE and k != len(self.references) - 1:
             return
         obj = inst.object
@@ -165,12 +181,11 @@ class CarrierRun:
                 self.failed = True
                 return
             plan = meshes.plan_of(inst, obj, key)
-            # (Object Info's Random is each copy's depsgraph random_id: read one by one)
-            per_instance = plan.info is not None and plan.info.per_instance
-            if plan.hair or per_instance or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
+            if plan.hair or (plan.renders and not (plan.kind == "mesh" and plan.known[3].finite)):
                 self.failed = True
                 return
             self.plans[r], self.keys[r] = plan, key
+            self._read_own(k, plan, inst)
         elif key != self.keys[r] and not same_outcome(meshes.plan_of(inst, obj, key), plan):
             # (copies of a geometry set come through temporary objects, which take turns:
             # another key, the same mesh, materials, flags and names)
@@ -223,7 +238,7 @@ class CarrierInstances:
             plans = [plan if plan is not None and plan.renders else None for plan in run.plans]
             which = np.array([-1 if plans[r] is None else plans[r].index for r in run.references], np.int64)
             shown = which >= 0
-            values = copy_values(run.carrier, run.references, plans)
+            values = copy_values(run.carrier, run.references, plans, run.own)
             self.meshes.add_block(run.world[shown], which[shown], np.array(run.seqs, np.int64)[shown],
                                   None if values is None else values[shown])
             self.copies += len(run.seqs)

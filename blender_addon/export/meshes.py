@@ -600,9 +600,9 @@ class MeshCollector:
 
     def add_block(self, matrices, which, seqs, values=None):
         """Mesh instances read elsewhere (carrier_instances), after those read so far: their
-        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved; none whose layer is
-        per instance) and instance numbers; values: (K, 3) each copy's own value, NaN where
-        its plan's applies (instance_values.py), or None for none."""
+        (K, 4, 4) float64 matrices, plans (InstancePlan.index, resolved) and instance numbers;
+        values: (K, 3) each copy's own value, NaN where its plan's applies (instance_values.py),
+        or None for none."""
         self._flush_rows()
         self._append_block(matrices, which, seqs, np.full((len(seqs), 3), np.nan) if values is None else values)
 

@@ -75,6 +75,15 @@ class _Sockets:
         found = self.sockets.get(name)
         return default if found is None else _wrap(found, self.groups)
 
+    def __contains__(self, name):
+        return name in self.sockets
+
+    def keys(self):
+        return self.sockets.keys()
+
+    def find(self, name):
+        return self.sockets.find(name)
+
     def __iter__(self):
         return (_wrap(s, self.groups) for s in self.sockets)
 
@@ -133,6 +142,18 @@ def _constant_ramp(node, out):
     return _Computed(rgba if out.name == "Color" else rgba[3])
 
 
+def _kind(socket) -> str:
+    """"number", "shader" or "value" (a colour or vector: several numbers) of a socket's type."""
+    kind = socket.type
+    return "number" if kind in ("VALUE", "INT", "BOOLEAN") else "shader" if kind == "SHADER" else "value"
+
+
+def node_key(node) -> tuple:
+    """What tells a node apart where it stands: its address and the group nodes it sits in."""
+    real, groups = _unwrap(node)
+    return (real.as_pointer(),) + tuple(g.as_pointer() for g in groups)
+
+
 def _follow(socket):
     """(node, output socket, value) for the input `socket`: the node and output
     linked into it, through reroutes, muted nodes and node groups as Blender
@@ -148,13 +169,20 @@ def _follow(socket):
         unlinked input of a reroute or muted node, not that input's value."""
     socket, groups = _unwrap(socket)
     first, holder, seen = socket, socket, set()
+    crossed, narrowed = None, False   # the first group node the chain crosses, and its output; a number socket crossed
     while socket is not None and socket.is_linked:
         link = socket.links[0]
-        key = (socket.as_pointer(), len(groups))
+        key = (socket.as_pointer(), tuple(g.as_pointer() for g in groups))
         if link.is_muted or not link.is_valid or key in seen:   # (invalid: red; a reroute loop)
             break
         seen.add(key)
         node, out = link.from_node, link.from_socket
+        lossy = narrowed and _kind(out) != "number" and _kind(first) != "number"
+        if lossy and (node.type in CONSTANT_NODES or (node.type not in ("GROUP", "GROUP_INPUT", "REROUTE")
+                                                      and not node.mute)):
+            # (a colour or vector made a number at a group's socket, and a colour again: Cycles'
+            # conversions there are not followed; the group is named as before)
+            return crossed[0], crossed[1], None
         if node.type in CONSTANT_NODES and not node.mute and first.type not in ("SHADER", "VECTOR"):
             return None, None, out
         if node.type == "VALTORGB" and not node.mute and first.type not in ("SHADER", "VECTOR"):
@@ -165,14 +193,18 @@ def _follow(socket):
             inner = _group_output_input(node, out) if len(groups) < MAX_GROUP_DEPTH else None
             if inner is None:
                 return None, None, None
+            crossed = crossed or (_wrap(node, groups), _wrap(out, groups))
+            narrowed = narrowed or _kind(out) == "number"
             groups, socket = groups + (node,), inner
             holder = socket
             continue
         if node.type == "GROUP_INPUT":                      # out of the group, at the group node's input
-            if not groups:
-                return None, None, None
-            group, groups = groups[-1], groups[:-1]
-            socket = next((s for s in group.inputs if s.identifier == out.identifier), None)
+            outer = next((s for s in groups[-1].inputs if s.identifier == out.identifier), None) if groups else None
+            if outer is None:             # (no group node around it, or none of its inputs matches: the input's own)
+                return None, None, socket
+            crossed = crossed or (_wrap(node, groups), _wrap(out, groups))
+            narrowed = narrowed or _kind(out) == "number"
+            groups, socket = groups[:-1], outer
             holder = socket
             continue
         if node.type != "REROUTE" and not node.mute:

@@ -83,7 +83,8 @@ def hash_string(text: str) -> int:
 
 
 def random_of(inst, obj) -> float:
-    """Object Info's Random of a depsgraph instance (see the module's note)."""
+    """Object Info's Random of a depsgraph instance (see the module's note; obj, its object, is
+    read only where it is no instance)."""
     random_id = (inst.random_id & MASK) if inst.is_instance else hash_uint2(hash_string(obj.name), 0)
     return random_id / MASK
 

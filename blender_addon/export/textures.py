@@ -26,7 +26,7 @@ import numpy as np
 
 from gridwalk import Image, Texture
 
-from .node_links import _source, input_value, tree_nodes
+from .node_links import InGroup, _source, input_value, tree_nodes
 from .object_info import OUTPUTS as INFO_OUTPUTS
 from .uv_mapping import VECTOR_IDENTITY
 
@@ -47,6 +47,8 @@ def _alpha_used(node) -> bool:
     alpha = node.outputs.get("Alpha")
     if alpha is None or not alpha.is_linked:
         return False
+    if isinstance(node, InGroup):          # (inside a node group: a linked Alpha is taken as used)
+        return True
     tree = node.id_data
     output = tree.get_output_node("CYCLES") if hasattr(tree, "get_output_node") else None
     if output is None:                     # (a node group's tree: taken as used)

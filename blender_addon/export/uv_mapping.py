@@ -41,7 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from .environment_rotation import euler_xyz
-from .node_links import _source, input_value
+from .node_links import _source, input_value, node_key
 
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
 FLOAT_MAX = float(np.finfo(np.float32).max)   # the core keeps float32
@@ -120,8 +120,8 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
                 end[3, 3] = 1.0
                 mappings.append(end)
             break
-        if src.type == "MAPPING" and src.as_pointer() not in seen:
-            seen.add(src.as_pointer())
+        if src.type == "MAPPING" and node_key(src) not in seen:
+            seen.add(node_key(src))
             mappings.append(src)
             socket = src.inputs["Vector"]
             continue

@@ -41,3 +41,16 @@ def test_the_export_reads_through_groups_without_warnings(export):
     twice = export("node_group", variant="twice")
     checkers = [t for t in twice.textures if t["kind"] == "checker"]
     assert {t["scale"] for t in checkers} == {3.0, 9.0}         # one group, its two Scales
+
+
+def test_a_group_used_twice_in_one_chain_passes_the_value_through_both(export):
+    out = export("group_edge", variant="twice_through")
+    assert not out.warnings, out.warnings
+    assert out.materials[1]["emission_color"] == pytest.approx([0.9, 0.5, 0.1], abs=1e-6)
+
+
+def test_a_colour_through_a_number_socket_is_named_not_read_as_the_colour(export):
+    # (Cycles makes the colour a number at the group's socket: the grey of its luminance)
+    out = export("group_edge", variant="narrowed")
+    assert any("ShaderNodeGroup" in w for w in out.warnings), out.warnings
+    assert out.materials[1]["emission_color"] != pytest.approx([0.9, 0.5, 0.1], abs=1e-6)

@@ -104,3 +104,36 @@ def node_group_scene(variant="shader", resolution=(96, 72)):
     plane.data.materials.append(mat)
     bpy.context.view_layer.update()
     return {"variant": variant}
+
+
+def group_edge_scene(variant="twice_through", resolution=(48, 36)):
+    """Node-group chains whose reading is easy to get wrong (test_b53's export checks):
+      twice_through  an RGB node through the same pass-through group twice into the Emission Color
+      narrowed       a red RGB node into a group's number input passed to its colour output (Cycles
+                     shows that number's grey: not followed, the group is named in a warning)"""
+    reset(resolution=tuple(resolution))
+    bpy.ops.mesh.primitive_plane_add(size=7.5, rotation=(math.pi / 2, 0, 0))
+    plane = bpy.context.object
+    mat = shader_material("Edges", "ShaderNodeEmission", [("Strength", 1.0)])
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    rgb = nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.9, 0.5, 0.1, 1.0)
+    if variant == "twice_through":
+        group, gin, gout = _group("Through", [("Color", "NodeSocketColor", (0.1, 0.1, 0.1, 1))],
+                                  [("Color", "NodeSocketColor")])
+        group.links.new(gin.outputs["Color"], gout.inputs["Color"])
+        first, second = nodes.new("ShaderNodeGroup"), nodes.new("ShaderNodeGroup")
+        first.node_tree = second.node_tree = group
+        links.new(rgb.outputs[0], first.inputs["Color"])
+        links.new(first.outputs["Color"], second.inputs["Color"])
+        links.new(second.outputs["Color"], nodes["Emission"].inputs["Color"])
+    else:
+        group, gin, gout = _group("Narrow", [("Fac", "NodeSocketFloat", 0.5)], [("Color", "NodeSocketColor")])
+        group.links.new(gin.outputs["Fac"], gout.inputs["Color"])
+        place = nodes.new("ShaderNodeGroup")
+        place.node_tree = group
+        links.new(rgb.outputs[0], place.inputs["Fac"])
+        links.new(place.outputs["Color"], nodes["Emission"].inputs["Color"])
+    plane.data.materials.append(mat)
+    bpy.context.view_layer.update()
+    return {"variant": variant}

@@ -790,7 +790,7 @@ from scatter_scenes import carrier_scene, scatter_scene  # noqa: E402,F401
 from catcher_scenes import shadow_catcher_scene  # noqa: E402,F401
 from attribute_scenes import attribute_scene  # noqa: E402,F401
 from object_info_scenes import object_info_scene  # noqa: E402,F401
-from group_scenes import node_group_scene  # noqa: E402,F401
+from group_scenes import group_edge_scene, node_group_scene  # noqa: E402,F401
 from sky_scenes import sky_scene  # noqa: E402,F401
 from texture_scenes import (bump_scene, emission_map_scene, mapped_texture_scene, node_chain_scene,  # noqa: E402,F401
                             tinted_by_attribute_scene)

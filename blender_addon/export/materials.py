@@ -226,7 +226,7 @@ class Links:
         """An Object Info output (object_info.OUTPUTS) as a texture of the corner colours the
         export fills with each instance's value (object_info.py); like an attribute, one per material."""
         self._read_colours(ObjectInfo(output), "")
-        return self.textures.attribute(output != "Color", adjust)
+        return self.textures.attribute(output not in ("Color", "Location"), adjust)
 
     def _read_colours(self, layer, what: str):
         """The corner colours the material reads: the named attribute ("": the render colour

@@ -13,16 +13,17 @@ by the core's "attribute" texture as an Attribute node's are
   Color, Alpha  the object's Viewport Display colour (Object.color) and its alpha;
                 an instance's are its instancer's (Blender gives the objects it
                 lists as instances their instancer's colour; Cycles reads that);
-  Object Index  the object's own Pass Index.
-Location (it would change under a viewport move, which moves vertices only) and
-Material Index are named in the material's warning; so is Object Info on
+  Object Index  the object's own Pass Index;
+  Location      the instance's place in the world (its matrix's translation; a viewport
+                move changes the export's signature then, so it is exported again).
+Material Index is named in the material's warning; so is Object Info on
 shapes the core draws itself (point clouds, hair).
 """
 from __future__ import annotations
 
 import dataclasses
 
-OUTPUTS = ("Random", "Color", "Alpha", "Object Index")   # the outputs read
+OUTPUTS = ("Random", "Color", "Alpha", "Object Index", "Location")   # the outputs read
 MASK = 0xFFFFFFFF
 BLACK = (0.0, 0.0, 0.0)
 
@@ -39,14 +40,16 @@ class ObjectInfo:
 
     @property
     def per_instance(self) -> bool:
-        """Whether each instance has its own value (Random), read by instance_value."""
-        return self.output == "Random"
+        """Whether each instance has its own value (Random, Location), read by instance_value."""
+        return self.output in ("Random", "Location")
 
     def plan_value(self, parent, obj, color) -> tuple:
         """The value every instance of `obj` instanced by `parent` gets (color: display_color's)."""
         return BLACK if self.per_instance else per_object(obj, self.output, color)
 
     def instance_value(self, inst, obj) -> tuple:
+        if self.output == "Location":
+            return tuple(float(v) for v in inst.matrix_world.translation)
         return (random_of(inst, obj),) * 3
 
     def instance_column(self, points):

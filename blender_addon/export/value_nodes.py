@@ -202,7 +202,8 @@ SINGLE_OUTPUTS = {"TEX_IMAGE": ("Alpha",), "TEX_NOISE": ("Fac", "Factor"), "TEX_
 
 def is_vector(node, output: str) -> bool:
     """Whether the texture node's output is a vector (Cycles reads it as a number by its average)."""
-    return (node.type == "TEX_VORONOI" and output == "Position") or (node.type == "ATTRIBUTE" and output == "Vector")
+    return (node.type == "TEX_VORONOI" and output == "Position") or (node.type == "ATTRIBUTE" and output == "Vector") \
+        or (node.type == "OBJECT_INFO" and output == "Location")
 
 
 def image_through_nodes(socket):

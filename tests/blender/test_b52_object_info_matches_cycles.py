@@ -1,5 +1,5 @@
 """Values per object instance as Cycles gives them, in bpy 4.5, bpy 5.0 and Debian's 3.4: the
-Object Info node's Random, Color, Alpha and Object Index, and the Attribute node's Object and
+Object Info node's Random, Color, Alpha, Object Index and Location, and the Attribute node's Object and
 Instancer types (custom properties of five kinds; an instancer's own; a Geometry Nodes instance
 attribute), into an Emission colour. Layouts: twelve objects of one mesh (ASCII and UTF-8 names:
 Random hashes a name), a collection shown by two instancing Empties, 64 Geometry Nodes copies of
@@ -22,6 +22,8 @@ VARIANTS = {
     "index_objects": {"output": "Object Index", "divide": 12.0},
     "index_collection": {"output": "Object Index", "divide": 6.0, "layout": "collection"},
     "color_copies": {"output": "Color", "layout": "copies"},
+    "location_objects": {"output": "Location"},         # each tile's place, x 0.2 + 0.5, as its colour
+    "location_copies": {"output": "Location", "layout": "copies"},
     # the Attribute node's Object and Instancer types (object_attributes.py)
     "object_attribute": {"attribute": "OBJECT", "output": "Color"},
     "object_attribute_fac_ramp": {"attribute": "OBJECT", "output": "Fac", "ramp": True},
@@ -78,9 +80,9 @@ def test_a_colour_for_every_copy_keeps_the_bulk_path(export):
 
 
 def test_unread_outputs_and_spheres_are_named(export):
-    location = export("object_info", output="Location")
-    assert any("Location output" in w for w in location.warnings), location.warnings
-    assert "colors" not in location.arrays
+    index = export("object_info", output="Material Index")
+    assert any("Material Index output" in w for w in index.warnings), index.warnings
+    assert "colors" not in index.arrays
     spheres = export("object_info", output="Random", sphere=True)
     assert any("Object Info or an Object or Instancer attribute are rendered as their meshes" in w and "'Élan'" in w
                for w in spheres.warnings), spheres.warnings

@@ -19,7 +19,8 @@ def _tile_mesh():
 
 def _material(output, ramp, divide, attribute):
     """Emission whose Color is Object Info's `output` (with attribute, an Attribute node's of that
-    type named "tint"), divided by `divide` when given, through a three-stop Color Ramp with ramp."""
+    type named "tint"; Location x 0.2 + 0.5 by two Mix nodes), divided by `divide` when given,
+    through a three-stop Color Ramp with ramp."""
     mat = shader_material("ByObject", "ShaderNodeEmission", [("Strength", 1.0)])
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     if attribute:
@@ -28,6 +29,13 @@ def _material(output, ramp, divide, attribute):
     else:
         node = nodes.new("ShaderNodeObjectInfo")
     source = node.outputs[output]
+    if output == "Location":             # (x, y, z) x 0.2 + 0.5: each tile's place as a colour
+        for blend, value in (("MULTIPLY", 0.2), ("ADD", 0.5)):
+            mix = nodes.new("ShaderNodeMixRGB")
+            mix.blend_type, mix.inputs["Fac"].default_value = blend, 1.0
+            mix.inputs["Color2"].default_value = (value, value, value, 1.0)
+            links.new(source, mix.inputs["Color1"])
+            source = mix.outputs["Color"]
     if divide:
         math_node = nodes.new("ShaderNodeMath")
         math_node.operation = "DIVIDE"

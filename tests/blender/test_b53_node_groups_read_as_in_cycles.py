@@ -54,3 +54,9 @@ def test_a_colour_through_a_number_socket_is_named_not_read_as_the_colour(export
     out = export("group_edge", variant="narrowed")
     assert any("ShaderNodeGroup" in w for w in out.warnings), out.warnings
     assert out.materials[1]["emission_color"] != pytest.approx([0.9, 0.5, 0.1], abs=1e-6)
+
+
+def test_a_world_reads_its_background_through_a_group(export):
+    out = export("group_edge", variant="world")
+    assert not out.warnings, out.warnings
+    assert out.background == pytest.approx([0.9, 0.5, 0.1], abs=1e-6)     # (Strength 1)

@@ -110,7 +110,8 @@ def group_edge_scene(variant="twice_through", resolution=(48, 36)):
     """Node-group chains whose reading is easy to get wrong (test_b53's export checks):
       twice_through  an RGB node through the same pass-through group twice into the Emission Color
       narrowed       a red RGB node into a group's number input passed to its colour output (Cycles
-                     shows that number's grey: not followed, the group is named in a warning)"""
+                     shows that number's grey: not followed, the group is named in a warning)
+      world          the world's Background Color from the same pass-through group, fed the RGB node"""
     reset(resolution=tuple(resolution))
     bpy.ops.mesh.primitive_plane_add(size=7.5, rotation=(math.pi / 2, 0, 0))
     plane = bpy.context.object
@@ -118,7 +119,20 @@ def group_edge_scene(variant="twice_through", resolution=(48, 36)):
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     rgb = nodes.new("ShaderNodeRGB")
     rgb.outputs[0].default_value = (0.9, 0.5, 0.1, 1.0)
-    if variant == "twice_through":
+    if variant == "world":
+        world = bpy.context.scene.world = bpy.data.worlds.new("Grouped")
+        world.use_nodes = True
+        tree = world.node_tree
+        group, gin, gout = _group("Through", [("Color", "NodeSocketColor", (0.1, 0.1, 0.1, 1))],
+                                  [("Color", "NodeSocketColor")])
+        group.links.new(gin.outputs["Color"], gout.inputs["Color"])
+        place = tree.nodes.new("ShaderNodeGroup")
+        place.node_tree = group
+        colour = tree.nodes.new("ShaderNodeRGB")
+        colour.outputs[0].default_value = (0.9, 0.5, 0.1, 1.0)
+        tree.links.new(colour.outputs[0], place.inputs["Color"])
+        tree.links.new(place.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    elif variant == "twice_through":
         group, gin, gout = _group("Through", [("Color", "NodeSocketColor", (0.1, 0.1, 0.1, 1))],
                                   [("Color", "NodeSocketColor")])
         group.links.new(gin.outputs["Color"], gout.inputs["Color"])

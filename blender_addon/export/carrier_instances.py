@@ -14,7 +14,8 @@ So a carrier's copies are taken here instead of one by one (MeshCollector.add_in
     one each; the first copy of each reference is read as before (its object and
     instance_key make its InstancePlan, the same plan the one-by-one path makes) and
     every copy after it costs the check of its instancer's address;
-  * a carrier is read so only where each of its references is one mesh copy (a mesh
+  * a carrier (of any size: the instance attributes an Instancer attribute reads come
+    only this way) is read so only where each of its references is one mesh copy (a mesh
     object, or Object Info's As Instance of one: one_mesh_copy) and it has no point
     cloud, curves or volume of its own (each listed as an instance too);
   * every SAMPLE-th copy, the last, and the first of each reference, is checked: its
@@ -41,7 +42,7 @@ from ._matrix import to_numpy
 from .instance_values import row_value
 from .meshes import instance_key
 
-MIN_POINTS = 64      # smaller carriers are read one by one (nothing to gain)
+MIN_POINTS = 1       # (every carrier: a small one gains little time, but its instance attributes come only so)
 SAMPLE = 1024        # every SAMPLE-th copy is checked against the depsgraph's own
 MISSING = object()
 REALIZED = ("pointcloud", "curves", "volume", "grease_pencil")   # a geometry set's components besides mesh and instances
@@ -122,7 +123,10 @@ def copy_values(carrier, references, plans, own=None):
     """(N, 3) each copy's own value, NaN where its plan's applies (instance_values.py): `own`
     (those read with each copy: CarrierRun.own), and the Geometry Nodes instance attributes its
     plan's layer reads (instance_column); None for none."""
-    layers = {r: plan.info for r, plan in enumerate(plans) if plan is not None and plan.info is not None}
+    layers = {}          # layer -> the references whose plans read it
+    for r, plan in enumerate(plans):
+        if plan is not None and plan.info is not None and plan.info.reads_instances:
+            layers.setdefault(plan.info, []).append(r)
     if not layers:
         return own
     references = np.asarray(references)
@@ -130,13 +134,14 @@ def copy_values(carrier, references, plans, own=None):
     try:
         geometry = carrier.evaluated_geometry()      # (kept while its points are read)
         points = geometry.instances_pointcloud()
-        for r, layer in layers.items():
-            column = layer.instance_column(points)
+        for layer, which in layers.items():
+            column = layer.instance_column(points)   # (once per layer, however many references read it)
             if column is not None and len(column) == len(references):
-                values[references == r] = column[references == r]
+                rows = np.isin(references, which)
+                values[rows] = column[rows]
     except (AttributeError, RuntimeError, TypeError):
-        return None
-    return values
+        pass
+    return values if own is not None or not np.isnan(values).all() else None
 
 
 class CarrierRun:
@@ -153,12 +158,17 @@ class CarrierRun:
         self.failed = False
 
     def _read_own(self, k, plan, inst):
-        """Copy k's own value where its plan's layer is per instance (instance_values.row_value)."""
-        value = row_value(plan, inst, None)        # (a copy is an instance: its random_id, not its name)
-        if value is not None:
-            if self.own is None:
-                self.own = np.full((len(self.references), 3), np.nan)
-            self.own[k] = value
+        """Copy k's own value where its plan's layer is per instance (instance_values.row_value;
+        Object Info's Location from the copy's matrix, known already)."""
+        if plan.info is None or not plan.info.per_instance:
+            return
+        if getattr(plan.info, "output", None) == "Location":
+            value = self.world[k, :3, 3]                     # (the copy's matrix, known already)
+        else:
+            value = row_value(plan, inst, None)             # (an instance: its random_id, not its name)
+        if self.own is None:
+            self.own = np.full((len(self.references), 3), np.nan)
+        self.own[k] = value
 
     def take(self, inst, meshes):
         k = len(self.seqs)

@@ -457,14 +457,16 @@ class InstancePlan:
     colour layer of one value per instance its materials read, instance_values.py, or None)
     and info_value (that layer's value for every instance, where not their own); unread:
     whether instances read one by one miss their copy's own value (a Geometry Nodes instance
-    attribute); parent: the instancer (None: the object itself is no instance)."""
+    attribute); parent: the instancer (None: the object itself is no instance); particles: the
+    particle settings that instance it (None: none)."""
     __slots__ = ("renders", "flags", "name", "hair", "kind", "known", "names", "index", "info", "info_value",
-                 "unread", "parent")
+                 "unread", "parent", "particles")
 
-    def __init__(self, renders, flags, name, hair, parent=None):
+    def __init__(self, renders, flags, name, hair, parent=None, particles=None):
         self.renders, self.flags, self.name, self.hair = renders, flags, name, hair
         self.kind, self.known, self.names, self.index = None, None, None, -1
-        self.info, self.info_value, self.unread, self.parent = None, (0.0, 0.0, 0.0), False, parent
+        self.info, self.info_value, self.unread = None, (0.0, 0.0, 0.0), False
+        self.parent, self.particles = parent, particles
 
 
 class MeshCollector:
@@ -619,7 +621,9 @@ class MeshCollector:
             for prop, value, label in IGNORED_VISIBILITY:
                 if getattr(source, prop, not value) == value:
                     self.ignored.setdefault(label, set()).add(source.name)
-        return InstancePlan(True, self._flags(inst), obj.name, hair, inst.parent if inst.is_instance else None)
+        system = getattr(inst, "particle_system", None) if inst.is_instance else None
+        return InstancePlan(True, self._flags(inst), obj.name, hair, inst.parent if inst.is_instance else None,
+                            system.settings if system is not None else None)
 
     def _resolve(self, plan, obj):
         """Reads what the plan's object becomes (its materials, mesh or shape), at its first
@@ -631,7 +635,7 @@ class MeshCollector:
         plan.kind, plan.known, plan.names = known[0], known, known[-1]
         if plan.kind == "mesh" and is_instance_layer(known[4][1]):
             plan.info = known[4][1]
-            plan.info_value = plan.info.plan_value(plan.parent, obj, display_color(plan.parent, obj))
+            plan.info_value = plan.info.plan_value(plan.parent, obj, display_color(plan.parent, obj), plan.particles)
             plan.unread = plan.info.unread_by_rows(plan.parent)
         if plan.kind == "mesh":
             plan.index = len(self._mesh_plans)
@@ -896,10 +900,10 @@ class MeshCollector:
             out.append("Object Info and Object or Instancer attributes are not read on point clouds and hair "
                        "(they read black): " + _quoted(self.info_shapes))
         if self.unread_instance_attributes:
-            out.append("Geometry Nodes instance attributes were not read for copies read one by one (their "
-                       "instancer's and object's properties were; Blender 4.3+ reads a carrier's copies in bulk, "
-                       "with their attributes): " + ", ".join(f"{a!r} of {c!r}" for c, a in
-                                                             sorted(self.unread_instance_attributes)))
+            out.append("Geometry Nodes instance attributes were not read for copies read one by one (before "
+                       "Blender 4.3, or where a carrier's copies could not be read in bulk; their instancer's and "
+                       "object's properties were): " + ", ".join(f"{a!r} of {c!r}" for c, a in
+                                                                 sorted(self.unread_instance_attributes)))
         if self.non_uniform_spheres:
             names = ", ".join(sorted(set(self.non_uniform_spheres)))
             out.append("Objects rendered as spheres or tubes ('Render as sphere', point clouds, hair) with non-uniform scale "

@@ -6,7 +6,8 @@ BKE_object_dupli_find_rgba_attribute):
              that path ("color", "location", "scale"...), then the same on its
              data (the mesh);
   Instancer  for an instance, first a Geometry Nodes instance attribute of that
-             name on its copy, then the instancer's property, then as Object;
+             name on its copy, then the property of the particle settings that
+             instance it, then the instancer's property, then as Object;
              for an object that is no instance, as Object.
 A number (or a true boolean, 1) is grey, an array of up to four numbers its
 first three channels (missing ones 0); nothing found is black.
@@ -38,8 +39,8 @@ def _rgb(value):
         items = list(value)
     except TypeError:
         return None
-    if not 0 < len(items) <= 4 or not all(isinstance(v, numbers.Real) for v in items):
-        return None
+    if not 0 < len(items) <= 4 or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items):
+        return None                          # (Cycles reads no array of booleans)
     items = [float(v) for v in items[:3]] + [0.0] * (3 - min(len(items), 3))
     return tuple(items)
 
@@ -71,14 +72,21 @@ class ObjectAttribute:
     def __repr__(self) -> str:
         return f"{self.kind.title()} attribute {self.name!r}"
 
-    def plan_value(self, parent, obj, color) -> tuple:
-        """The value every instance of `obj` instanced by `parent` (None: no instance) gets."""
-        sources = ([parent] if self.kind == "INSTANCER" and parent is not None else []) + [obj, obj.data]
+    def plan_value(self, parent, obj, color, particles=None) -> tuple:
+        """The value every instance of `obj` instanced by `parent` (None: no instance; particles:
+        the particle settings that instance it, or None) gets."""
+        instancers = [particles, parent] if self.kind == "INSTANCER" else []
+        sources = [s for s in instancers if s is not None] + [obj, obj.data]
         for source in sources:
             found = property_rgb(source, self.name)
             if found is not None:
                 return found
         return BLACK
+
+    @property
+    def reads_instances(self) -> bool:
+        """Whether a Geometry Nodes instance attribute comes first (instance_column)."""
+        return self.kind == "INSTANCER"
 
     def instance_column(self, points) -> np.ndarray | None:
         """(N, 3) float64 per copy, the Geometry Nodes instance attribute of this name on a carrier's
@@ -99,7 +107,8 @@ class ObjectAttribute:
         try:
             geometry = evaluated()
             points = geometry.instances_pointcloud()
-            return points is not None and points.attributes.get(self.name) is not None
+            attr = points.attributes.get(self.name) if points is not None else None
+            return attr is not None and attr.data_type in VALUE_FIELDS      # (one Cycles reads)
         except (AttributeError, RuntimeError, TypeError):
             return False
 

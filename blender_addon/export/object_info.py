@@ -43,7 +43,7 @@ class ObjectInfo:
         """Whether each instance has its own value (Random, Location), read by instance_value."""
         return self.output in ("Random", "Location")
 
-    def plan_value(self, parent, obj, color) -> tuple:
+    def plan_value(self, parent, obj, color, particles=None) -> tuple:
         """The value every instance of `obj` instanced by `parent` gets (color: display_color's)."""
         return BLACK if self.per_instance else per_object(obj, self.output, color)
 
@@ -51,6 +51,8 @@ class ObjectInfo:
         if self.output == "Location":
             return tuple(float(v) for v in inst.matrix_world.translation)
         return (random_of(inst, obj),) * 3
+
+    reads_instances = False    # (no Geometry Nodes instance attribute: instance_column)
 
     def instance_column(self, points):
         return None

@@ -116,3 +116,13 @@ def test_object_attributes_read_custom_properties(export):
 def test_two_colour_sources_on_one_mesh_are_named(export):
     out = export("object_info", output="Random", second="attribute")
     assert any("read different corner colours" in w for w in out.warnings), out.warnings
+
+
+def test_particle_instances_read_their_particle_settings_first(export):
+    # (Cycles: an Instancer attribute of a particle instance is the particle settings' property
+    # before the emitter's)
+    out = export("object_info", output="Color", attribute="INSTANCER", layout="particles")
+    colours = out.colors.reshape(-1, 3)
+    red = np.all(np.isclose(colours, [0.9, 0.1, 0.1]), axis=1)
+    assert red.sum() == 4 * 2 * 3                       # the four copies' corners (the source tile: its own)
+    assert not np.any(np.all(np.isclose(colours, [0.1, 0.9, 0.1]), axis=1))     # not the emitter's

@@ -129,6 +129,8 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
       collection  6 such tiles in a collection outside the scene, shown twice, side by side, by
                   two Empties instancing it
       copies      8 x 8 Geometry Nodes copies of one hidden tile (the bulk path's 64)
+      particles   a plane (not rendered) emitting the tile at its four corners (a particle system
+                  with "tint" on its settings, red, and on the emitter, green)
     sphere: the tiles are 'Render as sphere' (a sphere has no corner colours: rendered as meshes);
     points: a point cloud of the same material below them. attribute ("OBJECT", "INSTANCER"): an
     Attribute node of that type named "tint" in Object Info's place (output: Color or Fac), each
@@ -171,6 +173,20 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
             empty.location = (x, 0.0, 0.0)
             if x < 0:
                 empty["tint"] = (0.7, 0.7, 0.1)
+    elif layout == "particles":
+        source = tile("Tile", (0.0, 40.0, 0.0), index=3)       # (behind the camera's view: its copies show)
+        source.scale = (0.5, 0.5, 0.5)
+        bpy.ops.mesh.primitive_plane_add(size=3.0, rotation=(math.pi / 2, 0, 0))
+        emitter = bpy.context.object
+        emitter["tint"] = (0.1, 0.9, 0.1)
+        emitter.modifiers.new("Scatter", "PARTICLE_SYSTEM")
+        settings = emitter.particle_systems[0].settings
+        settings.count, settings.frame_start, settings.frame_end, settings.lifetime = 4, 1, 1, 100
+        settings.emit_from, settings.use_emit_random, settings.physics_type = "VERT", False, "NO"
+        settings.render_type, settings.instance_object = "OBJECT", source
+        emitter.show_instancer_for_render = False
+        settings["tint"] = (0.9, 0.1, 0.1)
+        bpy.context.scene.frame_set(1)
     else:
         source = tile("Tile", (0.0, 0.0, 0.0), index=3)
         source.rotation_euler = (0.0, 0.0, 0.0)

@@ -17,7 +17,7 @@ from .lights import light_from_instance
 from .materials import MaterialTable
 from .mesh_cache import MeshCache
 from .meshes import MeshCollector, count_geometry
-from .textures import TextureTable
+from .textures import TextureTable, reads_instance_attributes
 from .world import convert_world
 
 __all__ = ["CameraError", "Export", "ExportCancelled", "ExportError", "MeshCache", "count_geometry", "export_scene", "render_region",
@@ -88,7 +88,7 @@ class Export:
                 self.meshes.add_instance(inst, obj)
 
         # (a Geometry Nodes carrier's copies are read in bulk where they check out: carrier_instances)
-        carriers = CarrierInstances(self.meshes)
+        carriers = CarrierInstances(self.meshes, reads_instance_attributes(depsgraph))
         for inst in depsgraph.object_instances:
             if should_stop is not None and time.perf_counter() - asked >= STOP_SECONDS:
                 if should_stop():

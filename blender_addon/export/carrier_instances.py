@@ -14,8 +14,8 @@ So a carrier's copies are taken here instead of one by one (MeshCollector.add_in
     one each; the first copy of each reference is read as before (its object and
     instance_key make its InstancePlan, the same plan the one-by-one path makes) and
     every copy after it costs the check of its instancer's address;
-  * a carrier (of any size: the instance attributes an Instancer attribute reads come
-    only this way) is read so only where each of its references is one mesh copy (a mesh
+  * a carrier is read so (from MIN_POINTS copies; of any size where a material reads instance
+    attributes, which come only this way) only where each of its references is one mesh copy (a mesh
     object, or Object Info's As Instance of one: one_mesh_copy) and it has no point
     cloud, curves or volume of its own (each listed as an instance too);
   * every SAMPLE-th copy, the last, and the first of each reference, is checked: its
@@ -42,7 +42,8 @@ from ._matrix import to_numpy
 from .instance_values import row_value
 from .meshes import instance_key
 
-MIN_POINTS = 1       # (every carrier: a small one gains little time, but its instance attributes come only so)
+MIN_POINTS = 64      # smaller carriers are read one by one (the bulk path's set-up, about 0.4 ms a carrier, outweighs
+                     # what it saves), unless a material reads instance attributes, which come only in bulk
 SAMPLE = 1024        # every SAMPLE-th copy is checked against the depsgraph's own
 MISSING = object()
 REALIZED = ("pointcloud", "curves", "volume", "grease_pencil")   # a geometry set's components besides mesh and instances
@@ -75,10 +76,10 @@ def one_mesh_copy(reference, depth: int = 0) -> bool:
     return evaluated is None or _instance_points(evaluated()) == 0
 
 
-def carrier_transforms(carrier):
+def carrier_transforms(carrier, min_points=MIN_POINTS):
     """((N, 4, 4) float64 transforms relative to the carrier, (N,) reference indices,
     reference count) of an evaluated object's Geometry Nodes instances, or None where
-    it has fewer than MIN_POINTS, a reference that is not one mesh copy (one_mesh_copy),
+    it has fewer than min_points, a reference that is not one mesh copy (one_mesh_copy),
     components the depsgraph lists as instances of their own (point clouds, curves,
     volumes), or where this Blender cannot tell."""
     evaluated = getattr(carrier, "evaluated_geometry", None)
@@ -87,7 +88,7 @@ def carrier_transforms(carrier):
     try:
         geometry = evaluated()
         points = geometry.instances_pointcloud()
-        if points is None or len(points.points) < MIN_POINTS:
+        if points is None or len(points.points) < min_points:
             return None
         if any(getattr(geometry, name, None) is not None for name in REALIZED):
             return None
@@ -210,8 +211,11 @@ class CarrierRun:
 class CarrierInstances:
     """The Geometry Nodes carriers whose copies are read in bulk in one export."""
 
-    def __init__(self, meshes):
+    def __init__(self, meshes, every_carrier: bool = False):
+        """every_carrier: read carriers of any size in bulk (a material reads instance attributes:
+        textures.reads_instance_attributes)."""
         self.meshes = meshes
+        self.min_points = 1 if every_carrier else MIN_POINTS
         self.runs = {}      # carrier address -> CarrierRun, or None (its copies are read one by one)
         self.copies = 0     # after finish(): the copies read in bulk
         self._again = {}    # carrier address -> copies met again on the second pass (read_again)
@@ -227,7 +231,7 @@ class CarrierInstances:
         address = parent.as_pointer()
         run = self.runs.get(address, MISSING)
         if run is MISSING:
-            found = carrier_transforms(parent)
+            found = carrier_transforms(parent, self.min_points)
             run = self.runs[address] = None if found is None else CarrierRun(parent, to_numpy(parent.matrix_world),
                                                                             *found)
         if run is None:

@@ -193,6 +193,13 @@ def uses_normal_maps(depsgraph) -> bool:
     return any(node.type == "NORMAL_MAP" for node in _material_nodes(depsgraph))
 
 
+def reads_instance_attributes(depsgraph) -> bool:
+    """Whether a material reads an Attribute node of the Instancer type (a Geometry Nodes instance
+    attribute, read with the copies in bulk: carrier_instances.py)."""
+    return any(node.type == "ATTRIBUTE" and getattr(node, "attribute_type", "") == "INSTANCER"
+               for node in _material_nodes(depsgraph))
+
+
 def plain_image(texture) -> bool:
     """Whether a gridwalk.Texture is an image read at the UV map, unmapped in 3-space and
     without a ramp: what the core's normal maps and environments take (texture.h's plain_image)."""

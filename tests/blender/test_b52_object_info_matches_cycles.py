@@ -94,11 +94,13 @@ def test_unread_outputs_and_spheres_are_named(export):
         points.warnings
 
 
-def test_instance_attributes_come_with_the_copies_or_are_named(export):
-    out = export("object_info", output="Color", attribute="INSTANCER", layout="copies")
+@pytest.mark.parametrize("copies", [8, 3])
+def test_instance_attributes_come_with_the_copies_or_are_named(export, copies):
+    # (9 copies: under the bulk path's 64, taken in bulk because a material reads instance attributes)
+    out = export("object_info", output="Color", attribute="INSTANCER", layout="copies", copies=copies)
     if out.blender >= [4, 3, 0]:
-        assert out.bulk_copies == 64 and not out.warnings, out.warnings
-        assert len(np.unique(out.colors.reshape(-1, 3), axis=0)) == 64
+        assert out.bulk_copies == copies ** 2 and not out.warnings, out.warnings
+        assert len(np.unique(out.colors.reshape(-1, 3), axis=0)) == copies ** 2
     else:
         assert any("instance attributes were not read" in w and "'tint' of 'Carrier'" in w for w in out.warnings)
 

@@ -58,13 +58,13 @@ def main(out_dir, *variants):
         scenes.carrier_scene("object" if variant == "tampered" else variant)
         depsgraph = bpy.context.evaluated_depsgraph_get()
         if variant == "tampered":      # a sampled copy's transform moved: the check must catch it
-            carrier_instances.carrier_transforms = lambda carrier: tampered(found(carrier))
+            carrier_instances.carrier_transforms = lambda carrier, *more: tampered(found(carrier, *more))
         try:
             bulk = Export(depsgraph)
             bulk_kwargs, bulk_warnings = bulk.kwargs()
         finally:
             carrier_instances.carrier_transforms = found
-        carrier_instances.carrier_transforms = lambda carrier: None
+        carrier_instances.carrier_transforms = lambda carrier, *more: None
         try:
             single = Export(depsgraph)
             single_kwargs, single_warnings = single.kwargs()

@@ -121,14 +121,14 @@ TINTS = (lambda rng: tuple(rng.uniform(0.05, 1.0, 3)), lambda rng: float(rng.uni
 
 
 def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0, sphere=False, points=False,
-                      attribute="", second="", resolution=(96, 72)):
+                      attribute="", second="", copies=8, resolution=(96, 72)):
     """Square tiles facing the camera, their Emission Color Object Info's `output` (Random,
     Color, Alpha, Object Index; `divide`: through a Math Divide by it; ramp: a Color Ramp):
       objects     12 tile objects sharing one mesh (NAMES), 4 x 3, each with its own Viewport
                   Display colour (Color, Alpha) and Pass Index
       collection  6 such tiles in a collection outside the scene, shown twice, side by side, by
                   two Empties instancing it
-      copies      8 x 8 Geometry Nodes copies of one hidden tile (the bulk path's 64)
+      copies      `copies` x `copies` Geometry Nodes copies of one hidden tile (8: the bulk path's 64)
       particles   a plane (not rendered) emitting the tile at its four corners (a particle system
                   with "tint" on its settings, red, and on the emitter, green)
     sphere: the tiles are 'Render as sphere' (a sphere has no corner colours: rendered as meshes);
@@ -191,7 +191,7 @@ def object_info_scene(output="Random", layout="objects", ramp=False, divide=0.0,
         source = tile("Tile", (0.0, 0.0, 0.0), index=3)
         source.rotation_euler = (0.0, 0.0, 0.0)
         source.hide_render = True
-        _carrier(source, 8, 8, 0.7, bool(attribute))
+        _carrier(source, copies, copies, 0.7, bool(attribute))
     if points:
         _points(mat)
     bpy.context.view_layer.update()

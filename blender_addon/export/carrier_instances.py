@@ -155,18 +155,15 @@ class CarrierRun:
         self.plans = [None] * count                # InstancePlan per reference, from its first copy
         self.keys = [None] * count                 # instance_key per reference
         self.seqs = []                             # each copy's instance number (MeshCollector.next_seq)
-        self.own = None                            # (N, 3) the copies' own values (Object Info's Random), or None
+        self.own = None                            # (N, 3) the copies' own values (Random, Location), or None
         self.failed = False
 
     def _read_own(self, k, plan, inst):
-        """Copy k's own value where its plan's layer is per instance (instance_values.row_value;
-        Object Info's Location from the copy's matrix, known already)."""
+        """Copy k's own value where its plan's layer is per instance (instance_values.row_value,
+        at the copy's matrix, known already)."""
         if plan.info is None or not plan.info.per_instance:
             return
-        if getattr(plan.info, "output", None) == "Location":
-            value = self.world[k, :3, 3]                     # (the copy's matrix, known already)
-        else:
-            value = row_value(plan, inst, None)             # (an instance: its random_id, not its name)
+        value = row_value(plan, inst, None, self.world[k, :3, 3])   # (an instance: its random_id, not its name)
         if self.own is None:
             self.own = np.full((len(self.references), 3), np.nan)
         self.own[k] = value

@@ -27,11 +27,11 @@ def is_instance_layer(layer) -> bool:
     return isinstance(layer, (ObjectInfo, ObjectAttribute))
 
 
-def row_value(plan, inst, obj):
+def row_value(plan, inst, obj, place):
     """An instance's own value (a tuple), where its plan's layer is per instance; else None
-    (the plan's value applies)."""
+    (the plan's value applies). place: its matrix's translation, read already by the caller."""
     layer = plan.info
-    return layer.instance_value(inst, obj) if layer is not None and layer.per_instance else None
+    return layer.instance_value(inst, obj, place) if layer is not None and layer.per_instance else None
 
 
 def part_values(plans, which, rows) -> np.ndarray | None:

@@ -546,7 +546,7 @@ class MeshCollector:
         if plan.index >= 0 and plan.known[3].finite:
             # A mesh read already (the ten-thousandth copy of a scattered stone): its
             # row alone; _flush_rows checks the block's rows are finite, all at once.
-            self._add_row(row, plan, row_value(plan, inst, obj))
+            self._add_row(row, plan, None if plan.info is None else row_value(plan, inst, obj, row[3:12:4]))
             return
         if not finite(row):
             self._skip(plan.name, "its transform is not finite (NaN or Inf)")
@@ -563,7 +563,7 @@ class MeshCollector:
         elif plan.kind == "mesh" and not plan.known[3].finite:
             self._skip(plan.name, "its mesh has non-finite vertex coordinates (NaN or Inf)")
         elif plan.kind == "mesh":
-            self._add_row(row, plan, row_value(plan, inst, obj))
+            self._add_row(row, plan, None if plan.info is None else row_value(plan, inst, obj, row[3:12:4]))
 
     def _add_row(self, row, plan, value):
         """A mesh instance's matrix (16 floats) into the rows of the next block, with its own

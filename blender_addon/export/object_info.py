@@ -47,9 +47,10 @@ class ObjectInfo:
         """The value every instance of `obj` instanced by `parent` gets (color: display_color's)."""
         return BLACK if self.per_instance else per_object(obj, self.output, color)
 
-    def instance_value(self, inst, obj) -> tuple:
+    def instance_value(self, inst, obj, place) -> tuple:
+        """The instance's own value; place: its matrix's translation (Location)."""
         if self.output == "Location":
-            return tuple(float(v) for v in inst.matrix_world.translation)
+            return tuple(float(v) for v in place)
         return (random_of(inst, obj),) * 3
 
     reads_instances = False    # (no Geometry Nodes instance attribute: instance_column)

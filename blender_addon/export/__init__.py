@@ -66,6 +66,8 @@ class Export:
             raise ExportError(str(exc)) from None
         cache = cache if cache is not None else MeshCache()
         self.textures = TextureTable(cache.images)
+        if should_stop is not None:
+            self.textures.cancelled = should_stop
         view_layer = getattr(depsgraph, "view_layer_eval", None) or getattr(depsgraph, "view_layer", None)
         self.materials = MaterialTable(self.textures, getattr(view_layer, "material_override", None))
         render = getattr(depsgraph, "mode", "RENDER") == "RENDER"   # (a final render's depsgraph; else the viewport's)

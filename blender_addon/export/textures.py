@@ -28,6 +28,7 @@ from gridwalk import Image, Texture
 
 from .node_links import InGroup, _source, input_value, tree_nodes
 from .object_info import OUTPUTS as INFO_OUTPUTS
+from .udim import read_tiles, tile_sizes
 from .uv_mapping import VECTOR_IDENTITY
 
 
@@ -88,8 +89,8 @@ def image_read_bytes(img) -> int:
     return w * h * c * (4 + (4 if img.is_float else 1))
 
 
-def _colorspace(img) -> str:
-    settings = img.colorspace_settings
+def _colorspace(img, settings_of=None) -> str:
+    settings = (settings_of or img).colorspace_settings
     if settings.is_data:
         return "data"
     if img.is_float:
@@ -97,12 +98,13 @@ def _colorspace(img) -> str:
     return "srgb" if "srgb" in settings.name.lower() else "linear"
 
 
-def read_image(img, limit: int = MAX_IMAGE_BYTES):
-    """(gridwalk.Image, problem): problem is None, or why the image is magenta."""
+def read_image(img, limit: int = MAX_IMAGE_BYTES, settings_of=None):
+    """(gridwalk.Image, problem): problem is None, or why the image is magenta.
+    settings_of: the image whose colour space the pixels are in (a UDIM tile's tiled image)."""
     if img is None:
         return None, "no image is set"
     if getattr(img, "source", "") == "TILED":
-        return None, "UDIM tiles are not supported"
+        return None, "an Environment Texture does not read UDIM tiles"
     if getattr(img, "source", "") in ("SEQUENCE", "MOVIE"):
         return None, f"image {img.source.lower()}s are not supported (use a single image)"
     try:
@@ -124,15 +126,16 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES):
         non_finite = int(px.size - np.count_nonzero(np.isfinite(px)))
         if non_finite:
             px = np.nan_to_num(px, nan=0.0, posinf=65504.0, neginf=0.0)
-    mean = _mean_rgb(px, _colorspace(img) == "srgb")
+    space = _colorspace(img, settings_of)
+    mean = _mean_rgb(px, space == "srgb")
     associated = mean
     if not img.is_float:
         px = np.rint(np.clip(px, 0.0, 1.0) * 255.0).astype(np.uint8)
         if c in (2, 4):                # the mean of the colour premultiplied as the core does it (in bytes)
             times_alpha = px[..., :c - 1].astype(np.uint32) * px[..., c - 1:] // 255
             associated = _mean_rgb(np.concatenate([times_alpha / 255.0, px[..., c - 1:] / 255.0], axis=2),
-                                   _colorspace(img) == "srgb")
-    image = Image(px, _colorspace(img), name=img.name)
+                                   space == "srgb")
+    image = Image(px, space, name=img.name)
     image.mean_rgb, image.mean_rgb_associated = mean, associated
     image.non_finite = non_finite
     image.grey_alpha_file = _png_grey_alpha(img)   # (read once here: the image cache keeps it)
@@ -173,6 +176,11 @@ def scene_texture_bytes(depsgraph) -> int:
             if img is None or img.name_full in seen:
                 continue
             seen.add(img.name_full)
+            if getattr(img, "source", "") == "TILED" and node.type == "TEX_IMAGE":
+                tiles_stored, tile_read = tile_sizes(img)   # (tiles are read one at a time)
+                stored, largest = stored + tiles_stored, max(largest, tile_read)
+                seen.add(img.name_full)
+                continue
             if 0 < image_read_bytes(img) <= MAX_IMAGE_BYTES:
                 stored += _stored_bytes(img)
                 largest = max(largest, image_read_bytes(img) - _stored_bytes(img))
@@ -361,6 +369,7 @@ class TextureTable:
         self._texture_index: dict = {}
         self.problems: dict = {}         # image name -> why it renders magenta
         self.notes: set = set()          # other one-line remarks
+        self.cancelled = lambda: False   # (the export's cancel test, while tiles are read on the main thread)
 
     def _image(self, img) -> int:
         key = img.name_full if img is not None else None
@@ -380,6 +389,31 @@ class TextureTable:
                                "NaN and -Inf are read as 0, +Inf as 65504")
             self._image_index[key] = len(self.images)
             self.images.append(image)
+        return self._image_index[key]
+
+    def _tiles(self, img, cancelled) -> list:
+        """[(tile number, image index)] of a tiled (UDIM) image's tiles; a tile that cannot
+        be read is the magenta stand-in, its problem noted under the image's name."""
+        key = ("tiles", img.name_full)
+        if key not in self._image_index:
+            signature = _signature(img)
+            cached = self.cache.get(("tiles", signature)) if signature is not None else None
+            tiles, problems = cached if cached is not None else \
+                read_tiles(img, lambda loaded, settings_of: read_image(loaded, settings_of=settings_of), cancelled)
+            if signature is not None:
+                self.cache[("tiles", signature)] = (tiles, problems)
+                self._used.add(("tiles", signature))
+            if problems:
+                self.problems[img.name_full] = "; ".join(
+                    why if number == 0 else f"tile {number}: {why}" for number, why in sorted(problems.items()))
+            indices = []
+            for number, image in tiles or [(1001, None)]:
+                if image is None:
+                    image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {img.name_full} {number}")
+                    image.mean_rgb = MAGENTA
+                indices.append((number, len(self.images)))
+                self.images.append(image)
+            self._image_index[key] = indices
         return self._image_index[key]
 
     def generated(self, key, make, name: str) -> int:
@@ -403,7 +437,9 @@ class TextureTable:
         at the coordinates `coords` says (Texture's uv_transform, or coordinates and
         vector_transform: uv_mapping.texture_fields; the UV map by default), its value
         adjusted by `adjust` (Texture's channel, gain, bias and clamp: value_nodes.py)."""
-        image = self._image(node.image)
+        tiled = node.type == "TEX_IMAGE" and getattr(node.image, "source", "") == "TILED"
+        tiles = self._tiles(node.image, self.cancelled) if tiled else ()
+        image = tiles[0][1] if tiled else self._image(node.image)
         interpolation = INTERPOLATION.get(node.interpolation, "linear")
         extension = EXTENSION.get(getattr(node, "extension", "REPEAT"), "repeat")
         if getattr(node, "extension", "REPEAT") not in EXTENSION:
@@ -422,7 +458,7 @@ class TextureTable:
                      and getattr(img, "alpha_mode", "STRAIGHT") in ("STRAIGHT", "PREMUL"))
         premultiply = has_alpha and not img.is_float and not getattr(self.images[image], "grey_alpha_file", False)
         unassociate = has_alpha and _alpha_used(node)
-        return self._add(dict(image=image, interpolation=interpolation, extension=extension,
+        return self._add(dict(image=image, tiles=tuple(tiles), interpolation=interpolation, extension=extension,
                               use_alpha=output == "Alpha", premultiply=premultiply, unassociate=unassociate,
                               **shape, **(coords or {}), **(adjust or {})))
 

@@ -114,6 +114,7 @@ void bind_records(nb::module_& m) {
         .def_rw("premultiply", &Texture::premultiply)
         .def_rw("unassociate", &Texture::unassociate)
         .def_rw("uv_transform", &Texture::uv_transform)
+        .def_rw("tiles", &Texture::tiles)
         .def_rw("channel", &Texture::channel)
         .def_rw("gain", &Texture::gain)
         .def_rw("bias", &Texture::bias)

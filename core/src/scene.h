@@ -312,7 +312,8 @@ private:
         const Texture& t = textures_[size_t(texture)];
         if (!plain_image(t)) return lookup_vector(t, hit, u, v, view);
         if (uv_mapped(t)) map_uv(t, u, v);
-        return sample_image(*images_[size_t(t.image)], t, u, v);
+        const int32_t k = texture_image(t, u, v);
+        return k < 0 ? missing_texel() : sample_image(*images_[size_t(k)], t, u, v);
     }
     // A procedural texture, or an image at other coordinates or mapped in 3D (see Texture).
     Rgba lookup_vector(const Texture& t, const Hit& hit, float u, float v, const TextureView& view) const;

@@ -56,6 +56,11 @@ void Scene::check_textures() {
         if (k < 0 || size_t(k) >= images_.size())
             bad(where + ".image = " + std::to_string(k) + " is out of range: images has " +
                 std::to_string(images_.size()) + " entries");
+        const auto& tiles = textures_[i].tiles;
+        for (size_t j = 1; j < tiles.size(); j += 2)
+            if (tiles[j] < 0 || size_t(tiles[j]) >= images_.size())
+                bad(where + ".tiles: tile " + std::to_string(tiles[j - 1]) + "'s image " + std::to_string(tiles[j]) +
+                    " is out of range: images has " + std::to_string(images_.size()) + " entries");
     }
     auto check_index = [&](int32_t k, const std::string& where) {
         if (k >= int32_t(textures_.size()))
@@ -90,6 +95,9 @@ void Scene::check_textures() {
             bad(std::string(name) + " = " + std::to_string(index) +
                 " names a procedural texture or one with coordinates or a vector_transform: an environment is an image "
                 "looked up along the ray's direction");
+        if (!t.tiles.empty())
+            bad(std::string(name) + " = " + std::to_string(index) +
+                " names a texture of UDIM tiles: an environment is one image");
         if (uv_mapped(t))
             bad(std::string(name) + " = " + std::to_string(index) +
                 " names a texture with a uv_transform, which an environment does not use: "
@@ -285,7 +293,8 @@ Rgba Scene::box_projected(const Texture& t, const Vec3& p, const Vec3& n) const 
 
 Rgba Scene::image_at(const Texture& t, float x, float y) const {
     if (uv_mapped(t)) map_uv(t, x, y);
-    return sample_image(*images_[size_t(t.image)], t, x, y);
+    const int32_t k = texture_image(t, x, y);
+    return k < 0 ? missing_texel() : sample_image(*images_[size_t(k)], t, x, y);
 }
 
 Rgba Scene::pattern_at(const Texture& t, const Vec3& p) const {
@@ -538,13 +547,16 @@ bool Scene::image_slopes(const Texture& t, const Hit& hit, Vec3& T, Vec3& B, flo
     // keep their digits): central differences over a quarter of a texel of
     // its bilinear interpolation (Closest too: its steps have no slope to
     // take), then back to u and v through the transform's linear part.
+    // (in the UDIM tile under the point, whose image's texels set the step; none: flat)
     Texture tex = t;
-    const Image& img = *images_[size_t(tex.image)];
     tex.interpolation = Interpolation::Linear;
     float u, v;
     hit_uv(hit, u, v);
     float x = u, y = v;
     if (uv_mapped(tex)) map_uv(tex, x, y);
+    const int32_t k = texture_image(tex, x, y);
+    if (k < 0) return false;
+    const Image& img = *images_[size_t(k)];
     const float period = tex.extension == Extension::Repeat ? 1.0f : tex.extension == Extension::Mirror ? 2.0f : 0.0f;
     if (period > 0 && std::isfinite(x) && std::isfinite(y)) {
         x -= period * std::floor(x / period);

@@ -177,6 +177,30 @@ void validate_texture(const Texture& t, const std::string& where) {
     if (t.kind != TextureKind::Image && t.image != -1)
         throw std::invalid_argument(where + ".image = " + std::to_string(t.image) + ": a " + enum_id(t.kind) +
                                     " texture has no image (-1)");
+    if (t.tiles.size() % 2)
+        throw std::invalid_argument(where + ".tiles must be (tile number, image) pairs, got " +
+                                    std::to_string(t.tiles.size()) + " numbers");
+    if (!t.tiles.empty() && t.kind != TextureKind::Image)
+        throw std::invalid_argument(where + ".tiles: a " + enum_id(t.kind) + " texture has no image tiles");
+    for (size_t i = 0; i < t.tiles.size(); i += 2)
+        if (t.tiles[i] < 1001 || t.tiles[i] > 2000)
+            throw std::invalid_argument(where + ".tiles: tile number " + std::to_string(t.tiles[i]) +
+                                        " is not a UDIM tile (1001 to 2000)");
+}
+
+int32_t texture_image(const Texture& t, float& u, float& v) {
+    if (t.tiles.empty()) return t.image;
+    // (the comparisons also turn NaN away, before any conversion to int)
+    if (!(u > -1.0f && u < 10.0f && v > -1.0f && v < 100.0f)) return -1;
+    const int tx = int(u), ty = int(v);   // (truncated toward zero, as Cycles does)
+    const int32_t number = 1001 + 10 * ty + tx;
+    for (size_t i = 0; i < t.tiles.size(); i += 2)
+        if (t.tiles[i] == number) {
+            u -= float(tx);
+            v -= float(ty);
+            return t.tiles[i + 1];
+        }
+    return -1;
 }
 
 namespace {

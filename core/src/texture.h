@@ -157,6 +157,14 @@ struct Texture {
     // v' = m3 u + m4 v + m5 (Blender's Mapping node between the UV map and an
     // Image Texture: a 2 x 3 affine map). The identity changes nothing, to the bit.
     std::array<float, 6> uv_transform = {1, 0, 0, 0, 1, 0};
+    // UDIM tiles (Blender's tiled images): pairs of (tile number, image index);
+    // empty: the texture reads `image` alone. A tiled texture reads, at the
+    // mapped (u, v), the tile numbered 1001 + 10 int(v) + int(u) (int truncates,
+    // as Cycles picks the tile), at (u - int(u), v - int(v)), extended as
+    // `extension` says; where no tile lies, or u or v is at or below -1 or u at
+    // or above 10, it reads magenta (1, 0, 1, 1), Cycles' missing texture.
+    // `image` is then one of the tiles' images (its size sets a bump map's step).
+    std::vector<int32_t> tiles;
     // What the value goes through before the material reads it (Blender's
     // Separate Color, Math, Mix and Invert nodes between the image and the
     // shader's input): `channel` -1 the colour, 0-2 its red, green or blue
@@ -257,6 +265,14 @@ void validate_texture(const Texture& t, const std::string& where);
 // says; its colour times alpha when t.premultiply is set, divided by it after
 // filtering when t.unassociate is (before decoding an 8-bit sRGB image).
 Rgba sample_image(const Image& img, const Texture& t, float u, float v);
+
+// The image a texture reads at (u, v) (see Texture::tiles): t.image, or the
+// tile under (u, v), whose coordinates within the tile replace (u, v); -1 where
+// no tile lies there.
+int32_t texture_image(const Texture& t, float& u, float& v);
+
+// Cycles' colour for a texture it cannot read (a missing UDIM tile): magenta.
+inline Rgba missing_texel() { return Rgba{Vec3(1, 0, 1), 1}; }
 
 // Rec. 709 luminance: Blender's colour-to-float conversion.
 inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }

@@ -321,6 +321,15 @@ class Texture(Record):
     the texture coordinates are mapped before the lookup, u' = a u + b v + c,
     v' = d u + e v + f (Blender's Mapping node on the UV map; the identity by
     default; a world's environment takes environment_rotation instead).
+    tiles: UDIM tiles (Blender's tiled images), a sequence of (tile number,
+    image) pairs, each image a gridwalk.Image or an index into
+    Scene(images=...); empty: the texture reads `image` alone (which a tiled
+    texture may leave None: its first tile's image is taken). A tiled texture
+    reads, at its (mapped) (u, v), the tile numbered 1001 + 10 int(v) + int(u)
+    (int truncating toward zero, as Cycles picks the tile) at (u - int(u),
+    v - int(v)), extended within the tile as `extension` says; where no tile
+    lies (a tile not given, u <= -1 or u >= 10, v <= -1) it reads magenta,
+    Cycles' colour for a missing texture. Not for a world's environment.
     channel, gain, bias, clamp: what the value goes through before a material
     reads it (Blender's Separate Color, Math, Mix and Invert nodes): channel -1
     the colour, 0, 1, 2 its red, green or blue as grey, 3 its luminance as
@@ -383,6 +392,7 @@ class Texture(Record):
     premultiply: bool = _TEX.premultiply
     unassociate: bool = _TEX.unassociate
     uv_transform: tuple = tuple(_TEX.uv_transform)
+    tiles: tuple = ()
     channel: int = _TEX.channel
     gain: tuple = tuple(_TEX.gain)
     bias: tuple = tuple(_TEX.bias)
@@ -411,7 +421,18 @@ class Texture(Record):
             if flat.size % 5:
                 raise ValueError(f"{where} must be stops of 5 numbers (position, R, G, B, A), got {flat.size} numbers")
             return [float(x) for x in flat]
-        return {"image": image, "ramp": ramp, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
+        def tiles(value, where):
+            try:
+                pairs = [tuple(pair) for pair in (value or ())]
+            except TypeError:
+                raise ValueError(f"{where} must be (tile number, image) pairs") from None
+            flat = []
+            for k, pair in enumerate(pairs):
+                if len(pair) != 2:
+                    raise ValueError(f"{where}[{k}] must be a (tile number, image) pair, got {len(pair)} values")
+                flat += [_scalar(pair[0], int, f"{where}[{k}] tile number"), image(pair[1], f"{where}[{k}] image")]
+            return flat
+        return {"image": image, "ramp": ramp, "tiles": tiles, "interpolation": _choice(INTERPOLATIONS, _core.Interpolation),
                 "extension": _choice(EXTENSIONS, _core.Extension), "kind": _choice(TEXTURE_KINDS, _core.TextureKind),
                 "coordinates": _choice(TEXTURE_COORDS, _core.TextureCoords),
                 "projection": _choice(IMAGE_PROJECTIONS, _core.ImageProjection),

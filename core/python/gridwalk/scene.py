@@ -78,13 +78,21 @@ def _textures(images, textures):
     for i, tex in enumerate(textures or []):
         if not isinstance(tex, Texture):
             raise ValueError(f"textures[{i}] must be a gridwalk.Texture, got {type(tex).__name__}")
-        core = tex.to_core() if not isinstance(tex.image, Image) else None
-        if core is None:
-            if id(tex.image) not in index:
-                index[id(tex.image)] = len(images)
-                images.append(tex.image)
-            core = replace(tex, image=index[id(tex.image)]).to_core()
-        out.append(core)
+        def image_index(image):
+            if not isinstance(image, Image):
+                return image
+            if id(image) not in index:
+                index[id(image)] = len(images)
+                images.append(image)
+            return index[id(image)]
+        if tex.tiles:
+            try:
+                pairs = tuple((number, image_index(image)) for number, image in tex.tiles)
+            except (TypeError, ValueError):
+                raise ValueError(f"textures[{i}].tiles must be (tile number, image) pairs") from None
+            first = pairs[0][1] if pairs else None
+            tex = replace(tex, tiles=pairs, image=first if tex.image is None else tex.image)
+        out.append(replace(tex, image=image_index(tex.image)).to_core())
     return images, out
 
 

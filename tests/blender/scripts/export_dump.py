@@ -35,6 +35,7 @@ def main(argv):
     expected = scenes.BUILDERS[name](**kwargs)
     result = {"expected": expected, "blender": list(bpy.app.version)}
     depsgraph = bpy.context.evaluated_depsgraph_get()
+    before = {image.name for image in bpy.data.images}
     try:
         export = Export(depsgraph)
         scene_kwargs, warnings = export.kwargs()
@@ -59,6 +60,7 @@ def main(argv):
         result["texture_bytes"] = scene_texture_bytes(depsgraph)
         result["corner_point_arrays"] = corner_point_arrays(depsgraph)
         result["corner_arrays_read"] = corner_arrays_read(depsgraph)
+    result["leftover_images"] = sorted(image.name for image in bpy.data.images if image.name not in before)
     with open(os.path.join(out_dir, "export.json"), "w") as f:
         json.dump(result, f, indent=1)
 

@@ -794,5 +794,6 @@ from group_scenes import group_edge_scene, node_group_scene  # noqa: E402,F401
 from sky_scenes import sky_scene  # noqa: E402,F401
 from texture_scenes import (bump_scene, emission_map_scene, mapped_texture_scene, node_chain_scene,  # noqa: E402,F401
                             tinted_by_attribute_scene)
+from udim_scenes import udim_scene  # noqa: E402,F401
 
 BUILDERS = {name[:-6]: fn for name, fn in globals().items() if name.endswith("_scene")}

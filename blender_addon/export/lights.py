@@ -29,7 +29,9 @@ axis_u = local X, axis_v = -local Y, so u x v = -Z, the emitting side.
 A sun, spot or area light whose object is scaled to zero (how artists switch
 a light off by keyframes) points nowhere, and an area light of zero size has
 no area: each gives no light, as in Cycles, and is skipped with a warning
-naming it.
+naming it. An area light set as a Portal (Cycles' light.cycles.is_portal) gives no
+light, as in Cycles, and is left out; a light's Ray Visibility is not read (named
+in a warning).
 """
 from __future__ import annotations
 
@@ -183,6 +185,8 @@ def light_from_instance(inst, warnings: list):
     obj = inst.object
     if not inst.show_self or not shown(inst, obj):
         return None
+    if obj.data.type == "AREA" and getattr(getattr(obj.data, "cycles", None), "is_portal", False):
+        return None     # (a portal guides Cycles' sampling of the world and gives no light of its own)
     matrix = to_numpy(inst.matrix_world)
     if not np.isfinite(matrix).all():
         warnings.append(f"Skipped light '{obj.name}': its transform is not finite (NaN or Inf)")
@@ -193,6 +197,11 @@ def light_from_instance(inst, warnings: list):
         warnings.append(f"Skipped light '{obj.name}': {exc}")
         return None
     warnings.extend(f"Light '{obj.name}': {what}" for what in _approximated(obj.data, matrix))
+    hidden = [name for attr, name in (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
+                                      ("visible_transmission", "Transmission")) if not getattr(obj, attr, True)]
+    if hidden:
+        warnings.append(f"Light '{obj.name}': its Ray Visibility ({', '.join(hidden)} off) is not read: "
+                        "it lights every surface")
     return light
 
 

@@ -142,7 +142,10 @@ inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1,
         }
         s.wi = w;
         s.dist = kInf;
-        s.intensity = L.color;
+        // The colour is the irradiance on a surface facing the sun, whatever its angle, as in
+        // Cycles 4.0+ (radiance colour / (pi sin^2 of the half angle), as light_shape_hit shows it); a
+        // uniform direction in the cone then carries the colour x 2 / (1 + cos(angle / 2)).
+        s.intensity = L.angle > 0 ? L.color * float(2.0 / (1.0 + std::cos(0.5 * double(L.angle)))) : L.color;
         return true;
     }
     case LightKind::Spot:   // a spot with a radius is a sphere light whose cone is
@@ -264,7 +267,8 @@ inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float&
         const double half = 0.5 * double(L.angle), cos_half = std::cos(half);
         if (!(-double(dot(d, L.direction)) >= cos_half)) return false;
         t = kInf;
-        radiance = L.color * float(kPi / (2 * kPi * (1 - cos_half)));
+        const double sin_half = std::sin(half);   // (radiance colour / (pi sin^2): a facing surface gets the colour)
+        radiance = L.color * float(1.0 / (sin_half * sin_half));
         return true;
     }
     default:

@@ -503,7 +503,9 @@ class Light(Record):
     size: (w, h) of a rect light, or an ellipse's diameters, along axis_u and axis_v.
     axis_u, axis_v: orientation of rect / disk / ellipse lights (emitting along u x v).
     direction: direction light travels (sun), or spot axis.
-    angle: sun angular diameter (radians).
+    angle: sun angular diameter (radians); whatever the angle, a surface facing the sun gets its
+    colour as irradiance, as in Cycles 4.0 and later (its disc's radiance is colour / (pi sin^2 of half
+    the angle), in the units of the other lights).
     spot_size: full cone angle (radians); spot_blend: 0..1 soft edge.
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).

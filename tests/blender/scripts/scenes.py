@@ -249,10 +249,11 @@ def add_light(name, kind, location=(0, 0, 5), rotation=(0, 0, 0), **props):
     return obj
 
 
-def lights_scene(nodes=False):
+def lights_scene(nodes=False, portal=False):
     """Every light type; with nodes, the Point light's node tree dims it (an
     Emission of Strength 0.25, Color (1, 1, 0.5)) and the Sphere light's is a
-    Blackbody node into the Emission (not read)."""
+    Blackbody node into the Emission (not read); with portal, the Square light is a
+    Portal and the Disk light is hidden from diffuse and glossy rays."""
     reset()
     link(cube_object())
     point = add_light("Point", "POINT", (1, 2, 3), energy=100.0, shadow_soft_size=0.0, color=(1, 0.5, 0.25))
@@ -272,10 +273,14 @@ def lights_scene(nodes=False):
                      spot_blend=0.25, shadow_soft_size=0.1)
     if hasattr(spot.data, "use_soft_falloff"):   # (Blender 4.0+; on by default)
         spot.data.use_soft_falloff = False
-    add_light("Square", "AREA", (0, 3, 5), (0.2, 0, 0), energy=80.0, shape="SQUARE", size=2.0)
+    square = add_light("Square", "AREA", (0, 3, 5), (0.2, 0, 0), energy=80.0, shape="SQUARE", size=2.0)
+    if portal:
+        square.data.cycles.is_portal = True
     rect = add_light("Rect", "AREA", (0, -3, 5), energy=60.0, shape="RECTANGLE", size=2.0, size_y=0.5)
     rect.scale = (1.5, 2.0, 1.0)
-    add_light("Disk", "AREA", (3, 3, 5), energy=40.0, shape="DISK", size=1.0)
+    disk = add_light("Disk", "AREA", (3, 3, 5), energy=40.0, shape="DISK", size=1.0)
+    if portal:
+        disk.visible_diffuse = disk.visible_glossy = False
     oval = add_light("Oval", "AREA", (3, -3, 5), energy=40.0, shape="DISK", size=1.0)
     oval.scale = (1.0, 2.0, 1.0)   # a disk scaled unevenly: an ellipse
     ellipse = add_light("Ellipse", "AREA", (-3, 3, 5), energy=40.0, shape="ELLIPSE", size=2.0, size_y=0.5)

@@ -18,14 +18,18 @@ bl_info = {
 def register():
     from . import dependencies, engine, nff_import, properties, ui
     dependencies.add_bundled_wheels()
+    from .export import main_thread
     properties.register()
     ui.register()
     engine.register()
     nff_import.register()
+    main_thread.register()
 
 
 def unregister():
     from . import engine, nff_import, properties, ui
+    from .export import main_thread
+    main_thread.unregister()
     nff_import.unregister()
     engine.unregister()
     ui.unregister()

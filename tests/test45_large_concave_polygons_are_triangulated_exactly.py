@@ -102,6 +102,28 @@ def test_small_concave_polygons_match_every_sample_point():
         check_exact_cover(xy, ear_clip(xy), rng.uniform(-1, 1, (100, 2)))
 
 
+def test_repeated_corners_and_a_closing_corner_do_not_fold_a_concave_polygon():
+    # Exporters repeat corners and close outlines with the first corner again. A corner at the
+    # same point as the next turns by 0, counted reflex, never an ear: with two such corners a
+    # concave outline ran out of ears and had a triangle clipped across its notch (a review
+    # probe found 1,042 of 7,669 such polygons folded; the first one is below).
+    a, b, c, d = (-0.352, 0.355), (-0.057, -0.497), (-0.043, -0.749), (0.679, -0.319)
+    xy = np.array([a, b, c, c, d, a], float)
+    rng = np.random.default_rng(12)
+    check_exact_cover(xy, ear_clip(xy), rng.uniform(-1, 1, (400, 2)))
+    for _ in range(300):
+        n = int(rng.integers(4, 40))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+        while np.diff(np.append(angles, angles[0] + 2 * np.pi)).max() >= np.pi:   # star-shaped about 0
+            angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+        xy = np.column_stack([np.cos(angles), np.sin(angles)]) * rng.uniform(0.1, 1.0, (n, 1))
+        repeat = rng.choice(n, size=int(rng.integers(1, 4)), replace=False)
+        xy = np.insert(xy, repeat, xy[repeat], axis=0)                        # doubled corners
+        if rng.random() < 0.5:
+            xy = np.vstack([xy, xy[:1]])                                      # closed with the first corner
+        check_exact_cover(xy, ear_clip(xy), rng.uniform(-1, 1, (100, 2)))
+
+
 def test_an_outline_of_random_points_still_gives_one_triangle_per_corner_less_two():
     # Self-intersecting: no triangulation is right, but the clipper must end
     # with n - 2 triangles of the outline's corners (it clips the most convex

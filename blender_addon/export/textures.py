@@ -398,11 +398,12 @@ class TextureTable:
         if key not in self._image_index:
             signature = _signature(img)
             cached = self.cache.get(("tiles", signature)) if signature is not None else None
-            tiles, problems = cached if cached is not None else \
+            tiles, problems, notes = cached if cached is not None else \
                 read_tiles(img, lambda loaded, settings_of: read_image(loaded, settings_of=settings_of), cancelled)
-            if signature is not None:
-                self.cache[("tiles", signature)] = (tiles, problems)
+            if signature is not None and not notes:
+                self.cache[("tiles", signature)] = (tiles, problems, notes)
                 self._used.add(("tiles", signature))
+            self.notes.update(notes)
             if problems:
                 self.problems[img.name_full] = "; ".join(
                     why if number == 0 else f"tile {number}: {why}" for number, why in sorted(problems.items()))

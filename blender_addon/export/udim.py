@@ -50,8 +50,9 @@ def _generated(tile):
     return np.tile(colour, (h, w, 1))
 
 
-def _load(path: str, read_image, settings_of):
-    """(gridwalk.Image, problem) of the image file at `path`, loaded and removed again."""
+def _load(path: str, read_image, settings_of, notes: list):
+    """(gridwalk.Image, problem) of the image file at `path`, loaded and removed again; a
+    float tile left in its file's own colour space (Python's writes refused) is noted."""
     import bpy
     try:
         loaded = bpy.data.images.load(path, check_existing=False)
@@ -63,13 +64,16 @@ def _load(path: str, read_image, settings_of):
             try:        # (a float image's pixels are decoded from its colour space as it loads)
                 loaded.colorspace_settings.name = space
             except (AttributeError, TypeError, ValueError):    # (Python's writes refused: the file's own)
-                pass
+                if loaded.is_float:
+                    notes.append(f"tiles of image '{settings_of.name}' are read in their files' colour space "
+                                 f"{loaded.colorspace_settings.name}, not {space}: Blender refuses Python's "
+                                 "writes just now (docs/blender.md)")
         return read_image(loaded, settings_of=settings_of)
     finally:
         bpy.data.images.remove(loaded)
 
 
-def _read_all(img, read_image, problems: dict) -> list:
+def _read_all(img, read_image, problems: dict, notes: list) -> list:
     """[(tile number, gridwalk.Image or None)] for every tile, on the main thread."""
     import bpy
     packed = {int(getattr(p, "tile_number", 0)): p for p in getattr(img, "packed_files", ())}
@@ -85,7 +89,7 @@ def _read_all(img, read_image, problems: dict) -> list:
                 path = os.path.join(scratch, f"{number}{os.path.splitext(base)[1] or '.png'}")
                 with open(path, "wb") as f:
                     f.write(bytes(packed[number].packed_file.data))
-                image, problem = _load(path, read_image, img)
+                image, problem = _load(path, read_image, img, notes)
             elif getattr(tile, "is_generated_tile", False):
                 pixels = _generated(tile)
                 if pixels is None:
@@ -98,7 +102,7 @@ def _read_all(img, read_image, problems: dict) -> list:
                 if not os.path.isfile(path):
                     problem = f"its file {path!r} is missing"
                 else:
-                    image, problem = _load(path, read_image, img)
+                    image, problem = _load(path, read_image, img, notes)
             if problem is not None:
                 problems[number] = problem
             out.append((number, image))
@@ -108,16 +112,17 @@ def _read_all(img, read_image, problems: dict) -> list:
     return out
 
 
-def read_tiles(img, read_image, cancelled=lambda: False) -> tuple[list, dict]:
-    """([(tile number, gridwalk.Image or None)], {tile number: why it is magenta}) of a
+def read_tiles(img, read_image, cancelled=lambda: False) -> tuple[list, dict, list]:
+    """([(tile number, gridwalk.Image or None)], {tile number: why it is magenta}, [notes]) of a
     tiled image; read_image(loaded, settings_of=img) reads one loaded tile as textures.read_image
     does, in img's colour space."""
     problems: dict = {}
+    notes: list = []
     if "<UDIM>" not in img.filepath_raw and "<UVTILE>" not in img.filepath_raw and not getattr(img, "packed_files", ()):
         if not all(getattr(tile, "is_generated_tile", False) for tile in img.tiles):
-            return [], {0: f"its path {img.filepath_raw!r} names no <UDIM> or <UVTILE> tile"}
+            return [], {0: f"its path {img.filepath_raw!r} names no <UDIM> or <UVTILE> tile"}, []
     try:
-        tiles = on_main_thread(lambda: _read_all(img, read_image, problems), cancelled=cancelled)
+        tiles = on_main_thread(lambda: _read_all(img, read_image, problems, notes), cancelled=cancelled)
     except MainThreadTimeout as exc:
-        return [], {0: f"its tiles could not be read ({exc})"}
-    return tiles, problems
+        return [], {0: f"its tiles could not be read ({exc})"}, []
+    return tiles, problems, sorted(set(notes))

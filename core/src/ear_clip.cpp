@@ -165,11 +165,28 @@ std::vector<int64_t> ear_clip(const double* xy, size_t n) {
         next[i] = i + 1 == n ? 0 : i + 1;
     }
     std::vector<char> alive(n, 1), reflex(n), ear(n, 0);
+    out.reserve(3 * (n - 2));
+    // A corner at the same point as the next (a repeated corner; a closing
+    // corner equal to the first, as some exporters write) is clipped first, as
+    // a triangle of no area: the outline keeps its shape. Left in, its turn of
+    // 0 counted it reflex and never an ear, so a concave outline with two such
+    // corners could run out of ears and have a triangle clipped across it.
+    size_t left = n;
+    for (size_t i = 0; i < n && left > 3; ++i) {
+        const size_t c = next[i];
+        if (!(p[i].x == p[c].x && p[i].y == p[c].y)) continue;
+        const size_t a = prev[i];
+        out.insert(out.end(), {int64_t(a), int64_t(i), int64_t(c)});
+        alive[i] = 0;
+        next[a] = c;
+        prev[c] = a;
+        --left;
+    }
     auto turn = [&](size_t i) {
         const Pt a = p[prev[i]], b = p[i], c = p[next[i]];
         return (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
     };
-    for (size_t i = 0; i < n; ++i) reflex[i] = turn(i) <= 0;
+    for (size_t i = 0; i < n; ++i) reflex[i] = alive[i] && turn(i) <= 0;
     ReflexGrid grid(p, alive, reflex);
     auto same = [](Pt q, Pt r) { return q.x == r.x && q.y == r.y; };
     auto is_ear = [&](size_t i) {
@@ -201,8 +218,8 @@ std::vector<int64_t> ear_clip(const double* xy, size_t n) {
         ++round;
     };
     seed();
-    out.reserve(3 * (n - 2));
     size_t first_alive = 0;   // no corner before it is alive (the last triangle's)
+    while (!alive[first_alive]) ++first_alive;
     // The next ear to clip from the queue; n when the queue holds none.
     auto pop = [&]() -> size_t {
         for (;;) {
@@ -242,7 +259,7 @@ std::vector<int64_t> ear_clip(const double* xy, size_t n) {
     // that is not simple) is repeated only after as many clips as half the
     // corners then left, so that such outlines cost O(n) searches in all.
     size_t wait = 0;
-    for (size_t left = n; left > 3;) {
+    while (left > 3) {
         size_t i = pop();
         if (i == n) {
             if (wait == 0) {

@@ -5,10 +5,12 @@ tiles in 8-bit PNG and float OpenEXR files and packed into the .blend. Before, t
 image rendered magenta. The export reads every tile (Texture.tiles), in the tiled image's
 colour space, names missing tiles in its warning, leaves no image behind, and the memory
 estimate counts every tile. Scene: udim_scenes.udim_scene; the core's side: test95."""
+import json
+
 import numpy as np
 import pytest
 
-from runner import luminance_by_engine
+from runner import luminance_by_engine, run_script
 
 VARIANTS = {"files": {}, "exr": {"storage": "exr"}, "packed": {"storage": "packed"},
             "extend_closest": {"extension": "EXTEND", "interpolation": "Closest"}}
@@ -67,3 +69,15 @@ def test_a_missing_tile_file_is_named(export, tmp_path):
     tiles = dict(texture["tiles"])
     assert out.images[tiles[1002]]["shape"][:2] == [1, 1]                 # the magenta stand-in
     assert any("renders magenta" in w and "tile 1002" in w and "missing" in w for w in out.warnings), out.warnings
+
+
+def test_work_is_handed_to_the_main_thread_and_a_cancel_abandons_it(any_blender, tmp_path):
+    # (a GUI render's job thread reads the tiles this way: export/main_thread.py)
+    run_script(any_blender, "main_thread_handover.py", tmp_path)
+    info = json.loads((tmp_path / "handover.json").read_text())
+    assert info["timer_registered"] is True and info["timer_after_unregister"] is False
+    assert info["waiting"] is True                          # nothing ran before the main thread drained
+    assert info["value"] == 42 and info["ran_on_main"] == [True]
+    assert info["cancelled"] == "cancelled" and info["cancel_seconds"] < 1.0
+    assert info["abandoned_ran"] is False
+    assert info["on_main_directly"] is True

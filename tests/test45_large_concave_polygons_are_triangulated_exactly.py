@@ -41,6 +41,14 @@ def inside_polygon(points, xy):
     return (np.sum(crosses & (px < x), axis=1) % 2) == 1
 
 
+def star_polygon(rng, n):
+    """n corners at random angles and radii about 0, star-shaped (no gap of pi or more)."""
+    angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+    while np.diff(np.append(angles, angles[0] + 2 * np.pi)).max() >= np.pi:
+        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+    return np.column_stack([np.cos(angles), np.sin(angles)]) * rng.uniform(0.1, 1.0, (n, 1))
+
+
 def covering(points, xy, tris):
     """How many triangles hold each point (strictly inside, by edge signs)."""
     a, b, c = (xy[tris[:, k]] for k in range(3))
@@ -95,10 +103,7 @@ def test_small_concave_polygons_match_every_sample_point():
     rng = np.random.default_rng(11)
     for _ in range(300):
         n = int(rng.integers(4, 80))
-        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
-        while np.diff(np.append(angles, angles[0] + 2 * np.pi)).max() >= np.pi:   # star-shaped about 0
-            angles = np.sort(rng.uniform(0, 2 * np.pi, n))
-        xy = np.column_stack([np.cos(angles), np.sin(angles)]) * rng.uniform(0.1, 1.0, (n, 1))
+        xy = star_polygon(rng, n)
         check_exact_cover(xy, ear_clip(xy), rng.uniform(-1, 1, (100, 2)))
 
 
@@ -113,10 +118,7 @@ def test_repeated_corners_and_a_closing_corner_do_not_fold_a_concave_polygon():
     check_exact_cover(xy, ear_clip(xy), rng.uniform(-1, 1, (400, 2)))
     for _ in range(300):
         n = int(rng.integers(4, 40))
-        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
-        while np.diff(np.append(angles, angles[0] + 2 * np.pi)).max() >= np.pi:   # star-shaped about 0
-            angles = np.sort(rng.uniform(0, 2 * np.pi, n))
-        xy = np.column_stack([np.cos(angles), np.sin(angles)]) * rng.uniform(0.1, 1.0, (n, 1))
+        xy = star_polygon(rng, n)
         repeat = rng.choice(n, size=int(rng.integers(1, 4)), replace=False)
         xy = np.insert(xy, repeat, xy[repeat], axis=0)                        # doubled corners
         if rng.random() < 0.5:

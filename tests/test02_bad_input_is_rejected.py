@@ -170,6 +170,27 @@ def test_a_negative_instance_move_index_is_refused_by_name():
             sc.moved([gw.InstanceMove(**fields)])
 
 
+def test_a_column_major_instance_matrix_is_refused_not_ignored():
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], np.float32)
+    sc = gw.Scene(vertices=V, triangles=np.array([[0, 1, 2], [3, 4, 5]], np.int32))
+    moved = np.eye(4)
+    moved[:3, 3] = (2.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match=r"moves\[0\]\.matrix must be affine.*transpose"):
+        sc.moved([gw.InstanceMove(3, 1, 1, V[3:], moved.T)])
+    sc.moved([gw.InstanceMove(3, 1, 1, V[3:], moved)])          # (the row-major one is taken)
+
+
+def test_settings_of_another_type_and_a_short_lens_sample_are_named():
+    sc = gw.Scene(vertices=np.eye(3, dtype=np.float32), triangles=np.array([[0, 1, 2]]))
+    for settings in ({"threads": 1}, "fast"):
+        with pytest.raises(ValueError, match="settings must be a gridwalk.RenderSettings"):
+            gw.RenderJob(sc, settings)
+        with pytest.raises(ValueError, match="settings must be a gridwalk.RenderSettings"):
+            gw.render(sc, settings)
+    with pytest.raises(ValueError, match="lens must be two numbers"):
+        sc.camera.rays([0.5], [0.5], lens=(0.5,))
+
+
 def test_an_image_wider_than_the_core_counts_says_so():
     wide = np.zeros((1, 2 ** 31, 1), np.uint8)   # (2 GiB of untouched zero pages)
     with pytest.raises(ValueError, match="has 2147483648 columns: at most 2147483647"):

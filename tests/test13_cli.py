@@ -68,6 +68,22 @@ def test_render_nff_writes_png_npy_and_the_statistics_summary(tmp_path):
     assert "100%" in run.stderr
 
 
+def test_an_upper_case_npy_suffix_is_written_under_the_name_given(tmp_path):
+    out = tmp_path / "image.NPY"
+    run = gridwalk("demo", "-o", out, "--resolution", 16)
+    assert run.returncode == 0, run.stderr
+    assert out.is_file() and not (tmp_path / "image.NPY.npy").exists()
+    assert np.load(out).shape[2] == 4
+
+
+@needs_spd
+def test_validate_refuses_more_rays_than_memory_holds():
+    run = gridwalk("validate", SPD_DIR / "balls_s2.nff", "--rays", 10 ** 13)
+    assert run.returncode == 2
+    assert "--rays 10000000000000 needs an estimated" in run.stderr and "physical memory" in run.stderr
+    assert "Traceback" not in run.stderr
+
+
 def test_render_has_an_option_for_every_render_setting():
     run = gridwalk("render", "--help")
     assert run.returncode == 0

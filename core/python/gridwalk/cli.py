@@ -105,7 +105,8 @@ def write_image(path: Path, rgba: np.ndarray, alpha: bool = False) -> None:
     """.npy: the float32 linear RGBA array; .png: 8-bit sRGB (RGBA with alpha =
     coverage when `alpha`, else RGB)."""
     if path.suffix.lower() == ".npy":
-        np.save(path, np.asarray(rgba, np.float32))
+        with open(path, "wb") as f:      # (np.save given a path would add ".npy" to "image.NPY")
+            np.save(f, np.asarray(rgba, np.float32))
         return
     from PIL import Image
 
@@ -279,6 +280,11 @@ def cmd_validate(args) -> int:
 
     if args.rays < 1:
         raise CliError(f"--rays must be >= 1, got {args.rays}")
+    need, limit = args.rays * validate.BYTES_PER_RAY, memory.default_limit()
+    if limit is not None and need > limit:
+        raise CliError(f"--rays {args.rays} needs an estimated {memory.format_bytes(need)} of memory for its ray "
+                       f"sets and both engines' hits, more than the limit of {memory.format_bytes(limit)} "
+                       f"({round(memory.DEFAULT_FRACTION * 100)}% of physical memory)")
     kwargs = load(args.scene)
     left_out = {k: len(kwargs[a]) for k, a in (("spheres", "sphere_radii"), ("cylinders", "cylinder_base_radius"))}
     results = validate.cross_check(kwargs, args.rays, args.seed, args.threads)

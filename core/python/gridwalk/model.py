@@ -654,4 +654,8 @@ class Camera(Record):
         [0, 1)^2: (origins, directions, tmin, tmax), float32."""
         px = np.ascontiguousarray(px, np.float32).reshape(-1)
         py = np.ascontiguousarray(py, np.float32).reshape(-1)
-        return _core.camera_rays(self.to_core(), px, py, float(lens[0]), float(lens[1]))
+        try:
+            lens_u, lens_v = (float(x) for x in lens)
+        except (TypeError, ValueError):
+            raise ValueError(f"lens must be two numbers in [0, 1), got {lens!r}") from None
+        return _core.camera_rays(self.to_core(), px, py, lens_u, lens_v)

@@ -44,6 +44,8 @@ class RenderJob:
             raise ValueError(f"scene must be a gridwalk.Scene, got {type(scene).__name__}")
         if camera is not None and not isinstance(camera, Camera):
             raise ValueError(f"camera must be a gridwalk.Camera, got {type(camera).__name__}")
+        if settings is not None and not isinstance(settings, RenderSettings):
+            raise ValueError(f"settings must be a gridwalk.RenderSettings, got {type(settings).__name__}")
         self.settings = settings or RenderSettings()
         core = self.settings.to_core()
         self.scene = scene

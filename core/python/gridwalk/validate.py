@@ -80,6 +80,12 @@ def _light_targets(lights) -> list:
     return out
 
 
+# What cross_check holds per ray of n, at most: three sets of origins, directions and tmax
+# (28 bytes a ray each, float32, with their float64 making), a set's hits from both engines and
+# compare()'s temporaries (about 200 bytes): for the CLI's memory check.
+BYTES_PER_RAY = 3 * 28 * 2 + 400
+
+
 def ray_sets(scene_kwargs: dict, n: int, seed: int = 0, scene: Scene | None = None) -> dict:
     """Primary, shadow and random ray sets: {kind: (origins, directions, tmax)}.
 

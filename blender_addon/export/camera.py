@@ -38,6 +38,7 @@ bokeh, narrowed across by 1 / ratio) shape the aperture as Cycles samples it.
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 
@@ -205,15 +206,25 @@ def camera_frame(cam_obj) -> dict:
                 mirror=bool(np.linalg.det(m[:3, :3]) < 0))
 
 
+# What Cycles renders from an active camera that is another kind of object (an Empty, a light
+# looked through): its place and turn, with Cycles' default lens (a 50 mm perspective on a 36 mm
+# sensor fitted to the larger side, no shift, clipping from 1e-5 to 1e5, no depth of field; a spot
+# light's lens 16 / tan(half its cone)).
+DEFAULT_LENS = types.SimpleNamespace(type="PERSP", lens=50.0, sensor_width=36.0, sensor_height=24.0,
+                                     sensor_fit="AUTO", shift_x=0.0, shift_y=0.0, clip_start=1e-5, clip_end=1e5,
+                                     dof=types.SimpleNamespace(use_dof=False))
+
+
 def convert_camera(cam_obj, render, live: bool = False) -> Camera:
     """The camera object `cam_obj` (evaluated) for the render settings `render`
     (live: the viewport's, see panorama_settings)."""
     if cam_obj is None:
         raise CameraError("The scene has no active camera: add a camera and make it active "
                           "(Scene properties > Camera)")
-    if cam_obj.type != "CAMERA":
-        raise CameraError(f"The active camera {cam_obj.name!r} is not a camera object")
-    cam = cam_obj.data
+    cam = cam_obj.data if cam_obj.type == "CAMERA" else DEFAULT_LENS
+    if cam_obj.type == "LIGHT" and cam_obj.data.type == "SPOT":   # (Cycles: a spot light's cone as the lens)
+        lens = 16.0 / math.tan(0.5 * float(cam_obj.data.spot_size))
+        cam = types.SimpleNamespace(**{**vars(DEFAULT_LENS), "lens": lens}) if lens > 0 else cam
     if cam.type not in ("PERSP", "ORTHO", "PANO"):       # (Blender 4.5's Custom: an OSL camera shader)
         raise CameraError(f"Camera {cam_obj.name!r}: the {cam.type.title()} camera type is not supported; "
                           "choose Perspective, Orthographic or Panoramic (Camera properties > Lens > Type)")

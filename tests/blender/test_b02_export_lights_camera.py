@@ -136,6 +136,16 @@ def test_camera_depth_of_field(export):
     assert out.camera["aperture"] == pytest.approx(1.0 / (2 * 2.8), rel=1e-6)
 
 
+@pytest.mark.parametrize("stand_in, lens", [("EMPTY", 50.0), ("SPOT", 16.0 / math.tan(math.radians(30.0)))])
+def test_an_empty_or_a_spot_light_as_the_camera_takes_cycles_default_lens(export, stand_in, lens):
+    # (Cycles renders from the object with its default lens; a spot light's cone sets the lens)
+    out = export("camera", dof=True, stand_in=stand_in)
+    cam = out.camera
+    assert cam["fov"] == pytest.approx(math.degrees(2 * math.atan(36.0 / (2 * lens) * 480 / 640)), rel=1e-6)
+    assert tuple(cam["shift"]) == (0.0, 0.0) and cam["aperture"] == 0.0
+    np.testing.assert_allclose(cam["eye"], out.expected["eye"], atol=1e-6)
+
+
 def test_no_camera_is_a_clear_error(export):
     out = export("no_camera")
     assert "no active camera" in out.error

@@ -95,6 +95,8 @@ def case_empty_frame(bpy, s):
 def case_not_a_camera(bpy, s):
     s.cube_scene()
     empty = s.link(bpy.data.objects.new("NotACamera", None))
+    camera = bpy.context.scene.camera
+    empty.location, empty.rotation_euler = camera.location, camera.rotation_euler
     bpy.context.scene.camera = empty
 
 

@@ -344,7 +344,9 @@ def near_sphere_scene(height=0.6, soft=True, energy=30.0, mirror=False, resoluti
 
 
 def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False,
-                 unit_scale=1.0):
+                 unit_scale=1.0, stand_in=None):
+    """A cube before a 50 mm camera on a 36 x 24 sensor, shifted; stand_in "EMPTY" or "SPOT": an
+    Empty or a spot light of a 60 degree cone in the camera's place is the active camera instead."""
     scene = reset(resolution=resolution)
     scene.unit_settings.scale_length = unit_scale
     link(cube_object())
@@ -372,6 +374,13 @@ def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False
         rig.location = (1.0, 2.0, 0.0)
         cam.data.dof.focus_object = rig
         cam.data.dof.focus_subtarget = "Head"
+    if stand_in is not None:
+        data = None if stand_in == "EMPTY" else bpy.data.lights.new("Spot", "SPOT")
+        if data is not None:
+            data.spot_size = math.radians(60.0)
+        other = link(bpy.data.objects.new("StandIn", data))
+        other.location, other.rotation_euler = cam.location, cam.rotation_euler
+        scene.camera = other
     bpy.context.view_layer.update()
     return {"eye": list(cam.matrix_world.translation)}
 

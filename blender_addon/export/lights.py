@@ -30,8 +30,8 @@ A sun, spot or area light whose object is scaled to zero (how artists switch
 a light off by keyframes) points nowhere, and an area light of zero size has
 no area: each gives no light, as in Cycles, and is skipped with a warning
 naming it. An area light set as a Portal (Cycles' light.cycles.is_portal) gives no
-light, as in Cycles, and is left out; a light's Ray Visibility is not read (named
-in a warning).
+light, as in Cycles, and is left out; a light object's Ray Visibility (Diffuse, Glossy,
+Transmission) is read as Cycles reads it (Light.visible_diffuse and the others).
 """
 from __future__ import annotations
 
@@ -197,12 +197,9 @@ def light_from_instance(inst, warnings: list):
         warnings.append(f"Skipped light '{obj.name}': {exc}")
         return None
     warnings.extend(f"Light '{obj.name}': {what}" for what in _approximated(obj.data, matrix))
-    hidden = [name for attr, name in (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
-                                      ("visible_transmission", "Transmission")) if not getattr(obj, attr, True)]
-    if hidden:
-        warnings.append(f"Light '{obj.name}': its Ray Visibility ({', '.join(hidden)} off) is not read: "
-                        "it lights every surface")
-    return light
+    # (Ray Visibility, as Cycles reads it for a light; Camera and Volume Scatter have nothing to leave out here)
+    return dataclasses.replace(light, **{attr: bool(getattr(obj, attr, True)) for attr in
+                                         ("visible_diffuse", "visible_glossy", "visible_transmission")})
 
 
 def _approximated(light, matrix) -> list[str]:

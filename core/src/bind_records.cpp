@@ -157,6 +157,9 @@ void bind_records(nb::module_& m) {
         .def_rw("spot_blend", &Light::spot_blend)
         .def_rw("inverse_square", &Light::inverse_square)
         .def_rw("casts_shadows", &Light::casts_shadows)
+        .def_rw("visible_diffuse", &Light::visible_diffuse)
+        .def_rw("visible_glossy", &Light::visible_glossy)
+        .def_rw("visible_transmission", &Light::visible_transmission)
         .def_rw("soft_falloff", &Light::soft_falloff)
         .def("validate", [](const Light& l) { Light copy = l; prepare_light(copy, "Light"); });
 

@@ -315,8 +315,10 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // it too). (Lights without falloff, NFF's, keep
         // Whitted's highlight: the SPD scenes' mirror balls show it.)
         const bool reflected = m.roughness <= 0 && (L.inverse_square || has_visible_shape(L));
-        const float highlight =
-            reflected ? m.ks * std::max(1.0f - m.mirror - m.transmittance - dielectric_share(m), 0.0f) : m.ks;
+        const float highlight = !L.visible_glossy ? 0.0f
+                                : reflected ? m.ks * std::max(1.0f - m.mirror - m.transmittance - dielectric_share(m), 0.0f)
+                                            : m.ks;
+        const float diffuse = L.visible_diffuse ? m.kd : 0.0f;
         // How many light points this shading point uses, and where they come from.
         const ShadowMode mode = has_area ? s_.shadow : ShadowMode::Hard;
         const int count = light_points(mode, st);
@@ -327,7 +329,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                      (L.inverse_square || L.kind == LightKind::Sun)
                                  ? angular_radius(L, sp.p) : 0.0f;
         const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
-        const bool shared = traced && mode != ShadowMode::Hard && shares_lamp(L, sp.p, ggx_alpha(m.roughness));
+        const bool shared = traced && L.visible_glossy && mode != ShadowMode::Hard &&
+                            shares_lamp(L, sp.p, ggx_alpha(m.roughness));
         const GgxView& own = shared ? rest : glossy;   // what the light points take whole
         const bool own_highlight = glossy_highlight && carries(own);
         if (mirrored && own_highlight) total += mirrored_light(L, sp, ng, own, radius, ctx);
@@ -345,7 +348,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (dot(ng, ls.wi) <= 0) continue;
             const float cos_i = dot(ns, ls.wi);
             if (cos_i <= 0) continue;
-            Vec3 f = m.color * (m.kd * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
+            Vec3 f = m.color * (diffuse * cos_i * (sp.mapped ? bump_shadowing(smooth, ns, ls.wi) : 1.0f));
             Vec3 f_shared;
             if (shared) {   // (the power heuristic: the rays' density over the light points')
                 const double ratio = rays_per_point * double(ggx_pdf(*traced, ls.wi)) /
@@ -641,7 +644,7 @@ Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3&
     for (const Light& L : scene_.lights()) {
         float t;
         Vec3 radiance;
-        if (!has_visible_shape(L) || !light_shape_hit(L, r.o, r.d, t, radiance) || !shares_lamp(L, sp.p, alpha))
+        if (!shape_seen_by(L, r.kind) || !light_shape_hit(L, r.o, r.d, t, radiance) || !shares_lamp(L, sp.p, alpha))
             continue;
         NearArea near;   // (as direct() sets it up for this point)
         const int near_state = near_area_light(L, sp.p, ns, near);
@@ -775,7 +778,7 @@ Vec3 Integrator::lights_seen(const Ray& r, TraceContext& ctx) const {
     for (const Light& L : scene_.lights()) {
         float t;
         Vec3 radiance;
-        if (!has_visible_shape(L) || !light_shape_hit(L, r.o, r.d, t, radiance)) continue;
+        if (!shape_seen_by(L, r.kind) || !light_shape_hit(L, r.o, r.d, t, radiance)) continue;
         // (any surface before the light hides it: glass in front shows it by its own refraction ray)
         Ray shadow = r;
         shadow.tmax = std::isinf(t) ? kInf : t * (1.0f - 1e-5f);

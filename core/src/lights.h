@@ -12,6 +12,7 @@
 #include <string>
 
 #include "enums.h"
+#include "ray.h"
 #include "sampler.h"
 #include "sphere_light.h"
 
@@ -33,6 +34,10 @@ struct Light {
     bool inverse_square = false;          // physical falloff (Blender's lights); NFF's lights have none
     bool casts_shadows = true;            // false: lights every point it faces (Blender's Cast Shadow off)
     bool soft_falloff = true;             // sphere, spot with a radius: see sphere_light.h
+    // Blender's Ray Visibility of a light object, as Cycles reads it: false leaves out its
+    // diffuse light (visible_diffuse), its highlights and what glossy and sharp mirror rays see
+    // of its shape (visible_glossy), and what refraction rays see of it (visible_transmission).
+    bool visible_diffuse = true, visible_glossy = true, visible_transmission = true;
     // Derived by prepare_light:
     float spot_cos = -1;                  // cos(spot_size / 2)
 };
@@ -231,10 +236,16 @@ inline bool has_visible_shape(const Light& L) {
     }
 }
 
+// Whether a ray of `kind` leaving a surface (a reflection, or a refraction: Transmission) sees
+// the light's shape: it has one (has_visible_shape) and the light's Ray Visibility lets it.
+inline bool shape_seen_by(const Light& L, RayKind kind) {
+    return (kind == RayKind::Transmission ? L.visible_transmission : L.visible_glossy) && has_visible_shape(L);
+}
+
 // Where the ray o + t d (d unit) meets the shape of a light with
 // has_visible_shape(): t (inf for the sun) and the radiance it shows, in the
 // units of a camera ray's colour (pi x the light's colour over its area or,
-// for the sun, over its solid angle: the lights carry the diffuse BRDF's
+// for the sun, over pi sin^2 of its half angle: the lights carry the diffuse BRDF's
 // 1 / pi, see blender_addon/export/lights.py). False where the ray misses it
 // or meets a flat light from behind.
 inline bool light_shape_hit(const Light& L, const Vec3& o, const Vec3& d, float& t, Vec3& radiance) {

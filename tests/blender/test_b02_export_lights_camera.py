@@ -76,15 +76,18 @@ def test_a_light_dimmed_by_its_nodes_is_dimmed_and_other_light_nodes_are_named(e
     assert not any("Light 'Point'" in w for w in out.warnings)
 
 
-def test_a_portal_gives_no_light_and_unread_ray_visibility_is_named(export):
+def test_a_portal_gives_no_light_and_a_lights_ray_visibility_is_exported(export):
     out = export("lights", portal=True)
     lights = _by_position(out)
     exp = out.expected["lights"]
     assert tuple(np.round(exp["Square"]["position"], 3)) not in lights     # (a portal only guides Cycles' world sampling)
     assert tuple(np.round(exp["Disk"]["position"], 3)) in lights
     assert len(lights) == len(exp) - 1
-    assert any("Light 'Disk'" in w and "Ray Visibility (Diffuse, Glossy off)" in w for w in out.warnings), out.warnings
-    assert not any("Light 'Square'" in w for w in out.warnings)
+    disk = lights[tuple(np.round(exp["Disk"]["position"], 3))]
+    assert (disk["visible_diffuse"], disk["visible_glossy"], disk["visible_transmission"]) == (False, False, True)
+    assert all(light["visible_diffuse"] and light["visible_glossy"] for key, light in lights.items()
+               if key != tuple(np.round(exp["Disk"]["position"], 3)))
+    assert not any("Light 'Square'" in w or "Light 'Disk'" in w for w in out.warnings), out.warnings
 
 
 def test_lights_fall_off_with_distance_squared(export):

@@ -509,6 +509,9 @@ class Light(Record):
     spot_size: full cone angle (radians); spot_blend: 0..1 soft edge.
     inverse_square: divide by distance^2 (physical falloff); off for NFF.
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
+    visible_diffuse, visible_glossy, visible_transmission: the light object's Ray Visibility, as
+    Cycles reads it: False leaves out its diffuse light; its highlights and what glossy and sharp
+    mirror rays see of its shape; what refraction rays see of its shape.
     soft_falloff: a sphere light (or a spot with a radius) is, as in Cycles, a Lambertian disk facing the
     point it lights (True, Blender's Soft Falloff, its default), or a sphere of uniform radiance (False),
     which near the light lights like a point light at its centre (see core/src/sphere_light.h); for
@@ -529,6 +532,9 @@ class Light(Record):
     inverse_square: bool = _LIGHT.inverse_square   # NFF lights have no falloff; Blender's do
     casts_shadows: bool = _LIGHT.casts_shadows
     soft_falloff: bool = _LIGHT.soft_falloff
+    visible_diffuse: bool = _LIGHT.visible_diffuse
+    visible_glossy: bool = _LIGHT.visible_glossy
+    visible_transmission: bool = _LIGHT.visible_transmission
     CORE = _core.Light
 
     def converters(self) -> dict:

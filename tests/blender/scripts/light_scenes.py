@@ -50,10 +50,11 @@ def lit_wall_scene(light="rect", resolution=(64, 48)):
     return {}
 
 
-def chrome_ball_scene(resolution=(128, 96), glass=False):
+def chrome_ball_scene(resolution=(128, 96), glass=False, hide=()):
     """A chrome ball (Principled, Metallic 1, Roughness 0, rendered as a sphere; glass: Principled
     Transmission 1, IOR 1.5 instead) on a grey floor under a rectangle light in front of it and
-    above, which the ball reflects."""
+    above, which the ball reflects; hide: the light's Ray Visibility switched off for these of
+    "diffuse", "glossy", "transmission"."""
     reset(resolution=tuple(resolution))
     scene = bpy.context.scene
     scene.camera.location, scene.camera.rotation_euler = (0, -6, 2.0), (math.radians(75), 0, 0)
@@ -66,7 +67,9 @@ def chrome_ball_scene(resolution=(128, 96), glass=False):
     ball.data.materials.append(
         principled_material("Glass", (1.0, 1.0, 1.0), Roughness=0.0, IOR=1.5, Transmission=1.0) if glass else
         principled_material("Chrome", (0.9, 0.9, 0.9), Metallic=1.0, Roughness=0.0))
-    add_light("Softbox", "AREA", (1.5, -3.0, 4.0), (math.radians(40), 0, math.radians(25)), shape="RECTANGLE",
-              size=2.0, size_y=1.0, energy=100.0)
+    softbox = add_light("Softbox", "AREA", (1.5, -3.0, 4.0), (math.radians(40), 0, math.radians(25)),
+                        shape="RECTANGLE", size=2.0, size_y=1.0, energy=100.0)
+    for kind in hide:
+        setattr(softbox, f"visible_{kind}", False)
     bpy.context.view_layer.update()
     return {}

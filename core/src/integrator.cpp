@@ -1,7 +1,9 @@
 // Whitted shading with distribution effects. See integrator.h.
 #include "integrator.h"
 
+#include <algorithm>
 #include <optional>
+#include <vector>
 
 #include "light_density.h"
 #include "lights.h"
@@ -175,6 +177,28 @@ constexpr float kLayerRoulette = 0.25f;
 
 Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(accel), scene_(accel.scene()), s_(s) {
     for (const Light& L : scene_.lights()) shaped_lights_ = shaped_lights_ || has_visible_shape(L);
+    // More than kManyLights lights that fall off with distance: direct() draws kLightPicks of them.
+    const auto& lights = scene_.lights();
+    const size_t falling = size_t(std::count_if(lights.begin(), lights.end(), [](const Light& L) { return L.inverse_square; }));
+    if (falling > kManyLights) {
+        const size_t n = lights.size();
+        picked_.resize(n);
+        light_x_.resize(n), light_y_.resize(n), light_z_.resize(n);
+        light_power_.resize(n), light_reach_.resize(n), light_reach2_.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const Light& L = lights[i];
+            picked_[i] = L.inverse_square;
+            light_x_[i] = L.position.x, light_y_[i] = L.position.y, light_z_[i] = L.position.z;
+            // (its brightest channel, over the whole sphere for a spot; 0 for a light not drawn;
+            // an area light's size bounds how close its power can count as coming from one point)
+            light_power_[i] = L.inverse_square ? std::max(L.color.x, std::max(L.color.y, L.color.z)) : 0.0f;
+            const float size = L.kind == LightKind::Rect || L.kind == LightKind::Ellipse
+                                   ? 0.5f * std::hypot(L.size[0], L.size[1])   // (its corners' reach)
+                                   : L.radius;
+            light_reach_[i] = size;
+            light_reach2_[i] = std::max(size * size, 1e-30f);
+        }
+    }
     if (!scene_.sun_map().empty()) sun_radius_ = float(std::sqrt(scene_.sun_map().solid_angle() / kPi));
 }
 
@@ -300,7 +324,9 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
     const Fresnel untraced = traced ? emitter_fresnel(m) : Fresnel();
     const GgxView rest = untraced.mirror > 0 || untraced.dielectric > 0 ? glossy_view(m, untraced, ns, wo) : GgxView();
     const double rays_per_point = traced ? double(glossy_rays(split)) / double(light_points(s_.shadow, st)) : 0.0;
-    for (size_t li = 0; li < lights.size(); ++li) {
+    // One light's direct light at the point (all its light points).
+    auto one = [&](size_t li) -> Vec3 {
+        Vec3 out;
         const Light& L = lights[li];
         const bool has_area = L.kind == LightKind::Sphere || L.kind == LightKind::Spot ? L.radius > 0
                             : L.kind == LightKind::Rect   ? L.size[0] > 0 || L.size[1] > 0
@@ -329,11 +355,11 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                      (L.inverse_square || L.kind == LightKind::Sun)
                                  ? angular_radius(L, sp.p) : 0.0f;
         const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
-        const bool shared = traced && L.visible_glossy && mode != ShadowMode::Hard &&
+        const bool shared = traced && L.visible_glossy && mode != ShadowMode::Hard && !drawn(li) &&
                             shares_lamp(L, sp.p, ggx_alpha(m.roughness));
         const GgxView& own = shared ? rest : glossy;   // what the light points take whole
         const bool own_highlight = glossy_highlight && carries(own);
-        if (mirrored && own_highlight) total += mirrored_light(L, sp, ng, own, radius, ctx);
+        if (mirrored && own_highlight) out += mirrored_light(L, sp, ng, own, radius, ctx);
         // A flat light near the point: set up once for its light points (near_area_light.h).
         NearArea near;
         const int near_state = mode != ShadowMode::Hard ? near_area_light(L, sp.p, ns, near) : -1;
@@ -367,7 +393,48 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             if (!any_positive(c) && !any_positive(c_shared)) continue;
             sum += point_light_seen(sp, ls.wi, ls.dist, c, c_shared, L.casts_shadows, ctx);
         }
-        total += sum * (1.0f / float(count));
+        return out + sum * (1.0f / float(count));
+    };
+    if (picked_.empty()) {
+        for (size_t li = 0; li < lights.size(); ++li) total += one(li);
+    } else {
+        // Many lights: the lights that are not picked (suns, lights without falloff) whole, and
+        // kLightPicks of the others, each drawn with a probability proportional to its power times
+        // its cosine at the point over its squared distance (none for a light wholly below the
+        // point's horizon, which lights nothing there), weighing its light 1 / (picks x
+        // probability): the same mean.
+        for (size_t li = 0; li < lights.size(); ++li)
+            if (!picked_[li]) total += one(li);
+        // (the weights first, in float over the lights' arrays, which the compiler vectorises;
+        // then their running sum in double)
+        const size_t n = lights.size();
+        thread_local std::vector<float> weight;
+        thread_local std::vector<double> cdf;
+        weight.resize(n);
+        cdf.resize(n);
+        const float px = sp.p.x, py = sp.p.y, pz = sp.p.z, nx = ns.x, ny = ns.y, nz = ns.z;
+        for (size_t li = 0; li < n; ++li) {
+            const float dx = light_x_[li] - px, dy = light_y_[li] - py, dz = light_z_[li] - pz;
+            const float d2 = std::max(dx * dx + dy * dy + dz * dz, light_reach2_[li]);
+            const float facing = std::max(nx * dx + ny * dy + nz * dz + light_reach_[li], 0.0f);
+            const float w = light_power_[li] * facing / (d2 * std::sqrt(d2));
+            weight[li] = w >= 0 ? std::min(w, 1e30f) : 0.0f;   // (on a light's centre: finite; NaN: none)
+        }
+        double run = 0;
+        for (size_t li = 0; li < n; ++li) {
+            run += double(weight[li]);
+            cdf[li] = run;
+        }
+        if (run > 0 && std::isfinite(run)) {
+            for (int k = 0; k < kLightPicks; ++k) {
+                const double x = double(st.rng.next()) * run;
+                const size_t li = size_t(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin());
+                if (li >= lights.size() || !picked_[li]) continue;   // (x at the very top: rounding)
+                const double p = (cdf[li] - (li ? cdf[li - 1] : 0.0)) / run;
+                if (!(p > 0)) continue;
+                total += one(li) * float(1.0 / (double(kLightPicks) * p));
+            }
+        }
     }
     if (!scene_.emitters().empty()) total += from_emitters(sp, ng, ns, wo, m, depth, split, st, ctx, traced);
     return total;
@@ -641,7 +708,9 @@ Vec3 Integrator::lamps_in_lobe(const Ray& r, const SurfacePoint& sp, const Vec3&
                                float alpha, SampleState& st, TraceContext& ctx) const {
     Vec3 sum;
     const double points = double(light_points(s_.shadow, st));
-    for (const Light& L : scene_.lights()) {
+    for (size_t li = 0; li < scene_.lights().size(); ++li) {
+        const Light& L = scene_.lights()[li];
+        if (drawn(li)) continue;   // (its light points take its highlight whole: direct())
         float t;
         Vec3 radiance;
         if (!shape_seen_by(L, r.kind) || !light_shape_hit(L, r.o, r.d, t, radiance) || !shares_lamp(L, sp.p, alpha))

@@ -144,6 +144,16 @@ private:
     const RenderSettings& s_;
     const Camera* camera_ = nullptr;
     bool shaped_lights_ = false;   // a light has a shape that mirror rays see (lights_seen)
+    // Scenes of more than kManyLights lights with distance falloff (a string of lights, a city):
+    // direct() evaluates kLightPicks of those per shading point, drawn by power over squared
+    // distance, instead of every one (picked_[i]: light i is drawn so; empty: every light is
+    // evaluated); light_x_ ... light_reach2_ are the draw's per-light constants, in arrays the
+    // draw's loop reads in step.
+    static constexpr size_t kManyLights = 64;
+    static constexpr int kLightPicks = 8;
+    std::vector<char> picked_;
+    bool drawn(size_t light) const { return !picked_.empty() && picked_[light]; }
+    std::vector<float> light_x_, light_y_, light_z_, light_power_, light_reach_, light_reach2_;
     float sun_radius_ = kInf;      // the environment's sun's angular radius (none: infinite)
 };
 

@@ -248,9 +248,14 @@ class Links:
             if fields.get("coordinates", "uv") in CORNER_COORDINATES:
                 self.points.add(fields["coordinates"])
         else:
-            if self.uv_layer and layer and layer != self.uv_layer:
-                self.textured.append(f"UV map {layer!r} (the material already uses {self.uv_layer!r})")
-            self.uv_layer = self.uv_layer or layer
+            # (one UV map per material: the first texture's, "" the render map, is read by every texture;
+            # "" and a name differ unless that name is the mesh's render map, which is not known here)
+            if self.uv_layer is not None and layer != self.uv_layer:
+                first = repr(self.uv_layer) if self.uv_layer else "the render UV map"
+                what = repr(layer) if layer else "the render UV map"
+                self.textured.append(f"UV map {what} (the material's textures all read {first})")
+            if self.uv_layer is None:
+                self.uv_layer = layer
         return fields
 
 

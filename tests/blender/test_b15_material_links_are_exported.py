@@ -40,6 +40,17 @@ def test_without_a_uv_map_node_the_active_render_layer_is_read(links):
     assert uv.min() == pytest.approx(3.0) and uv.max() == pytest.approx(4.0)      # "Render", not the edited one
 
 
+def test_a_material_reading_two_uv_maps_reads_its_first_and_says_so(export):
+    # (the core has one UV map per material: before, the render map's texture silently read the
+    # UV Map node's layer too, as Blender's glTF importer builds models with two UV sets)
+    out = export("texture_links", mixed_maps=True)
+    centres = out.vertices[out.triangles].mean(axis=1)[:, 0]
+    uv = out.uvs[np.abs(centres - 9.0) < 0.6]
+    assert uv.size > 0 and uv.min() == pytest.approx(0.0) and uv.max() == pytest.approx(1.0)   # the render map
+    assert any("UV map 'Second' (the material's textures all read the render UV map)" in w and "Mixed" in w
+               for w in out.warnings), out.warnings
+
+
 def test_a_color_attribute_node_reads_its_named_layer(links):
     centres = links.vertices[links.triangles].mean(axis=1)[:, 0]
     colours = links.colors[(links.triangle_materials == links.painted) & (np.abs(centres - 1.0) < 0.6)]   # "Painted"
@@ -78,7 +89,7 @@ def test_metallic_and_alpha_textures_and_node_settings_are_read(links):
                                                "interpolation": "closest", "extension": "clip", "projection": "flat",
                                                "projection_blend": 0.0, "use_alpha": False,
                                                "premultiply": True,   # its Alpha output is not linked: associated
-                                               "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                                               "unassociate": False, "uv_transform": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0], "tiles": [],
                                                "channel": -1, "gain": [1.0, 1.0, 1.0], "bias": [0.0, 0.0, 0.0],
                                                "clamp": False, "ramp_channel": -1, "ramp_gain": [1.0, 1.0, 1.0],
                                                "ramp_bias": [0.0, 0.0, 0.0], "ramp_clamp": False,

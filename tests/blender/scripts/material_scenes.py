@@ -633,7 +633,7 @@ def _uv_layer(mesh, name, offset, scale=1.0):
     return layer
 
 
-def texture_links_scene(resolution=(32, 24)):
+def texture_links_scene(resolution=(32, 24), mixed_maps=False):
     """Four planes whose materials use each linked input the exporter reads:
       ByNode: a UV Map node picks layer "Second" (UVs in [0.25, 0.75]) although
         "UVMap" renders; the 8-bit sRGB image "Shared" on Base Color, Closest,
@@ -643,7 +643,10 @@ def texture_links_scene(resolution=(32, 24)):
         Extend) on Base Color, its Alpha output on Alpha, a Non-Color 8-bit
         image on Metallic.
       Painted: a Color Attribute node reading "Paint" (not the render one).
-      Lamp: an Emission shader, Color (1, 0.5, 0.25) x Strength 4."""
+      Lamp: an Emission shader, Color (1, 0.5, 0.25) x Strength 4.
+    mixed_maps: a fifth plane, Mixed, whose Base Color image reads the render UV map (its
+    Vector unlinked; UVs in [0, 1]) and whose Roughness image reads "Second" through a UV Map
+    node (UVs in [0.25, 0.75]), as Blender's glTF importer builds a model with two UV sets."""
     reset(resolution=tuple(resolution))
     shared = _filled_image("Shared", np.full((4, 4, 4), 0.5), float_buffer=False)
     metal = _filled_image("MetalMap", np.full((8, 8, 4), 0.75), float_buffer=False, non_color=True)
@@ -694,6 +697,13 @@ def texture_links_scene(resolution=(32, 24)):
     emission.inputs["Strength"].default_value = 4.0
     mat.node_tree.links.new(emission.outputs["Emission"], nodes["Material Output"].inputs["Surface"])
     lamp.data.materials.append(mat)
+    if mixed_maps:
+        mixed = _plane("Mixed", 1.0, location=(9, 0, 0), rotation=(math.pi / 2, 0, 0))
+        _uv_layer(mixed.data, "Second", 0.25, 0.5)
+        mat = principled_material("Mixed", (0.5, 0.5, 0.5))
+        _image_node(mat, shared)
+        _image_node(mat, rough, "Roughness", uv_map="Second")
+        mixed.data.materials.append(mat)
     add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
     bpy.context.view_layer.update()
     return {}

@@ -1,6 +1,6 @@
 """Coloured glass (Material.tints_refraction: Cycles' Principled transmission and Glass BSDF)
 multiplies what it refracts by its colour at each surface, and the light of shadow rays through
-it; tints_reflection tints its reflection too. NFF's transmission stays untinted. Checked on a
+it (tint_sqrt: by its square root, as Blender 4.0+'s Principled BSDF); tints_reflection tints its reflection too. NFF's transmission stays untinted. Checked on a
 pane (two parallel faces, IOR 1.5) seen straight through, and on its shadow, against
 (1 - F)^2 x colour^2 per channel with F = ((n - 1) / (n + 1))^2."""
 import numpy as np
@@ -48,6 +48,17 @@ def test_a_pane_seen_through_is_tinted_once_per_surface():
     np.testing.assert_allclose(_over_quad(v, f, _glass(False), -1.0), [(1 - F) ** 2] * 3, rtol=5e-3)
     np.testing.assert_allclose(_over_quad(v, f, _glass(True), -1.0), (1 - F) ** 2 * np.square(TINT), rtol=5e-3,
                                atol=1e-3)
+
+
+def test_a_square_root_tint_tints_a_closed_pane_by_the_colour():
+    """tint_sqrt (Blender 4.0+'s Principled BSDF, as Cycles tints its transmission): each face by
+    the colour's square root, so the pane seen through, and its shadow, by the colour once."""
+    v, f = _pane(-0.05, 0.05)
+    glass = gw.Material(color=TINT, kd=0.0, ks=0.0, transmittance=1.0, ior=1.5, tints_refraction=True, tint_sqrt=True)
+    np.testing.assert_allclose(_over_quad(v, f, glass, -1.0), (1 - F) ** 2 * np.array(TINT), rtol=5e-3, atol=1e-3)
+    # a single face (the pane's upper face alone: a sheet): the colour's square root
+    top = f[[2, 3]]
+    np.testing.assert_allclose(_over_quad(v, top, glass, -1.0), (1 - F) * np.sqrt(TINT), rtol=5e-3, atol=1e-3)
 
 
 def test_the_shadow_of_coloured_glass_is_tinted():

@@ -54,7 +54,8 @@ factor is folded into the light intensities, see lights.py):
   metallic      = m   (the metal's share of the highlight and of the mirror
                   reflection takes the base colour: gold reflects gold)
   transmittance = t,  ior = IOR,  tints_refraction = t > 0 (the base colour
-                  tints what passes, as Cycles' coloured glass; the Glass BSDF's
+                  tints what passes, as Cycles' coloured glass: Blender 4.0+'s Principled
+                  by its square root at each crossing, tint_sqrt; the Glass BSDF's
                   Color its reflection too: tints_reflection)
   emission_color = Emission Color * Emission Strength   (Emission shader: Color * Strength;
                   an Emission Color fed by an image: emission_texture, and
@@ -273,11 +274,12 @@ def _value(node, names, default, links: Links, field=None):
 
 
 def principled_material(color, metallic, roughness, transmission, ior, f0, emission=0.0, layered=False,
-                        reflects=False):
+                        reflects=False, tint_sqrt=False):
     """The documented Principled -> Whitted mapping (also used for viewport colours).
     emission: a strength (colour * emission) or an RGB emitted colour;
     layered: the diffuse lies under the specular layer (layered_diffuse);
-    reflects: the specular layer reflects the scene (dielectric_reflection)."""
+    reflects: the specular layer reflects the scene (dielectric_reflection);
+    tint_sqrt: each crossing of the transmission tints by the colour's square root (Material.tint_sqrt)."""
     m = min(max(metallic, 0.0), 1.0)
     t = min(max(transmission, 0.0), 1.0) * (1.0 - m)
     r = min(max(roughness, 0.0), 1.0)
@@ -286,7 +288,8 @@ def principled_material(color, metallic, roughness, transmission, ior, f0, emiss
     ks = ((1.0 - m) * f0 + m) * (shininess + 8.0) / 8.0
     return Material(color=tuple(max(float(c), 0.0) for c in color[:3]), kd=(1.0 - m) * (1.0 - t), ks=ks,
                     shininess=shininess, transmittance=t, ior=max(ior, 1e-3),
-                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, layered_diffuse=bool(layered),
+                    mirror=m, metallic=m, roughness=r, tints_refraction=t > 0, tint_sqrt=bool(tint_sqrt and t > 0),
+                    layered_diffuse=bool(layered),
                     dielectric_reflection=bool(reflects),
                     **_emission(emission))
 
@@ -316,8 +319,10 @@ def _from_principled(node, textured):
     emission_color = _value(node, ("Emission Color", "Emission"), (0.0, 0.0, 0.0), textured, "emission_texture")
     if "emission_texture" in textured.fields:
         emission_color = (1.0, 1.0, 1.0)       # the texture's colour x the strength, per hit
+    # (Blender 4.0+'s Principled tints each crossing by the colour's square root: Cycles' transmission tint)
     material = principled_material(color, metallic, roughness, transmission, ior, f0,
-                                   tuple(c * strength for c in emission_color), layered, reflects=True)
+                                   tuple(c * strength for c in emission_color), layered, reflects=True,
+                                   tint_sqrt=layered)
     material.alpha = min(max(_value(node, "Alpha", 1.0, textured, "alpha_texture"), 0.0), 1.0)
     material.multiscatter = multiscatter(node)
     _name_unread(node, PRINCIPLED_UNREAD, textured)

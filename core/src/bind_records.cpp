@@ -46,6 +46,7 @@ void bind_records(nb::module_& m) {
         .def_rw("bump_strength", &Material::bump_strength)
         .def_rw("vertex_color", &Material::vertex_color)
         .def_rw("tints_refraction", &Material::tints_refraction)
+        .def_rw("tint_sqrt", &Material::tint_sqrt)
         .def_rw("tints_reflection", &Material::tints_reflection)
         .def_rw("multiscatter", &Material::multiscatter)
         .def_rw("dielectric_reflection", &Material::dielectric_reflection)

@@ -282,7 +282,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
                 const float eta = m.ior > 1.0f ? m.ior : 1.0f / m.ior;
                 passed *= 1.0f - fresnel_dielectric(std::abs(dot(r.d, sp.ng)), eta);
             }
-            const Vec3 tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
+            const Vec3 tint = refraction_tint(m);
             through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
             if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         }
@@ -655,7 +655,7 @@ Vec3 Integrator::rough_glass(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     const int n = glossy_rays(split);
     const LobeStrata strata(st, split, n, depth, Stream::RoughRefraction);
     const Vec3 reflect_tint = m.tints_reflection ? m.color : Vec3(1, 1, 1);
-    const Vec3 pass_tint = m.tints_refraction ? m.color : Vec3(1, 1, 1);
+    const Vec3 pass_tint = refraction_tint(m);
     Ray r;
     r.spawned = true;
     Vec3 sum;
@@ -1157,7 +1157,7 @@ Vec3 Integrator::shade_hit(const SurfacePoint& sp, const Ray& ray, const Materia
         // (IOR 1 bends nothing, however rough the surface: the ray goes straight on)
         const float roughness = m.ior == 1.0f ? 0.0f : m.roughness;
         const Vec3 passed = glossy_lobe(sp, ng, tdir, roughness, depth, weight * trans, split, true, st, ctx) * trans;
-        color += m.tints_refraction ? passed * m.color : passed;
+        color += passed * refraction_tint(m);
     }
     return color;
 }

@@ -50,6 +50,10 @@ struct Material {
     // through it, and with tints_reflection what it reflects too (the Glass
     // BSDF). NFF's transmission (and Whitted's) is not tinted.
     bool tints_refraction = false, tints_reflection = false;
+    // With tints_refraction: each crossing tints by the colour's square root, so that light
+    // entering and leaving a closed object is tinted by the colour (Cycles 4.0+'s Principled BSDF;
+    // its Glass BSDF, and 3.x's Principled, tint by the colour at each crossing).
+    bool tint_sqrt = false;
     // A glossy surface's (roughness > 0) GGX lobe gets back the energy single
     // scattering loses, as Cycles' Multiscatter GGX (microfacet.h).
     bool multiscatter = false;
@@ -102,6 +106,14 @@ struct Material {
              : kind == RayKind::Transmission ? visible_transmission : true;
     }
 };
+
+// What a crossing of material m's surface tints refracted light by (see tints_refraction).
+inline Vec3 refraction_tint(const Material& m) {
+    if (!m.tints_refraction) return Vec3(1, 1, 1);
+    if (!m.tint_sqrt) return m.color;
+    auto root = [](float x) { return x > 0 ? std::sqrt(x) : 0.0f; };
+    return Vec3(root(m.color.x), root(m.color.y), root(m.color.z));
+}
 
 // Throws std::invalid_argument naming `where` (e.g. "materials[2]") and the field.
 void validate_material(const Material& m, const std::string& where);

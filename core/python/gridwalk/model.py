@@ -154,7 +154,10 @@ class Material(Record):
     cylinders do not. tints_refraction: the colour tints what the surface
     refracts, also along shadow rays through it (coloured glass: Cycles'
     Principled transmission and Glass BSDF); tints_reflection: and what it
-    reflects (the Glass BSDF). NFF's transmission is untinted.
+    reflects (the Glass BSDF). tint_sqrt: with tints_refraction, each crossing
+    tints by the colour's square root, so that light entering and leaving a
+    closed object is tinted by the colour (Cycles 4.0+'s Principled BSDF).
+    NFF's transmission is untinted.
     dielectric_reflection: the share of the surface that is neither mirror nor
     transmittance reflects the scene (not only the lamps) by its specular
     layer: rays along the roughness's lobe (the mirror direction at 0),
@@ -204,6 +207,7 @@ class Material(Record):
     vertex_color: bool = _MAT.vertex_color
     emits_light: bool = _MAT.emits_light
     tints_refraction: bool = _MAT.tints_refraction
+    tint_sqrt: bool = _MAT.tint_sqrt
     tints_reflection: bool = _MAT.tints_reflection
     multiscatter: bool = _MAT.multiscatter
     dielectric_reflection: bool = _MAT.dielectric_reflection

@@ -531,7 +531,9 @@ def convert_material(mat, textures=None):
     tree = getattr(mat, "node_tree", None)
     use_nodes = getattr(mat, "use_nodes", True)
     if tree is None or not use_nodes:
-        return viewport_material(mat), None, None
+        # (Cycles renders a material without nodes as a Diffuse BSDF of its viewport colour: its
+        # viewport Metallic, Roughness and Specular made it a metal or glossy here before)
+        return principled_material(tuple(mat.diffuse_color)[:3], 0.0, 1.0, 0.0, 1.45, 0.0), None, None
     node = _surface_node(tree)
     if node is None and _volume_only(tree):
         return dataclasses.replace(VOLUME_SURFACE), "a volume shader without a surface: volumes are not rendered, its surface is clear " \

@@ -89,6 +89,22 @@ def image_read_bytes(img) -> int:
     return w * h * c * (4 + (4 if img.is_float else 1))
 
 
+# 8-bit colour spaces whose decoding the core does as Blender does (sRGB's curve, or none); the
+# others (Display P3, Rec.1886, AgX, Filmic, ACES...) are read as sRGB when their name says sRGB,
+# else as linear, and named in a warning.
+EXACT_SPACES = ("sRGB", "Linear", "Linear Rec.709", "Non-Color", "Raw")
+
+
+def colorspace_note(img, settings_of=None) -> str | None:
+    """Why an 8-bit image's colours differ from Blender's decoding, or None."""
+    settings = (settings_of or img).colorspace_settings
+    if img.is_float or settings.is_data or settings.name in EXACT_SPACES:
+        return None
+    return (f"image '{img.name}': its colour space {settings.name!r} is read as "
+            f"{'sRGB' if _colorspace(img, settings_of) == 'srgb' else 'linear'} (Gridwalk decodes sRGB, "
+            "Linear Rec.709 and Non-Color as Blender does)")
+
+
 def _colorspace(img, settings_of=None) -> str:
     settings = (settings_of or img).colorspace_settings
     if settings.is_data:
@@ -139,6 +155,7 @@ def read_image(img, limit: int = MAX_IMAGE_BYTES, settings_of=None):
     image.mean_rgb, image.mean_rgb_associated = mean, associated
     image.non_finite = non_finite
     image.grey_alpha_file = _png_grey_alpha(img)   # (read once here: the image cache keeps it)
+    image.colorspace_note = colorspace_note(img, settings_of)
     return image, None
 
 
@@ -387,6 +404,8 @@ class TextureTable:
             elif getattr(image, "non_finite", 0):
                 self.notes.add(f"image '{key}' has {image.non_finite} NaN or infinite values: "
                                "NaN and -Inf are read as 0, +Inf as 65504")
+            if getattr(image, "colorspace_note", None):
+                self.notes.add(image.colorspace_note)
             self._image_index[key] = len(self.images)
             self.images.append(image)
         return self._image_index[key]
@@ -409,6 +428,8 @@ class TextureTable:
                     why if number == 0 else f"tile {number}: {why}" for number, why in sorted(problems.items()))
             indices = []
             for number, image in tiles or [(1001, None)]:
+                if getattr(image, "colorspace_note", None):
+                    self.notes.add(image.colorspace_note.replace(f"image '{image.name}'", f"image '{img.name}'"))
                 if image is None:
                     image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {img.name_full} {number}")
                     image.mean_rgb = MAGENTA

@@ -125,6 +125,10 @@ def vector_source(node, default: str = "uv") -> tuple[str, str, np.ndarray, list
             mappings.append(src)
             socket = src.inputs["Vector"]
             continue
+        if src.type in ("UVMAP", "TEX_COORD") and getattr(src, "from_instancer", False) and \
+                out.name in ("UV", "Generated"):
+            problems.append(f"Vector of {node.name!r} ({src.bl_idname}'s From Instancer: the instancer's "
+                            f"coordinates are not read; the object's own {out.name} is used)")
         if src.type in UV_SOURCES and UV_SOURCES[src.type] in (None, out.name):
             layer, coordinates = (src.uv_map if src.type == "UVMAP" else ""), "uv"
         elif src.type == "TEX_COORD" and (out.name == "Generated" or

@@ -202,3 +202,14 @@ def test_an_8_bit_environment_with_alpha_lights_with_the_colour_it_shows(export)
     np.testing.assert_allclose(opaque, straight, rtol=2e-3)
     np.testing.assert_allclose(out.background, associated, rtol=2e-3)
     assert np.all(associated < 0.9 * straight)
+
+
+def test_a_material_without_nodes_is_a_diffuse_of_its_viewport_colour(export):
+    # (Cycles renders it as a Diffuse BSDF of the viewport colour; its viewport Metallic and
+    # Roughness made it a dark metal here before: 0.53x Cycles' brightness, found by a review probe)
+    out = export("nodeless_material")
+    if out.expected["use_nodes"]:
+        pytest.skip("this Blender gives every material nodes")
+    (mat,) = [m for m in out.materials if np.allclose(m["color"], [0.2, 0.4, 0.6], rtol=1e-6)]
+    assert mat["kd"] == 1.0 and mat["ks"] == 0.0 and mat["metallic"] == 0.0 and mat["mirror"] == 0.0
+    assert not any("NoNodes" in w for w in out.warnings), out.warnings

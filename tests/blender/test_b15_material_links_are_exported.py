@@ -51,6 +51,20 @@ def test_a_material_reading_two_uv_maps_reads_its_first_and_says_so(export):
                for w in out.warnings), out.warnings
 
 
+def test_from_instancer_is_named_not_silently_read_as_the_objects_own(export):
+    out = export("texture_links", from_instancer=True)
+    assert any("From Instancer" in w and "ByNode" in w for w in out.warnings), out.warnings
+
+
+def test_an_image_in_a_colour_space_the_core_does_not_decode_is_named(export):
+    # (Display P3, Rec.1886, AgX, Filmic Log...: read as sRGB or linear, 28-62% off Cycles where
+    # nothing was said, found by a review probe)
+    out = export("texture_links", odd_space=True)
+    space = out.expected["space"]
+    assert any(f"image 'MetalMap': its colour space {space!r} is read as" in w for w in out.warnings), out.warnings
+    assert not any("image 'Shared'" in w for w in out.warnings)
+
+
 def test_a_color_attribute_node_reads_its_named_layer(links):
     centres = links.vertices[links.triangles].mean(axis=1)[:, 0]
     colours = links.colors[(links.triangle_materials == links.painted) & (np.abs(centres - 1.0) < 0.6)]   # "Painted"

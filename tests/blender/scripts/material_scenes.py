@@ -590,6 +590,21 @@ def _file_image(name, path):
     return img
 
 
+def nodeless_material_scene(resolution=(32, 24)):
+    """A plane whose material has no nodes (Use Nodes off, as bpy.data.materials.new makes one
+    before Blender 5.0), its viewport colour (0.2, 0.4, 0.6), Metallic 1 and Roughness 0.2."""
+    reset(resolution=tuple(resolution))
+    plane = _plane("Plain", 4.0, rotation=(math.pi / 2, 0, 0))
+    mat = bpy.data.materials.new("NoNodes")
+    if getattr(mat, "use_nodes", False):
+        mat.use_nodes = False
+    mat.diffuse_color, mat.metallic, mat.roughness = (0.2, 0.4, 0.6, 1.0), 1.0, 0.2
+    plane.data.materials.append(mat)
+    add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
+    bpy.context.view_layer.update()
+    return {"use_nodes": bool(getattr(mat, "use_nodes", True)) and mat.node_tree is not None}
+
+
 def bad_materials_scene(resolution=(48, 36)):
     """Six planes, each with one problem: a missing image file, a 0 x 0 image,
     a 16k x 16k image, a textured mesh without UVs, a node Gridwalk does
@@ -633,7 +648,7 @@ def _uv_layer(mesh, name, offset, scale=1.0):
     return layer
 
 
-def texture_links_scene(resolution=(32, 24), mixed_maps=False):
+def texture_links_scene(resolution=(32, 24), mixed_maps=False, from_instancer=False, odd_space=False):
     """Four planes whose materials use each linked input the exporter reads:
       ByNode: a UV Map node picks layer "Second" (UVs in [0.25, 0.75]) although
         "UVMap" renders; the 8-bit sRGB image "Shared" on Base Color, Closest,
@@ -646,17 +661,29 @@ def texture_links_scene(resolution=(32, 24), mixed_maps=False):
       Lamp: an Emission shader, Color (1, 0.5, 0.25) x Strength 4.
     mixed_maps: a fifth plane, Mixed, whose Base Color image reads the render UV map (its
     Vector unlinked; UVs in [0, 1]) and whose Roughness image reads "Second" through a UV Map
-    node (UVs in [0.25, 0.75]), as Blender's glTF importer builds a model with two UV sets."""
+    node (UVs in [0.25, 0.75]), as Blender's glTF importer builds a model with two UV sets.
+    from_instancer: ByNode's UV Map nodes take From Instancer (which the export does not read).
+    odd_space: the 8-bit image "MetalMap" takes a colour space the core does not decode (the
+    first of Display P3, Filmic Log, AgX Log that this Blender has); returns its name."""
     reset(resolution=tuple(resolution))
     shared = _filled_image("Shared", np.full((4, 4, 4), 0.5), float_buffer=False)
     metal = _filled_image("MetalMap", np.full((8, 8, 4), 0.75), float_buffer=False, non_color=True)
     rough = _filled_image("RoughHDR", np.full((2, 2, 4), 0.25), float_buffer=True)
+    space = None
+    if odd_space:
+        names = metal.colorspace_settings.bl_rna.properties["name"].enum_items.keys()
+        space = next(name for name in ("Display P3", "Filmic Log", "AgX Log") if name in names)
+        metal.colorspace_settings.name = space
 
     by_node = _plane("ByNode", 1.0, location=(-3, 0, 0), rotation=(math.pi / 2, 0, 0))
     _uv_layer(by_node.data, "Second", 0.25, 0.5)
     mat = principled_material("ByNode", (0.5, 0.5, 0.5))
     _image_node(mat, shared, interpolation="Closest", extension="CLIP", uv_map="Second")
     _image_node(mat, rough, "Roughness", uv_map="Second")
+    if from_instancer:
+        for node in mat.node_tree.nodes:
+            if node.type == "UVMAP":
+                node.from_instancer = True
     by_node.data.materials.append(mat)
 
     by_render = _plane("ByRender", 1.0, location=(-1, 0, 0), rotation=(math.pi / 2, 0, 0))
@@ -706,7 +733,7 @@ def texture_links_scene(resolution=(32, 24), mixed_maps=False):
         mixed.data.materials.append(mat)
     add_light("Sun", "SUN", (0, -5, 0), (math.pi / 2, 0, 0), energy=3.0)
     bpy.context.view_layer.update()
-    return {}
+    return {"space": space}
 
 
 def unread_settings_scene(override=False):

@@ -106,6 +106,7 @@ class Links:
         self.textures = textures
         self.fields = {}           # Material field -> value
         self.uv_layer = None       # None: no texture; "": the active render UV map; else a layer name
+        self.uv_layers_read = []   # every UV map the textures name, in order ("": the render one)
         self.color_layer = None    # likewise for the colour attribute
         self.points = set()        # "generated", "object", "position", "normal": the corner points a texture reads
         self.textured = []         # "input (node)" left at its default value
@@ -249,12 +250,10 @@ class Links:
             if fields.get("coordinates", "uv") in CORNER_COORDINATES:
                 self.points.add(fields["coordinates"])
         else:
-            # (one UV map per material: the first texture's, "" the render map, is read by every texture;
-            # "" and a name differ unless that name is the mesh's render map, which is not known here)
-            if self.uv_layer is not None and layer != self.uv_layer:
-                first = repr(self.uv_layer) if self.uv_layer else "the render UV map"
-                what = repr(layer) if layer else "the render UV map"
-                self.textured.append(f"UV map {what} (the material's textures all read {first})")
+            # (one UV map per material: the first texture's, "" the render map, is read by every
+            # texture; the mesh tells whether "" and a name are one map: MeshCollector.mixed_uv_maps)
+            if layer not in self.uv_layers_read:
+                self.uv_layers_read.append(layer)
             if self.uv_layer is None:
                 self.uv_layer = layer
         return fields
@@ -612,6 +611,24 @@ class MaterialTable:
             self.matte_names.append(("default_surface", 0) if mat is None else
                                     (mat.original.name, int(mat.original.pass_index)))
         return index
+
+    def mixed_uv_maps(self, indices, mesh) -> list:
+        """[(material name, the UV maps its textures read)] of the materials `indices` (an object's
+        slots) whose textures name maps that are not one map of `mesh` (the render map for "" and a
+        name the mesh lacks): every texture of such a material reads the first."""
+        out = []
+        layers = getattr(mesh, "uv_layers", None)
+        if layers is None or not len(layers):
+            return out
+        render = next((l.name for l in layers if l.active_render), None) or layers[0].name
+        for i in sorted(set(int(k) for k in indices)):
+            links = self.links[i]
+            if links is None or len(links.uv_layers_read) < 2:
+                continue
+            resolved = [name if name and layers.get(name) is not None else render for name in links.uv_layers_read]
+            if len(set(resolved)) > 1:
+                out.append((self.matte_names[i][0], list(dict.fromkeys(resolved))))
+        return out
 
     def layers(self, indices) -> tuple:
         """(uv, colour layer, corner points) the materials `indices` (an object's

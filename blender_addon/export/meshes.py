@@ -500,6 +500,7 @@ class MeshCollector:
         self.degenerate = {}       # object name -> (zero-area triangles, triangles)
         self.without_uvs = set()   # textured objects whose mesh has no UV map
         self.missing_uv_layers = {}  # object name -> the UV map its material names and its mesh lacks
+        self.mixed_uv_maps = {}      # (object name, material name) -> the UV maps its textures read (the first read)
         self.missing_color_layers = {}  # object name -> the colour attribute its material reads and its mesh lacks
         self.non_finite_corners = {}  # object name -> corners whose UV or colour was NaN or Inf (read as 0)
         self.textured_spheres = set()  # 'Render as sphere' objects with image textures (a sphere has no UVs)
@@ -742,6 +743,9 @@ class MeshCollector:
             return "sphere", lookup, (*bounds, layers[0] is not None)
         key, data = self.cache.mesh(obj, layers)
         self.used.add(key)
+        if layers[0] is not None:
+            for material, maps in self.materials.mixed_uv_maps(lookup, obj.data):
+                self.mixed_uv_maps[(obj.name, material)] = maps
         if data is None or not len(data.triangles):
             # (curves without bevel are paths, and a mesh that had faces before
             # its modifiers took them all is what they were set up to do: no mistakes)
@@ -876,6 +880,10 @@ class MeshCollector:
         for name, layer in sorted(self.missing_uv_layers.items()):
             out.append(f"Object '{name}' has no UV map '{layer}', which its material's UV Map node names: "
                        "its render UV map is used instead (Cycles reads UV (0, 0) there)")
+        for (name, material), maps in sorted(self.mixed_uv_maps.items()):
+            out.append(f"Object '{name}': the textures of material '{material}' read the UV maps "
+                       f"{', '.join(repr(m) for m in maps)}: every texture of a material reads one, "
+                       f"{maps[0]!r}")
         for name, layer in sorted(self.missing_color_layers.items()):
             what = f"colour attribute '{layer}'" if layer else "colour attribute"
             out.append(f"Object '{name}' has no {what}, which its material's Color Attribute node reads: "

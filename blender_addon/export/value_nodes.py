@@ -11,7 +11,9 @@ map of the value, channel by channel, so a chain of them is one:
   Math: Multiply, Add, Subtract, Divide (by a constant), Multiply Add
   Mix (Color or Float; MixRGB in 3.x): Mix, Multiply, Add, Subtract
   Invert                                      v (1 - f) + (1 - v) f
-and one Color Ramp among them, its Color output (the nodes after it adjust
+and one Color Ramp among them, its Color output, or one Math Less Than or Greater
+Than of a constant threshold in (0, 1], which is a Constant ramp (StepRamp: the glTF
+importer's alpha cut-off) (the nodes after it adjust
 the ramp's colour: gridwalk.Texture's ramp_* fields), with every other input of the node constant (unlinked, or an RGB or Value
 node). A colour entering a float input becomes its luminance, as Blender
 converts it. A node's Clamp (Math's, Mix's Clamp Result) is kept where it is
@@ -21,6 +23,8 @@ beyond float range) leaves the input at its default value, named in the
 material's warning.
 """
 from __future__ import annotations
+
+import types
 
 import numpy as np
 
@@ -206,6 +210,37 @@ def is_vector(node, output: str) -> bool:
         or (node.type == "OBJECT_INFO" and output == "Location")
 
 
+class StepRamp:
+    """A Math node's Less Than or Greater Than of the value and a constant threshold in (0, 1], as
+    the Color Ramp it equals (Constant, grey 1 on the side the comparison holds, 0 on the other):
+    the glTF importer's alpha cut-off (Alpha Mode Mask: 1 - (alpha < cutoff)). It reads like a
+    Color Ramp node (color_ramp.ramp_stops): a value exactly at the threshold, and within the
+    ramp table's 1/255 of it, may land on the other side than Cycles' exact comparison puts it."""
+
+    def __init__(self, node, slot: int, threshold: float):
+        below = (node.operation == "LESS_THAN") == (slot == 0)      # 1 below the threshold
+        low, high = (1.0, 0.0) if below else (0.0, 1.0)
+        element = lambda position, v: types.SimpleNamespace(position=position, color=(v, v, v, 1.0))
+        self.name = node.name
+        self.color_ramp = types.SimpleNamespace(elements=[element(0.0, low), element(threshold, high)],
+                                                interpolation="CONSTANT", color_mode="RGB")
+
+
+THRESHOLDS = ("LESS_THAN", "GREATER_THAN")
+
+
+def _step(node, steps, ramp):
+    """(StepRamp, the input the chain comes through) of a Math threshold node, or Unread."""
+    if ramp is not None:
+        raise Unread(f"{node.name!r} after a Color Ramp or another threshold")
+    chain, others = _chain_input(node)
+    threshold = input_value(others["used"][1 - others["slot"]])
+    threshold = float(threshold if not isinstance(threshold, tuple) else LUMINANCE @ np.asarray(threshold[:3]))
+    if not 0.0 < threshold <= 1.0:      # (the ramp clamps its input to [0, 1]; at 0 it would differ on 0 itself)
+        raise Unread(f"{node.name!r} (a threshold of {threshold:g}, outside (0, 1])")
+    return StepRamp(node, others["slot"], threshold), chain
+
+
 def image_through_nodes(socket):
     """(image or procedural texture node (TEXTURE_NODES), its output's name, Texture fields, Color Ramp
     node or None) for an input fed by a texture through the nodes above, and through at most one
@@ -220,6 +255,11 @@ def image_through_nodes(socket):
                     raise Unread(f"{node.name!r} after another Color Ramp" if ramp is not None
                                  else f"the {out.name} output of {node.name!r}")
                 ramp, after, steps, fed = node, steps, [], node.inputs["Fac"]
+                node, out = _source(fed)
+                continue
+            if node.type == "MATH" and node.operation in THRESHOLDS:     # (a Constant ramp: StepRamp)
+                ramp, fed = _step(node, steps, ramp)
+                after, steps = steps, []
                 node, out = _source(fed)
                 continue
             chain, others = _chain_input(node)

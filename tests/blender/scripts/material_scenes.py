@@ -507,6 +507,46 @@ def png_alpha_scene(resolution=(96, 32)):
     return {}
 
 
+def alpha_mask_scene(operation="LESS_THAN", cutoff=0.5, resolution=(64, 16)):
+    """An orthographic camera filling its view with a plane whose Principled BSDF (black, emitting
+    white) takes its Alpha as Blender's glTF importer builds Alpha Mode Mask: an image's Alpha (a
+    ramp from 0 at the left to 1 at the right, 64 texels, Closest) through a Math node comparing it
+    with `cutoff` (Less Than, then 1 - that; Greater Than: its own output), over a black world."""
+    reset(resolution=tuple(resolution))
+    cam = bpy.context.scene.camera.data
+    cam.type, cam.ortho_scale = "ORTHO", 4.0
+    px = np.ones((4, 64, 4))
+    px[..., 3] = (np.arange(64)[None, :] + 0.5) / 64
+    img = _filled_image("Mask", px, float_buffer=False)
+    plane = _plane("Masked", 4.0, rotation=(math.pi / 2, 0, 0))
+    plane.scale = (1.0, 0.25, 1.0)
+    mat = principled_material("Masked", (0.0, 0.0, 0.0))
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    bsdf = nodes["Principled BSDF"]
+    emission = next(s for s in bsdf.inputs if s.name in ("Emission Color", "Emission"))
+    emission.default_value = (1.0, 1.0, 1.0, 1.0)
+    if "Emission Strength" in bsdf.inputs:
+        bsdf.inputs["Emission Strength"].default_value = 1.0
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation = img, "Closest"
+    compare = nodes.new("ShaderNodeMath")
+    compare.operation = operation
+    compare.inputs[1].default_value = cutoff
+    links.new(tex.outputs["Alpha"], compare.inputs[0])
+    out = compare.outputs[0]
+    if operation == "LESS_THAN":
+        invert = nodes.new("ShaderNodeMath")
+        invert.operation = "SUBTRACT"
+        invert.inputs[0].default_value = 1.0
+        links.new(out, invert.inputs[1])
+        out = invert.outputs[0]
+    links.new(out, bsdf.inputs["Alpha"])
+    plane.data.materials.append(mat)
+    plain_world("Black", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {}
+
+
 def cutout_scene(resolution=(64, 32)):
     """Two emissive planes side by side under an orthographic camera, textured
     with one 8 x 8 8-bit image whose left half is opaque and right half a

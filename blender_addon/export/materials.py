@@ -441,6 +441,9 @@ def _bump(node, links) -> bool:
     if height is None or not links.take(bump.inputs["Height"], "bump_texture", colour=False):
         return mapped                      # (a Height not read is named by take())
     height_texture = links.textures.textures[links.fields["bump_texture"]]
+    if height_texture.kind == "brick":
+        links.textured.append(f"Height of {bump.name!r} (a Brick Texture: its mortar's edges are steps, whose "
+                              "slope shows as speckle where Cycles shows lines)")
     if height_texture.coordinates == "window" or height_texture.projection == "box":
         how = "at Window coordinates" if height_texture.coordinates == "window" else "a Box projection"
         links.textured.append(f"Height of {bump.name!r} ({how}: its slope is not computed, "

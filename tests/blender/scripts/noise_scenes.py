@@ -72,7 +72,8 @@ def procedural_noise_scene(variant="color", resolution=(96, 72)):
 def noise_bump_scene(height="NOISE", resolution=(96, 72)):
     """A white diffuse plane facing the camera whose Normal is a Bump node (Distance 0.4) fed by
     a texture's Fac at Object coordinates (through a Mapping node scaling them by 0.25): `height`
-    NOISE (3D fBM, Scale 5, Detail 1) or GRADIENT (linear: one even slope); lit by a sun from the
+    NOISE (3D fBM, Scale 5, Detail 1), GRADIENT (linear: one even slope) or BRICK (its Fac: the
+    mortar, whose steps Gridwalk names in a warning); lit by a sun from the
     upper left, 40 degrees off the plane's normal, in a black world."""
     from scenes import add_light
     plane, mat = emissive_plane("Bumped", resolution)
@@ -81,7 +82,8 @@ def noise_bump_scene(height="NOISE", resolution=(96, 72)):
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
     links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
-    texture = nodes.new("ShaderNodeTexNoise" if height == "NOISE" else "ShaderNodeTexGradient")
+    texture = nodes.new({"NOISE": "ShaderNodeTexNoise", "GRADIENT": "ShaderNodeTexGradient",
+                         "BRICK": "ShaderNodeTexBrick"}[height])
     if height == "NOISE":
         texture.inputs["Detail"].default_value = 1.0
     mapping = nodes.new("ShaderNodeMapping")

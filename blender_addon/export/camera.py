@@ -208,8 +208,8 @@ def camera_frame(cam_obj) -> dict:
 
 # What Cycles renders from an active camera that is another kind of object (an Empty, a light
 # looked through): its place and turn, with Cycles' default lens (a 50 mm perspective on a 36 mm
-# sensor fitted to the larger side, no shift, clipping from 1e-5 to 1e5, no depth of field; a spot
-# light's lens 16 / tan(half its cone)).
+# sensor fitted to the larger side, no shift, clipping from 1e-5 to 1e5, no depth of field; a light's
+# lens 16 / tan(half its spot cone), 45 degrees for a light that is no spot, as Cycles reads it).
 DEFAULT_LENS = types.SimpleNamespace(type="PERSP", lens=50.0, sensor_width=36.0, sensor_height=24.0,
                                      sensor_fit="AUTO", shift_x=0.0, shift_y=0.0, clip_start=1e-5, clip_end=1e5,
                                      dof=types.SimpleNamespace(use_dof=False))
@@ -222,8 +222,9 @@ def convert_camera(cam_obj, render, live: bool = False) -> Camera:
         raise CameraError("The scene has no active camera: add a camera and make it active "
                           "(Scene properties > Camera)")
     cam = cam_obj.data if cam_obj.type == "CAMERA" else DEFAULT_LENS
-    if cam_obj.type == "LIGHT" and cam_obj.data.type == "SPOT":   # (Cycles: a spot light's cone as the lens)
-        lens = 16.0 / math.tan(0.5 * float(cam_obj.data.spot_size))
+    if cam_obj.type == "LIGHT":   # (Cycles: a light's spot cone as the lens; other lights keep a spot's 45 degrees)
+        size = float(cam_obj.data.spot_size) if cam_obj.data.type == "SPOT" else math.radians(45.0)
+        lens = 16.0 / math.tan(0.5 * size)
         cam = types.SimpleNamespace(**{**vars(DEFAULT_LENS), "lens": lens}) if lens > 0 else cam
     if cam.type not in ("PERSP", "ORTHO", "PANO"):       # (Blender 4.5's Custom: an OSL camera shader)
         raise CameraError(f"Camera {cam_obj.name!r}: the {cam.type.title()} camera type is not supported; "

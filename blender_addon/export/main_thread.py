@@ -32,16 +32,26 @@ class _Request:
     def __init__(self, fn):
         self.fn = fn
         self.done = threading.Event()
-        self.abandoned = threading.Event()
+        self.lock = threading.Lock()
+        self.started = self.abandoned = False
         self.outcome: dict = {}
 
     def run(self):
-        if not self.abandoned.is_set():
+        with self.lock:             # (a request the caller gave up before it started is dropped)
+            self.started = not self.abandoned
+        if self.started:
             try:
                 self.outcome["value"] = self.fn()
             except BaseException as exc:       # (handed to the waiting thread)
                 self.outcome["error"] = exc
         self.done.set()
+
+    def abandon(self) -> bool:
+        """Gives the request up unless it has started (then it is waited for: it may use data the
+        caller frees when it returns); whether it was given up."""
+        with self.lock:
+            self.abandoned = not self.started
+            return self.abandoned
 
 
 def _drain():
@@ -72,7 +82,8 @@ def unregister():
 
 def on_main_thread(fn, timeout: float = 120.0, cancelled=lambda: False):
     """fn()'s result, computed on Blender's main thread; its exception is raised here.
-    MainThreadTimeout after `timeout` seconds, or as soon as cancelled() is true."""
+    MainThreadTimeout when the main thread has not started it after `timeout` seconds, or when
+    cancelled() is true before it starts; once started it is waited for to the end."""
     if threading.current_thread() is threading.main_thread():
         return fn()
     if not _draining:      # (the add-on is not registered: nothing drains the queue)
@@ -81,11 +92,8 @@ def on_main_thread(fn, timeout: float = 120.0, cancelled=lambda: False):
     _requests.put(request)
     start = time.monotonic()
     while not request.done.wait(POLL_SECONDS):
-        if cancelled() or time.monotonic() - start > timeout:
-            request.abandoned.set()
-            if not request.done.is_set():
-                raise MainThreadTimeout("cancelled" if cancelled() else "Blender's main thread did not answer in time")
-            break
+        if (cancelled() or time.monotonic() - start > timeout) and request.abandon():
+            raise MainThreadTimeout("cancelled" if cancelled() else "Blender's main thread did not answer in time")
     if "error" in request.outcome:
         raise request.outcome["error"]
     return request.outcome.get("value")

@@ -41,13 +41,18 @@ def tile_sizes(img) -> tuple[int, int]:
     return stored, largest
 
 
-def _generated(tile):
-    """A generated tile's pixels (its Blank colour), or None for its other patterns."""
+def _generated(tile, data: bool):
+    """A generated tile's linear pixels (its Blank colour), or None for its other patterns. The
+    colour is sRGB-encoded (a gamma-corrected property), which Blender decodes for a tile that is
+    not data (Non-Color)."""
     if getattr(tile, "generated_type", "BLANK") != "BLANK":
         return None
     w, h = max(int(tile.generated_width), 1), max(int(tile.generated_height), 1)
-    colour = np.array(tuple(tile.generated_color)[:4], np.float32)
-    return np.tile(colour, (h, w, 1))
+    colour = np.array(tuple(tile.generated_color)[:4], np.float64)
+    if not data:
+        rgb = colour[:3]
+        colour[:3] = np.where(rgb <= 0.04045, rgb / 12.92, ((np.maximum(rgb, 0.0) + 0.055) / 1.055) ** 2.4)
+    return np.tile(colour.astype(np.float32), (h, w, 1))
 
 
 def _load(path: str, read_image, settings_of, notes: list):
@@ -91,7 +96,7 @@ def _read_all(img, read_image, problems: dict, notes: list) -> list:
                     f.write(bytes(packed[number].packed_file.data))
                 image, problem = _load(path, read_image, img, notes)
             elif getattr(tile, "is_generated_tile", False):
-                pixels = _generated(tile)
+                pixels = _generated(tile, img.colorspace_settings.is_data)
                 if pixels is None:
                     problem = f"its {tile.generated_type.replace('_', ' ').title()} pattern is not read"
                 else:

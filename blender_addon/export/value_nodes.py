@@ -214,12 +214,15 @@ class StepRamp:
     """A Math node's Less Than or Greater Than of the value and a constant threshold in (0, 1], as
     the Color Ramp it equals (Constant, grey 1 on the side the comparison holds, 0 on the other):
     the glTF importer's alpha cut-off (Alpha Mode Mask: 1 - (alpha < cutoff)). It reads like a
-    Color Ramp node (color_ramp.ramp_stops): a value exactly at the threshold, and within the
-    ramp table's 1/255 of it, may land on the other side than Cycles' exact comparison puts it."""
+    Color Ramp node (color_ramp.ramp_stops); the value at the threshold itself falls as the
+    comparison puts it (the stop above it lies one float step up), but a value within the ramp
+    table's 1/255 of it may land on the other side than Cycles' exact comparison puts it."""
 
     def __init__(self, node, slot: int, threshold: float):
         below = (node.operation == "LESS_THAN") == (slot == 0)      # 1 below the threshold
         low, high = (1.0, 0.0) if below else (0.0, 1.0)
+        if not below:   # (1 only above it: the value at the threshold itself reads the stop below)
+            threshold = float(np.nextafter(np.float32(threshold), np.float32(np.inf)))
         element = lambda position, v: types.SimpleNamespace(position=position, color=(v, v, v, 1.0))
         self.name = node.name
         self.color_ramp = types.SimpleNamespace(elements=[element(0.0, low), element(threshold, high)],

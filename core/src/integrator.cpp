@@ -179,7 +179,8 @@ Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(acc
     for (const Light& L : scene_.lights()) shaped_lights_ = shaped_lights_ || has_visible_shape(L);
     // More than kManyLights lights that fall off with distance: direct() draws kLightPicks of them.
     const auto& lights = scene_.lights();
-    const size_t falling = size_t(std::count_if(lights.begin(), lights.end(), [](const Light& L) { return L.inverse_square; }));
+    auto drawable = [](const Light& L) { return L.inverse_square && L.kind != LightKind::Sun; };
+    const size_t falling = size_t(std::count_if(lights.begin(), lights.end(), drawable));
     if (falling > kManyLights) {
         const size_t n = lights.size();
         picked_.resize(n);
@@ -187,11 +188,11 @@ Integrator::Integrator(const Accel& accel, const RenderSettings& s) : accel_(acc
         light_power_.resize(n), light_reach_.resize(n), light_reach2_.resize(n);
         for (size_t i = 0; i < n; ++i) {
             const Light& L = lights[i];
-            picked_[i] = L.inverse_square;
+            picked_[i] = drawable(L);
             light_x_[i] = L.position.x, light_y_[i] = L.position.y, light_z_[i] = L.position.z;
             // (its brightest channel, over the whole sphere for a spot; 0 for a light not drawn;
             // an area light's size bounds how close its power can count as coming from one point)
-            light_power_[i] = L.inverse_square ? std::max(L.color.x, std::max(L.color.y, L.color.z)) : 0.0f;
+            light_power_[i] = picked_[i] ? std::max(L.color.x, std::max(L.color.y, L.color.z)) : 0.0f;
             const float size = L.kind == LightKind::Rect || L.kind == LightKind::Ellipse
                                    ? 0.5f * std::hypot(L.size[0], L.size[1])   // (its corners' reach)
                                    : L.radius;
@@ -355,9 +356,12 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                                      (L.inverse_square || L.kind == LightKind::Sun)
                                  ? angular_radius(L, sp.p) : 0.0f;
         const bool mirrored = ggx_alpha(m.roughness) < kMirrorLobe * radius;
-        const bool shared = traced && L.visible_glossy && mode != ShadowMode::Hard && !drawn(li) &&
-                            shares_lamp(L, sp.p, ggx_alpha(m.roughness));
-        const GgxView& own = shared ? rest : glossy;   // what the light points take whole
+        // (a drawn light's points take the rays' share of its highlight whole, at weight 1: the
+        // rays skip drawn lights, lamps_in_lobe)
+        const bool rays_see = traced && L.visible_glossy && mode != ShadowMode::Hard &&
+                              shares_lamp(L, sp.p, ggx_alpha(m.roughness));
+        const bool shared = rays_see && !drawn(li);
+        const GgxView& own = rays_see ? rest : glossy;   // what the light points take whole
         const bool own_highlight = glossy_highlight && carries(own);
         if (mirrored && own_highlight) out += mirrored_light(L, sp, ng, own, radius, ctx);
         // A flat light near the point: set up once for its light points (near_area_light.h).
@@ -380,6 +384,8 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
                 const double ratio = rays_per_point * double(ggx_pdf(*traced, ls.wi)) /
                                      light_density(L, near_state, near, sp.p, ns, ls.wi, ls.dist);
                 f_shared = ggx_highlight(*traced, ls.wi) * float(1 / (1 + ratio * ratio));
+            } else if (rays_see) {
+                f_shared = ggx_highlight(*traced, ls.wi);
             }
             if (glossy_highlight) {
                 if (!mirrored && own_highlight) f += ggx_highlight(own, ls.wi);
@@ -405,24 +411,25 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
         // probability): the same mean.
         for (size_t li = 0; li < lights.size(); ++li)
             if (!picked_[li]) total += one(li);
-        // (the weights first, in float over the lights' arrays, which the compiler vectorises;
-        // then their running sum in double)
+        // (the weights first, over the lights' arrays, which the compiler vectorises; then their
+        // running sum)
         const size_t n = lights.size();
-        thread_local std::vector<float> weight;
+        thread_local std::vector<double> weight;
         thread_local std::vector<double> cdf;
         weight.resize(n);
         cdf.resize(n);
-        const float px = sp.p.x, py = sp.p.y, pz = sp.p.z, nx = ns.x, ny = ns.y, nz = ns.z;
+        // (in double: a light 1e13 away, which float's d^3 overflows, keeps its weight)
+        const double px = sp.p.x, py = sp.p.y, pz = sp.p.z, nx = ns.x, ny = ns.y, nz = ns.z;
         for (size_t li = 0; li < n; ++li) {
-            const float dx = light_x_[li] - px, dy = light_y_[li] - py, dz = light_z_[li] - pz;
-            const float d2 = std::max(dx * dx + dy * dy + dz * dz, light_reach2_[li]);
-            const float facing = std::max(nx * dx + ny * dy + nz * dz + light_reach_[li], 0.0f);
-            const float w = light_power_[li] * facing / (d2 * std::sqrt(d2));
-            weight[li] = w >= 0 ? std::min(w, 1e30f) : 0.0f;   // (on a light's centre: finite; NaN: none)
+            const double dx = light_x_[li] - px, dy = light_y_[li] - py, dz = light_z_[li] - pz;
+            const double d2 = std::max(dx * dx + dy * dy + dz * dz, double(light_reach2_[li]));
+            const double facing = std::max(nx * dx + ny * dy + nz * dz + light_reach_[li], 0.0);
+            const double w = light_power_[li] * facing / (d2 * std::sqrt(d2));
+            weight[li] = w >= 0 ? std::min(w, 1e300) : 0.0;   // (on a light's centre: finite; NaN: none)
         }
         double run = 0;
         for (size_t li = 0; li < n; ++li) {
-            run += double(weight[li]);
+            run += weight[li];
             cdf[li] = run;
         }
         if (run > 0 && std::isfinite(run)) {

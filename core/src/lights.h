@@ -137,6 +137,7 @@ inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1,
     case LightKind::Sun: {
         // Uniform direction inside the cone of half-angle angle/2 around -direction.
         Vec3 w = -L.direction;
+        s.intensity = L.color;   // (the disc's centre, Hard shadows' point: a facing surface gets the colour)
         if (L.angle > 0 && !(u1 == 0.5f && u2 == 0.5f)) {
             const float cmax = std::cos(0.5f * L.angle);
             const float ct = 1.0f - u1 * (1.0f - cmax), st = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
@@ -144,13 +145,13 @@ inline bool sample_light(const Light& L, const Vec3& p, const Vec3& n, float u1,
             Vec3 t, b;
             basis(w, t, b);
             w = normalize(t * (st * std::cos(phi)) + b * (st * std::sin(phi)) + w * ct);
+            // The colour is the irradiance on a surface facing the sun, whatever its angle, as in
+            // Cycles 4.0+ (radiance colour / (pi sin^2 of the half angle), as light_shape_hit shows
+            // it); a uniform direction in the cone then carries the colour x 2 / (1 + cos(angle / 2)).
+            s.intensity = L.color * float(2.0 / (1.0 + std::cos(0.5 * double(L.angle))));
         }
         s.wi = w;
         s.dist = kInf;
-        // The colour is the irradiance on a surface facing the sun, whatever its angle, as in
-        // Cycles 4.0+ (radiance colour / (pi sin^2 of the half angle), as light_shape_hit shows it); a
-        // uniform direction in the cone then carries the colour x 2 / (1 + cos(angle / 2)).
-        s.intensity = L.angle > 0 ? L.color * float(2.0 / (1.0 + std::cos(0.5 * double(L.angle)))) : L.color;
         return true;
     }
     case LightKind::Spot:   // a spot with a radius is a sphere light whose cone is

@@ -116,6 +116,9 @@ void prepare_light(Light& l, const std::string& where) {
     need_at_least(where, "size", l.size[0], 0);
     need_at_least(where, "size", l.size[1], 0);
     need_at_least(where, "angle", l.angle, 0);
+    if (l.kind == LightKind::Sun && l.angle > float(kPi))   // (Blender's range: 0 to 180 degrees)
+        throw std::invalid_argument(where + ".angle = " + std::to_string(l.angle) +
+                                    ": a sun's angular diameter is at most pi (180 degrees)");
     need_finite(where, "spot_size", l.spot_size);
     need_finite(where, "spot_blend", l.spot_blend);
     if (!(l.spot_blend >= 0 && l.spot_blend <= 1)) refuse(where, "spot_blend", "must be in [0, 1], got " + show(l.spot_blend));

@@ -139,9 +139,11 @@ def test_camera_depth_of_field(export):
     assert out.camera["aperture"] == pytest.approx(1.0 / (2 * 2.8), rel=1e-6)
 
 
-@pytest.mark.parametrize("stand_in, lens", [("EMPTY", 50.0), ("SPOT", 16.0 / math.tan(math.radians(30.0)))])
+@pytest.mark.parametrize("stand_in, lens", [("EMPTY", 50.0), ("SPOT", 16.0 / math.tan(math.radians(30.0))),
+                                             ("POINT", 16.0 / math.tan(math.radians(22.5)))])
 def test_an_empty_or_a_spot_light_as_the_camera_takes_cycles_default_lens(export, stand_in, lens):
-    # (Cycles renders from the object with its default lens; a spot light's cone sets the lens)
+    # (Cycles renders from the object with its default lens; a light's spot cone sets the lens,
+    # 45 degrees for a light that is no spot)
     out = export("camera", dof=True, stand_in=stand_in)
     cam = out.camera
     assert cam["fov"] == pytest.approx(math.degrees(2 * math.atan(36.0 / (2 * lens) * 480 / 640)), rel=1e-6)

@@ -345,8 +345,9 @@ def near_sphere_scene(height=0.6, soft=True, energy=30.0, mirror=False, resoluti
 
 def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False,
                  unit_scale=1.0, stand_in=None):
-    """A cube before a 50 mm camera on a 36 x 24 sensor, shifted; stand_in "EMPTY" or "SPOT": an
-    Empty or a spot light of a 60 degree cone in the camera's place is the active camera instead."""
+    """A cube before a 50 mm camera on a 36 x 24 sensor, shifted; stand_in "EMPTY", "SPOT" or
+    "POINT": an Empty, a spot light of a 60 degree cone or a point light in the camera's place is
+    the active camera instead."""
     scene = reset(resolution=resolution)
     scene.unit_settings.scale_length = unit_scale
     link(cube_object())
@@ -375,8 +376,8 @@ def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False
         cam.data.dof.focus_object = rig
         cam.data.dof.focus_subtarget = "Head"
     if stand_in is not None:
-        data = None if stand_in == "EMPTY" else bpy.data.lights.new("Spot", "SPOT")
-        if data is not None:
+        data = None if stand_in == "EMPTY" else bpy.data.lights.new(stand_in.title(), stand_in)
+        if stand_in == "SPOT":
             data.spot_size = math.radians(60.0)
         other = link(bpy.data.objects.new("StandIn", data))
         other.location, other.rotation_euler = cam.location, cam.rotation_euler

@@ -4,7 +4,7 @@ import math
 import bpy
 
 from blender_addon.scripting import principled_material
-from scenes import add_light, reset
+from scenes import add_light, plain_world, reset, shader_material
 
 # Each kind of light that a sharp mirror shows by its shape, 8 units in front of the mirror,
 # facing it, behind the camera: (Blender light type, its settings).
@@ -73,3 +73,20 @@ def chrome_ball_scene(resolution=(128, 96), glass=False, hide=()):
         setattr(softbox, f"visible_{kind}", False)
     bpy.context.view_layer.update()
     return {}
+
+
+def wide_sun_scene(angle_degrees=120.0, resolution=(48, 36)):
+    """A grey diffuse floor (Diffuse BSDF 0.8) filling an orthographic view from above, under a sun
+    straight down of the given angular diameter, Strength 1, in a black world."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0, 0, 5), (0, 0, 0)
+    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 4.0
+    bpy.ops.mesh.primitive_plane_add(size=20.0)
+    bpy.context.object.data.materials.append(shader_material("Floor", "ShaderNodeBsdfDiffuse",
+                                                             [("Color", (0.8, 0.8, 0.8, 1.0))]))
+    add_light("Sun", "SUN", (0, 0, 10), (0, 0, 0), energy=1.0, angle=math.radians(angle_degrees))
+    plain_world("Black", (0.0, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    return {}
+

@@ -85,7 +85,10 @@ class Export:
                     self.lights.append(light)
             elif kind in UNRENDERED_TYPES:
                 if inst.show_self and not obj.original.hide_render:
-                    unrendered.setdefault(UNRENDERED_TYPES[kind], set()).add(obj.original.name)
+                    # (a volume that another object's Geometry Nodes make: that object's other geometry renders)
+                    label = UNRENDERED_TYPES[kind] if obj.original.type == kind else \
+                        f"{kind.title()}s that Geometry Nodes make (the rest of each object renders) are"
+                    unrendered.setdefault(label, set()).add(obj.original.name)
             else:
                 self.meshes.add_instance(inst, obj)
 

@@ -213,3 +213,13 @@ def test_a_material_without_nodes_is_a_diffuse_of_its_viewport_colour(export):
     (mat,) = [m for m in out.materials if np.allclose(m["color"], [0.2, 0.4, 0.6], rtol=1e-6)]
     assert mat["kd"] == 1.0 and mat["ks"] == 0.0 and mat["metallic"] == 0.0 and mat["mirror"] == 0.0
     assert not any("NoNodes" in w for w in out.warnings), out.warnings
+
+
+def test_a_volume_that_geometry_nodes_make_is_named_as_such(export):
+    # (it read "Volume objects are not rendered: 'Smoky'", as if the cube were not rendered)
+    out = export("volume_output")
+    assert "error" not in out.info, out.info.get("error")
+    assert any("Volumes that Geometry Nodes make (the rest of each object renders) are not rendered: 'Smoky'" in w
+               for w in out.warnings), out.warnings
+    assert not any(w.startswith("Volume objects are") for w in out.warnings)
+    assert len(out.triangles) == 12                     # (the cube itself renders)

@@ -136,3 +136,27 @@ def carrier_scene(variant="object", count=2000):
     after.location = (2.0, 2.0, 0.0)
     bpy.context.view_layer.update()
     return {"variant": variant}
+
+
+def volume_output_scene(resolution=(32, 24)):
+    """A cube whose Geometry Nodes output its own mesh joined with a Mesh to Volume of it: the
+    depsgraph lists a volume instance of the cube besides its mesh."""
+    reset(resolution=tuple(resolution))
+    cube = link(cube_object("Smoky"))
+    group = bpy.data.node_groups.new("Smoke", "GeometryNodeTree")
+    if bpy.app.version >= (4, 0, 0):
+        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        group.inputs.new("NodeSocketGeometry", "Geometry")
+        group.outputs.new("NodeSocketGeometry", "Geometry")
+    nodes, links = group.nodes, group.links
+    given, output = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    volume, join = nodes.new("GeometryNodeMeshToVolume"), nodes.new("GeometryNodeJoinGeometry")
+    links.new(given.outputs[0], volume.inputs["Mesh"])
+    links.new(given.outputs[0], join.inputs[0])
+    links.new(volume.outputs[0], join.inputs[0])
+    links.new(join.outputs[0], output.inputs[0])
+    cube.modifiers.new("Smoke", "NODES").node_group = group
+    bpy.context.view_layer.update()
+    return {}

@@ -801,7 +801,7 @@ from procedural_scenes import checker_on_shapes_scene, procedural_checker_scene,
 from noise_scenes import noise_bump_scene, procedural_noise_scene  # noqa: E402,F401
 from voronoi_scenes import voronoi_scene  # noqa: E402,F401
 from pattern_scenes import pattern_scene  # noqa: E402,F401
-from scatter_scenes import carrier_scene, scatter_scene  # noqa: E402,F401
+from scatter_scenes import carrier_scene, scatter_scene, volume_output_scene  # noqa: E402,F401
 from catcher_scenes import shadow_catcher_scene  # noqa: E402,F401
 from attribute_scenes import attribute_scene  # noqa: E402,F401
 from object_info_scenes import object_info_scene  # noqa: E402,F401

@@ -5,7 +5,7 @@ import math
 import bpy
 import numpy as np
 
-from scenes import link, reset, shader_material
+from scenes import geometry_group, link, reset, shader_material
 
 # Tile names: ASCII, a numbered duplicate's and UTF-8 (Cycles hashes a name's bytes for Random)
 NAMES = ("Tile", "Tile.001", "Stone", "Brick", "Ünïcode", "Zebra", "Moss", "Tile.002", "Ash", "Oak", "Pine", "Élan")
@@ -55,14 +55,7 @@ def _material(output, ramp, divide, attribute):
 
 
 def _group(name):
-    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
-    if bpy.app.version >= (4, 0, 0):
-        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        group.inputs.new("NodeSocketGeometry", "Geometry")
-        group.outputs.new("NodeSocketGeometry", "Geometry")
-    return group
+    return geometry_group(name)
 
 
 def _points(mat):

@@ -8,7 +8,7 @@ its world-space corners: its matrix (mathutils) applied to its mesh's vertices, 
 apart from the export's own code."""
 import bpy
 
-from scenes import cube_object, link, reset
+from scenes import cube_object, geometry_group, link, reset
 
 
 def _scatter_group(name, source, count, seed, variant="object"):
@@ -143,13 +143,7 @@ def volume_output_scene(resolution=(32, 24)):
     depsgraph lists a volume instance of the cube besides its mesh."""
     reset(resolution=tuple(resolution))
     cube = link(cube_object("Smoky"))
-    group = bpy.data.node_groups.new("Smoke", "GeometryNodeTree")
-    if bpy.app.version >= (4, 0, 0):
-        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        group.inputs.new("NodeSocketGeometry", "Geometry")
-        group.outputs.new("NodeSocketGeometry", "Geometry")
+    group = geometry_group("Smoke")
     nodes, links = group.nodes, group.links
     given, output = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
     volume, join = nodes.new("GeometryNodeMeshToVolume"), nodes.new("GeometryNodeJoinGeometry")

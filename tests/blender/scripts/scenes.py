@@ -32,6 +32,18 @@ def reset(camera=True, resolution=(64, 48), factory=True):
     return scene
 
 
+def geometry_group(name):
+    """A new Geometry Nodes tree with one Geometry input and one Geometry output (3.x and 4.x APIs)."""
+    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
+    if bpy.app.version >= (4, 0, 0):
+        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        group.inputs.new("NodeSocketGeometry", "Geometry")
+        group.outputs.new("NodeSocketGeometry", "Geometry")
+    return group
+
+
 def link(obj, collection=None):
     (collection or bpy.context.scene.collection).objects.link(obj)
     return obj
@@ -474,13 +486,7 @@ def point_cloud_scene(resolution=(96, 72)):
     grid = bpy.context.object
     grid.name = "Points"
     grid.location, grid.scale = (0.5, 0.0, 0.2), (1.5, 1.5, 1.5)
-    group = bpy.data.node_groups.new("ToPoints", "GeometryNodeTree")
-    if hasattr(group, "interface"):
-        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        group.inputs.new("NodeSocketGeometry", "Geometry")
-        group.outputs.new("NodeSocketGeometry", "Geometry")
+    group = geometry_group("ToPoints")
     nodes, links = group.nodes, group.links
     to_points = nodes.new("GeometryNodeMeshToPoints")
     to_points.inputs["Radius"].default_value = 0.25

@@ -295,7 +295,8 @@ class Scene:
                 matrix = np.asarray(value if value is not None else np.zeros((0, 0)), dtype=np.float64)
                 if matrix.shape != (4, 4) and (value is not None or name == "matrix"):
                     raise ValueError(f"moves[{i}].{name} must have shape (4, 4), got {matrix.shape}")
-                if matrix.shape == (4, 4) and not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):
+                if matrix.shape == (4, 4) and np.isfinite(matrix[3]).all() and \
+                        not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):   # (NaN: the core names it)
                     raise ValueError(f"moves[{i}].{name} must be affine, its last row (0, 0, 0, 1), got "
                                      f"{matrix[3].tolist()} (a column-major matrix? give its transpose)")
                 out.append(np.ascontiguousarray(matrix))

@@ -50,3 +50,28 @@ def test_hidden_from_transmission_glass_does_not_show_it():
     assert seen.max() > 1.0
     assert _render(glass, dataclasses.replace(light, visible_transmission=False)).max() < 1e-3 * seen.max()
     assert _render(glass, dataclasses.replace(light, visible_glossy=False)).max() == seen.max()
+
+
+def test_hidden_from_transmission_it_lights_nothing_through_glass():
+    # (Whitted's transparent shadows let a lamp's light through glass; a lamp hidden from
+    # transmission rays reaches nothing that way, as in Cycles, where that light comes by a
+    # transmission bounce; an alpha cut-out still lets it pass)
+    from test66_coloured_glass_tints_what_it_lets_through import _pane
+    v, f = _pane(0.95, 1.05, size=1.0)
+    floor = np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], np.float32)
+    verts, tris = np.concatenate([floor, v]), np.concatenate([[[0, 1, 2], [0, 2, 3]], f + 4])
+    cam = gw.Camera(eye=(0, 0, 0.5), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic", ortho_height=0.2,
+                    width=8, height=8)   # (the floor under the pane's middle)
+    lamp = gw.Light(kind="point", position=(0, 0, 3), color=(9, 9, 9), inverse_square=True)
+
+    def under(pane, light):
+        mats = [gw.Material(color=(1, 1, 1), kd=1.0), pane]
+        scene = gw.Scene(verts, tris, triangle_materials=np.array([0, 0] + [1] * len(f)), materials=mats,
+                         lights=[light], camera=cam)
+        return gw.render(scene, gw.RenderSettings(threads=1))[..., :3].mean()
+    glass = gw.Material(color=(1, 1, 1), kd=0.0, ks=0.0, transmittance=1.0, ior=1.5)
+    cutout = gw.Material(color=(1, 1, 1), kd=1.0, alpha=0.5)
+    hidden = dataclasses.replace(lamp, visible_transmission=False)
+    assert under(glass, lamp) > 0.1
+    assert under(glass, hidden) == 0.0
+    assert under(cutout, hidden) == under(cutout, lamp) > 0.1

@@ -249,8 +249,12 @@ Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
 // glass (the light behind glass reaches them by its own refraction rays, at full weight), so
 // c_shared sees the light through cut-outs only.
 Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c,
-                                  const Vec3& c_shared, bool casts_shadows, TraceContext& ctx) const {
+                                  const Vec3& c_shared, bool casts_shadows, TraceContext& ctx,
+                                  bool through_glass) const {
     if (!casts_shadows) return c + c_shared;
+    // (a light hidden from transmission rays reaches no point through glass: Cycles carries that
+    // light by a transmission bounce; alpha cut-outs still let it pass)
+    if (!through_glass) return (c + c_shared) * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx, true);
     if (!scene_.transparent_shadows() || !any_positive(c_shared))
         return (c + c_shared) * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx);
     Vec3 sum = c_shared * visible(sp.p, sp.p_err, sp.ng, wi, dist, ctx, true);
@@ -397,7 +401,7 @@ Vec3 Integrator::direct(const SurfacePoint& sp, const Vec3& ng, const Vec3& ns, 
             }
             const Vec3 c = f * ls.intensity, c_shared = f_shared * ls.intensity;
             if (!any_positive(c) && !any_positive(c_shared)) continue;
-            sum += point_light_seen(sp, ls.wi, ls.dist, c, c_shared, L.casts_shadows, ctx);
+            sum += point_light_seen(sp, ls.wi, ls.dist, c, c_shared, L.casts_shadows, ctx, L.visible_transmission);
         }
         return out + sum * (1.0f / float(count));
     };

@@ -129,7 +129,7 @@ private:
                  TraceContext& ctx, bool glass_blocks = false) const;
     Vec3 transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks = false) const;
     Vec3 point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c, const Vec3& c_shared,
-                          bool casts_shadows, TraceContext& ctx) const;
+                          bool casts_shadows, TraceContext& ctx, bool through_glass = true) const;
     // Whether a surface seen by the ray's kind lies on it (those hidden from it are passed).
     bool blocked(Ray r, TraceContext& ctx) const;
     Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,

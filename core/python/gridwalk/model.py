@@ -515,7 +515,8 @@ class Light(Record):
     casts_shadows: False lights every point facing it, through any object (Blender's Cast Shadow off).
     visible_diffuse, visible_glossy, visible_transmission: the light object's Ray Visibility, as
     Cycles reads it: False leaves out its diffuse light; its highlights and what glossy and sharp
-    mirror rays see of its shape; what refraction rays see of its shape.
+    mirror rays see of its shape; what refraction rays see of its shape, and its light that
+    transparent shadows would carry through glass.
     soft_falloff: a sphere light (or a spot with a radius) is, as in Cycles, a Lambertian disk facing the
     point it lights (True, Blender's Soft Falloff, its default), or a sphere of uniform radiance (False),
     which near the light lights like a point light at its centre (see core/src/sphere_light.h); for

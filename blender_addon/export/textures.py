@@ -25,6 +25,7 @@ import dataclasses
 import numpy as np
 
 from gridwalk import Image, Texture
+from gridwalk.image import srgb_to_linear
 
 from .node_links import InGroup, _source, input_value, tree_nodes
 from .object_info import OUTPUTS as INFO_OUTPUTS
@@ -167,7 +168,7 @@ def _mean_rgb(px, srgb: bool, step: int | None = None) -> tuple:
     step = step or max(1, int(np.sqrt(rgb.shape[0] * rgb.shape[1] / 65536)))
     rgb = np.asarray(rgb[::step, ::step], np.float64)
     if srgb:
-        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+        rgb = srgb_to_linear(rgb)
     rows = rgb.shape[0]
     weight = np.cos((np.arange(rows) + 0.5) / rows * np.pi - np.pi / 2)[:, None, None]
     return tuple(float(x) for x in (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * rgb.shape[1]))
@@ -371,6 +372,13 @@ def _signature(img):
             img.colorspace_settings.name, getattr(img, "generated_type", ""), img.packed_file is not None)
 
 
+def _magenta(name: str):
+    """The 1 x 1 magenta image that stands for one that cannot be read (as Blender shows it)."""
+    image = Image(np.array([[MAGENTA]], np.float32), "linear", name=name)
+    image.mean_rgb = MAGENTA
+    return image
+
+
 class TextureTable:
     """The scene's images (each once) and textures (each distinct node setting once).
 
@@ -399,8 +407,7 @@ class TextureTable:
                 self._used.add(signature)
             if image is None:
                 self.problems[key or "(none)"] = problem
-                image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {key}")
-                image.mean_rgb = MAGENTA
+                image = _magenta(f"missing {key}")
             elif getattr(image, "non_finite", 0):
                 self.notes.add(f"image '{key}' has {image.non_finite} NaN or infinite values: "
                                "NaN and -Inf are read as 0, +Inf as 65504")
@@ -431,8 +438,7 @@ class TextureTable:
                 if getattr(image, "colorspace_note", None):
                     self.notes.add(image.colorspace_note.replace(f"image '{image.name}'", f"image '{img.name}'"))
                 if image is None:
-                    image = Image(np.array([[MAGENTA]], np.float32), "linear", name=f"missing {img.name_full} {number}")
-                    image.mean_rgb = MAGENTA
+                    image = _magenta(f"missing {img.name_full} {number}")
                 indices.append((number, len(self.images)))
                 self.images.append(image)
             self._image_index[key] = indices

@@ -19,6 +19,7 @@ import tempfile
 import numpy as np
 
 from gridwalk import Image
+from gridwalk.image import srgb_to_linear
 
 from .main_thread import MainThreadTimeout, on_main_thread
 
@@ -50,8 +51,7 @@ def _generated(tile, data: bool):
     w, h = max(int(tile.generated_width), 1), max(int(tile.generated_height), 1)
     colour = np.array(tuple(tile.generated_color)[:4], np.float64)
     if not data:
-        rgb = colour[:3]
-        colour[:3] = np.where(rgb <= 0.04045, rgb / 12.92, ((np.maximum(rgb, 0.0) + 0.055) / 1.055) ** 2.4)
+        colour[:3] = srgb_to_linear(colour[:3])
     return np.tile(colour.astype(np.float32), (h, w, 1))
 
 

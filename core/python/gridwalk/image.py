@@ -68,3 +68,10 @@ class Image:
 
     def __repr__(self) -> str:
         return f"gridwalk.Image({self.name!r}, {self.width} x {self.height} x {self.channels}, {self.colorspace})"
+
+
+def srgb_to_linear(c):
+    """sRGB-encoded values (a numpy array) decoded to linear, as the core decodes an 8-bit image."""
+    c = np.asarray(c, np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((np.maximum(c, 0.0) + 0.055) / 1.055) ** 2.4)
+

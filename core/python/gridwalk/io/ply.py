@@ -56,6 +56,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..image import srgb_to_linear
 from . import triangulate
 from .common import SceneFileError, core_refusal, open_scene_file, scene_kwargs
 from .ply_body import Body
@@ -386,7 +387,7 @@ def colour_materials(colors, triangles) -> tuple[list, np.ndarray]:
     from ..model import Material
     # (float colours outside [0, 1] clipped: a negative one is no light, and
     # the quantisation below packs levels of [0, 1])
-    linear = _srgb_to_linear(np.clip(np.nan_to_num(np.asarray(colors, dtype=np.float64)), 0.0, 1.0))
+    linear = srgb_to_linear(np.clip(np.nan_to_num(np.asarray(colors, dtype=np.float64)), 0.0, 1.0))
     mean = (linear[triangles[:, 0]] + linear[triangles[:, 1]] + linear[triangles[:, 2]]) / 3.0
     srgb = _linear_to_srgb(mean)
     for bits in (8, 7, 6, 5, 4):
@@ -396,12 +397,8 @@ def colour_materials(colors, triangles) -> tuple[list, np.ndarray]:
         if len(keys) <= MAX_COLOURS:
             break
     rgb = np.stack([keys >> (2 * bits), (keys >> bits) & levels, keys & levels], axis=1) / levels
-    materials = [Material(color=tuple(float(c) for c in row), **GREY) for row in _srgb_to_linear(rgb)]
+    materials = [Material(color=tuple(float(c) for c in row), **GREY) for row in srgb_to_linear(rgb)]
     return materials, index.astype(np.int32).reshape(-1)
-
-
-def _srgb_to_linear(c):
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
 
 
 def _linear_to_srgb(c):

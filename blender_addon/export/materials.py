@@ -596,6 +596,7 @@ class MaterialTable:
         self.matte_names = [("default_surface", 0)]
         self.shape_notes = set()     # materials whose Generated / Object textures spheres and cylinders dropped
         self.colour_conflicts = set()  # (colour sources an object's materials read, the one read) (layers())
+        self._layers = {}            # layers()' answers, by the slots' indices
 
     def index_of(self, mat) -> int:
         key = None if mat is None else mat.original.name_full
@@ -642,6 +643,13 @@ class MaterialTable:
         materials name different UV maps, a tuple of each slot's (None for a
         material without textures): meshes.read_mesh then reads each
         triangle's corners from its own material's map."""
+        key = tuple(indices.tolist()) if hasattr(indices, "tolist") else tuple(int(i) for i in indices)
+        found = self._layers.get(key)
+        if found is None:      # (a material's links never change once added: one answer per set of slots)
+            found = self._layers[key] = self._read_layers(indices)
+        return found
+
+    def _read_layers(self, indices) -> tuple:
         uvs, color, points, colours = [], None, set(), []
         for i in indices:
             links = self.links[i]

@@ -513,6 +513,7 @@ class MeshCollector:
         self._sources = {}         # (object, original, data addresses) -> what _source() read of it
         self._lookups = {}         # material lookup bytes -> the one array the parts share
         self._hair = {}            # object_key -> whether it has hair particle systems to render
+        self._shape_notes = {}     # material lookup (slots' indices) -> (whether it emits, whether it reads a value per instance)
         self._sphere_bounds = {}   # evaluated mesh address -> (local centre, half size) of 'render as sphere' objects
         self._plans = {}           # add_instance's memo -> InstancePlan
         self._mesh_plans = []      # the plans of mesh kind, by InstancePlan.index
@@ -834,9 +835,15 @@ class MeshCollector:
         """What the warnings say of a sphere, point cloud or hair of the materials `lookup`: that
         it emits light yet lights nothing, that a value per instance reads black on it (spheres
         read it as meshes: _source)."""
-        if any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())):
+        key = tuple(lookup.tolist())
+        found = self._shape_notes.get(key)
+        if found is None:    # (one answer per set of slots: 820 balls of one material ask it 820 times)
+            found = self._shape_notes[key] = (
+                any(self.materials.materials[int(i)].emits_light for i in set(lookup.tolist())),
+                is_instance_layer(self.materials.layers(lookup)[1]))
+        if found[0]:
             self.emissive_shapes.add(name)
-        if is_instance_layer(self.materials.layers(lookup)[1]):
+        if found[1]:
             self.info_shapes.add(name)
 
     def _add_particle_hair(self, inst, obj):

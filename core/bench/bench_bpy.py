@@ -162,6 +162,33 @@ def render(scene, path):
     return px.reshape(h, w, 4)[::-1].copy(), seconds, cpu
 
 
+def blender_floor(scene, threads, reps=5):
+    """Wall seconds (best of reps) of bpy.ops.render.render() with a render engine that only
+    opens and closes its result: what Blender itself spends on a render call of this scene
+    (its render depsgraph, the result), which every engine pays before its own work."""
+    import bpy
+
+    class FloorEngine(bpy.types.RenderEngine):
+        bl_idname, bl_label = "GRIDWALK_BENCH_FLOOR", "Floor"
+
+        def render(self, depsgraph):
+            r = depsgraph.scene.render
+            scale = r.resolution_percentage / 100.0
+            self.end_result(self.begin_result(0, 0, int(r.resolution_x * scale), int(r.resolution_y * scale)))
+
+    bpy.utils.register_class(FloorEngine)
+    engine, scene.render.engine = scene.render.engine, FloorEngine.bl_idname
+    scene.render.threads_mode, scene.render.threads = "FIXED", threads
+    times = []
+    for _ in range(reps + 1):                  # (the first call, untimed: first-render set-up)
+        t0 = time.perf_counter()
+        bpy.ops.render.render()
+        times.append(time.perf_counter() - t0)
+    scene.render.engine = engine
+    bpy.utils.unregister_class(FloorEngine)
+    return min(times[1:])
+
+
 def cycles_vs_gridwalk(config_path):
     """Render every job of the config ({engine, spp, seed, reps, name}) and record its best time."""
     import bpy
@@ -170,7 +197,8 @@ def cycles_vs_gridwalk(config_path):
         cfg = json.load(f)
     out = cfg["out_dir"]
     scene, spheres = build_balls(cfg["scene"], cfg["width"], cfg["height"], cfg["fstop"])
-    result = {"blender": bpy.app.version_string, "spheres": spheres, "runs": []}
+    result = {"blender": bpy.app.version_string, "spheres": spheres, "runs": [],
+              "floor_seconds": blender_floor(scene, cfg["threads"])}
     warm = set()
     for job in cfg["jobs"]:
         engine = job["engine"]

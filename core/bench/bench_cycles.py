@@ -165,6 +165,15 @@ def run(sizes, suzanne, out) -> Section:
                         "mean of reference"],
                        [[ENGINES[e], f"{fits[e][0]:.2f} s", f"{fits[e][1] * 1e3:.1f} ms", f"{ref_secs[e]:.1f} s",
                          f"{refs[e][1]:.3f}"] for e in ENGINES])
+    floor = result.get("floor_seconds")
+    if floor is not None and eq:
+        lv, g, c = eq[0]
+        sec.lines += [
+            f"**Blender's own share.** A render engine that only opens and closes its result takes {floor:.3f} s "
+            "a render call on this scene (best of 5): Blender's render depsgraph and result, which both engines "
+            f"pay before their own work. At the noisiest level (RMSE {lv:.4f}) Cycles takes {c:.3f} s, so a 3x "
+            f"equal-error time there would leave GRIDWALK {c / 3 - floor:.3f} s of its own for export, build and "
+            f"its {err['GRIDWALK'][0][0]}-spp render, which take {g - floor:.3f} s now.", ""]
     sec.lines += ["**Equal-error time** (Cycles time / GRIDWALK time; above 1 means GRIDWALK is faster):", ""]
     if not eq:
         sec.lines += ["No RMSE range is common to both engines in this run: no equal-error time.", ""]

@@ -179,7 +179,8 @@ class GridwalkRenderEngine(bpy.types.RenderEngine):
         from .export.textures import corner_arrays_read, corner_point_arrays, scene_texture_bytes, uses_normal_maps
         scene = depsgraph.scene
         counts = count_geometry(depsgraph)
-        width, height = resolution(scene.render)
+        # (a border render's buffers hold its region only: 1% of a 16000 x 16000 frame was refused)
+        width, height = settings.region[2:] if settings.region is not None else resolution(scene.render)
         texture_bytes = scene_texture_bytes(depsgraph)
         corners = corner_arrays_read(depsgraph)
         estimate = memory.estimate(counts["triangles"], counts["vertices"], counts["spheres"], counts["cylinders"],

@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from .camera import CameraError, convert_camera, render_region, resolution
+from .camera import CameraError, convert_camera, render_region, resolution, shear_note
 from .carrier_instances import CarrierInstances
 from .lights import light_from_instance
 from .materials import MaterialTable
@@ -64,6 +64,9 @@ class Export:
                 if camera else None
         except CameraError as exc:
             raise ExportError(str(exc)) from None
+        sheared = shear_note(scene.camera) if camera else None
+        if sheared:
+            self.warnings.append(sheared)
         cache = cache if cache is not None else MeshCache()
         self.textures = TextureTable(cache.images)
         if should_stop is not None:

@@ -206,6 +206,26 @@ def camera_frame(cam_obj) -> dict:
                 mirror=bool(np.linalg.det(m[:3, :3]) < 0))
 
 
+def shear_note(cam_obj) -> str | None:
+    """A warning where the camera's transform is sheared (its axes not at right angles: a rotated
+    parent scaled unevenly), which Cycles renders as a skewed view and Gridwalk as the view along
+    the camera's -Z with its Y up; None otherwise."""
+    if cam_obj is None:
+        return None
+    m = to_numpy(cam_obj.matrix_world)[:3, :3]
+    scale = np.linalg.norm(m, axis=0)
+    if not (np.isfinite(m).all() and scale.min() > 0):
+        return None
+    axes = m / scale
+    skew = max(abs(float(axes[:, i] @ axes[:, j])) for i, j in ((0, 1), (0, 2), (1, 2)))
+    if skew <= 1e-4:
+        return None
+    degrees = 90.0 - math.degrees(math.acos(min(skew, 1.0)))
+    return (f"Camera {cam_obj.name!r} has a sheared transform (its axes are {degrees:.2g} degrees off right "
+            "angles: a rotated parent with an uneven scale): Cycles renders it skewed, Gridwalk renders the "
+            "unskewed view along its -Z axis with its Y axis up. Scale the parent evenly, or apply its scale")
+
+
 # What Cycles renders from an active camera that is another kind of object (an Empty, a light
 # looked through): its place and turn, with Cycles' default lens (a 50 mm perspective on a 36 mm
 # sensor fitted to the larger side, no shift, clipping from 1e-5 to 1e5, no depth of field; a light's

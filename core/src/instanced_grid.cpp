@@ -107,6 +107,13 @@ bool pays(size_t copied, size_t prims, bool always) {
     return copied > 0 && (always || (2 * copied >= prims && copied >= InstancedGrid::kAutoTriangles));
 }
 
+// Ray::after in a part's own numbering, whose primitive k is the scene's first + k (k < count).
+int32_t after_in(int32_t after, uint32_t first, uint32_t count) {
+    if (after == kNoPrim) return kNoPrim;
+    if (after < int32_t(first)) return -1;   // (every primitive of the part comes after it)
+    return uint32_t(after) - first >= count ? kNoPrim : int32_t(uint32_t(after) - first);
+}
+
 }  // namespace
 
 std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> scene, const AdaptiveParams& p,
@@ -377,7 +384,8 @@ RayPre InstancedGrid::to_mesh(const RayPre& r, const Copy& c) const {
 template <bool kAny>
 bool InstancedGrid::test_copy(uint32_t i, const RayPre& r, Hit& hit, TraceContext& ctx) const {
     const Copy& c = copies_[i];
-    const RayPre m = to_mesh(r, c);
+    RayPre m = to_mesh(r, c);
+    m.ray.after = after_in(r.ray.after, c.start, c.count);
     const AdaptiveGrid& grid = *meshes_[c.mesh];
     if (kAny) return grid.occluded(m, ctx);
     // The mesh grid's triangle k is this copy's c.start + k; a hit at the same
@@ -446,6 +454,16 @@ bool InstancedGrid::walk(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     return found;
 }
 
+RayPre InstancedGrid::to_rest(const RayPre& r) const {
+    RayPre rest = r;
+    // (the rest's primitive k is rest_ids_[k], in increasing order: k comes after the hit
+    // passed from the first k whose id is above it on)
+    if (r.ray.after != kNoPrim && r.ray.after >= 0)
+        rest.ray.after = int32_t(std::upper_bound(rest_ids_.begin(), rest_ids_.end(), uint32_t(r.ray.after)) -
+                                 rest_ids_.begin()) - 1;
+    return rest;
+}
+
 bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const {
     bool found = false;
     if (rest_) {
@@ -455,7 +473,7 @@ bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const 
         local.prim = hit.prim < 0 ? 0
                                   : int32_t(std::lower_bound(rest_ids_.begin(), rest_ids_.end(), uint32_t(hit.prim)) -
                                             rest_ids_.begin());
-        if (rest_->closest(r, local, ctx)) {
+        if (r.ray.after == kNoPrim ? rest_->closest(r, local, ctx) : rest_->closest(to_rest(r), local, ctx)) {
             hit = local;
             hit.prim = int32_t(rest_ids_[size_t(local.prim)]);
             found = true;
@@ -465,7 +483,7 @@ bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const 
 }
 
 bool InstancedGrid::occluded(const RayPre& r, TraceContext& ctx) const {
-    if (rest_ && rest_->occluded(r, ctx)) return true;
+    if (rest_ && (r.ray.after == kNoPrim ? rest_->occluded(r, ctx) : rest_->occluded(to_rest(r), ctx))) return true;
     Hit hit;
     hit.t = r.ray.tmax;
     return walk<true>(r, hit, ctx);

@@ -61,6 +61,7 @@ private:
     template <bool kAny>
     bool test_copy(uint32_t c, const RayPre& r, Hit& hit, TraceContext& ctx) const;   // its box met
     RayPre to_mesh(const RayPre& r, const Copy& c) const;
+    RayPre to_rest(const RayPre& r) const;   // a resumed ray (Ray::after) in the rest's numbering
     void cell_range(const Copy& c, int c0[3], int c1[3]) const;   // the top grid's cells c's box meets
 
     std::shared_ptr<const AdaptiveGrid> rest_;   // null: nothing outside the copies

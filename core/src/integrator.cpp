@@ -240,7 +240,7 @@ Vec3 Integrator::visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const
     r.spawned = true;
     if (ctx.unshadowed) return Vec3(1, 1, 1);
     ++ctx.stats.rays[int(RayType::Shadow)];
-    if (scene_.transparent_shadows()) return transmission(r, dist, ctx, glass_blocks);
+    if (scene_.transparent_shadows()) return transmission(r, ctx, glass_blocks);
     return accel_.occluded(RayPre(r), ctx) ? Vec3(0, 0, 0) : Vec3(1, 1, 1);
 }
 
@@ -262,11 +262,36 @@ Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float 
     return sum;
 }
 
+// The ray moved on past its hit, unbent (a cut-out, a surface hidden from it). Inside its
+// triangle (or on a sphere or cone) the same ray is resumed, from the same origin, meeting only
+// what comes after the hit in the order of t and then primitive index (Ray::after): a surface in
+// the plane of the one passed is still met (a cube's bottom face hidden from the camera, on a
+// floor: moving the origin off the face moved it past the floor too, and the floor showed holes
+// where the face was met first). Within kEdgeBand of its triangle's edges the ray may meet the
+// neighbouring triangle at the same point, a t a few ulps on, and would cross the surface twice:
+// there the origin moves just beyond the surface instead, as all passes did before.
+static Ray past(const Hit& hit, const SurfacePoint& sp, const Ray& ray, bool triangle) {
+    constexpr float kEdgeBand = 0x1p-16f;
+    Ray next = ray;
+    if (!triangle || std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
+        next.tmin = hit.t;
+        next.after = hit.prim;
+        return next;
+    }
+    next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
+    next.tmin = 0;
+    next.after = kNoPrim;
+    next.spawned = true;
+    const float moved = length(next.o - ray.o);
+    if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - moved, 0.0f);
+    if (ray.emitter_mis > 0) next.mis_offset = ray.mis_offset + moved;
+    return next;
+}
+
 // Whitted's transparent shadows: each surface on the way passes (1 - alpha)
 // of the light uncovered plus its transmittance of the covered part, tinted
 // by its colour where it tints what it refracts (coloured glass).
-Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks) const {
-    const Vec3 target = r.o + r.d * (std::isinf(dist) ? 0.0f : dist);
+Vec3 Integrator::transmission(Ray r, TraceContext& ctx, bool glass_blocks) const {
     Vec3 through(1, 1, 1);
     // (64 crossings of surfaces that shadow; as many as kMaxHiddenCrossings of ones that cast none)
     for (int crossings = 0, passed_by = 0; crossings < 64 && passed_by < kMaxHiddenCrossings;) {
@@ -291,8 +316,7 @@ Vec3 Integrator::transmission(Ray r, float dist, TraceContext& ctx, bool glass_b
             through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
             if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         }
-        r.o = offset_origin(sp.p, sp.p_err, sp.ng, r.d);
-        if (!std::isinf(dist)) r.tmax = std::max(dot(target - r.o, r.d), 0.0f) * (1.0f - 1e-5f);
+        r = past(hit, sp, r, size_t(hit.prim) < scene_.num_triangles());
         ++ctx.stats.rays[int(RayType::Shadow)];
     }
     return Vec3(0, 0, 0);
@@ -827,16 +851,6 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     return sum * (1.0f / float(n));
 }
 
-// The ray moved on past the surface at sp, unchanged and unbent (a cut-out, a surface hidden
-// from it): its origin just beyond, what is left of its length and of its MIS offset.
-static Ray past(const SurfacePoint& sp, const Ray& ray) {
-    Ray next = ray;
-    next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
-    next.spawned = true;
-    if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - length(next.o - ray.o), 0.0f);
-    if (ray.emitter_mis > 0) next.mis_offset = ray.mis_offset + length(next.o - ray.o);
-    return next;
-}
 
 // Whether a surface the ray's kind sees lies on it (surfaces hidden from it are passed).
 bool Integrator::blocked(Ray r, TraceContext& ctx) const {
@@ -848,7 +862,7 @@ bool Integrator::blocked(Ray r, TraceContext& ctx) const {
         if (!accel_.closest(rp, hit, ctx)) return false;
         const SurfacePoint sp = scene_.surface(rp, hit);
         if (scene_.materials()[size_t(sp.material)].seen_by(r.kind)) return true;
-        r = past(sp, r);
+        r = past(hit, sp, r, size_t(hit.prim) < scene_.num_triangles());
     }
     return false;
 }
@@ -881,7 +895,7 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     for (int hidden = 0; found && scene_.hides_from_rays(); ++hidden) {
         const SurfacePoint at = scene_.surface(r, hit);
         if (scene_.materials()[size_t(at.material)].seen_by(ray.kind)) break;
-        ray = past(at, ray);
+        ray = past(hit, at, ray, size_t(hit.prim) < scene_.num_triangles());
         r = RayPre(ray);
         hit = Hit();
         hit.t = ray.tmax;
@@ -936,7 +950,7 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         const FirstHit front = *fh;
         FirstHit beyond;
         const Vec3 behind =
-            continue_through(sp, ray, depth, weight, split, type, st, ctx, &beyond, view_axis, ray_in.o);
+            continue_through(hit, sp, ray, depth, weight, split, type, st, ctx, &beyond, view_axis, ray_in.o);
         *fh = front;
         const float shadow = 1.0f - (kept.x + kept.y + kept.z) * (1.0f / 3.0f);
         fh->alpha = beyond.alpha + (1 - beyond.alpha) * shadow;
@@ -946,13 +960,13 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     if (m.alpha < 1) {   // partly covered: blend with what lies behind
         if (m.alpha <= 0) {   // a cut-out: the passes and the coverage see what lies behind
             if (fh) fh->hit = false, fh->alpha = 0, fh->mattes.clear();
-            return continue_through(sp, ray, depth, weight, split, type, st, ctx, fh, view_axis, ray_in.o);
+            return continue_through(hit, sp, ray, depth, weight, split, type, st, ctx, fh, view_axis, ray_in.o);
         }
         // On the camera's path what lies behind is traced with a FirstHit of its
         // own: with Film Transparent its misses are transparent, and its
         // coverage makes this sample's alpha (the passes keep this surface).
         FirstHit beyond;
-        const Vec3 behind = continue_through(sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
+        const Vec3 behind = continue_through(hit, sp, ray, depth, weight * (1 - m.alpha), split, RayType::Secondary, st, ctx,
                                              fh ? &beyond : nullptr, view_axis, ray_in.o);
         if (fh) {
             if (held) {   // (the passes see what lies behind)
@@ -1033,13 +1047,13 @@ Vec3 Integrator::kept_light(const SurfacePoint& sp, const Ray& ray, int depth, b
 }
 
 // Rays pass a surface's uncovered part (alpha < 1) unchanged and unbent.
-Vec3 Integrator::continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
-                                  RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
+Vec3 Integrator::continue_through(const Hit& hit, const SurfacePoint& sp, const Ray& ray, int depth, float weight,
+                                  bool split, RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh,
                                   const Vec3& view_axis, const Vec3& depth_origin) const {
     if (depth >= s_.max_depth + 16)   // a stack of cut-outs: seen as a miss
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
-    const Ray next = past(sp, ray);
-    // The passes measure depth from the camera: the offset origin moved it along ray.d.
+    const Ray next = past(hit, sp, ray, size_t(hit.prim) < scene_.num_triangles());
+    // The passes measure depth from the camera: a moved origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);
     if (fh) fh->alpha = behind.alpha, fh->holdout = behind.holdout;

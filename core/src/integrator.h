@@ -127,13 +127,13 @@ private:
                    TraceContext& ctx, Response response) const;
     Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                  TraceContext& ctx, bool glass_blocks = false) const;
-    Vec3 transmission(Ray r, float dist, TraceContext& ctx, bool glass_blocks = false) const;
+    Vec3 transmission(Ray r, TraceContext& ctx, bool glass_blocks = false) const;
     Vec3 point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c, const Vec3& c_shared,
                           bool casts_shadows, TraceContext& ctx, bool through_glass = true) const;
     // Whether a surface seen by the ray's kind lies on it (those hidden from it are passed).
     bool blocked(Ray r, TraceContext& ctx) const;
-    Vec3 continue_through(const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split, RayType type,
-                          SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis,
+    Vec3 continue_through(const Hit& hit, const SurfacePoint& sp, const Ray& ray, int depth, float weight, bool split,
+                          RayType type, SampleState& st, TraceContext& ctx, FirstHit* fh, const Vec3& view_axis,
                           const Vec3& depth_origin) const;
     // (emission_weight: emitter_weight's, on what the surface emits)
     Vec3 shade_hit(const SurfacePoint& sp, const Ray& ray, const Material& m, int depth, float weight, bool split,

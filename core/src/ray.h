@@ -1,5 +1,8 @@
 // Rays, hit records and the per-ray data precomputed once before traversal.
 #pragma once
+#include <cstdint>
+#include <limits>
+
 #include "math.h"
 
 namespace gw {
@@ -9,10 +12,19 @@ enum class PrimKind : int32_t { Miss = 0, Triangle = 1, Sphere = 2, Cone = 3 };
 // What a ray is for, as far as an object's visibility goes (Material::seen_by).
 enum class RayKind : uint8_t { Camera, Glossy, Transmission, Other };
 
+// No primitive: Ray::after's default.
+constexpr int32_t kNoPrim = std::numeric_limits<int32_t>::max();
+
 struct Ray {
     Vec3 o, d;
     RayKind kind = RayKind::Other;
     float tmin = 0.0f, tmax = kInf;
+    // A ray resumed past a hit (the Integrator passing a surface hidden from it or a cut-out):
+    // tmin is that hit's t, and a hit at exactly tmin counts when its primitive's index is above
+    // `after`, as hits are ordered by t and then by index. So a surface in the plane of the one
+    // passed is still met (an object's bottom face on a floor), and the one passed is not.
+    // kNoPrim (the default): hits at tmin do not count.
+    int32_t after = kNoPrim;
     // True for rays leaving a surface (secondary and shadow rays): hits closer
     // than the intersection test's own error bound are then taken to be the
     // surface the ray leaves and rejected (see triangle.h). Rays from arbitrary

@@ -171,6 +171,8 @@ public:
     // for plain x86-64 cost the AVX2 walk a factor 2-3 on an Intel Xeon.
     template <class QuadricTest>
     inline bool intersect_with(size_t prim, const RayPre& r, Hit& hit, const QuadricTest& quadric) const;
+    template <class QuadricTest>   // (its body, for a ray whose tmin is final)
+    inline bool intersect_from(size_t prim, const RayPre& r, Hit& hit, const QuadricTest& quadric) const;
     inline bool intersect_quadric_inline(size_t prim, const RayPre& r, Hit& hit, float tmax) const;
     SurfacePoint surface(const RayPre& r, const Hit& hit) const;
     Vec3 geometric_normal(const RayPre& r, const Hit& hit) const;
@@ -374,6 +376,19 @@ private:
 // grid's cells, the adaptive grid's SIMD lanes).
 template <class QuadricTest>
 __attribute__((always_inline)) inline bool Scene::intersect_with(size_t prim, const RayPre& r, Hit& hit,
+                                                                 const QuadricTest& quadric) const {
+    if (__builtin_expect(int32_t(prim) > r.ray.after, 0)) {
+        // (a resumed ray, Ray::after: this primitive comes after the hit passed, so a hit at
+        // exactly tmin counts: t > the float below tmin)
+        RayPre from = r;
+        from.ray.tmin = next_down(r.ray.tmin);
+        return intersect_from(prim, from, hit, quadric);
+    }
+    return intersect_from(prim, r, hit, quadric);
+}
+
+template <class QuadricTest>
+__attribute__((always_inline)) inline bool Scene::intersect_from(size_t prim, const RayPre& r, Hit& hit,
                                                                  const QuadricTest& quadric) const {
     const float tmax = int32_t(prim) < hit.prim ? next_up(hit.t) : hit.t;   // t < next_up(x) <=> t <= x
     if (prim >= num_triangles()) return quadric(prim, r, hit, tmax);

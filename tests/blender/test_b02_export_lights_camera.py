@@ -155,6 +155,15 @@ def test_an_empty_or_a_spot_light_as_the_camera_takes_cycles_default_lens(export
     np.testing.assert_allclose(cam["eye"], out.expected["eye"], atol=1e-6)
 
 
+@pytest.mark.parametrize("scale, sheared", [((1.0, 3.0, 1.0), True), ((2.0, 2.0, 2.0), False)])
+def test_a_sheared_camera_is_named_in_the_warnings(export, scale, sheared):
+    # (Cycles renders a camera under a rotated, unevenly scaled parent skewed; Gridwalk renders the
+    # view along its -Z with its Y up, and says so)
+    out = export("camera", dof=False, parent_scale=list(scale))
+    named = [w for w in out.warnings if "sheared transform" in w and "'Camera'" in w]
+    assert bool(named) == sheared, out.warnings
+
+
 def test_no_camera_is_a_clear_error(export):
     out = export("no_camera")
     assert "no active camera" in out.error

@@ -49,7 +49,7 @@ def results(request, tmp_path_factory):
 
 
 def test_no_case_crashes_or_prints_a_traceback(results):
-    assert len(results.cases()) == 29
+    assert len(results.cases()) == 31
     for case in results.cases():
         log = results[case]["log"]
         assert "Traceback" not in log and "Segmentation" not in log, (case, log[-2000:])
@@ -222,6 +222,16 @@ def test_meshes_without_faces_and_with_zero_area_faces(results):
 
 ESTIMATE = re.compile(r"needs an estimated ([\d.]+) MiB of memory \(scene arrays .*grid .*images .*\), "
                       r"more than the limit of ([\d.]+) MiB \((.*)\)")
+
+
+def test_a_border_render_is_estimated_for_its_region_not_the_frame(results):
+    # (1% of a 16000 x 16000 frame was refused for the frame's memory, which it never allocates)
+    refused = results.error("large_frame")
+    assert refused.startswith("Error: Gridwalk: This scene (12 triangles, 0 spheres, 3000 x 3000 pixels)"), refused
+    assert results.error("large_frame_border") == ""
+    assert "Gridwalk: memory estimate" in results["large_frame_border"]["log"]
+    rgba = results.image("large_frame_border")
+    assert rgba.shape[:2] == (150, 150) and rgba[..., 3].mean() > 0.1
 
 
 @pytest.mark.parametrize("case, limit, source", [

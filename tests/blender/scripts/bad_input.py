@@ -316,6 +316,23 @@ def case_fits_default_limit(bpy, s):
     _dense_monkey(bpy, s)
 
 
+def _large_frame(bpy, s, border):
+    _lit_cube_scene(bpy, s, resolution=(3000, 3000))
+    render = bpy.context.scene.render
+    render.use_border, render.use_crop_to_border = border, True
+    render.border_min_x, render.border_max_x = 0.45, 0.5        # 150 x 150 pixels about the cube
+    render.border_min_y, render.border_max_y = 0.45, 0.5
+    bpy.context.scene.gridwalk.memory_limit = 24                 # MiB: the region fits, the frame does not
+
+
+def case_large_frame(bpy, s):
+    _large_frame(bpy, s, border=False)
+
+
+def case_large_frame_border(bpy, s):
+    _large_frame(bpy, s, border=True)
+
+
 def case_direct_no_camera(bpy, s):
     """The engine's render() called directly (no Blender check first) on a scene without camera."""
     s.no_camera_scene()

@@ -356,10 +356,11 @@ def near_sphere_scene(height=0.6, soft=True, energy=30.0, mirror=False, resoluti
 
 
 def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False, focus_bone=False, ortho=False,
-                 unit_scale=1.0, stand_in=None):
+                 unit_scale=1.0, stand_in=None, parent_scale=None):
     """A cube before a 50 mm camera on a 36 x 24 sensor, shifted; stand_in "EMPTY", "SPOT" or
     "POINT": an Empty, a spot light of a 60 degree cone or a point light in the camera's place is
-    the active camera instead."""
+    the active camera instead; parent_scale: the camera, turned 30 degrees about Z, is the child
+    of an Empty of that scale (an uneven one shears it)."""
     scene = reset(resolution=resolution)
     scene.unit_settings.scale_length = unit_scale
     link(cube_object())
@@ -387,6 +388,11 @@ def camera_scene(fit="AUTO", resolution=(640, 480), dof=True, focus_object=False
         rig.location = (1.0, 2.0, 0.0)
         cam.data.dof.focus_object = rig
         cam.data.dof.focus_subtarget = "Head"
+    if parent_scale is not None:
+        rig = link(bpy.data.objects.new("CameraRig", None))
+        rig.scale = parent_scale
+        cam.parent = rig
+        cam.rotation_euler.z += math.radians(30.0)
     if stand_in is not None:
         data = None if stand_in == "EMPTY" else bpy.data.lights.new(stand_in.title(), stand_in)
         if stand_in == "SPOT":

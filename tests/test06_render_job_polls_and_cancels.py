@@ -217,3 +217,32 @@ def test_ctrl_c_interrupts_a_blocking_render_at_once(call, tmp_path):
     out, _ = child.communicate(timeout=60)
     assert time.perf_counter() - sent < 2.0, out
     assert out.startswith("interrupted"), out
+
+
+def glossy_scene():
+    """A rough mirror floor filling the view under a ball, a sphere light, a lens with depth of field."""
+    floor = gw.Material(kd=0.5, mirror=0.5, roughness=0.3)
+    return gw.Scene(vertices=[[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]], triangles=[[0, 1, 2], [0, 2, 3]],
+                    sphere_centers=[[0, 0, 1]], sphere_radii=[1.0], materials=[floor],
+                    lights=[gw.Light(position=(4, -4, 6), kind="sphere", radius=0.5)],
+                    camera=gw.Camera(eye=(0, -6, 4), target=(0, 0, 0), width=256, height=256, aperture=0.1,
+                                     focus_distance=7))
+
+
+@pytest.mark.parametrize("costly", [
+    # an adaptive tile's corners are traced before its first pixel (seconds for a 128-pixel tile)
+    dict(aa="adaptive", dof_samples=32, glossy_samples=32, shadow="area", shadow_samples=2, tile_size=128),
+    # one pixel of 4096 lens samples, each with 256 glossy rays
+    dict(aa="center", dof_samples=4096, glossy_samples=256, tile_size=256),
+])
+def test_cancel_returns_within_100ms_from_inside_a_costly_tile_or_pixel(costly):
+    # (cancel was asked between pixels only: 2.4-4.3 s with adaptive anti-aliasing, 4.6 s for a
+    # pixel of thousands of samples)
+    job = gw.RenderJob(glossy_scene(), gw.RenderSettings(threads=2, **costly)).start()
+    time.sleep(0.5)
+    assert job.tiles_done == 0                          # inside the first tile
+    t0 = time.perf_counter()
+    job.cancel()
+    elapsed = time.perf_counter() - t0
+    assert elapsed < 0.1, f"cancel took {elapsed * 1000:.1f} ms"
+    assert job.cancelled and render_threads() == 0

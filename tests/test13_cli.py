@@ -294,3 +294,16 @@ def test_matte_ranks_say_that_they_have_no_effect_on_a_scene_file(tmp_path):
     assert "--matte-ranks 2 has no effect" in run.stderr
     run = gridwalk("render", mesh, "-o", tmp_path / "m.png", "--width", 16, "--height", 16, "--quiet")
     assert run.returncode == 0 and "matte" not in run.stderr
+
+
+def test_an_image_write_that_fails_leaves_the_file_that_was_there(tmp_path):
+    # (Ctrl-C while a large PNG was written left it truncated under the output's name)
+    from gridwalk.cli import write_image
+    for name in ("image.png", "image.npy"):
+        out = tmp_path / name
+        write_image(out, np.full((4, 4, 4), 0.5, np.float32))
+        before = out.read_bytes()
+        with pytest.raises(Exception):
+            write_image(out, np.zeros((4, 4, 2), np.float32) if name.endswith(".png") else object())
+        assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["image.npy", "image.png"]     # no temporary left

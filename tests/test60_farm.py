@@ -294,3 +294,45 @@ def test_a_local_cluster_starts_without_warnings_when_the_dask_dashboard_port_is
             local.close()
     finally:
         taken.close()
+
+
+def test_a_run_writing_an_output_another_run_writes_is_refused_before_any_tile(cluster, tmp_path):
+    # (two runs writing one output mixed their tiles in it, and the first's cleanup deleted the
+    # second's: the output's .parts folder is locked by the run writing it)
+    from gridwalk.renderfarm.store import ResultStore
+    address, _ = cluster
+    out, parts = tmp_path / "shared.npy", tmp_path / "shared.npy.parts"
+    holder = ResultStore(parts, "another job")            # a run of this process holds the folder
+    call = (f"gridwalk.farm({str(SPD_DIR / 'balls_s2.nff')!r}, {str(out)!r}, "
+            f"settings=gridwalk.RenderSettings(aa='center'), tiles=4, width=96, height=72, scheduler={address!r})")
+    probe = subprocess.run([sys.executable, "-c", "import gridwalk\ntry:\n    " + call +
+                            "\nexcept gridwalk.FarmError as e:\n    print('refused:', e)\n"],
+                           capture_output=True, text=True, timeout=120)
+    assert probe.stdout.startswith("refused:") and "another farm run" in probe.stdout, probe.stdout + probe.stderr
+    assert f"process {os.getpid()}" in probe.stdout
+    assert not out.exists() and [p.name for p in parts.iterdir()] == [".gridwalk-farm.lock"]   # no tile written
+    holder.close()
+    gridwalk.farm(SPD_DIR / "balls_s2.nff", out, settings=RenderSettings(aa="center"), tiles=4, width=96,
+                  height=72, scheduler=address)
+    assert np.array_equal(np.load(out), single_render(SPD_DIR / "balls_s2.nff", (96, 72), RenderSettings(aa="center")))
+    assert not parts.exists()
+
+
+def test_a_blend_jobs_tiles_and_frames_are_checked_before_any_blender_runs(tmp_path):
+    from gridwalk.renderfarm.blend_job import BlendJob
+    blend = tmp_path / "scene.blend"
+    blend.write_bytes(b"BLENDER-v304" + bytes(64))
+    for tiles in (0, -3, 2.5, True):
+        with pytest.raises(ValueError, match="--tiles must be at least 1"):
+            BlendJob(blend, tmp_path / "out.exr", tiles=tiles)
+    job = BlendJob(blend, tmp_path / "out.exr", tiles=100000)
+    assert job.needs_probe                          # the size comes from Blender: the probe checks the tiles
+    with pytest.raises(ValueError, match="more than the 64 x 48 image has pixels"):
+        job.use_probe({"frame_start": 1, "frame_end": 1, "width": 64, "height": 48})
+    fits = BlendJob(blend, tmp_path / "out.exr", tiles=6)
+    fits.use_probe({"frame_start": 1, "frame_end": 1, "width": 64, "height": 48})
+    assert not fits.needs_probe and fits.items == list(range(6))
+    assert plan.parse_frames("1048573-1048574") == [1048573, 1048574]
+    for text in ("1048575", "1048574,2000000", "-1048575--1048570"):
+        with pytest.raises(ValueError, match="outside Blender's frames"):
+            plan.parse_frames(text)

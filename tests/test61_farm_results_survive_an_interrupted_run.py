@@ -70,3 +70,57 @@ def test_remove_also_deletes_a_manifest_written_by_an_older_version(tmp_path):
     store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
     store.remove()
     assert not folder.exists()
+
+
+def test_a_second_process_cannot_open_a_folder_another_run_holds(tmp_path):
+    # (two farm runs writing one output mixed their tiles, and the first's cleanup deleted the
+    # second's: the folder is locked by the run that holds it, until it closes or removes it)
+    import os
+    import subprocess
+    import sys
+    folder = tmp_path / "out.npy.parts"
+    store = ResultStore(folder, "job-a")
+    store.put("tile_0000", ".npy", np.zeros((1, 1, 4), np.float32))
+    probe = ("import sys\nfrom gridwalk.renderfarm.store import ResultStore, StoreBusy\n"
+             "try:\n    ResultStore(sys.argv[1], 'job-b')\nexcept StoreBusy as e:\n    print('busy:', e)\n"
+             "else:\n    print('opened')\n")
+    out = subprocess.run([sys.executable, "-c", probe, str(folder)], capture_output=True, text=True, timeout=60)
+    assert out.stdout.startswith("busy:") and "another farm run" in out.stdout, out.stdout + out.stderr
+    assert f"process {os.getpid()}" in out.stdout
+    again = ResultStore(folder, "job-a")          # this process's own re-run shares the lock
+    assert again.find("tile_0000") is not None
+    again.close()
+    store.close()
+    out = subprocess.run([sys.executable, "-c", probe, str(folder)], capture_output=True, text=True, timeout=60)
+    assert out.stdout.startswith("opened"), out.stdout + out.stderr
+
+
+def test_blender_started_by_a_worker_dies_with_the_worker(tmp_path):
+    # (a worker SIGKILLed by its nanny left its `blender -b` rendering beside the frame's rerun):
+    # a stand-in child started as run_blender starts Blender outlives no SIGKILL of its parent
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    parent = subprocess.Popen([sys.executable, "-c",
+                               "import subprocess, sys, time\n"
+                               "from gridwalk.renderfarm.blender import _parent_death_signal\n"
+                               "child = subprocess.Popen(['sleep', '120'], preexec_fn=_parent_death_signal())\n"
+                               "print(child.pid, flush=True)\n"
+                               "time.sleep(120)\n"], stdout=subprocess.PIPE, text=True)
+    child = int(parent.stdout.readline())
+    assert os.path.exists(f"/proc/{child}")
+    os.kill(parent.pid, signal.SIGKILL)
+    parent.wait(timeout=30)
+    deadline = time.monotonic() + 10
+
+    def alive():                  # (a zombie waiting for init to reap it is dead)
+        try:
+            with open(f"/proc/{child}/stat") as f:
+                return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+        except FileNotFoundError:
+            return False
+    while alive() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not alive(), "the child outlived its killed parent"

@@ -109,9 +109,8 @@ bool pays(size_t copied, size_t prims, bool always) {
 
 // Ray::after in a part's own numbering, whose primitive k is the scene's first + k (k < count).
 int32_t after_in(int32_t after, uint32_t first, uint32_t count) {
-    if (after == kNoPrim) return kNoPrim;
-    if (after < int32_t(first)) return -1;   // (every primitive of the part comes after it)
-    return uint32_t(after) - first >= count ? kNoPrim : int32_t(uint32_t(after) - first);
+    if (after < int32_t(first)) return -1;   // (none, or every primitive of the part comes after it)
+    return uint32_t(after) - first >= count ? int32_t(count) : int32_t(uint32_t(after) - first);
 }
 
 }  // namespace
@@ -458,7 +457,7 @@ RayPre InstancedGrid::to_rest(const RayPre& r) const {
     RayPre rest = r;
     // (the rest's primitive k is rest_ids_[k], in increasing order: k comes after the hit
     // passed from the first k whose id is above it on)
-    if (r.ray.after != kNoPrim && r.ray.after >= 0)
+    if (r.ray.after >= 0)
         rest.ray.after = int32_t(std::upper_bound(rest_ids_.begin(), rest_ids_.end(), uint32_t(r.ray.after)) -
                                  rest_ids_.begin()) - 1;
     return rest;
@@ -473,7 +472,7 @@ bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const 
         local.prim = hit.prim < 0 ? 0
                                   : int32_t(std::lower_bound(rest_ids_.begin(), rest_ids_.end(), uint32_t(hit.prim)) -
                                             rest_ids_.begin());
-        if (r.ray.after == kNoPrim ? rest_->closest(r, local, ctx) : rest_->closest(to_rest(r), local, ctx)) {
+        if (r.ray.after < 0 ? rest_->closest(r, local, ctx) : rest_->closest(to_rest(r), local, ctx)) {
             hit = local;
             hit.prim = int32_t(rest_ids_[size_t(local.prim)]);
             found = true;
@@ -483,7 +482,7 @@ bool InstancedGrid::closest(const RayPre& r, Hit& hit, TraceContext& ctx) const 
 }
 
 bool InstancedGrid::occluded(const RayPre& r, TraceContext& ctx) const {
-    if (rest_ && (r.ray.after == kNoPrim ? rest_->occluded(r, ctx) : rest_->occluded(to_rest(r), ctx))) return true;
+    if (rest_ && (r.ray.after < 0 ? rest_->occluded(r, ctx) : rest_->occluded(to_rest(r), ctx))) return true;
     Hit hit;
     hit.t = r.ray.tmax;
     return walk<true>(r, hit, ctx);

@@ -274,13 +274,13 @@ static Ray past(const Hit& hit, const SurfacePoint& sp, const Ray& ray, bool tri
     constexpr float kEdgeBand = 0x1p-16f;
     Ray next = ray;
     if (!triangle || std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
-        next.tmin = hit.t;
+        next.tmin = next_down(hit.t);
         next.after = hit.prim;
         return next;
     }
     next.o = offset_origin(sp.p, sp.p_err, sp.ng, ray.d);
     next.tmin = 0;
-    next.after = kNoPrim;
+    next.after = -1;
     next.spawned = true;
     const float moved = length(next.o - ray.o);
     if (!std::isinf(ray.tmax)) next.tmax = std::max(ray.tmax - moved, 0.0f);

@@ -40,7 +40,7 @@ void PixelEstimator::sample_point(float px, float py, uint32_t pixel_key, uint32
     }
     Vec3 sum;
     float hits = 0, held = 0;
-    for (uint32_t j = 0; j < nd; ++j) {
+    for (uint32_t j = 0; j < nd && !ctx.cancelled(); ++j) {   // (a cancelled pixel is not kept)
         float lu = 0.5f, lv = 0.5f;
         if (lens_)
             strat2(shared_slot(sample_in_set, set_samples, key, j), nd * set_samples, lens_rng.next(), rot, lu, lv);
@@ -128,7 +128,7 @@ void PixelEstimator::begin_tile(int x0, int y0, int w, int h, TraceContext& ctx,
     sc.corner_hits.assign(size_t(w + 1) * (h + 1), FirstHit());
     const bool mattes = s_.matte_ranks > 0 && scene_.has_matte_keys();
     sc.corner_mattes.assign(mattes ? size_t(w + 1) * (h + 1) : 0, SampleMattes());
-    for (int j = 0; j <= h; ++j)
+    for (int j = 0; j <= h && !ctx.cancelled(); ++j)
         for (int i = 0; i <= w; ++i) {
             const size_t k = size_t(j) * (w + 1) + i;
             lattice_point(uint32_t(x0 + i) << D, uint32_t(y0 + j) << D, D, ctx, &sc.corners[kPointValues * k], &sc.corner_hits[k],

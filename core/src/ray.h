@@ -12,19 +12,16 @@ enum class PrimKind : int32_t { Miss = 0, Triangle = 1, Sphere = 2, Cone = 3 };
 // What a ray is for, as far as an object's visibility goes (Material::seen_by).
 enum class RayKind : uint8_t { Camera, Glossy, Transmission, Other };
 
-// No primitive: Ray::after's default.
-constexpr int32_t kNoPrim = std::numeric_limits<int32_t>::max();
-
 struct Ray {
     Vec3 o, d;
-    RayKind kind = RayKind::Other;
     float tmin = 0.0f, tmax = kInf;
-    // A ray resumed past a hit (the Integrator passing a surface hidden from it or a cut-out):
-    // tmin is that hit's t, and a hit at exactly tmin counts when its primitive's index is above
-    // `after`, as hits are ordered by t and then by index. So a surface in the plane of the one
-    // passed is still met (an object's bottom face on a floor), and the one passed is not.
-    // kNoPrim (the default): hits at tmin do not count.
-    int32_t after = kNoPrim;
+    // A ray resumed past a hit at t (the Integrator passing a surface hidden from it or a
+    // cut-out): tmin is the float below t, and of the hits at exactly t only those of primitives
+    // above `after` count, as hits are ordered by t and then by index. So a surface in the plane
+    // of the one passed is still met (an object's bottom face on a floor), and the one passed
+    // is not. -1 (the default): every hit in (tmin, tmax) counts. (Checked where a test finds
+    // a hit, not per test: resumed rays are few.)
+    int32_t after = -1;
     // True for rays leaving a surface (secondary and shadow rays): hits closer
     // than the intersection test's own error bound are then taken to be the
     // surface the ray leaves and rejected (see triangle.h). Rays from arbitrary
@@ -33,6 +30,7 @@ struct Ray {
     // A glossy ray whose lobe samples the environment's sun as a light
     // (Integrator::sun_highlight): a miss sees the environment less its sun.
     bool without_sun = false;
+    RayKind kind = RayKind::Other;   // what the ray is for (Material::seen_by)
     // A glossy ray whose lobe shares the emissive triangles with light sampling
     // (multiple importance sampling, Integrator::emitter_weight): n x the lobe's density
     // for this direction over the shading point's light points for emitters; 0 for every

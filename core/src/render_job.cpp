@@ -77,6 +77,7 @@ void RenderJob::worker() {
     try {
         PixelEstimator est(*accel_, s_, camera_);
         TraceContext ctx = make_trace_context(*accel_, s_);
+        ctx.cancel = &cancel_;
         PixelScratch scratch;
         for (;;) {
             if (cancel_.load(std::memory_order_relaxed)) break;

@@ -171,8 +171,6 @@ public:
     // for plain x86-64 cost the AVX2 walk a factor 2-3 on an Intel Xeon.
     template <class QuadricTest>
     inline bool intersect_with(size_t prim, const RayPre& r, Hit& hit, const QuadricTest& quadric) const;
-    template <class QuadricTest>   // (its body, for a ray whose tmin is final)
-    inline bool intersect_from(size_t prim, const RayPre& r, Hit& hit, const QuadricTest& quadric) const;
     inline bool intersect_quadric_inline(size_t prim, const RayPre& r, Hit& hit, float tmax) const;
     SurfacePoint surface(const RayPre& r, const Hit& hit) const;
     Vec3 geometric_normal(const RayPre& r, const Hit& hit) const;
@@ -377,23 +375,19 @@ private:
 template <class QuadricTest>
 __attribute__((always_inline)) inline bool Scene::intersect_with(size_t prim, const RayPre& r, Hit& hit,
                                                                  const QuadricTest& quadric) const {
-    if (__builtin_expect(int32_t(prim) > r.ray.after, 0)) {
-        // (a resumed ray, Ray::after: this primitive comes after the hit passed, so a hit at
-        // exactly tmin counts: t > the float below tmin)
-        RayPre from = r;
-        from.ray.tmin = next_down(r.ray.tmin);
-        return intersect_from(prim, from, hit, quadric);
-    }
-    return intersect_from(prim, r, hit, quadric);
-}
-
-template <class QuadricTest>
-__attribute__((always_inline)) inline bool Scene::intersect_from(size_t prim, const RayPre& r, Hit& hit,
-                                                                 const QuadricTest& quadric) const {
     const float tmax = int32_t(prim) < hit.prim ? next_up(hit.t) : hit.t;   // t < next_up(x) <=> t <= x
-    if (prim >= num_triangles()) return quadric(prim, r, hit, tmax);
+    if (prim >= num_triangles()) {
+        if (__builtin_expect(r.ray.after < 0, 1)) return quadric(prim, r, hit, tmax);
+        Hit found = hit;   // (a resumed ray: see below)
+        if (!quadric(prim, r, found, tmax) || (int32_t(prim) <= r.ray.after && found.t == next_up(r.ray.tmin)))
+            return false;
+        hit = found;
+        return true;
+    }
     float t, u, v;
     if (!intersect_triangle(r, &tri_verts_[3 * prim].x, tmax, t, u, v)) return false;
+    // (a resumed ray, Ray::after: of the hits at the t passed, only a later primitive's counts)
+    if (__builtin_expect(int32_t(prim) <= r.ray.after, 0) && t == next_up(r.ray.tmin)) return false;
     hit.t = t;
     hit.prim = int32_t(prim);
     hit.u = u;

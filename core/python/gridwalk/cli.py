@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 import time
 from pathlib import Path
@@ -103,19 +104,27 @@ def to_srgb8(linear: np.ndarray) -> np.ndarray:
 
 def write_image(path: Path, rgba: np.ndarray, alpha: bool = False) -> None:
     """.npy: the float32 linear RGBA array; .png: 8-bit sRGB (RGBA with alpha =
-    coverage when `alpha`, else RGB)."""
-    if path.suffix.lower() == ".npy":
-        with open(path, "wb") as f:      # (np.save given a path would add ".npy" to "image.NPY")
-            np.save(f, np.asarray(rgba, np.float32))
-        return
-    from PIL import Image
+    coverage when `alpha`, else RGB). Written to a temporary name beside it, then renamed:
+    an interrupted write (Ctrl-C, a full disk) leaves the file that was there, not a part."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with open(tmp, "wb") as f:
+            if path.suffix.lower() == ".npy":     # (np.save given a path would add ".npy" to "image.NPY")
+                np.save(f, np.asarray(rgba, np.float32))
+            else:
+                from PIL import Image
 
-    rgb = to_srgb8(rgba[..., :3])
-    if alpha:
-        a = (np.clip(np.nan_to_num(rgba[..., 3]), 0, 1) * 255 + 0.5).astype(np.uint8)
-        Image.fromarray(np.dstack([rgb, a]), "RGBA").save(path)
-    else:
-        Image.fromarray(rgb, "RGB").save(path)
+                rgb = to_srgb8(rgba[..., :3])
+                if alpha:
+                    a = (np.clip(np.nan_to_num(rgba[..., 3]), 0, 1) * 255 + 0.5).astype(np.uint8)
+                    Image.fromarray(np.dstack([rgb, a]), "RGBA").save(f, format="PNG")
+                else:
+                    Image.fromarray(rgb, "RGB").save(f, format="PNG")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 # -- rendering with progress --------------------------------------------------

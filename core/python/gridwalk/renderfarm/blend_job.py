@@ -71,6 +71,8 @@ class BlendOnWorker(JobPlugin):
             if self.tiles:
                 result["rgba"] = np.load(work / "tile.npy")
             else:
+                if result.get("frame") != item:   # (Blender clamps frame_set to its frame range)
+                    raise RuntimeError(f"Blender rendered frame {result.get('frame')} for frame {item}")
                 written = sorted(p for p in work.iterdir() if p.name.startswith("frame"))
                 if len(written) != 1:
                     raise RuntimeError(f"Blender wrote {len(written)} files for one frame: "
@@ -89,9 +91,12 @@ class BlendJob:
         self.data = self.blend.read_bytes()
         self.output = Path(output)
         self.blender = blender or BlenderSetup()
+        if tiles is not None and (isinstance(tiles, bool) or not isinstance(tiles, int) or tiles < 1):
+            raise ValueError(f"--tiles must be at least 1, got {tiles!r}")
         self.tiles = tiles
         self.frames = plan.parse_frames(frames) if frames is not None else None
         self.frame = None
+        self._size_known = not tiles     # (a tiled frame's size comes from Blender: use_probe checks the tiles)
         if tiles:
             if self.frames is not None and len(self.frames) != 1:
                 raise ValueError(f"--tiles splits one frame: give --frames N, not {frames!r}")
@@ -114,10 +119,16 @@ class BlendJob:
     @property
     def needs_probe(self) -> bool:
         """Frames to render are not known before Blender reads the .blend."""
-        return self.items is None
+        return self.items is None or not self._size_known
 
     def use_probe(self, result: dict) -> None:
-        self.items = list(range(result["frame_start"], result["frame_end"] + 1))
+        """The .blend's frame range (frames not given) and image size (tiles: ValueError where
+        they do not fit it, before a task starts Blender for a tile that cannot be)."""
+        if self.items is None:
+            self.items = list(range(result["frame_start"], result["frame_end"] + 1))
+        if self.tiles:
+            plan.tile_grid(int(result["width"]), int(result["height"]), self.tiles)
+            self._size_known = True
 
     def describe(self) -> str:
         if self.tiles:

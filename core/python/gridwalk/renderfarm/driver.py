@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from .blend_job import PROBE
 from .cluster import FarmError
 from .jobplugin import TaskFailed, busy_tasks, run_task
-from .store import ResultStore
+from .store import ResultStore, StoreBusy
 
 STOP_WAIT_SECONDS = 15.0
 
@@ -136,7 +136,7 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
     t0 = time.perf_counter()
     run_id = uuid.uuid4().hex[:12]
     plugin = job.plugin(run_id, threads)
-    futures = {}
+    futures, store = {}, None
     try:
         client.register_plugin(plugin)
         if getattr(job, "needs_probe", False):
@@ -145,7 +145,10 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
                 job.use_probe(next(iter(futures)).result())
             except TaskFailed as exc:
                 raise FarmError(str(exc)) from None
-        store = ResultStore(job.folder, job.digest)
+        try:
+            store = ResultStore(job.folder, job.digest)
+        except StoreBusy as exc:
+            raise FarmError(str(exc)) from None
         report = FarmReport(what=job.what)
         report.reused = [item for item in job.items if store.find(job.stem(item)) is not None]
         reused = set(report.reused)
@@ -161,9 +164,12 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
             failures = _collect(client, job, store, futures, report, progress)
         finally:
             progress.close()
-    except KeyboardInterrupt:
-        client.cancel(list(futures), force=True)
-        wait_until_idle(client, run_id)
+    except BaseException as exc:
+        if store is not None:
+            store.close()
+        if isinstance(exc, KeyboardInterrupt):
+            client.cancel(list(futures), force=True)
+            wait_until_idle(client, run_id)
         raise
     finally:
         try:
@@ -171,10 +177,14 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
         except (KeyError, ValueError):      # it never reached the workers
             pass
     if failures:
+        store.close()
         named = "\n".join(f"  {failures[item]}" for item in sorted(failures))
         raise FarmError(f"{len(failures)} of {len(todo)} {job.what}s failed:\n{named}\n"
                         f"{len(report.rendered) + len(report.reused)} finished {job.what}s are kept in "
                         f"{store.folder}; run the same command again to render only the missing ones")
-    report.output = job.finish(store)
+    try:
+        report.output = job.finish(store)
+    finally:
+        store.close()
     report.seconds = time.perf_counter() - t0
     return report

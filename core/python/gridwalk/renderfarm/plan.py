@@ -41,6 +41,9 @@ def tiles(width: int, height: int, count: int) -> list[tuple[int, int, int, int]
     return [(xs[c], ys[r], xs[c + 1] - xs[c], ys[r + 1] - ys[r]) for r in range(rows) for c in range(cols)]
 
 
+MAX_FRAME = 1048574        # Blender's last frame (MAXFRAME; the first is -MAXFRAME): frame_set clamps to it
+
+
 def parse_frames(text: str) -> list[int]:
     """'1-10', '7', '1-3,8,10-12' -> sorted frame numbers (no repeats)."""
     frames = set()
@@ -52,6 +55,8 @@ def parse_frames(text: str) -> list[int]:
         last = int(match.group(2)) if match.group(2) is not None else first
         if last < first:
             raise ValueError(f"--frames: the range {part!r} ends before it starts")
+        if first < -MAX_FRAME or last > MAX_FRAME:
+            raise ValueError(f"--frames: {part!r} lies outside Blender's frames ({-MAX_FRAME} to {MAX_FRAME})")
         if last - first > 1_000_000:
             raise ValueError(f"--frames: the range {part!r} has more than a million frames")
         frames.update(range(first, last + 1))

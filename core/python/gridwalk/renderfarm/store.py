@@ -20,8 +20,21 @@ from pathlib import Path
 
 import numpy as np
 
+try:
+    import fcntl
+except ImportError:                         # (not POSIX: no lock; one run per output is then the user's care)
+    fcntl = None
+
 JOURNAL = ".gridwalk-farm.jsonl"
 OLD_MANIFEST = ".gridwalk-farm.json"       # what versions before the journal wrote: removed with the results
+LOCK = ".gridwalk-farm.lock"               # held by the run writing the folder (its process id inside)
+
+
+class StoreBusy(RuntimeError):
+    """Another run holds the folder: two runs writing one output mixed their tiles."""
+
+
+_HELD = {}    # folder (real path) -> [lock file descriptor, stores of this process holding it]
 
 
 def write_atomically(path: Path, data) -> None:
@@ -42,9 +55,12 @@ class ResultStore:
     results.put("tile_0003", ".npy", array_or_bytes)."""
 
     def __init__(self, folder, digest: str):
+        """StoreBusy where another run (of any job) holds `folder`: each run locks it until
+        close() or remove() (an exclusive flock, which a killed run's system releases)."""
         self.folder = Path(folder)
         self.digest = digest
         self.folder.mkdir(parents=True, exist_ok=True)
+        self._lock = self._take_lock()
         self.records = {}
         try:
             data = (self.folder / JOURNAL).read_bytes()
@@ -96,8 +112,43 @@ class ResultStore:
         if written != len(line):        # a full disk: the part written is a torn line, skipped when read
             raise OSError(f"{self.folder / JOURNAL}: only {written} of {len(line)} bytes written (disk full?)")
 
+    def _take_lock(self):
+        """The folder's key in _HELD, its lock taken (shared by the stores of this process: a
+        process's own re-runs open the folder again), or None without fcntl."""
+        if fcntl is None:
+            return None
+        key = os.path.realpath(self.folder)
+        if key in _HELD:
+            _HELD[key][1] += 1
+            return key
+        fd = os.open(self.folder / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.read(fd, 32).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise StoreBusy(f"{self.folder} is in use by another farm run (process {holder}) writing the same "
+                            "output: wait for it to end, or give this run another output") from None
+        os.ftruncate(fd, 0)
+        os.write(fd, str(os.getpid()).encode())
+        _HELD[key] = [fd, 1]
+        return key
+
+    def close(self) -> None:
+        """Let other runs use the folder (its results stay)."""
+        key, self._lock = getattr(self, "_lock", None), None
+        if key is not None and key in _HELD:
+            _HELD[key][1] -= 1
+            if _HELD[key][1] == 0:
+                os.close(_HELD.pop(key)[0])      # (closing the descriptor releases the flock)
+
+    def __del__(self):
+        self.close()
+
     def remove(self) -> None:
         """Delete the stored results of every job, and the folder if that empties it."""
+        (self.folder / LOCK).unlink(missing_ok=True)
+        self.close()
         for record in self.records.values():
             if isinstance(record, dict) and record.get("file"):
                 (self.folder / record["file"]).unlink(missing_ok=True)

@@ -1,11 +1,13 @@
 """Blender materials -> gridwalk.model.Material.
 
 Supported surface shaders (the node linked to the active Material Output):
-Principled BSDF, Diffuse BSDF, Glossy BSDF, Glass BSDF and Emission, and a
+Principled BSDF, Diffuse BSDF, Glossy BSDF, Glass BSDF and Emission, a
 Mix Shader of one of these with a Transparent BSDF (an alpha cut-out: the
-coverage becomes the material's alpha, Fac or 1 - Fac). Anything else, and
-materials without nodes, use the viewport display settings (diffuse_color,
-metallic, roughness).
+coverage becomes the material's alpha, Fac or 1 - Fac), and the mixes
+shader_mix.py reads (a Diffuse and a Glossy BSDF by a constant Fac or by
+Fresnel, a shader with an Emission). Anything else uses the viewport display
+settings (diffuse_color, metallic, roughness); a material without nodes is a
+Diffuse BSDF of its viewport colour, as Cycles renders it.
 
 Linked inputs the core evaluates per hit (textures.py reads the images):
   Image Texture (Color or Alpha output) -> Principled Base Color, Roughness,
@@ -75,6 +77,7 @@ from .hair_color import hair_color
 from .node_links import _socket, _source, input_value
 from .object_attributes import ObjectAttribute
 from .object_info import OUTPUTS as OBJECT_INFO_OUTPUTS, ObjectInfo
+from .shader_mix import read_mix
 from .color_ramp import ramp_stops
 from .textures import plain_image
 from .uv_mapping import CORNER_COORDINATES, texture_fields
@@ -395,6 +398,11 @@ def _from_other_bsdf(node, textured):
     return None
 
 
+def _one_shader(node, links):
+    """One shader node's Material (None: a shader the core does not model)."""
+    return _from_principled(node, links) if node.type == "BSDF_PRINCIPLED" else _from_other_bsdf(node, links)
+
+
 def _cut_shader(mix):
     """(the shader, the Transparent BSDF) a Mix Shader mixes (an alpha cut-out,
     as downloaded assets build leaves and decals), or (None, None)."""
@@ -545,14 +553,20 @@ def convert_material(mat, textures=None):
     if node.type == "HOLDOUT":
         return dataclasses.replace(HOLDOUT), None, None
     links = Links(textures)
-    mix, (node, clear) = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, (node, None))
-    if node is None or node.type == "BSDF_PRINCIPLED":
-        result = None if node is None else _from_principled(node, links)
+    mixed = None
+    if node.type == "ADD_SHADER" or (node.type == "MIX_SHADER" and _cut_shader(node)[0] is None):
+        mixed = read_mix(node, links, _one_shader, principled_material, multiscatter)
+        if mixed is None:
+            links = Links(textures)
+    if mixed is not None:          # (shader_mix.py: mixes one record holds)
+        mix, clear, (result, node) = None, None, mixed
     else:
-        result = _from_other_bsdf(node, links)
+        mix, (node, clear) = (node, _cut_shader(node)) if node.type == "MIX_SHADER" else (None, (node, None))
+        result = None if node is None else _one_shader(node, links)
     if result is None:
         shader = node.bl_idname if node is not None else \
-            f"{mix.bl_idname} (only a Transparent BSDF mixed with one shader is read)"
+            f"{mix.bl_idname} (the mixes read: a Transparent BSDF with one shader, a Diffuse BSDF with a Glossy " \
+            "BSDF or an Emission, by a constant Fac or a Diffuse and a Glossy BSDF by Fresnel)"
         return viewport_material(mat), f"unsupported shader {shader}: its viewport colour is used", None
     if mix is not None:
         _cut_out(mix, clear, result, links)

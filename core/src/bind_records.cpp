@@ -30,6 +30,8 @@ void bind_records(nb::module_& m) {
         .def_rw("ior", &Material::ior)
         .def_rw("mirror", &Material::mirror)
         .def_rw("metallic", &Material::metallic)
+        .def_rw("own_metal_color", &Material::own_metal_color)
+        .def_rw("metal_color", &Material::metal_color)
         .def_rw("roughness", &Material::roughness)
         .def_rw("emission", &Material::emission)
         .def_rw("emission_color", &Material::emission_color)

@@ -21,7 +21,7 @@ namespace {
 
 // White, with the share `metal` (in [0, 1]) of it taking the base colour.
 Vec3 metal_tint(const Material& m, float metal) {
-    return Vec3(1, 1, 1) + (m.color - Vec3(1, 1, 1)) * metal;
+    return Vec3(1, 1, 1) + (metal_color_of(m) - Vec3(1, 1, 1)) * metal;
 }
 
 // The specular weight at normal incidence: ks without the normalised Phong
@@ -47,7 +47,7 @@ Fresnel specular_fresnel(const Material& m) {
     Fresnel f;
     const float s = specular_weight(m);
     if (!(s > 0)) return f;
-    f.tint = m.color;
+    f.tint = metal_color_of(m);
     f.mirror = std::min(std::max(m.metallic, 0.0f), s);
     f.f0 = dielectric_f0(m);
     f.dielectric = f.f0 > 0 ? 1 - std::max(m.metallic, 0.0f) : 0.0f;

@@ -21,6 +21,11 @@ struct Material {
     // the specular highlight (metallic * (shininess + 8) / (8 ks) of it) and of
     // the mirror reflection takes the base colour, as a metal's reflection does.
     float metallic = 0;
+    // With own_metal_color, the metal share takes metal_color instead of the
+    // base colour (a Mix Shader of a Diffuse BSDF and a Glossy BSDF of another
+    // colour: the base colour is the diffuse's, metal_color the glossy's).
+    bool own_metal_color = false;
+    Vec3 metal_color{1, 1, 1};
     int32_t color_texture = -1, roughness_texture = -1, metallic_texture = -1, alpha_texture = -1;
     // The base colour is the mesh's per-corner colour (colour attribute); with a
     // color_texture, the texture's colour times it.
@@ -106,6 +111,9 @@ struct Material {
              : kind == RayKind::Transmission ? visible_transmission : true;
     }
 };
+
+// The colour the metal share of material m reflects (see own_metal_color).
+inline Vec3 metal_color_of(const Material& m) { return m.own_metal_color ? m.metal_color : m.color; }
 
 // What a crossing of material m's surface tints refracted light by (see tints_refraction).
 inline Vec3 refraction_tint(const Material& m) {

@@ -52,6 +52,7 @@ void validate_material(const Material& m, const std::string& where) {
     need_at_least(where, "mirror", m.mirror, 0);
     need_finite(where, "metallic", m.metallic);
     if (!(m.metallic >= 0 && m.metallic <= 1)) refuse(where, "metallic", "must be in [0, 1], got " + show(m.metallic));
+    need_non_negative(where, "metal_color", m.metal_color);
     need_at_least(where, "emission", m.emission, 0);
     need_at_least(where, "shininess", m.shininess, 0);
     need_at_least(where, "roughness", m.roughness, 0);

@@ -167,3 +167,16 @@ def combined_rgb_by_variant(kind: str, out: Path, scene: str, key: str, values, 
     render_batch(kind, jobs)
     return {k: exr.rgba(exr.read_exr(folder / f"{k[1].lower()}.exr"), "ViewLayer.Combined.")[..., :3]
             for k, folder in folders.items()}
+
+
+def row_sphere_means(rgb, count: int):
+    """(count, 3) mean colours of glossy_scenes' row of spheres (radius 0.8 at x = -3, -1, 1, ...,
+    seen by an orthographic camera 8 units wide), each over the square inside its outline."""
+    import numpy as np
+    h, w = rgb.shape[:2]
+    half = int(0.8 / 8.0 * w * 0.7)                 # 0.7 of the radius, in pixels
+    out = []
+    for i in range(count):
+        x = int(round((0.5 + (-3.0 + 2.0 * i) / 8.0) * w))
+        out.append(rgb[h // 2 - half:h // 2 + half, x - half:x + half].reshape(-1, 3).mean(axis=0))
+    return np.array(out)

@@ -146,8 +146,9 @@ def test_a_mix_with_a_transparent_bsdf_is_an_alpha_cut_out(export):
     assert "LinkedFacSecond: inputs Fac (ShaderNodeMixShader: a linked Fac with the Transparent BSDF second)" in said
     assert "Tinted: inputs Color (ShaderNodeBsdfTransparent: a tinted Transparent BSDF is read as clear)" in said
     assert "OwnAlpha: inputs Fac (ShaderNodeMixShader: the shader's own Alpha is kept, the mix is not read)" in said
-    assert ("TwoShaders: unsupported shader ShaderNodeMixShader (only a Transparent BSDF mixed with one shader "
-            "is read): its viewport colour is used") in said
+    assert ("TwoShaders: unsupported shader ShaderNodeMixShader (the mixes read: a Transparent BSDF with one "
+            "shader, a Diffuse BSDF with a Glossy BSDF or an Emission, by a constant Fac or a Diffuse and a Glossy "
+            "BSDF by Fresnel): its viewport colour is used") in said
     assert re.search(r"FacFromMath: inputs Fac(tor)? \(ShaderNodeMath\) use their default values", said)  # (5.0: Factor)
     assert "ClearFirst" not in said and "ClearSecond" not in said
 

@@ -6,7 +6,7 @@ Cycles' brightness under the sun at Roughness 0.2 / 0.3 / 0.5 / 0.8."""
 import numpy as np
 import pytest
 
-from runner import GLOSSY_ENGINES, combined_rgb_by_variant
+from runner import GLOSSY_ENGINES, combined_rgb_by_variant, row_sphere_means
 
 ROUGHNESS = (0.2, 0.35, 0.5, 0.8)        # glossy_scenes.ROUGH_METALS, left to right
 
@@ -19,14 +19,7 @@ def renders(module_blender, tmp_path_factory):
 
 
 def sphere_means(rgb):
-    """Each sphere's mean colour over the square inside its outline."""
-    h, w = rgb.shape[:2]
-    half = int(0.8 / 8.0 * w * 0.7)                 # 0.7 of the radius, in pixels
-    out = []
-    for i in range(len(ROUGHNESS)):
-        x = int(round((0.5 + (-3.0 + 2.0 * i) / 8.0) * w))
-        out.append(rgb[h // 2 - half:h // 2 + half, x - half:x + half].reshape(-1, 3).mean(axis=0))
-    return np.array(out)
+    return row_sphere_means(rgb, len(ROUGHNESS))
 
 
 @pytest.mark.parametrize("lit, tolerance", [("sun", 0.1), ("world", 0.06)])

@@ -123,7 +123,9 @@ class Material(Record):
     secondary and shadow rays through the uncovered part). metallic in [0, 1]:
     the share of the surface that is metal, whose part of the highlight
     (metallic * (shininess + 8) / (8 ks)) and of the mirror reflection takes
-    the colour (a gold Principled BSDF reflects gold).
+    the colour (a gold Principled BSDF reflects gold); with own_metal_color it
+    takes metal_color instead (a Mix Shader of a Diffuse BSDF and a Glossy BSDF
+    of another colour: color is the diffuse's, metal_color the glossy's).
 
     Textures (indices into Scene(textures=...), -1 = none) replace an input
     per hit, sampled at the triangle's corner UVs (Scene(uvs=...)):
@@ -190,6 +192,8 @@ class Material(Record):
     ior: float = _MAT.ior
     mirror: float = _MAT.mirror
     metallic: float = _MAT.metallic
+    own_metal_color: bool = _MAT.own_metal_color
+    metal_color: tuple = _MAT.metal_color
     roughness: float = _MAT.roughness
     emission: float = _MAT.emission
     emission_color: tuple = _MAT.emission_color

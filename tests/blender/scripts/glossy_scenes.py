@@ -101,3 +101,72 @@ def panel_floor_scene(resolution=(96, 72), floor="metal"):
     plain_world("Black", (0.0, 0.0, 0.0))
     bpy.context.view_layer.update()
     return {}
+
+
+# The shader mixes of shader_mix_scene, left to right (blender_addon/export/shader_mix.py).
+SHADER_MIXES = ("constant", "fresnel", "layer_weight", "emission")
+
+
+def _mix_material(kind):
+    """A Mix Shader of a Diffuse BSDF and a Glossy BSDF: by Fac 0.3 (a red diffuse, a light blue
+    glossy of roughness 0.3), by a Fresnel node of IOR 1.5 (blue, white glossy of roughness 0.2)
+    or a Layer Weight's Fresnel of Blend 0.3 (green, roughness 0.1); or an Add Shader of a grey
+    diffuse and an orange Emission of strength 0.5."""
+    mat = bpy.data.materials.new(f"Mix_{kind}")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.remove(nodes["Principled BSDF"])
+    out = nodes["Material Output"].inputs["Surface"]
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    if kind == "emission":
+        diffuse.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+        glow = nodes.new("ShaderNodeEmission")
+        glow.inputs["Color"].default_value, glow.inputs["Strength"].default_value = (1.0, 0.5, 0.2, 1.0), 0.5
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(diffuse.outputs[0], add.inputs[0])
+        links.new(glow.outputs[0], add.inputs[1])
+        links.new(add.outputs[0], out)
+        return mat
+    color, gloss, roughness = {"constant": ((0.8, 0.2, 0.1), (0.6, 0.8, 1.0), 0.3),
+                               "fresnel": ((0.1, 0.3, 0.8), (1.0, 1.0, 1.0), 0.2),
+                               "layer_weight": ((0.2, 0.7, 0.2), (1.0, 1.0, 1.0), 0.1)}[kind]
+    diffuse.inputs["Color"].default_value = (*color, 1.0)
+    glossy = nodes.new("ShaderNodeBsdfGlossy")
+    glossy.inputs["Color"].default_value = (*gloss, 1.0)
+    glossy.inputs["Roughness"].default_value = roughness
+    mix = nodes.new("ShaderNodeMixShader")
+    if kind == "constant":
+        mix.inputs[0].default_value = 0.3
+    elif kind == "fresnel":
+        fresnel = nodes.new("ShaderNodeFresnel")
+        fresnel.inputs["IOR"].default_value = 1.5
+        links.new(fresnel.outputs["Fac"], mix.inputs[0])
+    else:
+        weight = nodes.new("ShaderNodeLayerWeight")
+        weight.inputs["Blend"].default_value = 0.3
+        links.new(weight.outputs["Fresnel"], mix.inputs[0])
+    links.new(diffuse.outputs[0], mix.inputs[1])
+    links.new(glossy.outputs[0], mix.inputs[2])
+    links.new(mix.outputs[0], out)
+    return mat
+
+
+def shader_mix_scene(resolution=(160, 40), lit="sun"):
+    """Spheres of the SHADER_MIXES materials in a row, seen head on by an orthographic camera 8
+    units wide: lit "sun" (as rough_metal_scene's, a dark grey world) or "world" (a grey world of
+    0.5, no lamp)."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
+    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    for i, kind in enumerate(SHADER_MIXES):
+        sphere = link(uv_sphere_object(f"Mix_{kind}", 0.8, segments=64, rings=32))
+        sphere.location = (-3.0 + 2.0 * i, 0.0, 0.0)
+        sphere.data.materials.append(_mix_material(kind))
+    if lit == "sun":
+        plain_world("Dark", (0.05, 0.05, 0.05))
+        add_light("Sun", "SUN", (0, -5, 5), (math.radians(60), 0, math.radians(-30)), energy=2.0, angle=0.05)
+    else:
+        plain_world("Grey", (0.5, 0.5, 0.5))
+    bpy.context.view_layer.update()
+    return {}

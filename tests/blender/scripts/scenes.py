@@ -801,7 +801,7 @@ def viewport_scene(resolution=(480, 270), factory=True):
 
 
 from gltf_scenes import gltf_model_scene  # noqa: E402,F401
-from glossy_scenes import dielectric_scene, panel_floor_scene, rough_metal_scene  # noqa: E402,F401
+from glossy_scenes import dielectric_scene, panel_floor_scene, rough_metal_scene, shader_mix_scene  # noqa: E402,F401
 from light_scenes import chrome_ball_scene, lit_wall_scene, mirrored_light_scene, wide_sun_scene  # noqa: E402,F401
 from material_scenes import (alpha_mask_scene, bad_materials_scene, checker_scene, coloured_glass_scene, cutout_scene,  # noqa: E402,F401
                              emission_mirror_scene, nodeless_material_scene, png_alpha_scene,

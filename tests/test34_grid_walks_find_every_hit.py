@@ -68,6 +68,27 @@ def test_a_scene_a_few_float_spacings_across_gets_a_grid_that_separates_its_prim
     assert_same_as_brute_force(sc, o, d, "adaptive")
 
 
+def test_a_terrain_a_few_float_spacings_across_gets_the_uniform_grid_even_where_its_root_refines():
+    # A 2 m terrain of 20,000 triangles 1e5 from the origin (41 paddings across): the adaptive grid
+    # refined its root, so the rule above (then for one-cell roots only) passed it over, and its
+    # leaves held hundreds of triangles (270-570 tests a ray in a review probe; at 1e6, thousands).
+    k = 100
+    x, y = np.meshgrid(np.linspace(-1, 1, k + 1), np.linspace(-1, 1, k + 1))
+    z = 0.3 * np.sin(3 * x) * np.cos(4 * y)
+    V = (np.stack([x, y, z], -1).reshape(-1, 3) + [1e5, -7e4, 3e4]).astype(np.float32)
+    i = np.arange(k * (k + 1)).reshape(k, k + 1)[:, :k].ravel()
+    F = np.concatenate([np.stack([i, i + 1, i + k + 2], 1), np.stack([i, i + k + 2, i + k + 1], 1)]).astype(np.int32)
+    sc = gw.Scene(vertices=V, triangles=F)
+    info = sc.grid_info(settings(accel="adaptive"))
+    assert info["kind"] == "uniform grid" and "too few for the adaptive grid" in info["note"], info
+    rng = np.random.default_rng(5)
+    o = np.tile([1e5, -7e4 - 3.0, 3e4 + 1.5], (2000, 1)).astype(np.float32)
+    d = (np.array([0.0, 3.0, -1.5]) + rng.uniform(-1, 1, (2000, 3))).astype(np.float32)
+    hits = sc.intersect(o, d, settings=settings(accel="adaptive"))
+    assert (hits.kind > 0).mean() > 0.3 and hits.stats["prim_tests"] / len(o) < 60, hits.stats
+    assert_same_as_brute_force(sc, o, d, "adaptive")
+
+
 def test_a_scene_of_a_few_primitives_keeps_its_one_cell_adaptive_grid():
     # One cell is the right structure for a handful of primitives (brute force in all but name),
     # near the origin (Distant) and as narrow in float spacings as the sphere above.

@@ -219,13 +219,13 @@ def test_ctrl_c_interrupts_a_blocking_render_at_once(call, tmp_path):
     assert out.startswith("interrupted"), out
 
 
-def glossy_scene():
+def glossy_scene(size=256):
     """A rough mirror floor filling the view under a ball, a sphere light, a lens with depth of field."""
     floor = gw.Material(kd=0.5, mirror=0.5, roughness=0.3)
     return gw.Scene(vertices=[[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]], triangles=[[0, 1, 2], [0, 2, 3]],
                     sphere_centers=[[0, 0, 1]], sphere_radii=[1.0], materials=[floor],
                     lights=[gw.Light(position=(4, -4, 6), kind="sphere", radius=0.5)],
-                    camera=gw.Camera(eye=(0, -6, 4), target=(0, 0, 0), width=256, height=256, aperture=0.1,
+                    camera=gw.Camera(eye=(0, -6, 4), target=(0, 0, 0), width=size, height=size, aperture=0.1,
                                      focus_distance=7))
 
 
@@ -246,3 +246,23 @@ def test_cancel_returns_within_100ms_from_inside_a_costly_tile_or_pixel(costly):
     elapsed = time.perf_counter() - t0
     assert elapsed < 0.1, f"cancel took {elapsed * 1000:.1f} ms"
     assert job.cancelled and render_threads() == 0
+
+
+def test_a_cancelled_render_publishes_only_whole_pixels():
+    # (a tile's last pixel, cut short by the cancel between its lens samples, was published as
+    # finished: darker and partly transparent)
+    scene_ = glossy_scene(size=4)
+    settings = dict(aa="center", dof_samples=1024, glossy_samples=16, tile_size=1, threads=2)
+    t0 = time.perf_counter()
+    full = gw.RenderJob(scene_, gw.RenderSettings(**settings)).start()
+    full.wait()
+    whole = time.perf_counter() - t0
+    published = 0
+    for trial in range(5):
+        job = gw.RenderJob(scene_, gw.RenderSettings(**settings)).start()
+        time.sleep(whole * (0.2 + 0.15 * trial))
+        job.cancel()
+        for tile in job.poll():
+            published += 1
+            assert np.array_equal(tile.rgba[0, 0], full.image[tile.y, tile.x]), (trial, tile.x, tile.y)
+    assert published > 0

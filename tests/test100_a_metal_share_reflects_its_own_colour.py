@@ -36,3 +36,14 @@ def test_a_mirror_takes_the_metal_colour_and_the_diffuse_the_base_colour():
 def test_a_negative_metal_colour_is_refused():
     with pytest.raises(ValueError, match="metal_color"):
         gw.Material(metal_color=(0.5, -1.0, 0.5)).validate()
+
+
+def test_the_albedo_pass_adds_the_diffuse_and_the_metal_colours():
+    # (the denoiser's albedo was the base colour alone: a surface rendering blue said red)
+    cam = gw.Camera(eye=(0, -5, 0), target=(0, 0, 0), up=(0, 0, 1), fov=20, width=N, height=N)
+    mat = gw.Material(color=(1, 0, 0), kd=0.25, mirror=0.75, metallic=0.75, ks=0.75, own_metal_color=True,
+                      metal_color=(0, 0, 1))
+    job = gw.RenderJob(gw.Scene(sphere_centers=[[0, 0, 0]], sphere_radii=[1.0], camera=cam, materials=[mat]),
+                       gw.RenderSettings(aa="center")).start()
+    job.wait()
+    np.testing.assert_allclose(job.albedo[N // 2, N // 2], [0.25, 0.0, 0.75], atol=1e-6)

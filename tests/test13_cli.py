@@ -297,7 +297,9 @@ def test_matte_ranks_say_that_they_have_no_effect_on_a_scene_file(tmp_path):
 
 
 def test_an_image_write_that_fails_leaves_the_file_that_was_there(tmp_path):
-    # (Ctrl-C while a large PNG was written left it truncated under the output's name)
+    # (Ctrl-C while a large PNG was written left it truncated under the output's name). The .npy
+    # write fails after the file is opened (the old write had emptied it); the PNG's before any
+    # byte is written, which checks that no temporary is left behind.
     from gridwalk.cli import write_image
     for name in ("image.png", "image.npy"):
         out = tmp_path / name

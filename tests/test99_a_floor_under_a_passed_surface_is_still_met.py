@@ -108,3 +108,20 @@ def test_a_half_covering_square_of_two_triangles_is_crossed_once_along_its_diago
                   materials=[gw.Material(kd=0, emission_color=(1, 0, 0), alpha=0.25)], world=gw.World(transparent=True))
     image = render(sc, aa="center")
     assert set(np.unique(image[..., 3]).tolist()) == {0.25}
+
+
+@pytest.mark.parametrize("accel", ["adaptive", "grid", "none"])
+def test_a_half_covering_analytic_sphere_is_crossed_twice_as_a_mesh_one_is(accel):
+    # (a sphere's test gives the root nearest tmin: a ray resumed past its front met the front
+    # again, which it then rejected, and never the back; a sphere passed moves the origin on)
+    from gridwalk.scenes import icosphere
+    mat = [gw.Material(kd=0, emission_color=(1, 0, 0), alpha=0.5)]
+    cam = gw.Camera(eye=(0.01, 0.013, 5), target=(0.01, 0.013, 0), up=(0, 1, 0), fov=10, width=16, height=16)
+    ball = gw.Scene(sphere_centers=[[0, 0, 0]], sphere_radii=[1.0], materials=mat, camera=cam,
+                    world=gw.World(transparent=True))
+    v, t = icosphere(4)
+    mesh = gw.Scene(vertices=np.asarray(v, np.float32), triangles=np.asarray(t, np.int32), materials=mat,
+                    camera=cam, world=gw.World(transparent=True))
+    a, b = render(ball, aa="center", accel=accel), render(mesh, aa="center", accel=accel)
+    assert a[8, 8, 3] == pytest.approx(0.75) and b[8, 8, 3] == pytest.approx(0.75)   # 1 - 0.5 x 0.5
+    np.testing.assert_allclose(a[8, 8], b[8, 8], rtol=1e-5)

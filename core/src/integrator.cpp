@@ -269,11 +269,13 @@ Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float 
 // floor: moving the origin off the face moved it past the floor too, and the floor showed holes
 // where the face was met first). Within kEdgeBand of its triangle's edges the ray may meet the
 // neighbouring triangle at the same point, a t a few ulps on, and would cross the surface twice:
-// there the origin moves just beyond the surface instead, as all passes did before.
+// there the origin moves just beyond the surface instead, as all passes did before; so it does
+// past a sphere or cone, whose test gives the root nearest tmin (the one passed, which Ray::after
+// then rejects) and not the far one beyond it.
 static Ray past(const Hit& hit, const SurfacePoint& sp, const Ray& ray, bool triangle) {
     constexpr float kEdgeBand = 0x1p-16f;
     Ray next = ray;
-    if (!triangle || std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
+    if (triangle && std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
         next.tmin = next_down(hit.t);
         next.after = hit.prim;
         return next;
@@ -929,7 +931,9 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         fh->alpha = 1;
         fh->depth = hit.t * dot(ray.d, view_axis) + dot(ray.o - ray_in.o, view_axis);   // (from past hidden surfaces)
         fh->normal = sp.ns;
-        fh->albedo = m.color;
+        // (a metal share of its own colour, Material::own_metal_color: the two shares' colours)
+        fh->albedo = m.own_metal_color ? m.color * std::min(m.kd, 1.0f) + m.metal_color * std::min(m.metallic, 1.0f)
+                                       : m.color;
         fh->mattes.clear();
         if (scene_.has_matte_keys()) fh->mattes.add(scene_.matte_class(size_t(hit.prim)), 1.0f);
         fh->holdout = 0;

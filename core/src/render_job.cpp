@@ -90,6 +90,8 @@ void RenderJob::worker() {
                 for (int x = tile.x; x < tile.x + tile.w; ++x) {
                     if (cancel_.load(std::memory_order_relaxed)) { complete = false; break; }
                     const PixelValue pv = est.pixel(x, y, ctx, scratch);
+                    // (a pixel cut short by a cancel, its tile's last one too, is not kept)
+                    if (cancel_.load(std::memory_order_relaxed)) { complete = false; break; }
                     const size_t k = at(x, y);
                     rgba[4 * k + 0] = pv.rgb.x;
                     rgba[4 * k + 1] = pv.rgb.y;

@@ -6,6 +6,7 @@ transform, which the farm cannot reproduce outside Blender).
 """
 from __future__ import annotations
 
+import os
 import struct
 from pathlib import Path
 
@@ -42,9 +43,17 @@ def write_exr(path, rgba: np.ndarray) -> None:
     line_bytes = 4 * width * len(names)
     first = len(header) + 8 * height
     offsets = struct.pack(f"<{height}Q", *(first + y * (8 + line_bytes) for y in range(height)))
-    with open(Path(path), "wb") as f:
-        f.write(header + offsets)
-        for y in range(height):
-            f.write(struct.pack("<ii", y, line_bytes))
-            for plane in planes:
-                f.write(plane[y].tobytes())
+    # (to a temporary name, then renamed: Ctrl-C or a full disk leaves what was there, not a part)
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with open(tmp, "wb") as f:
+            f.write(header + offsets)
+            for y in range(height):
+                f.write(struct.pack("<ii", y, line_bytes))
+                for plane in planes:
+                    f.write(plane[y].tobytes())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise

@@ -146,14 +146,17 @@ class ResultStore:
         self.close()
 
     def remove(self) -> None:
-        """Delete the stored results of every job, and the folder if that empties it."""
-        (self.folder / LOCK).unlink(missing_ok=True)
-        self.close()
+        """Delete the stored results of every job, and the folder if that empties it. The lock
+        goes last, while still held (a run starting meanwhile is refused, not handed the
+        results being deleted), and only by this process's last store holding it."""
         for record in self.records.values():
             if isinstance(record, dict) and record.get("file"):
                 (self.folder / record["file"]).unlink(missing_ok=True)
         (self.folder / JOURNAL).unlink(missing_ok=True)
         (self.folder / OLD_MANIFEST).unlink(missing_ok=True)
+        if self._lock is None or _HELD.get(self._lock, [None, 0])[1] == 1:
+            (self.folder / LOCK).unlink(missing_ok=True)
+        self.close()
         try:
             self.folder.rmdir()
         except OSError:

@@ -108,3 +108,26 @@ def test_other_rays_see_the_catcher_as_its_material():
     assert rim.sum() > 10
     np.testing.assert_allclose(with_catcher[rim], without[rim], atol=1e-6)
     assert np.abs(with_catcher[rim][:, :3] - BACKGROUND).max() > 0.05
+
+
+def test_a_catcher_made_of_a_closed_slab_catches_as_its_top_face_alone():
+    # (a catcher floor modelled as a thin box, Blender's cube scaled flat: the ray gone on behind
+    # its top met its underside, a catcher in the top's shadow, and the whole floor covered; it
+    # passes every catcher now, as in Cycles)
+    cam = gw.Camera(eye=(0, 0, 10), target=(0, 0, 0), up=(0, 1, 0), projection="orthographic", ortho_height=8.0,
+                    width=N, height=N)
+    under = FLOOR - np.float32([0, 0, 0.02])
+    slab_v = np.concatenate([FLOOR, under])
+    sides = [[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
+    slab_t = np.concatenate([TRIS, TRIS[:, ::-1] + 4, sides])
+    images = []
+    for v, t in ((FLOOR, TRIS), (slab_v, slab_t)):
+        s = gw.Scene(v, t, sphere_centers=[tuple(CENTRE)], sphere_radii=[RADIUS], sphere_materials=[1], camera=cam,
+                     world=gw.World(transparent=True),
+                     materials=[gw.Material(color=(0.5, 0.5, 0.5), shadow_catcher=True),
+                                gw.Material(color=(0.8, 0.2, 0.2))],
+                     lights=[gw.Light(kind="sun", direction=tuple(-TO_SUN), color=(1, 1, 1))])
+        images.append(gw.render(s, gw.RenderSettings(aa="center")))
+    plane, slab = images
+    assert 0.05 < plane[..., 3].mean() < 0.5               # the ball and its shadow, the rest clear
+    np.testing.assert_allclose(slab, plane, atol=1e-6)

@@ -143,6 +143,44 @@ def slivers(rng, scale=1.0):
     return v, np.arange(3 * n).reshape(-1, 3), (3.0, -3.0, 2.0), (0.0, 0.0, 0.0)
 
 
+def fan_disk(rng, scale=1.0):
+    """A disk of 20,000 segments (10 m across) triangulated as a fan from its centre, as a large
+    n-gon cap comes, with 50 boxes standing on it: every triangle meets the centre."""
+    n = max(16, int(20_000 * scale))
+    a = 2 * np.pi * np.arange(n) / n
+    rim = np.stack([5 * np.cos(a), 5 * np.sin(a), np.zeros(n)], 1)
+    disk_v = np.concatenate([[[0.0, 0.0, 0.0]], rim])
+    disk_t = np.stack([np.zeros(n, int), 1 + np.arange(n), 1 + (np.arange(n) + 1) % n], 1)
+    centres = rng.uniform(-3, 3, (50, 2))
+    size = rng.uniform(0.1, 0.5, (50, 1))
+    lo = np.concatenate([centres - size, np.zeros((50, 1))], 1)
+    hi = np.concatenate([centres + size, 2 * size], 1)
+    v, t = join([(disk_v, disk_t), boxes(lo, hi)])
+    return v, t, (0.0, -8.0, 5.0), (0.0, 0.0, 0.0)
+
+
+def tilted_stack(rng, scale=1.0):
+    """1,000 parallel 2 x 2 quads tilted 45 degrees about x, 2 mm apart along their normal (a stack
+    no axis-aligned cut separates: each spans the scene's box on every axis)."""
+    n = max(10, int(1000 * scale))
+    c, s = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    corners = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], float)
+    turned = corners @ np.array([[1, 0, 0], [0, c, s], [0, -s, c]])
+    normal = np.array([0.0, -s, c])
+    v = turned[None] + (0.002 * np.arange(n))[:, None, None] * normal
+    k = 4 * np.arange(n)[:, None]
+    t = np.concatenate([k + [0, 1, 2], k + [0, 2, 3]])
+    return v.reshape(-1, 3), t, (3.0, -3.0, 2.0), (0.0, 0.0, 0.0)
+
+
+def far_terrain(rng, scale=1.0):
+    """terrain()'s 2 m heightfield 1e5 from the origin, where floats are 0.008 apart: a scene a few
+    dozen coordinate paddings across (the uniform grid serves it)."""
+    v, t, eye, target = terrain(rng, scale)
+    at = np.array([1e5, -7e4, 3e4])
+    return v + at, t, tuple(np.add(eye, at)), tuple(np.add(target, at))
+
+
 def camera_test(make, n, spread, seed):
     """The layout `make` as a gridwalk Scene (its documented size), with n rays from its eye towards
     its target, each direction moved by up to `spread` per axis: (scene, origins, directions)."""
@@ -163,4 +201,7 @@ LAYOUTS = {"building": ("A building: 10 floors, walls, furniture", building),
            "grass": ("200k grass blades on a plane", grass),
            "soup": ("200k random small triangles", soup),
            "far_clusters": ("50 clusters 2 km apart", far_clusters),
-           "slivers": ("20k long thin slivers", slivers)}
+           "slivers": ("20k long thin slivers", slivers),
+           "fan_disk": ("A 20,000-gon disk as a fan, 50 boxes", fan_disk),
+           "tilted_stack": ("1,000 quads stacked at 45 degrees", tilted_stack),
+           "far_terrain": ("A 2 m terrain 1e5 from the origin", far_terrain)}

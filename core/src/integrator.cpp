@@ -894,9 +894,12 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
     Hit hit;
     hit.t = ray.tmax;
     bool found = accel_.closest(r, hit, ctx);
-    for (int hidden = 0; found && scene_.hides_from_rays(); ++hidden) {
+    // (a camera ray gone on behind a shadow catcher passes every catcher, as Cycles' does: a
+    // catcher made of a closed slab met its own underside, in the top's shadow, and covered all)
+    for (int hidden = 0; found && (scene_.hides_from_rays() || ray.behind_catcher); ++hidden) {
         const SurfacePoint at = scene_.surface(r, hit);
-        if (scene_.materials()[size_t(at.material)].seen_by(ray.kind)) break;
+        const Material& seen = scene_.materials()[size_t(at.material)];
+        if (seen.seen_by(ray.kind) && !(ray.behind_catcher && seen.shadow_catcher)) break;
         ray = past(hit, at, ray, size_t(hit.prim) < scene_.num_triangles());
         r = RayPre(ray);
         hit = Hit();
@@ -953,8 +956,10 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         const Vec3 kept = kept_light(sp, ray, depth, split, st, ctx) * a + Vec3(1, 1, 1) * (1 - a);
         const FirstHit front = *fh;
         FirstHit beyond;
+        Ray on = ray;
+        on.behind_catcher = true;
         const Vec3 behind =
-            continue_through(hit, sp, ray, depth, weight, split, type, st, ctx, &beyond, view_axis, ray_in.o);
+            continue_through(hit, sp, on, depth, weight, split, type, st, ctx, &beyond, view_axis, ray_in.o);
         *fh = front;
         const float shadow = 1.0f - (kept.x + kept.y + kept.z) * (1.0f / 3.0f);
         fh->alpha = beyond.alpha + (1 - beyond.alpha) * shadow;

@@ -31,6 +31,8 @@ struct Ray {
     // (Integrator::sun_highlight): a miss sees the environment less its sun.
     bool without_sun = false;
     RayKind kind = RayKind::Other;   // what the ray is for (Material::seen_by)
+    // A camera ray gone on behind a shadow catcher: it passes every other catcher (Integrator::trace).
+    bool behind_catcher = false;
     // A glossy ray whose lobe shares the emissive triangles with light sampling
     // (multiple importance sampling, Integrator::emitter_weight): n x the lobe's density
     // for this direction over the shading point's light points for emitters; 0 for every

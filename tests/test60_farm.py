@@ -333,6 +333,10 @@ def test_a_blend_jobs_tiles_and_frames_are_checked_before_any_blender_runs(tmp_p
     fits.use_probe({"frame_start": 1, "frame_end": 1, "width": 64, "height": 48})
     assert not fits.needs_probe and fits.items == list(range(6))
     assert plan.parse_frames("1048573-1048574") == [1048573, 1048574]
+    text = tmp_path / "notes.blend"
+    text.write_text("not a scene")
+    with pytest.raises(ValueError, match="not a .blend file"):
+        BlendJob(text, tmp_path / "frames")
     for text in ("1048575", "1048574,2000000", "-1048575--1048570"):
         with pytest.raises(ValueError, match="outside Blender's frames"):
             plan.parse_frames(text)

@@ -25,6 +25,7 @@ from .store import write_atomically
 
 TILE_OUTPUTS = (".exr", ".npy")
 PROBE = "probe"
+BLEND_MAGICS = (b"BLENDER", b"\x1f\x8b", b"\x28\xb5\x2f\xfd")   # a .blend: plain, gzip- or zstd-compressed
 
 
 class BlendOnWorker(JobPlugin):
@@ -89,6 +90,10 @@ class BlendJob:
     def __init__(self, blend, output, frames=None, tiles=None, blender: BlenderSetup | None = None):
         self.blend = Path(blend)
         self.data = self.blend.read_bytes()
+        if not self.data.startswith(BLEND_MAGICS):
+            # (found out only once a cluster had started and Blender had failed on every worker)
+            raise ValueError(f"{self.blend}: not a .blend file (it starts with {self.data[:8]!r}; a .blend starts "
+                             "with BLENDER, or is gzip or zstd compressed)")
         self.output = Path(output)
         self.blender = blender or BlenderSetup()
         if tiles is not None and (isinstance(tiles, bool) or not isinstance(tiles, int) or tiles < 1):

@@ -98,10 +98,9 @@ def _constant_mix(first, second, w1, w2, links, one, principled_material, multis
 
 
 def _constant_color(node):
+    """A shader's Color, or None where a node feeds it."""
     socket = _socket(node, "Color")
-    if socket is None:
-        return (0.8, 0.8, 0.8)
-    return None if _source(socket)[0] is not None else tuple(float(c) for c in input_value(socket)[:3])
+    return None if socket is not None and _source(socket)[0] is not None else _color_value(socket)
 
 
 def _glossy_color(glossy, links):
@@ -111,10 +110,11 @@ def _glossy_color(glossy, links):
     if fed is not None:
         links.textured.append(f"Color of {glossy.name!r} ({fed.bl_idname}: a Glossy BSDF in a mix reflects "
                               "one colour)")
-    return _constant_color_value(socket)
+    return _color_value(socket)
 
 
-def _constant_color_value(socket):
+def _color_value(socket):
+    """The Color input's own value (Blender's default grey where the shader has none)."""
     return (0.8, 0.8, 0.8) if socket is None else tuple(max(float(c), 0.0) for c in input_value(socket)[:3])
 
 

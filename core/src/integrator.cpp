@@ -262,20 +262,20 @@ Vec3 Integrator::point_light_seen(const SurfacePoint& sp, const Vec3& wi, float 
     return sum;
 }
 
-// The ray moved on past its hit, unbent (a cut-out, a surface hidden from it). Inside its
-// triangle (or on a sphere or cone) the same ray is resumed, from the same origin, meeting only
-// what comes after the hit in the order of t and then primitive index (Ray::after): a surface in
-// the plane of the one passed is still met (a cube's bottom face hidden from the camera, on a
-// floor: moving the origin off the face moved it past the floor too, and the floor showed holes
-// where the face was met first). Within kEdgeBand of its triangle's edges the ray may meet the
-// neighbouring triangle at the same point, a t a few ulps on, and would cross the surface twice:
-// there the origin moves just beyond the surface instead, as all passes did before; so it does
-// past a sphere or cone, whose test gives the root nearest tmin (the one passed, which Ray::after
-// then rejects) and not the far one beyond it.
-static Ray past(const Hit& hit, const SurfacePoint& sp, const Ray& ray, bool triangle) {
+// The ray moved on past its hit, unbent (a cut-out, a surface hidden from it). Inside a
+// triangle the same ray is resumed, from the same origin, meeting only what comes after the hit
+// in the order of t and then primitive index (Ray::after): a surface in the plane of the one
+// passed is still met (a cube's bottom face hidden from the camera, on a floor: moving the origin
+// off the face moved it past the floor too, and the floor showed holes where the face was met
+// first). Within kEdgeBand of its triangle's edges the ray may meet the neighbouring triangle at
+// the same point, a t a few ulps on, and would cross the surface twice: there the origin moves
+// just beyond the surface instead, as all passes did before; so it does past a sphere or cone,
+// whose test gives the root nearest tmin (the one passed, which Ray::after would reject) and not
+// the far one beyond it.
+Ray Integrator::past(const Hit& hit, const SurfacePoint& sp, const Ray& ray) const {
     constexpr float kEdgeBand = 0x1p-16f;
     Ray next = ray;
-    if (triangle && std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
+    if (size_t(hit.prim) < scene_.num_triangles() && std::min(std::min(hit.u, hit.v), 1.0f - hit.u - hit.v) > kEdgeBand) {
         next.tmin = next_down(hit.t);
         next.after = hit.prim;
         return next;
@@ -318,7 +318,7 @@ Vec3 Integrator::transmission(Ray r, TraceContext& ctx, bool glass_blocks) const
             through = through * (Vec3(1, 1, 1) * (1 - alpha) + tint * (alpha * passed));
             if (std::max(through.x, std::max(through.y, through.z)) <= 1e-4f) return Vec3(0, 0, 0);
         }
-        r = past(hit, sp, r, size_t(hit.prim) < scene_.num_triangles());
+        r = past(hit, sp, r);
         ++ctx.stats.rays[int(RayType::Shadow)];
     }
     return Vec3(0, 0, 0);
@@ -853,7 +853,6 @@ Vec3 Integrator::glossy_lobe(const SurfacePoint& sp, const Vec3& ng, const Vec3&
     return sum * (1.0f / float(n));
 }
 
-
 // Whether a surface the ray's kind sees lies on it (surfaces hidden from it are passed).
 bool Integrator::blocked(Ray r, TraceContext& ctx) const {
     if (!scene_.hides_from_rays()) return accel_.occluded(RayPre(r), ctx);
@@ -864,7 +863,7 @@ bool Integrator::blocked(Ray r, TraceContext& ctx) const {
         if (!accel_.closest(rp, hit, ctx)) return false;
         const SurfacePoint sp = scene_.surface(rp, hit);
         if (scene_.materials()[size_t(sp.material)].seen_by(r.kind)) return true;
-        r = past(hit, sp, r, size_t(hit.prim) < scene_.num_triangles());
+        r = past(hit, sp, r);
     }
     return false;
 }
@@ -900,7 +899,7 @@ Vec3 Integrator::trace(const Ray& ray_in, int depth, float weight, bool split, R
         const SurfacePoint at = scene_.surface(r, hit);
         const Material& seen = scene_.materials()[size_t(at.material)];
         if (seen.seen_by(ray.kind) && !(ray.behind_catcher && seen.shadow_catcher)) break;
-        ray = past(hit, at, ray, size_t(hit.prim) < scene_.num_triangles());
+        ray = past(hit, at, ray);
         r = RayPre(ray);
         hit = Hit();
         hit.t = ray.tmax;
@@ -1061,7 +1060,7 @@ Vec3 Integrator::continue_through(const Hit& hit, const SurfacePoint& sp, const 
                                   const Vec3& view_axis, const Vec3& depth_origin) const {
     if (depth >= s_.max_depth + 16)   // a stack of cut-outs: seen as a miss
         return fh && scene_.world().transparent ? Vec3() : scene_.miss(ray.d);
-    const Ray next = past(hit, sp, ray, size_t(hit.prim) < scene_.num_triangles());
+    const Ray next = past(hit, sp, ray);
     // The passes measure depth from the camera: a moved origin moved it along ray.d.
     FirstHit behind;
     const Vec3 c = trace(next, depth + 1, weight, split, type, st, ctx, fh ? &behind : nullptr, view_axis);

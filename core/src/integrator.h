@@ -128,6 +128,8 @@ private:
     Vec3 visible(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& wi, float dist,
                  TraceContext& ctx, bool glass_blocks = false) const;
     Vec3 transmission(Ray r, TraceContext& ctx, bool glass_blocks = false) const;
+    // The ray moved on past its hit (a cut-out, a surface hidden from it): see integrator.cpp.
+    Ray past(const Hit& hit, const SurfacePoint& sp, const Ray& ray) const;
     Vec3 point_light_seen(const SurfacePoint& sp, const Vec3& wi, float dist, const Vec3& c, const Vec3& c_shared,
                           bool casts_shadows, TraceContext& ctx, bool through_glass = true) const;
     // Whether a surface seen by the ray's kind lies on it (those hidden from it are passed).

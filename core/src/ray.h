@@ -1,7 +1,6 @@
 // Rays, hit records and the per-ray data precomputed once before traversal.
 #pragma once
 #include <cstdint>
-#include <limits>
 
 #include "math.h"
 

@@ -18,15 +18,22 @@ def sphere_row(name, roughnesses, color, **inputs):
         sphere.data.materials.append(principled_material(f"{name}{roughness}", color, Roughness=roughness, **inputs))
 
 
+def row_view(resolution):
+    """A fresh scene of `resolution` whose camera looks along +y at the row of spheres (sphere_row)
+    orthographically, 8 units wide."""
+    reset(resolution=tuple(resolution))
+    scene = bpy.context.scene
+    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
+    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    return scene
+
+
 def rough_metal_scene(resolution=(160, 40), lit="sun"):
     """A row of copper-coloured metal spheres (Principled Metallic 1, the Blender's default
     distribution: Multiscatter GGX from 4.0, GGX before) of the ROUGH_METALS roughnesses, seen
     head on by an orthographic camera 8 units wide: lit "sun" (a sun 0.05 radians wide from the
     upper left, a black world) or "world" (a grey world of 0.5, no lamp)."""
-    reset(resolution=tuple(resolution))
-    scene = bpy.context.scene
-    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
-    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    row_view(resolution)
     sphere_row("Metal", ROUGH_METALS, (0.9, 0.6, 0.3), Metallic=1.0)
     if lit == "sun":
         plain_world("Black", (0.0, 0.0, 0.0))
@@ -47,10 +54,7 @@ def dielectric_scene(resolution=(160, 40), lit="world"):
     rims) or "floor" (the spheres on a black dielectric floor of roughness 0.1 that reflects
     them, a white backdrop lit by a sun, a black world; the camera looks down 15 degrees, the
     image half as high as wide)."""
-    reset(resolution=tuple(resolution))
-    scene = bpy.context.scene
-    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
-    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    scene = row_view(resolution)
     sphere_row("Dielectric", DIELECTRICS, (0.05, 0.05, 0.05))
     if lit == "world":
         plain_world("Grey", (0.5, 0.5, 0.5))
@@ -155,10 +159,7 @@ def shader_mix_scene(resolution=(160, 40), lit="sun"):
     """Spheres of the SHADER_MIXES materials in a row, seen head on by an orthographic camera 8
     units wide: lit "sun" (as rough_metal_scene's, a dark grey world) or "world" (a grey world of
     0.5, no lamp)."""
-    reset(resolution=tuple(resolution))
-    scene = bpy.context.scene
-    scene.camera.location, scene.camera.rotation_euler = (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0)
-    scene.camera.data.type, scene.camera.data.ortho_scale = "ORTHO", 8.0
+    row_view(resolution)
     for i, kind in enumerate(SHADER_MIXES):
         sphere = link(uv_sphere_object(f"Mix_{kind}", 0.8, segments=64, rings=32))
         sphere.location = (-3.0 + 2.0 * i, 0.0, 0.0)

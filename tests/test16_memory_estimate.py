@@ -27,7 +27,12 @@ def test_estimate_adds_up_and_scales_with_the_counts():
     adaptive = memory.estimate(10_000, 6000, settings=s.replace(accel="adaptive"))
     assert adaptive.mailboxes == 0 and adaptive.grid == 10_000 * (
         memory.ADAPTIVE_CELLS * memory.ADAPTIVE_CELL_BYTES + memory.ADAPTIVE_REFS * memory.REF_BYTES
-        + memory.ADAPTIVE_BUILD_BYTES)
+        + memory.ADAPTIVE_BUILD_BYTES) + memory.ADAPTIVE_CROWDED_REFS * memory.ADAPTIVE_CROWDED_BYTES
+    # (a crowded root's allowance: 32 references per primitive up to 2^18, 8 MiB at most)
+    assert memory.ADAPTIVE_CROWDED_REFS == 1 << 18 and memory.ADAPTIVE_CROWDED_REFS_PER_PRIM == 32
+    small_adaptive = memory.estimate(1000, 600, settings=s.replace(accel="adaptive"))
+    assert small_adaptive.grid == 1000 * (memory.ADAPTIVE_CELLS * memory.ADAPTIVE_CELL_BYTES + memory.ADAPTIVE_REFS
+                                          * memory.REF_BYTES + memory.ADAPTIVE_BUILD_BYTES + 32 * memory.ADAPTIVE_CROWDED_BYTES)
     assert memory.estimate(0, 0).total == memory.PIXEL_BYTES         # one pixel, nothing else
 
 

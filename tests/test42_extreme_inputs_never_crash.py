@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import gridwalk as gw
+from gridwalk import memory
 from gridwalk.scenes import balls
 from thread_names import thread_names
 
@@ -124,7 +125,10 @@ def test_worst_case_distributions_build_small_structures():
         sc = gw.Scene(vertices=V, triangles=np.arange(len(V), dtype=np.int32).reshape(-1, 3))
         info = sc.grid_info(gw.RenderSettings(accel="adaptive"))
         per_prim = info["bytes"] / len(tris)
-        assert per_prim <= 64 + 4096 / len(tris), (name, info)
+        # (the long thin triangles crowd the root: it may take the crowded allowance, which
+        # gridwalk.memory bounds, and rays test a few dozen of them instead of all 5,000)
+        crowded = memory.ADAPTIVE_CROWDED_BYTES * min(memory.ADAPTIVE_CROWDED_REFS, 32 * len(tris))
+        assert per_prim <= 64 + (4096 + (crowded if name == "long thin" else 0)) / len(tris), (name, info)
         lo, hi = sc.bounds
         o = rng.uniform(lo - 0.1 * (hi - lo + 1), hi + 0.1 * (hi - lo + 1), (2000, 3)).astype(np.float32)
         d = rng.normal(size=(2000, 3)).astype(np.float32)

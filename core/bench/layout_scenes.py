@@ -173,6 +173,13 @@ def tilted_stack(rng, scale=1.0):
     return v.reshape(-1, 3), t, (3.0, -3.0, 2.0), (0.0, 0.0, 0.0)
 
 
+def big_triangles(rng, scale=1.0):
+    """1,000 triangles with corners uniform in a 2 m cube, crossing each other (large panels or
+    cards at random angles: each spans most of the scene on every axis)."""
+    n = max(10, int(1000 * scale))
+    return rng.uniform(-1, 1, (3 * n, 3)), np.arange(3 * n).reshape(-1, 3), (3.0, -3.0, 2.0), (0.0, 0.0, 0.0)
+
+
 def far_terrain(rng, scale=1.0):
     """terrain()'s 2 m heightfield 1e5 from the origin, where floats are 0.008 apart: a scene a few
     dozen coordinate paddings across (the uniform grid serves it)."""
@@ -204,4 +211,5 @@ LAYOUTS = {"building": ("A building: 10 floors, walls, furniture", building),
            "slivers": ("20k long thin slivers", slivers),
            "fan_disk": ("A 20,000-gon disk as a fan, 50 boxes", fan_disk),
            "tilted_stack": ("1,000 quads stacked at 45 degrees", tilted_stack),
+           "big_triangles": ("1,000 big triangles crossing", big_triangles),
            "far_terrain": ("A 2 m terrain 1e5 from the origin", far_terrain)}

@@ -445,8 +445,8 @@ private:
             density = std::min(p_.root_density, double(p_.root_cells) / double(std::max<size_t>(prims.size(), 1)));
         // (Also below 2^32: CellLists' offsets are 32-bit. Only a node of
         // over 1.4e9 primitives reaches that, and takes a coarser grid.)
-        const uint64_t allowed = std::min<uint64_t>(uint64_t(p_.max_refs_per_prim * double(prims.size())),
-                                                    0xFFFFFFFFull - (1ull << 27));
+        constexpr uint64_t kMostRefs = 0xFFFFFFFFull - (1ull << 27);
+        uint64_t allowed = std::min<uint64_t>(uint64_t(p_.max_refs_per_prim * double(prims.size())), kMostRefs);
         // The finest resolution dividing `axes`, from density d down, whose
         // references stay within `allowed`: into res, with their number into
         // refs (and the cells into cells_of, with `found_cells` set, where
@@ -517,6 +517,34 @@ private:
                 const double cells = double(n[0]) * n[1] * n[2], m_cells = double(m[0]) * m[1] * m[2];
                 if (m_recorded && double(m_refs) / m_cells <= 0.25 * double(refs) / cells &&
                     spread_across(box, prims, m_met, uint64_t(m_cells))) {
+                    std::copy(m, m + 3, n);
+                    met.swap(m_met);
+                    recorded = m_recorded;
+                    found = m_found;
+                    refs = m_refs;
+                }
+            }
+        }
+        // A crowded root: the reference cap held it to 1/128 of its density or
+        // less, and its cells still average over 4 leaves' worth of references (the
+        // triangles of a fan all meeting its centre, a stack of long quads that
+        // no axis-aligned cut separates). Refining such cells fails alike, and
+        // every ray tests hundreds or thousands of primitives (1,000 quads tilted
+        // 45 degrees: a root of one cell, 2,000 tests per ray). It may then list
+        // crowded_refs_per_prim references per primitive, within crowded_refs in
+        // all (1 MiB of them; gridwalk.memory counts what that may add below).
+        // (docs/architecture.md, "Crowded roots", has the measurements.)
+        if (depth == 0 && 128 * found <= density && double(refs) > 4.0 * p_.leaf_size * double(n[0]) * n[1] * n[2]) {
+            const uint64_t more = std::min<uint64_t>(
+                uint64_t(std::min(p_.crowded_refs_per_prim * double(prims.size()), double(p_.crowded_refs))), kMostRefs);
+            if (more > allowed) {
+                allowed = more;   // (search reads it)
+                int m[3] = {1, 1, 1};
+                uint64_t m_refs = 0;
+                std::vector<CellLists> m_met;
+                bool m_recorded = false;
+                const double m_found = search(7, density, m, m_refs, m_met, m_recorded);
+                if (m_recorded && double(m[0]) * m[1] * m[2] > double(n[0]) * n[1] * n[2]) {
                     std::copy(m, m + 3, n);
                     met.swap(m_met);
                     recorded = m_recorded;

@@ -22,6 +22,10 @@ struct AdaptiveParams {
     int leaf_size = RenderSettings{}.leaf_size;     // a cell with more primitives than this is refined (deeper: x 4 per level)
     int max_depth = RenderSettings{}.grid_levels;   // refining levels below the root
     double max_refs_per_prim = 3.0;   // a grid's references per primitive (its resolution is lowered past it)
+    // A crowded root (its cells still averaging over 4 leaves' worth) may list up to
+    // this many per primitive, within crowded_refs in all:
+    double crowded_refs_per_prim = 32.0;
+    uint64_t crowded_refs = 1ull << 18;
     int big_cells = 64;          // a primitive covering more cells of a grid than this is "large" there ...
     int big_max = 16;            // ... and up to this many large ones per grid are tested once per ray
     uint64_t max_cells = 1ull << 26;   // cap on cells of all levels (densities are lowered past it)

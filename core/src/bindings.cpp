@@ -275,6 +275,8 @@ NB_MODULE(_core, m) {
 
     m.attr("ADAPTIVE_MAX_CELLS") = AdaptiveParams{}.max_cells;   // the adaptive grid's caps, for gridwalk.memory
     m.attr("ADAPTIVE_MAX_REFS") = AdaptiveParams{}.max_refs;
+    m.attr("ADAPTIVE_CROWDED_REFS") = AdaptiveParams{}.crowded_refs;   // a crowded root's allowance
+    m.attr("ADAPTIVE_CROWDED_REFS_PER_PRIM") = AdaptiveParams{}.crowded_refs_per_prim;
     m.attr("INSTANCING_AUTO_TRIANGLES") = InstancedGrid::kAutoTriangles;   // for gridwalk.memory
 
     m.def("uniform_grid_budget",

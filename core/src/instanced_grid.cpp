@@ -320,6 +320,8 @@ std::shared_ptr<const Accel> InstancedGrid::build(std::shared_ptr<const Scene> s
         shift[k] = (Vec3d(box.lo) + Vec3d(box.hi)) * 0.5;
         AdaptiveParams mp = p;
         mp.threads = 1;   // (small grids, one after another)
+        // (The meshes share one crowded root's allowance: gridwalk.memory counts two.)
+        mp.crowded_refs = p.crowded_refs / g->meshes_.size();
         auto grid = std::make_shared<AdaptiveGrid>(scene->part(ids, shift[k]), mp, cancel);
         if (grid->too_few_spacings()) return nullptr;
         add(*grid);

@@ -22,6 +22,14 @@ What is counted (bytes):
                 and, for the empty boxes (empty_box.h), a summed-area table,
                 the boxes and two distance passes over the root grid, about
                 one cell per primitive (12).
+                A crowded root (a fan, a tilted stack: adaptive_grid.cpp) may
+                list up to ADAPTIVE_CROWDED_REFS_PER_PRIM references per
+                primitive, within ADAPTIVE_CROWDED_REFS in all, and its cells
+                refine as usual: ADAPTIVE_CROWDED_BYTES per such reference,
+                twice the 6 - 16 bytes measured over the whole structure (4 for
+                the reference, the rest the refining grids below it) on fans,
+                tilted stacks, big overlapping and long thin triangles
+                (core/bench/layout_scenes.py); at most 8 MiB.
                 The uniform grid (accel "grid"): per cell 4 (offsets) + 1
                 (empty-space distance) + 4 (the count array of the build);
                 per primitive reference 4. Cells and references are the
@@ -77,6 +85,9 @@ ADAPTIVE_REFS = 6.0           # references per primitive, all levels
 ADAPTIVE_BUILD_BYTES = 36     # the build's box per primitive (24), and its empty-box temporaries (12 per root cell)
 ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParams)
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
+ADAPTIVE_CROWDED_REFS = _core.ADAPTIVE_CROWDED_REFS   # a crowded root's allowance (AdaptiveParams)
+ADAPTIVE_CROWDED_REFS_PER_PRIM = _core.ADAPTIVE_CROWDED_REFS_PER_PRIM
+ADAPTIVE_CROWDED_BYTES = 32   # per reference of a crowded root's allowance
 STAMP_BYTES = 4
 INSTANCING_AUTO_TRIANGLES = _core.INSTANCING_AUTO_TRIANGLES   # instancing "auto": the fewest copied triangles
 COPY_BYTES = 320              # the instanced grid, per copy: its record (map, box) and its cells' lists (245 measured)
@@ -202,7 +213,9 @@ def _adaptive_grid(prims: int) -> int:
     """The adaptive grid's bytes over `prims` primitives (its build's included)."""
     cells = min(ADAPTIVE_MAX_CELLS, math.ceil(ADAPTIVE_CELLS * prims))
     refs = min(ADAPTIVE_MAX_REFS, math.ceil(ADAPTIVE_REFS * prims))
-    return cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
+    crowded = min(ADAPTIVE_CROWDED_REFS, math.ceil(ADAPTIVE_CROWDED_REFS_PER_PRIM * prims))
+    return (cells * ADAPTIVE_CELL_BYTES + refs * REF_BYTES + prims * ADAPTIVE_BUILD_BYTES
+            + crowded * ADAPTIVE_CROWDED_BYTES)
 
 
 def physical_memory() -> int | None:

@@ -375,7 +375,7 @@ def test_a_strip_too_large_for_memory_is_refused_before_it_becomes_triangles(tmp
 
 
 @pytest.mark.parametrize("corners, fmt", [(10_000, "%g"), (200_000, "%g"), (200_000, "%.9g")])
-def test_a_regular_polygon_written_with_rounded_coordinates_is_a_fan(corners, fmt):
+def test_a_regular_polygon_written_with_rounded_coordinates_is_convex(corners, fmt):
     # Six significant digits put more noise in a 10,000-gon's corners than its
     # turns: it was judged concave and ear-clipped (11 s), and a 200,000-gon
     # was refused as a non-convex polygon of too many corners. From about
@@ -386,10 +386,35 @@ def test_a_regular_polygon_written_with_rounded_coordinates_is_a_fan(corners, fm
     points = np.loadtxt(text.splitlines())
     tri, poly = polygons(points, [corners])
     assert len(tri) == corners - 2 and np.all(poly == 0)
-    assert np.all(tri[:, 0] == 0) and np.all(tri[:, 2] == tri[:, 1] + 1)      # the fan (0, j, j + 1)
+    # convex, so clipped in rounds (triangulate.FAN_CORNERS), not ear-clipped or refused; no corner
+    # crowded as a fan's first one is (in all n - 2 triangles)
+    assert np.bincount(tri.ravel()).max() <= 2 * np.log2(corners) + 2
+    assert np.all(np.diff(tri, axis=1) > 0)                                    # corners in order: the winding
     p = points[tri]
     area = 0.5 * np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2].sum()
     assert area == pytest.approx(np.pi, rel=1e-6)
+
+
+def test_a_large_convex_face_among_many_small_ones_does_not_crowd_the_grid(tmp_path):
+    # A cylinder's cap written as one 8,192-corner face over 20,000 small triangles. Fanned from
+    # corner 0, every triangle of the cap met the cells around that corner, and rays down onto
+    # the cap tested 255 triangles each; clipped in rounds, about 5.
+    rng = np.random.default_rng(0)
+    n, m = 8192, 20_000
+    a = 2 * np.pi * np.arange(n) / n
+    cap = np.column_stack([0.5 * np.cos(a), 0.5 * np.sin(a), np.full(n, 1.2)])
+    specks = (rng.uniform(-1, 1, (m, 1, 3)) + rng.normal(0, 0.02, (m, 3, 3))).reshape(-1, 3)
+    faces = [list(range(3 * m, 3 * m + n))] + [[3 * k, 3 * k + 1, 3 * k + 2] for k in range(m)]
+    mesh = load_ply_mesh(write_ply(tmp_path / "cap.ply", np.vstack([specks, cap]), faces, count="u2"))
+    sc = gw.Scene(vertices=mesh.vertices, triangles=mesh.triangles)
+    xy = rng.uniform(-0.35, 0.35, (4000, 2))
+    o = np.column_stack([xy, np.full(4000, 3.0)]).astype(np.float32)
+    d = np.tile(np.float32([0, 0, -1]), (4000, 1))
+    hits = sc.intersect(o, d, settings=gw.RenderSettings(threads=1))
+    brute = sc.intersect(o, d, settings=gw.RenderSettings(accel="none"))
+    assert np.array_equal(hits.prim, brute.prim) and np.array_equal(hits.t, brute.t)
+    assert np.all(hits.prim < n - 2)                       # (the cap comes first: every ray meets it)
+    assert hits.stats["prim_tests"] / len(o) < 20, hits.stats
 
 
 def test_a_concave_arc_of_many_fine_corners_is_not_fanned():

@@ -64,10 +64,9 @@ def test_a_crowded_root_is_refined_and_rays_test_a_fraction_of_the_primitives(na
                           sc.occluded(o, d, settings=gw.RenderSettings(accel="none")))
     # every ray tested every primitive before (tests per ray = the count); now a fifth at most
     assert got.stats["prim_tests"] / len(o) < 0.2 * len(t), got.stats
-    # the structure holds the allowance, and the estimate covers it
-    assert info["refs"] <= 3 * len(t) + memory.ADAPTIVE_CROWDED_REFS * 4, info
+    # the estimate covers the structure (its build memory, which the structure does not keep, left out)
     est = memory.estimate(len(t), len(v), settings=one)
-    assert info["bytes"] <= est.grid, (info["bytes"], est.grid)
+    assert info["bytes"] <= est.grid - len(t) * memory.ADAPTIVE_BUILD_BYTES, (info["bytes"], est.grid)
 
 
 def test_copies_of_a_crowded_mesh_share_the_allowance_and_agree_with_brute_force():
@@ -98,20 +97,16 @@ def test_copies_of_a_crowded_mesh_share_the_allowance_and_agree_with_brute_force
     assert got.stats["prim_tests"] / len(o) < 0.8 * len(t), got.stats
     est = memory.estimate(len(t) * copies, len(v) * copies, settings=on, copies=copies - 1,
                           copied_triangles=(copies - 1) * len(t))
-    assert info["bytes"] <= est.grid, (info["bytes"], est.grid)
+    assert info["bytes"] <= est.grid - len(t) * memory.ADAPTIVE_BUILD_BYTES, (info["bytes"], est.grid)
 
 
-def test_a_mesh_and_long_slivers_do_not_take_the_allowance():
-    """A tessellated sphere is not crowded (its root meets its density within 3 references per
-    primitive), nor are long thin slivers whose root the cap holds to 1/64 of its density (their
-    cells refine, and more references did not buy time: layouts.md); both stay near 64 bytes per
-    triangle, where the allowance would take 150-260."""
-    from gridwalk.scenes import icosphere
-    v, t = icosphere(5)
+def test_long_slivers_whose_root_is_less_held_back_do_not_take_the_allowance():
+    """20,000 long thin slivers in random directions: the cap holds their root to 1/58 of its
+    density, short of the rule's 1/128; their cells refine, and the allowance bought no time
+    there (0.91-0.93x, layouts.md) for 258 bytes per triangle. They keep about 89."""
     rng = np.random.default_rng(0)
     a = rng.uniform(-1, 1, (20000, 3))
     slivers = np.stack([a, a + rng.normal(0, 1, (20000, 3)), a + rng.normal(0, 0.002, (20000, 3))], 1)
-    for v, t in ((v, t), (slivers.reshape(-1, 3), np.arange(60000).reshape(-1, 3))):
-        sc = gw.Scene(vertices=np.asarray(v, np.float32), triangles=np.asarray(t, np.int32))
-        info = sc.grid_info(gw.RenderSettings(threads=1))
-        assert info["bytes"] / len(t) < 100, info
+    sc = gw.Scene(vertices=slivers.reshape(-1, 3).astype(np.float32), triangles=np.arange(60000, dtype=np.int32).reshape(-1, 3))
+    info = sc.grid_info(gw.RenderSettings(threads=1))
+    assert info["bytes"] / 20000 < 120, info

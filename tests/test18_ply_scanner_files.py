@@ -417,6 +417,21 @@ def test_a_large_convex_face_among_many_small_ones_does_not_crowd_the_grid(tmp_p
     assert hits.stats["prim_tests"] / len(o) < 20, hits.stats
 
 
+def test_a_face_convex_only_as_seen_from_its_first_corner_keeps_its_fan():
+    # Corner 0 and a fine arc bulging towards it: every corner passes the convexity tolerance and
+    # the fan from corner 0 covers the face exactly, but clipped in rounds, later rounds' chords
+    # of the concave arc would cover ground outside it (1,892 triangles turned the wrong way).
+    phi = np.linspace(0, np.pi / 2, 5000)
+    r = 1 - 0.5 * np.sin(2 * phi)
+    points = np.vstack([[0.0, 0.0, 0.0], np.column_stack([r * np.cos(phi), r * np.sin(phi), np.zeros(5000)])])
+    tri, _ = polygons(points, [len(points)])
+    p = points[tri]
+    area = 0.5 * np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2]
+    assert len(tri) == len(points) - 2 and np.all(area >= -1e-12)
+    outline = 0.5 * np.sum(points[:, 0] * np.roll(points[:, 1], -1) - np.roll(points[:, 0], -1) * points[:, 1])
+    assert area.sum() == pytest.approx(outline, rel=1e-9)
+
+
 def test_a_concave_arc_of_many_fine_corners_is_not_fanned():
     # Each corner of a quarter annulus' inner arc turns the wrong way by less
     # than the convexity tolerance; a fan from corner 0 would reach into the

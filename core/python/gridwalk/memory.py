@@ -26,10 +26,12 @@ What is counted (bytes):
                 list up to ADAPTIVE_CROWDED_REFS_PER_PRIM references per
                 primitive, within ADAPTIVE_CROWDED_REFS in all, and its cells
                 refine as usual: ADAPTIVE_CROWDED_BYTES per such reference,
-                twice the 6 - 16 bytes measured over the whole structure (4 for
-                the reference, the rest the refining grids below it) on fans,
-                tilted stacks, big overlapping and long thin triangles
-                (core/bench/layout_scenes.py); at most 8 MiB.
+                about twice the 6 - 34 bytes measured over the whole structure
+                (4 for the reference, the rest the refining grids below it) on
+                fans, cones of thin triangles around one point, tilted stacks,
+                big overlapping and long thin triangles (layout_scenes.py); at
+                most 16 MiB. (With a smaller leaf_size or more grid_levels than
+                the defaults every figure here can be exceeded.)
                 The uniform grid (accel "grid"): per cell 4 (offsets) + 1
                 (empty-space distance) + 4 (the count array of the build);
                 per primitive reference 4. Cells and references are the
@@ -87,7 +89,7 @@ ADAPTIVE_MAX_CELLS = _core.ADAPTIVE_MAX_CELLS   # the core's caps (AdaptiveParam
 ADAPTIVE_MAX_REFS = _core.ADAPTIVE_MAX_REFS
 ADAPTIVE_CROWDED_REFS = _core.ADAPTIVE_CROWDED_REFS   # a crowded root's allowance (AdaptiveParams)
 ADAPTIVE_CROWDED_REFS_PER_PRIM = _core.ADAPTIVE_CROWDED_REFS_PER_PRIM
-ADAPTIVE_CROWDED_BYTES = 32   # per reference of a crowded root's allowance
+ADAPTIVE_CROWDED_BYTES = 64   # per reference of a crowded root's allowance
 STAMP_BYTES = 4
 INSTANCING_AUTO_TRIANGLES = _core.INSTANCING_AUTO_TRIANGLES   # instancing "auto": the fewest copied triangles
 COPY_BYTES = 320              # the instanced grid, per copy: its record (map, box) and its cells' lists (245 measured)

@@ -9,7 +9,8 @@ Read here, in bounded chunks (ply_header.py, ply_body.py), without plyfile:
 * `face`: a list of vertex indices named `vertex_indices` or `vertex_index`,
   any signed or unsigned integer type from 8 to 32 bits for the count and the
   indices. Faces with more than three corners are triangulated: a fan where
-  the face is convex, ear clipping where it is not (gridwalk.io.triangulate);
+  the face is convex (over 32 corners: clipped in rounds), ear clipping where
+  it is not (gridwalk.io.triangulate);
 * `tristrips`: the same list, each record one or more triangle strips with
   -1 between them (in an unsigned type, its maximum, where that is no vertex
   index); the winding alternates along a strip and the degenerate triangles

@@ -57,9 +57,15 @@ def polygons(points, counts) -> tuple[np.ndarray, np.ndarray]:
             continue
         xy = _project(points[starts[which, None] + np.arange(n)])
         fan = _convex(xy) | _flat(xy)
-        tris.append(_fans(starts[which[fan]], n) if n <= FAN_CORNERS else
-                    (starts[which[fan], None, None] + _rounds(n)).reshape(-1, 3))
-        polys.append(np.repeat(which[fan], n - 2))
+        rounds = np.zeros(len(which), bool)
+        if n > FAN_CORNERS:
+            # (A polygon that passes as convex by its fan alone, a fine concave arc
+            # seen from corner 0, may fold in rounds: it keeps its fan.)
+            rounds[fan] = _unfolded(xy[fan], _rounds(n)) | _flat(xy[fan])
+            tris.append((starts[which[rounds], None, None] + _rounds(n)).reshape(-1, 3))
+            polys.append(np.repeat(which[rounds], n - 2))
+        tris.append(_fans(starts[which[fan & ~rounds]], n))
+        polys.append(np.repeat(which[fan & ~rounds], n - 2))
         if n == 4:                       # a concave quad: split at its reflex corner
             t = _concave_quads(xy[~fan])
             tris.append((starts[which[~fan], None, None] + t).reshape(-1, 3))
@@ -178,17 +184,26 @@ def _convex(xy):
     # The tolerance is per corner: a concave arc of many fine corners passes
     # it everywhere, so the fan itself must not fold either (no fan triangle
     # (0, j, j + 1) turning the wrong way by more than the tolerance).
-    # A fan triangle's doubled area is its side times corner 0's distance from
-    # that side's line; moving the side's ends by the noise tilts the line by
-    # noise / side, which moves that distance by up to noise x spoke / side:
-    # so the tolerance scales with side + spoke (with the side alone, thin
-    # triangles next to corner 0 failed it on a 50,000-corner circle written
-    # with six digits).
-    spoke = xy - xy[:, :1]
-    fan = spoke[:, 1:-1, 0] * spoke[:, 2:, 1] - spoke[:, 1:-1, 1] * spoke[:, 2:, 0]
-    side = np.linalg.norm(xy[:, 2:] - xy[:, 1:-1], axis=-1)
-    reach = np.maximum(np.linalg.norm(spoke[:, 1:-1], axis=-1), np.linalg.norm(spoke[:, 2:], axis=-1))
-    return corners & np.all(fan >= -CONVEX_TOLERANCE * size * (side + reach), axis=1)
+    return corners & _unfolded(xy, _fans(np.zeros(1, np.int64), xy.shape[1]))
+
+
+def _unfolded(xy, local):
+    """Which (m, n, 2) counter-clockwise polygons have no triangle of `local`
+    ((T, 3) corner indices, corners in polygon order) turning the wrong way by
+    more than the coordinates' noise (CONVEX_TOLERANCE).
+    A triangle (a, b, c)'s doubled area is its side bc times a's distance from
+    that side's line; moving the side's ends by the noise tilts the line by
+    noise / side, which moves that distance by up to noise x spoke / side: so
+    the tolerance scales with side + spoke (with the side alone, thin fan
+    triangles next to corner 0 failed it on a 50,000-corner circle written
+    with six digits)."""
+    size = np.ptp(xy, axis=1).max(axis=1)[:, None]
+    a, b, c = xy[:, local[:, 0]], xy[:, local[:, 1]], xy[:, local[:, 2]]
+    ab, ac = b - a, c - a
+    doubled = ab[..., 0] * ac[..., 1] - ab[..., 1] * ac[..., 0]
+    side = np.linalg.norm(c - b, axis=-1)
+    reach = np.maximum(np.linalg.norm(ab, axis=-1), np.linalg.norm(ac, axis=-1))
+    return np.all(doubled >= -CONVEX_TOLERANCE * size * (side + reach), axis=1)
 
 
 def ear_clip(xy) -> np.ndarray:

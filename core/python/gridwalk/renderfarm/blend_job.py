@@ -47,6 +47,7 @@ class BlendOnWorker(JobPlugin):
         self.scene_loads += 1
 
     def teardown(self, worker):
+        super().teardown(worker)
         shutil.rmtree(self.folder, ignore_errors=True)
 
     def label(self, item) -> str:

@@ -16,6 +16,7 @@ function, so the client can wait until no worker is busy with its job.
 """
 from __future__ import annotations
 
+import logging
 import os
 import socket
 import threading
@@ -56,11 +57,16 @@ class JobPlugin(WorkerPlugin):
     # -- on the worker ---------------------------------------------------------
     def setup(self, worker):
         self.worker = worker
+        self.quiet_failures = QuietFailures(self.run_id)
+        logging.getLogger("distributed.worker").addFilter(self.quiet_failures)
         self.lock = threading.Lock()
         self.stopped = set()
         self.running = set()
         self.stop_functions = {}
         self.scene_loads = 0            # times the scene was built or written on this worker
+
+    def teardown(self, worker):
+        logging.getLogger("distributed.worker").removeFilter(self.quiet_failures)
 
     def transition(self, key, start, finish, **kwargs):
         if finish in STOPPED_STATES and start in ("executing", "long-running", "cancelled", "resumed"):
@@ -112,6 +118,25 @@ class JobPlugin(WorkerPlugin):
             self.running.discard(key)
         result.update(worker=self.worker.address, scene_loads=self.scene_loads)
         return result
+
+
+class QuietFailures(logging.Filter):
+    """Drops the worker's "Compute Failed" record of this run's tasks that
+    raised TaskFailed or TaskStopped: the client reports each failed tile or
+    frame with that message already (driver.run), and the worker's copy, a
+    dozen lines with a traceback of the task function, repeated per task,
+    buried it (and printed with --quiet). Other records, and tasks failing any
+    other way, are kept."""
+
+    def __init__(self, run_id: str):
+        super().__init__()
+        self.key_part = f"-{run_id}-"
+
+    def filter(self, record) -> bool:
+        if not str(record.msg).startswith("Compute Failed"):
+            return True
+        text = record.getMessage()
+        return not (self.key_part in text and ("TaskFailed(" in text or "TaskStopped(" in text))
 
 
 def run_task(run_id: str, item):

@@ -105,8 +105,8 @@ def test_blender_started_by_a_worker_dies_with_the_worker(tmp_path):
     import time
     parent = subprocess.Popen([sys.executable, "-c",
                                "import subprocess, sys, time\n"
-                               "from gridwalk.renderfarm.blender import _parent_death_signal\n"
-                               "child = subprocess.Popen(['sleep', '120'], preexec_fn=_parent_death_signal())\n"
+                               "from gridwalk.renderfarm.blender import _dying_with_parent\n"
+                               "child = subprocess.Popen(_dying_with_parent(['sleep', '120']))\n"
                                "print(child.pid, flush=True)\n"
                                "time.sleep(120)\n"], stdout=subprocess.PIPE, text=True)
     child = int(parent.stdout.readline())

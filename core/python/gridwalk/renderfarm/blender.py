@@ -29,20 +29,16 @@ from .jobplugin import TaskStopped
 SCRIPT = Path(__file__).resolve().parent / "in_blender.py"
 
 
-def _parent_death_signal():
-    """A preexec_fn that has Linux kill the child when the thread that started it dies (a worker
-    process killed by its nanny or by the system left its Blender rendering for minutes beside
-    the frame's rerun); None elsewhere. prctl is looked up here, so the child only calls it."""
-    try:
-        import ctypes
-        prctl = ctypes.CDLL(None, use_errno=True).prctl
-    except (OSError, AttributeError):
-        return None
-    pr_set_pdeathsig = 1
+def _dying_with_parent(argv: list) -> list:
+    """argv run so that Linux kills it when the thread that started it dies (a worker process
+    killed by its nanny or by the system left its Blender rendering for minutes beside the
+    frame's rerun): through util-linux's `setpriv --pdeathsig KILL`, which sets the signal and
+    then executes argv in the same process. Elsewhere (no setpriv) argv as it is. (Not a
+    preexec_fn calling prctl: that runs Python in the child between fork and exec, which the
+    subprocess docs warn may deadlock in a threaded process, and a Dask worker is one.)"""
+    setpriv = shutil.which("setpriv") if os.uname().sysname == "Linux" else None
+    return [setpriv, "--pdeathsig", "KILL", "--", *argv] if setpriv else list(argv)
 
-    def die_with_parent():
-        prctl(pr_set_pdeathsig, signal.SIGKILL)
-    return die_with_parent
 
 # The engine's last line (blender_addon/engine.py): "Gridwalk: finished; export 0.012 s, build 0.003 s,
 # render 0.41 s, total 0.43 s, Tiles 16/16 | 3.2 Mrays/s"; the stages before "render" may change.
@@ -94,9 +90,9 @@ def run_blender(setup: BlenderSetup, blend: Path, task: dict, should_stop) -> tu
     """
     task = dict(task, addon=setup.addon_folder())
     argv = [setup.command(), "-b", str(blend), "-noaudio", "--python", str(SCRIPT)]
-    proc = subprocess.Popen(argv, env=setup.environment(task), cwd=blend.parent, stdin=subprocess.DEVNULL,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace",
-                            preexec_fn=_parent_death_signal())
+    proc = subprocess.Popen(_dying_with_parent(argv), env=setup.environment(task), cwd=blend.parent,
+                            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            errors="replace")
     lines: list = []
     reader = threading.Thread(target=_read_all, args=(proc.stdout, lines), daemon=True)
     reader.start()

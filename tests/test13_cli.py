@@ -208,6 +208,24 @@ def test_triangles_of_zero_area_are_named(tmp_path):
     assert run.returncode == 0 and "zero area" not in run.stderr
 
 
+def test_a_polygon_with_a_corner_on_a_side_gives_no_zero_area_triangle(tmp_path):
+    # A 2 x 2 square with a corner in the middle of its first side: fanned from corner 0, its
+    # first triangle had no area and the warning named it invisible, though the square rendered
+    # whole. Fanned from the corner on the side, all three triangles have area.
+    square = tmp_path / "square.ply"
+    lines = ["ply", "format ascii 1.0", "element vertex 5", "property float x", "property float y",
+             "property float z", "element face 1", "property list uchar int vertex_indices", "end_header",
+             "0 0 0", "1 0 0", "2 0 0", "2 2 0", "0 2 0", "5 0 1 2 3 4"]
+    square.write_text("\n".join(lines) + "\n")
+    run = gridwalk("render", square, "-o", tmp_path / "square.png", "--width", 16, "--height", 16, "--quiet")
+    assert run.returncode == 0 and "zero area" not in run.stderr, run.stderr
+    from gridwalk.io import load_ply_mesh
+    mesh = load_ply_mesh(square)
+    p = mesh.vertices.astype(np.float64)[mesh.triangles]
+    area = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2] / 2
+    assert len(area) == 3 and np.all(area > 0.1) and area.sum() == pytest.approx(4.0)
+
+
 def test_demo_refuses_a_resolution_of_zero(tmp_path):
     # 0 read as "not given": the full 512 x 512 render ran
     run = gridwalk("demo", "--resolution", "0", "-o", tmp_path / "demo.png")

@@ -64,8 +64,10 @@ def polygons(points, counts) -> tuple[np.ndarray, np.ndarray]:
             rounds[fan] = _unfolded(xy[fan], _rounds(n)) | _flat(xy[fan])
             tris.append((starts[which[rounds], None, None] + _rounds(n)).reshape(-1, 3))
             polys.append(np.repeat(which[rounds], n - 2))
-        tris.append(_fans(starts[which[fan & ~rounds]], n))
-        polys.append(np.repeat(which[fan & ~rounds], n - 2))
+        fanned = fan & ~rounds
+        local = (_fan_apexes(xy[fanned])[:, None, None] + _fans(np.zeros(1, np.int64), n)[None]) % n
+        tris.append((starts[which[fanned], None, None] + local).reshape(-1, 3))
+        polys.append(np.repeat(which[fanned], n - 2))
         if n == 4:                       # a concave quad: split at its reflex corner
             t = _concave_quads(xy[~fan])
             tris.append((starts[which[~fan], None, None] + t).reshape(-1, 3))
@@ -102,6 +104,37 @@ def strips(indices, restart, positions=False):
     tri = np.stack([np.where(odd, b, a), np.where(odd, a, b), c], axis=1)
     keep &= (a != b) & (b != c) & (a != c)
     return (tri[keep], j[keep]) if positions else tri[keep]
+
+
+def _fan_apexes(xy):
+    """The corner each of the (m, n, 2) fanned polygons is fanned from: 0, or where a
+    triangle of corner 0's fan has no area (corners on one line with it: a square with a
+    midpoint on a side, fanned from a corner of that side) and the polygon has some, the
+    first corner whose fan has none and does not fold. The fan covers the polygon either
+    way; a triangle of no area is one the scene checks name as invisible, and a grid lists."""
+    apex = np.zeros(len(xy), np.int64)
+    if not len(xy):
+        return apex
+    pattern = _fans(np.zeros(1, np.int64), xy.shape[1])
+    todo = np.flatnonzero(_degenerate(xy, pattern) & ~_flat(xy))
+    for k in range(1, xy.shape[1]):
+        if not len(todo):
+            break
+        turned = np.roll(xy[todo], -k, axis=1)
+        ok = ~_degenerate(turned, pattern) & _unfolded(turned, pattern)
+        apex[todo[ok]] = k
+        todo = todo[~ok]
+    return apex
+
+
+def _degenerate(xy, local):
+    """Which (m, n, 2) polygons have a triangle of `local` whose area is zero to float32
+    precision (as gridwalk.mesh_checks counts them)."""
+    a, b, c = xy[:, local[:, 0]], xy[:, local[:, 1]], xy[:, local[:, 2]]
+    ab, ac = b - a, c - a
+    doubled = ab[..., 0] * ac[..., 1] - ab[..., 1] * ac[..., 0]
+    scale = np.maximum((ab * ab).sum(axis=-1), (ac * ac).sum(axis=-1))
+    return np.any(np.abs(doubled) <= 1e-7 * scale, axis=1)
 
 
 def _fans(starts, n):

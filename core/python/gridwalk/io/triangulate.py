@@ -113,7 +113,7 @@ def _fan_apexes(xy):
     first corner whose fan has none and does not fold. The fan covers the polygon either
     way; a triangle of no area is one the scene checks name as invisible, and a grid lists."""
     apex = np.zeros(len(xy), np.int64)
-    if not len(xy):
+    if not len(xy) or xy.shape[1] > FAN_CORNERS:   # (a large fan, one that would fold in rounds, keeps 0)
         return apex
     pattern = _fans(np.zeros(1, np.int64), xy.shape[1])
     todo = np.flatnonzero(_degenerate(xy, pattern) & ~_flat(xy))

@@ -4,6 +4,8 @@ after the client was killed mid-write, and what it must not find.
 The farm itself (a real LocalCluster, Ctrl-C, re-runs) is tested in test60;
 these are the store's edge cases, which a kill can only hit by chance there.
 """
+import os
+
 import numpy as np
 
 from gridwalk.renderfarm.store import JOURNAL, ResultStore
@@ -93,6 +95,25 @@ def test_a_second_process_cannot_open_a_folder_another_run_holds(tmp_path):
     store.close()
     out = subprocess.run([sys.executable, "-c", probe, str(folder)], capture_output=True, text=True, timeout=60)
     assert out.stdout.startswith("opened"), out.stdout + out.stderr
+
+
+def test_a_setpriv_without_pdeathsig_is_left_out_not_blamed_on_blender(tmp_path, monkeypatch):
+    # util-linux before 2.33 (RHEL 8, Ubuntu 18.04) and BusyBox have a setpriv without
+    # --pdeathsig: run through it, every Blender task failed before Blender started
+    from gridwalk.renderfarm import blender
+    old = tmp_path / "setpriv"
+    old.write_text("#!/bin/sh\necho \"setpriv: unrecognized option '$1'\" >&2\nexit 1\n")
+    old.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{tmp_path}:{os.environ['PATH']}")
+    blender._setpriv_with_pdeathsig.cache_clear()
+    try:
+        assert blender._dying_with_parent(["blender", "-b"]) == ["blender", "-b"]
+    finally:
+        blender._setpriv_with_pdeathsig.cache_clear()
+    monkeypatch.undo()
+    wrapped = blender._dying_with_parent(["blender", "-b"])
+    blender._setpriv_with_pdeathsig.cache_clear()
+    assert wrapped[-3:] == ["--", "blender", "-b"] and wrapped[1:3] == ["--pdeathsig", "KILL"], wrapped
 
 
 def test_blender_started_by_a_worker_dies_with_the_worker(tmp_path):

@@ -31,6 +31,7 @@ MAX_CLIPPED_CORNERS = 1_000_000
 # fanned from one corner cost rays that met it 282 triangle tests each in a
 # scene of 200,000 small triangles (1.3 Mrays/s), in rounds 7 (2.9 Mrays/s).
 FAN_CORNERS = 32
+APEX_TRIES = 2   # corners tried as a fan's first corner where corner 0's fan has a triangle of no area
 
 
 class TooManyCorners(ValueError):
@@ -65,7 +66,8 @@ def polygons(points, counts) -> tuple[np.ndarray, np.ndarray]:
             tris.append((starts[which[rounds], None, None] + _rounds(n)).reshape(-1, 3))
             polys.append(np.repeat(which[rounds], n - 2))
         fanned = fan & ~rounds
-        local = (_fan_apexes(xy[fanned])[:, None, None] + _fans(np.zeros(1, np.int64), n)[None]) % n
+        corners = points[starts[which[fanned], None] + np.arange(n)]
+        local = (_fan_apexes(xy[fanned], corners)[:, None, None] + _fans(np.zeros(1, np.int64), n)[None]) % n
         tris.append((starts[which[fanned], None, None] + local).reshape(-1, 3))
         polys.append(np.repeat(which[fanned], n - 2))
         if n == 4:                       # a concave quad: split at its reflex corner
@@ -106,35 +108,51 @@ def strips(indices, restart, positions=False):
     return (tri[keep], j[keep]) if positions else tri[keep]
 
 
-def _fan_apexes(xy):
-    """The corner each of the (m, n, 2) fanned polygons is fanned from: 0, or where a
-    triangle of corner 0's fan has no area (corners on one line with it: a square with a
-    midpoint on a side, fanned from a corner of that side) and the polygon has some, the
-    first corner whose fan has none and does not fold. The fan covers the polygon either
-    way; a triangle of no area is one the scene checks name as invisible, and a grid lists."""
-    apex = np.zeros(len(xy), np.int64)
-    if not len(xy) or xy.shape[1] > FAN_CORNERS:   # (a large fan, one that would fold in rounds, keeps 0)
+def _fan_apexes(xy, p):
+    """The corner each of the (m, n, 2) fanned polygons (p: their (m, n, 3) corners) is
+    fanned from: 0, or where a triangle of corner 0's fan has no area (corners on one line
+    with it: a square with a midpoint on a side, fanned from a corner of that side), the
+    first corner whose fan has none and does not fold, of APEX_TRIES tried: its straight
+    corners first (the middle of a side of two edges works), then the others. The fan
+    covers the polygon either way; a triangle of no area is one the scene checks name as
+    invisible, and a grid lists."""
+    m, n = xy.shape[:2]
+    apex = np.zeros(m, np.int64)
+    if not m or n > FAN_CORNERS:   # (a large fan, one that would fold in rounds, keeps 0)
         return apex
-    pattern = _fans(np.zeros(1, np.int64), xy.shape[1])
-    todo = np.flatnonzero(_degenerate(xy, pattern) & ~_flat(xy))
-    for k in range(1, xy.shape[1]):
+    pattern = _fans(np.zeros(1, np.int64), n)
+    todo = np.flatnonzero(_degenerate(p, pattern))
+    if not len(todo):
+        return apex
+    straight = _degenerate(p[todo], np.stack([np.arange(n) - 1, np.arange(n), (np.arange(n) + 1) % n], 1),
+                           each=True)
+    # each polygon's straight corners first, then the others in order, corner 0 last
+    key = np.where(straight, 0, 1)
+    key[:, 0] = 2
+    order = np.argsort(key, axis=1, kind="stable")
+    for k in range(min(APEX_TRIES, n - 1)):
+        corner = order[:, k]
+        turned = (corner[:, None] + np.arange(n)) % n
+        rows = todo[:, None]
+        ok = ~_degenerate(p[rows, turned], pattern)
+        ok[ok] = _unfolded(xy[rows[ok], turned[ok]], pattern)
+        apex[todo[ok]] = corner[ok]
+        todo, order = todo[~ok], order[~ok]
         if not len(todo):
             break
-        turned = np.roll(xy[todo], -k, axis=1)
-        ok = ~_degenerate(turned, pattern) & _unfolded(turned, pattern)
-        apex[todo[ok]] = k
-        todo = todo[~ok]
     return apex
 
 
-def _degenerate(xy, local):
-    """Which (m, n, 2) polygons have a triangle of `local` whose area is zero to float32
-    precision (as gridwalk.mesh_checks counts them)."""
-    a, b, c = xy[:, local[:, 0]], xy[:, local[:, 1]], xy[:, local[:, 2]]
-    ab, ac = b - a, c - a
-    doubled = ab[..., 0] * ac[..., 1] - ab[..., 1] * ac[..., 0]
-    scale = np.maximum((ab * ab).sum(axis=-1), (ac * ac).sum(axis=-1))
-    return np.any(np.abs(doubled) <= 1e-7 * scale, axis=1)
+def _degenerate(p, local, each=False):
+    """Which (m, n, 3) polygons have a triangle of `local` whose area is zero to float32
+    precision, as gridwalk.mesh_checks counts them (each=True: per triangle, (m, T))."""
+    a = p[:, local[:, 0]]
+    ab, ac = p[:, local[:, 1]] - a, p[:, local[:, 2]] - a
+    (bx, by, bz), (cx, cy, cz) = np.moveaxis(ab, -1, 0), np.moveaxis(ac, -1, 0)   # (per component: no np.cross)
+    area2 = (by * cz - bz * cy) ** 2 + (bz * cx - bx * cz) ** 2 + (bx * cy - by * cx) ** 2
+    scale = np.maximum(bx * bx + by * by + bz * bz, cx * cx + cy * cy + cz * cz)
+    zero = area2 <= 1e-14 * scale * scale
+    return zero if each else np.any(zero, axis=1)
 
 
 def _fans(starts, n):

@@ -13,12 +13,14 @@ from the farm's options when given, else from its own environment:
 """
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
 import shutil
 import signal
 import subprocess
+import sys
 import threading
 import time
 from dataclasses import dataclass
@@ -33,11 +35,26 @@ def _dying_with_parent(argv: list) -> list:
     """argv run so that Linux kills it when the thread that started it dies (a worker process
     killed by its nanny or by the system left its Blender rendering for minutes beside the
     frame's rerun): through util-linux's `setpriv --pdeathsig KILL`, which sets the signal and
-    then executes argv in the same process. Elsewhere (no setpriv) argv as it is. (Not a
-    preexec_fn calling prctl: that runs Python in the child between fork and exec, which the
-    subprocess docs warn may deadlock in a threaded process, and a Dask worker is one.)"""
-    setpriv = shutil.which("setpriv") if os.uname().sysname == "Linux" else None
+    then executes argv in the same process. Where setpriv is missing or has no --pdeathsig
+    (util-linux before 2.33, BusyBox), or off Linux, argv as it is. (Not a preexec_fn calling
+    prctl: that runs Python in the child between fork and exec, which the subprocess docs warn
+    may deadlock in a threaded process, and a Dask worker is one.)"""
+    setpriv = _setpriv_with_pdeathsig()
     return [setpriv, "--pdeathsig", "KILL", "--", *argv] if setpriv else list(argv)
+
+
+@functools.lru_cache(maxsize=1)
+def _setpriv_with_pdeathsig() -> str | None:
+    """setpriv's path where `setpriv --pdeathsig KILL -- true` works (asked once), else None."""
+    setpriv = shutil.which("setpriv") if sys.platform.startswith("linux") else None
+    if setpriv is None:
+        return None
+    try:
+        probe = subprocess.run([setpriv, "--pdeathsig", "KILL", "--", "true"], stdin=subprocess.DEVNULL,
+                               capture_output=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    return setpriv if probe.returncode == 0 else None
 
 
 # The engine's last line (blender_addon/engine.py): "Gridwalk: finished; export 0.012 s, build 0.003 s,

@@ -106,10 +106,11 @@ def wait_until_idle(client, run_id: str, limit: float = STOP_WAIT_SECONDS) -> No
         time.sleep(0.05)
 
 
-def _collect(client, job, store, futures, report, progress) -> dict:
+def _collect(client, job, store, futures, report, progress, failures: dict) -> None:
+    """Keeps each finished task's result; failed ones go into `failures` (item: message),
+    which the caller reads however this ends."""
     from distributed import as_completed
 
-    failures = {}
     for future, result in as_completed(futures, loop=client.loop, with_results=True, raise_errors=False):
         item = futures[future]
         if future.status == "error":
@@ -128,7 +129,6 @@ def _collect(client, job, store, futures, report, progress) -> dict:
         report.rendered.append(item)
         progress.step()
         future.release()
-    return failures
 
 
 def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
@@ -136,7 +136,7 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
     t0 = time.perf_counter()
     run_id = uuid.uuid4().hex[:12]
     plugin = job.plugin(run_id, threads)
-    futures, store = {}, None
+    futures, store, failures = {}, None, {}
     try:
         client.register_plugin(plugin)
         if getattr(job, "needs_probe", False):
@@ -161,12 +161,16 @@ def run(client, job, threads: int = 0, quiet: bool = False) -> FarmReport:
         progress.draw()
         futures = _submit(client, run_id, job.what, todo)
         try:
-            failures = _collect(client, job, store, futures, report, progress)
+            _collect(client, job, store, futures, report, progress, failures)
         finally:
             progress.close()
     except BaseException as exc:
         if store is not None:
             store.close()
+        if failures:   # (named nowhere else: the workers' own records of them are dropped, jobplugin.QuietFailures)
+            named = "\n".join(f"  {failures[item]}" for item in sorted(failures))
+            print(f"gridwalk farm: before the run stopped, {len(failures)} {job.what}s had failed:\n{named}",
+                  file=sys.stderr)
         if isinstance(exc, KeyboardInterrupt):
             client.cancel(list(futures), force=True)
             wait_until_idle(client, run_id)

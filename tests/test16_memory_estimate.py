@@ -152,9 +152,10 @@ def test_estimate_is_close_to_the_memory_a_render_uses(tmp_path, accel):
     assert out.returncode == 0, out.stderr
     figures = json.loads(out.stdout)
     ratio = figures["estimate"] / figures["used"]
-    # the adaptive grid's estimate is a measured average; the uniform grid's is
-    # the budget its build enforces, an upper bound (2.5x on this sphere)
-    assert (0.8 < ratio < 1.6) if accel == "adaptive" else (1.0 < ratio < 3.5), figures
+    # the adaptive grid's estimate is a measured average, plus the crowded roots' allowance
+    # (16 MiB, which a sphere does not take: 1.49 without it); the uniform grid's is the
+    # budget its build enforces, an upper bound (2.5x on this sphere)
+    assert (0.8 < ratio < 1.75) if accel == "adaptive" else (1.0 < ratio < 3.5), figures
 
 
 def test_declared_copies_are_estimated_as_the_instanced_grid_builds_them():

@@ -245,7 +245,7 @@ def test_scene_too_large_is_refused_with_the_estimate_and_the_limit(results, cas
     assert match, error
     estimate = float(match.group(1))
     assert float(match.group(2)) == limit and match.group(3) == source
-    assert 8.0 < estimate < 30.0 and estimate > limit
+    assert 8.0 < estimate < 40.0 and estimate > limit   # (16 MiB of it the crowded roots' allowance)
     assert "Gridwalk: finished" not in results[case]["log"]             # refused before the export
     # the same scene under the default limit (a fraction of physical memory) renders
     assert results.error("fits_default_limit") == ""

@@ -12,7 +12,8 @@ of up to 3 rounds within 2 s), then primary rays (256 x 256
 through the camera) and random rays (65,536, gridwalk.validate.ray_sets), one thread each, the two
 engines taking turns (best of 3, process CPU time), as section 2 of benchmarks.md measures them;
 Gridwalk's tests and cells per ray; and the seed's uniform grid on the primary rays, for
-comparison. Embree gets the same triangles (robust mode).
+comparison. Embree gets the same triangles (robust mode). A picture of each layout, as its
+camera sees it, goes into docs/images/layouts.png.
 """
 from __future__ import annotations
 
@@ -42,11 +43,13 @@ def measure(make, scale, rays, reps):
     gw_build, (scene, info), em_build, em = alternate_builds(
         lambda: built_scene(kw), lambda: embree_built(kw["vertices"], kw["triangles"]))
     sets = ray_sets(kw, side * side, seed=1, scene=scene)
+    # (the sheet in layouts.md: what the camera sees, lit from the camera)
+    picture = gw.render(gw.Scene(**dict(kw, lights=[gw.Light(position=eye)])), gw.RenderSettings())
     one = gw.RenderSettings(threads=1)
     uniform = one.replace(accel="grid")
     scene.grid_info(uniform)   # (built now: the timings below are of tracing alone)
     out = {"triangles": len(t), "gw_build": gw_build, "em_build": em_build, "grids": info["grids"],
-           "bytes": info["bytes"] / len(t)}
+           "bytes": info["bytes"] / len(t), "picture": picture}
     for kind in ("primary", "random"):
         o, d, tmax = sets[kind]
         gw_s, hits, em_s, em_hits = alternate(lambda: scene.intersect(o, d, tmin=0.0, tmax=tmax, settings=one),
@@ -60,6 +63,26 @@ def measure(make, scale, rays, reps):
                                         lambda: None, reps)
             out[kind]["uniform"] = em_s / grid_s
     return out
+
+
+def write_sheet(results: dict, path: Path, columns: int = 4) -> None:
+    """The layouts as their cameras see them (Gridwalk's default render, lit from the camera),
+    labelled, in one PNG."""
+    from PIL import Image, ImageDraw
+
+    from gridwalk.cli import to_srgb8
+
+    size, pad, head = 192, 8, 16
+    names = list(results)
+    rows = (len(names) + columns - 1) // columns
+    sheet = Image.new("RGB", (columns * (size + pad) + pad, rows * (size + head + pad) + pad), (255, 255, 255))
+    draw = ImageDraw.Draw(sheet)
+    for k, name in enumerate(names):
+        x, y = pad + (k % columns) * (size + pad), pad + (k // columns) * (size + head + pad)
+        rgb = to_srgb8(results[name]["picture"][..., :3])
+        sheet.paste(Image.fromarray(rgb).resize((size, size), Image.LANCZOS), (x, y + head))
+        draw.text((x, y), LAYOUTS[name][0][:34], fill=(0, 0, 0))
+    sheet.save(path)
 
 
 def main(argv=None) -> int:
@@ -108,6 +131,10 @@ def main(argv=None) -> int:
     lines += table(["layout", "triangles", "grids", "bytes/triangle", "Gridwalk", "Embree", "time ratio"], builds)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    (out / "images").mkdir(exist_ok=True)
+    write_sheet(results, out / "images" / "layouts.png")
+    lines += ["The layouts as their cameras see them (the primary rays above; Gridwalk's default render, "
+              "lit by a point light at the camera):", "", "![the layouts](images/layouts.png)", ""]
     (out / "layouts.md").write_text("\n".join(lines))
     log(f"layouts: wrote {out / 'layouts.md'}")
     return 0

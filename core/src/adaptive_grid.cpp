@@ -105,7 +105,14 @@ Box child_box(const std::vector<Bounds>& bounds, const Box& box, const double ce
             cb.hi[a] = std::max(cb.hi[a], std::min(hi, double(bounds[ids[i]].hi[a])));
         }
         if (cb.lo[a] > cb.hi[a]) { cb.lo[a] = lo; cb.hi[a] = hi; }   // primitives only in the padding
-        const double pad = 1e-4 * cell[a];
+    }
+    // Padded by 1e-4 of the cell's longest side on every axis (as the root is by its
+    // longest extent, padded_box): the flat child of a floor's cell, padded by its own
+    // thickness, was too thin for the float triangle test's rounding of t near a ray's
+    // origin (relative to the triangle's size, not to t), and a ray from 1e-6 above the
+    // floor whose tmax lay just past the hit missed it (76 of 10,047; test34).
+    const double pad = 1e-4 * std::max(std::max(cell[0], cell[1]), cell[2]);
+    for (int a = 0; a < 3; ++a) {
         cb.lo[a] = next_down(float(cb.lo[a] - pad));
         cb.hi[a] = next_up(float(cb.hi[a] + pad));
     }
@@ -667,6 +674,7 @@ private:
         nd.first = uint32_t(g_.cells.size());
         nd.big = nd.big_count = 0;
         nd.big_lo = nd.big_hi = Vec3(0, 0, 0);
+        nd.big_pad = next_up(float(1e-4 * std::max(std::max(cell[0], cell[1]), cell[2])));
         nd.big_boxed = false;
         if (!big.empty()) {
             const AdaptiveGridData::Cell list_cell = leaf(big.data(), uint32_t(big.size()));

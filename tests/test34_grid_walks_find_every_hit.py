@@ -218,24 +218,28 @@ def test_rays_from_far_away_find_what_brute_force_finds(accel, far_away_case):
     assert np.array_equal(np.delete(occluded, excused), np.delete(brute, excused))
 
 
+@pytest.mark.parametrize("offset", [0.0, 1000.0])
 @pytest.mark.parametrize("accel", ["adaptive", "grid"])
-def test_a_hit_just_before_tmax_near_the_origin_is_found(accel):
+def test_a_hit_just_before_tmax_near_the_origin_is_found(accel, offset):
     """Rays from 1e-6 - 1e-2 above or below a floor of 2,000 small triangles in a cluster (refined
     cells; the child grids are flat), with tmax just past the hit brute force finds. The float
     triangle test rounds t by an amount relative to the triangle's size, not to t: near the
     origin that puts the hit before the plane's exact crossing, and a child box padded by its
-    own thickness ended the walk there (76 of about 10,000 hits were missed)."""
+    own thickness ended the walk there (76 of about 10,000 hits were missed). 1000 from the
+    origin the floor's box, padded in float, kept no pad (a review: 293 shadow queries)."""
     rng = np.random.default_rng(2)
     k = 2000
     c = rng.uniform(-0.05, 0.05, (k, 1, 2)) + rng.normal(0, 0.01, (k, 3, 2))
     small = np.concatenate([c, np.zeros((k, 3, 1))], 2).reshape(-1, 3)
     big = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, -1, 0], [1, 1, 0], [-1, 1, 0]], float)
-    v = np.concatenate([small, big]).astype(np.float32)
+    scale = 0.1 if offset else 1.0   # (far out, a smaller floor: its cluster's cells then refine)
+    v = (scale * np.concatenate([small, big]) + offset).astype(np.float32)
     sc = gw.Scene(vertices=v, triangles=np.arange(len(v), dtype=np.int32).reshape(-1, 3))
     assert sc.grid_info(gw.RenderSettings(accel="adaptive"))["grids"] > 1    # (refined cells)
     m = 20000
-    o = np.column_stack([rng.uniform(-0.1, 0.1, (m, 2)), rng.choice([-1, 1], m) * 10 ** rng.uniform(-6, -2, m)])
-    o, d = o.astype(np.float32), rng.normal(size=(m, 3)).astype(np.float32)
+    lowest = -6 if not offset else -4.2   # (1e-6 is below a float spacing at 1000)
+    o = np.column_stack([scale * rng.uniform(-0.1, 0.1, (m, 2)), rng.choice([-1, 1], m) * 10 ** rng.uniform(lowest, -2, m)])
+    o, d = (o + offset).astype(np.float32), rng.normal(size=(m, 3)).astype(np.float32)
     brute = gw.RenderSettings(accel="none")
     first = sc.intersect(o, d, settings=brute)
     hit = np.isfinite(first.t)

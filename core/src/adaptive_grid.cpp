@@ -673,8 +673,7 @@ private:
         nd.stride[2] = int64_t(n[0]) * n[1];
         nd.first = uint32_t(g_.cells.size());
         nd.big = nd.big_count = 0;
-        nd.big_lo = nd.big_hi = Vec3(0, 0, 0);
-        nd.big_pad = next_up(float(1e-4 * std::max(std::max(cell[0], cell[1]), cell[2])));
+        nd.big_lo = nd.big_hi = nd.big_clip_lo = nd.big_clip_hi = Vec3(0, 0, 0);
         nd.big_boxed = false;
         if (!big.empty()) {
             const AdaptiveGridData::Cell list_cell = leaf(big.data(), uint32_t(big.size()));
@@ -684,6 +683,12 @@ private:
             for (uint32_t prim : big) all.grow(bounds_[prim]);
             nd.big_lo = all.lo;
             nd.big_hi = all.hi;
+            // (in double, then rounded outwards: far from the origin the pad is below a float spacing)
+            const double pad = 1e-4 * std::max(std::max(cell[0], cell[1]), cell[2]);
+            for (int a = 0; a < 3; ++a) {
+                nd.big_clip_lo[a] = next_down(float(double(all.lo[a]) - pad));
+                nd.big_clip_hi[a] = next_up(float(double(all.hi[a]) + pad));
+            }
             // Worth a box check for closest-hit rays too where the list is
             // costly to test (a quadric, tested in double, or more than 4
             // triangles) and its box is small beside the node's (by surface

@@ -54,10 +54,12 @@ struct AdaptiveGridData {
         // is a thin slab, which rays leaving it upwards do not meet).
         uint32_t big, big_count;
         Vec3 big_lo, big_hi;
-        // The box's clip is widened by big_pad on every side (1e-4 of the node's longest
-        // cell, as a child's box is padded: a floor's box is flat, and near a ray's origin
-        // the float test's t lies outside a flat box by more than the clip's relative margin).
-        float big_pad;
+        // The box the rays are clipped to: [big_lo, big_hi] grown by 1e-4 of the node's
+        // longest cell on every side, rounded outwards (as a child's box is padded: a floor's
+        // box is flat, and near a ray's origin the float test's t lies outside a flat box by
+        // more than the clip's relative margin). The skip of rays leaving a surface reads
+        // the box itself.
+        Vec3 big_clip_lo, big_clip_hi;
         bool big_boxed;   // closest-hit rays check the box too (see adaptive_walk.inc's meets_big)
     };
     // b == 0: empty, a = the box of empty cells around it in the same node,

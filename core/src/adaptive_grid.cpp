@@ -91,6 +91,21 @@ struct BuildInput {
 // The box a refined cell's grid covers: the cell's box (c of the grid (box,
 // cell, n)), shrunk to what its primitives `ids` occupy, padded by a little of
 // the cell and rounded outwards to float.
+// 1e-4 of the longest of a grid's cell sides: what a child box, and a node's
+// large primitives' clip box, grow by on every axis (as the root grows by its
+// longest extent, padded_box), so that a flat box is not thinner than the
+// float tests' rounding of t.
+double box_pad(const double cell[3]) { return 1e-4 * std::max(std::max(cell[0], cell[1]), cell[2]); }
+
+// [lo - pad, hi + pad] in double, rounded outwards to float (far from the
+// origin the pad may be below a float spacing).
+void grow_outwards(const double lo[3], const double hi[3], double pad, Vec3& out_lo, Vec3& out_hi) {
+    for (int a = 0; a < 3; ++a) {
+        out_lo[a] = next_down(float(lo[a] - pad));
+        out_hi[a] = next_up(float(hi[a] + pad));
+    }
+}
+
 Box child_box(const std::vector<Bounds>& bounds, const Box& box, const double cell[3], const int n[3], uint64_t c,
               const uint32_t* ids, size_t count) {
     const int idx[3] = {int(c % uint64_t(n[0])), int((c / uint64_t(n[0])) % uint64_t(n[1])),
@@ -106,15 +121,15 @@ Box child_box(const std::vector<Bounds>& bounds, const Box& box, const double ce
         }
         if (cb.lo[a] > cb.hi[a]) { cb.lo[a] = lo; cb.hi[a] = hi; }   // primitives only in the padding
     }
-    // Padded by 1e-4 of the cell's longest side on every axis (as the root is by its
-    // longest extent, padded_box): the flat child of a floor's cell, padded by its own
-    // thickness, was too thin for the float triangle test's rounding of t near a ray's
-    // origin (relative to the triangle's size, not to t), and a ray from 1e-6 above the
-    // floor whose tmax lay just past the hit missed it (76 of 10,047; test34).
-    const double pad = 1e-4 * std::max(std::max(cell[0], cell[1]), cell[2]);
+    // (box_pad: the flat child of a floor's cell, padded by its own thickness, was too
+    // thin for the float triangle test's rounding of t near a ray's origin, relative to
+    // the triangle's size, not to t, and a ray from 1e-6 above the floor whose tmax lay
+    // just past the hit missed it: 76 of 10,047; test34)
+    Vec3 lo, hi;
+    grow_outwards(cb.lo, cb.hi, box_pad(cell), lo, hi);
     for (int a = 0; a < 3; ++a) {
-        cb.lo[a] = next_down(float(cb.lo[a] - pad));
-        cb.hi[a] = next_up(float(cb.hi[a] + pad));
+        cb.lo[a] = lo[a];
+        cb.hi[a] = hi[a];
     }
     return cb;
 }
@@ -683,12 +698,8 @@ private:
             for (uint32_t prim : big) all.grow(bounds_[prim]);
             nd.big_lo = all.lo;
             nd.big_hi = all.hi;
-            // (in double, then rounded outwards: far from the origin the pad is below a float spacing)
-            const double pad = 1e-4 * std::max(std::max(cell[0], cell[1]), cell[2]);
-            for (int a = 0; a < 3; ++a) {
-                nd.big_clip_lo[a] = next_down(float(double(all.lo[a]) - pad));
-                nd.big_clip_hi[a] = next_up(float(double(all.hi[a]) + pad));
-            }
+            const double lo[3] = {all.lo.x, all.lo.y, all.lo.z}, hi[3] = {all.hi.x, all.hi.y, all.hi.z};
+            grow_outwards(lo, hi, box_pad(cell), nd.big_clip_lo, nd.big_clip_hi);
             // Worth a box check for closest-hit rays too where the list is
             // costly to test (a quadric, tested in double, or more than 4
             // triangles) and its box is small beside the node's (by surface
